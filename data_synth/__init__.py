@@ -1,0 +1,20 @@
+"""data_synth: exact driving-point models of simple structures, for synthetic data and tests.
+
+Each model gives its exact receptance ``H(s)`` (m/N), impulse and step responses, natural
+frequencies and a truncated :class:`modalid.ModalModel` (method.md section 2):
+
+* :class:`LumpedMass` - a free rigid mass;
+* :class:`SpringMass` - a grounded spring-mass(-damper);
+* :class:`Rod` - a uniform rod in axial vibration, free or fixed far end, struck at one end;
+* :class:`CantileverBeam` - an Euler-Bernoulli cantilever struck at its free tip;
+* :func:`cantilever_roots` - roots of ``1 + cosh(e) cos(e) = 0``.
+"""
+
+from ._base import ExactModel
+from .beam import CantileverBeam
+from .lumped import LumpedMass, SpringMass
+from .rod import Rod
+from .roots import cantilever_roots
+
+__all__ = ["ExactModel", "LumpedMass", "SpringMass", "Rod", "CantileverBeam",
+           "cantilever_roots"]

@@ -1,0 +1,264 @@
+"""Exact model of a uniform rod in axial vibration, struck at its end ``x = l``.
+
+With ``K = EA/l`` (N/m), ``T = l/c`` (one-way wave transit time, s), ``m = K T^2`` and
+``eps = s T`` (method.md section 2):
+
+* fixed at ``x = 0``: ``H = tanh(eps)/(K eps) = (1/m) sum_{k>=1} 2/(s^2 + ((k-1/2) pi/T)^2)``;
+* free at ``x = 0``:  ``H = coth(eps)/(K eps) = (1/m) [1/s^2 + sum_{k>=1} 2/(s^2 + (k pi/T)^2)]``.
+
+The impulse responses are the square wave and the staircase produced by the wave
+reflections, and the step responses their exact integrals: everything here is closed
+form and exact to rounding.
+"""
+
+from __future__ import annotations
+
+import math
+from fractions import Fraction
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.special import polygamma
+
+from modalid._checks import as_choice, as_nonnegative_scalar, as_positive_scalar
+
+from ._base import ExactModel, _check_s, _check_times, _reciprocal
+
+__all__ = ["Rod"]
+
+SUPPORTS = ("free", "fixed")
+
+
+def _bernoulli_numbers(n: int) -> list[Fraction]:
+    """Exact Bernoulli numbers ``B_0 .. B_n`` (``B_1 = +1/2``; Akiyama-Tanigawa).
+
+    ``scipy.special.bernoulli`` is only accurate to about 1e-12 relative; this is exact.
+    """
+    a = [Fraction(0)] * (n + 1)
+    out = []
+    for m in range(n + 1):
+        a[m] = Fraction(1, m + 1)
+        for j in range(m, 0, -1):
+            a[j - 1] = j * (a[j - 1] - a[j])
+        out.append(a[0])
+    return out
+
+
+def _coth_series_coefficients(n_terms: int) -> np.ndarray:
+    """Coefficients ``c_j`` of ``(z coth z - 1)/z^2 = sum_{j>=0} c_j z^(2j)``.
+
+    ``z coth z = sum_{n>=0} 2^(2n) B_(2n) z^(2n) / (2n)!`` (Bernoulli numbers), radius pi.
+    """
+    b = _bernoulli_numbers(2 * n_terms)
+    return np.array([float(2 ** (2 * n) * b[2 * n] / math.factorial(2 * n))
+                     for n in range(1, n_terms + 1)])
+
+
+# |z| < 1: terms fall at least as (1/pi)^2 per order; 18 orders reach 1e-18.
+_COTH_SERIES = _coth_series_coefficients(18)
+
+
+def _elastic_free(eps: np.ndarray) -> np.ndarray:
+    """``(eps coth eps - 1)/eps^2`` for complex ``eps``, stable everywhere.
+
+    A Taylor series for ``|eps| < 1`` (no cancellation near 0, value 1/3 at 0), else
+    ``(coth eps - 1/eps)/eps`` (no overflow for large ``|eps|``).
+    """
+    small = np.abs(eps) < 1.0
+    z2 = np.where(small, eps, 0.0) ** 2
+    series = np.zeros_like(z2)
+    for c in reversed(_COTH_SERIES):
+        series = series * z2 + c
+    e = np.where(small, 1.0, eps)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore", under="ignore"):
+        coth = _reciprocal(np.tanh(e))
+        direct = (coth - 1.0 / e) / e
+    return np.where(small, series, direct)
+
+
+def _period_index(t: np.ndarray, period: float) -> np.ndarray:
+    """Integer ``n >= 0`` with ``n * period <= t < (n + 1) * period`` in floating point.
+
+    The products ``n * period`` are exactly the values :meth:`Rod.jump_times` returns,
+    so the responses jump exactly there.
+    """
+    n = np.floor(np.maximum(t, 0.0) / period)
+    n = n + ((n + 1.0) * period <= t)  # undo rounding of the division, either way
+    n = n - (n * period > t)
+    return np.maximum(n, 0.0)
+
+
+@dataclass(frozen=True)
+class Rod(ExactModel):
+    """Uniform rod in axial vibration, struck at its end ``x = l``.
+
+    Parameters
+    ----------
+    mass : float
+        Total mass ``m`` (kg), > 0.
+    transit_time : float
+        One-way wave transit time ``T = l/c`` (s), > 0, ``c = sqrt(E/rho)``.
+    support : {"free", "fixed"}, keyword-only
+        Boundary condition of the far end ``x = 0`` (default ``"free"``).
+
+    Notes
+    -----
+    Stiffness ``K = m/T^2 = EA/l``. Impulse responses (values at a jump are the right
+    limits; the jumps are at the products ``2T * j`` listed by :meth:`jump_times`):
+
+    * fixed: square wave ``+T/m`` on ``(0, 2T)``, ``-T/m`` on ``(2T, 4T)``, period ``4T``;
+      its step response is the triangle wave rising to ``2T^2/m`` at ``2T``;
+    * free: staircase ``(T/m)(2n+1)`` on ``(2nT, 2(n+1)T)``; its step response is
+      ``(2T^2/m) n^2 + (T/m)(2n+1)(t - 2nT)`` (equal to the rigid ``t^2/(2m)`` at ``2nT``).
+
+    Natural frequencies: fixed ``(k - 1/2) pi/T``, free ``k pi/T`` (``k >= 1``), each
+    with driving-point modal mass ``m/2``.
+    """
+
+    mass: float
+    transit_time: float
+    support: str = field(default="free", kw_only=True)
+
+    def __post_init__(self):
+        object.__setattr__(self, "mass", as_positive_scalar("mass", self.mass))
+        object.__setattr__(self, "transit_time",
+                           as_positive_scalar("transit_time", self.transit_time))
+        as_choice("support", self.support, SUPPORTS)
+
+    @classmethod
+    def from_material(cls, length, area, youngs_modulus, density, *,
+                      support: str = "free") -> "Rod":
+        """Build from geometry and material.
+
+        Parameters
+        ----------
+        length : float
+            Length ``l`` (m), > 0.
+        area : float
+            Cross-section area ``A`` (m^2), > 0.
+        youngs_modulus : float
+            Young's modulus ``E`` (Pa), > 0.
+        density : float
+            Density ``rho`` (kg/m^3), > 0.
+        support : {"free", "fixed"}, keyword-only
+            Far-end boundary condition.
+
+        Returns
+        -------
+        Rod
+            ``mass = rho A l``, ``transit_time = l / sqrt(E/rho)``.
+        """
+        length = as_positive_scalar("length", length)
+        area = as_positive_scalar("area", area)
+        youngs_modulus = as_positive_scalar("youngs_modulus", youngs_modulus)
+        density = as_positive_scalar("density", density)
+        return cls(density * area * length, length / math.sqrt(youngs_modulus / density),
+                   support=support)
+
+    # ------------------------------------------------------------------- derived
+    @property
+    def stiffness(self) -> float:
+        """Static axial stiffness ``K = EA/l = m/T^2`` (N/m)."""
+        return self.mass / self.transit_time**2
+
+    # ------------------------------------------------------------------ responses
+    def receptance(self, s) -> np.ndarray:
+        """Exact ``H(s)`` (m/N) at complex ``s`` (rad/s), any shape.
+
+        Fixed: ``tanh(eps)/(K eps)`` (``1/K`` at 0). Free: ``1/(K eps tanh eps)``
+        (``inf`` at 0). ``eps = sT``. ``np.tanh`` saturates to ``+-1`` for large
+        ``|Re eps|`` without overflow, and ``tanh(eps)/eps`` has no cancellation near 0;
+        at an exact pole the result is ``inf``, never ``nan``.
+        """
+        s = _check_s(s)
+        eps = s * self.transit_time
+        zero = eps == 0
+        e = np.where(zero, 1.0, eps)
+        K = self.stiffness
+        with np.errstate(over="ignore", under="ignore"):
+            th = np.tanh(e)
+            if self.support == "fixed":
+                return np.where(zero, 1.0 / K + 0j, th / (K * e))
+            return np.where(zero, np.inf + 0j, _reciprocal(K * e * th))
+
+    def elastic_receptance(self, s) -> np.ndarray:
+        """Elastic part (m/N): fixed ``H(s)``; free ``(eps coth eps - 1)/(K eps^2)``.
+
+        The free form is a Taylor series for ``|eps| < 1`` (``1/(3K)`` at 0) and
+        ``(coth eps - 1/eps)/(K eps)`` elsewhere.
+        """
+        if self.support == "fixed":
+            return self.receptance(s)
+        s = _check_s(s)
+        return _elastic_free(s * self.transit_time) / self.stiffness
+
+    def impulse_response(self, t) -> np.ndarray:
+        """Exact impulse response ``h(t)`` (m/(N s)), 0 for ``t < 0``; see the class notes."""
+        t = _check_times(t)
+        T, m = self.transit_time, self.mass
+        n = _period_index(t, 2.0 * T)
+        if self.support == "fixed":
+            out = (T / m) * (1.0 - 2.0 * np.mod(n, 2.0))
+        else:
+            out = (T / m) * (2.0 * n + 1.0)
+        return np.where(t >= 0.0, out, 0.0)
+
+    def step_response(self, t) -> np.ndarray:
+        """Exact step response ``S(t)`` (m/N), 0 for ``t < 0``; see the class notes.
+
+        Vectorised closed forms (no loop over reflections): fixed
+        ``(T/m) min(u, 4T - u)`` with ``u = t mod 4T``; free
+        ``(2T^2/m) n^2 + (T/m)(2n+1)(t - 2nT)``, ``n = floor(t/2T)``.
+        """
+        t = _check_times(t)
+        T, m = self.transit_time, self.mass
+        n = _period_index(t, 2.0 * T)
+        u = np.clip(t - n * (2.0 * T), 0.0, 2.0 * T)  # time since the last reflection
+        if self.support == "fixed":
+            odd = np.mod(n, 2.0) == 1.0
+            out = (T / m) * np.where(odd, 2.0 * T - u, u)
+        else:
+            out = (2.0 * T * T / m) * n * n + (T / m) * (2.0 * n + 1.0) * u
+        return np.where(t >= 0.0, out, 0.0)
+
+    # ----------------------------------------------------------------- properties
+    @property
+    def is_grounded(self) -> bool:
+        """True for ``support="fixed"``."""
+        return self.support == "fixed"
+
+    @property
+    def static_flexibility(self) -> float:
+        """Fixed: ``1/K``; free: the elastic part ``1/(3K)`` (m/N)."""
+        return 1.0 / self.stiffness if self.support == "fixed" else 1.0 / (3.0 * self.stiffness)
+
+    @property
+    def time_scale(self) -> float:
+        """The transit time ``T`` (s)."""
+        return self.transit_time
+
+    def jump_times(self, t_end) -> np.ndarray:
+        """Jump times ``2T j`` (``j >= 1``) of :meth:`impulse_response` up to ``t_end`` (s).
+
+        The fixed rod's ``h`` jumps by ``-+2T/m``, the free rod's by ``+2T/m``, at each.
+        """
+        t_end = as_nonnegative_scalar("t_end", t_end)
+        period = 2.0 * self.transit_time
+        j = np.arange(1.0, math.floor(t_end / period) + 2.0)
+        times = j * period
+        return times[times <= t_end]
+
+    # ----------------------------------------------------------------------- modes
+    def _mode_count(self) -> None:
+        return None
+
+    def _modes(self, n):
+        k = np.arange(1.0, n + 1.0)
+        if self.support == "fixed":
+            k = k - 0.5
+        return k * (math.pi / self.transit_time), np.full(n, 0.5 * self.mass)
+
+    def _tail_flexibility(self, n) -> float:
+        # sum_{k>n} 2 T^2 / (m pi^2 x_k^2), x_k = k - 1/2 (fixed) or k (free): a trigamma.
+        shift = 0.5 if self.support == "fixed" else 1.0
+        return float(2.0 / (self.stiffness * math.pi**2) * polygamma(1, n + shift))

@@ -1,0 +1,13 @@
+"""impactpred: predict the impact of two linear structures from their driving-point dynamics.
+
+The core is the Laplace-transform method: while the bodies touch, the contact force is
+``F(s) = (Y10 - Y20)/(H1 + H2)``; its time-domain twin is a convolution equation.
+"""
+
+from .api import METHODS, choose_dt, solve_impact
+from .body import Body, SampledResponse
+from .contact import ContactLaw, Hertz, LinearSpring, Rigid
+from .result import BodyEnergy, ImpactResult
+
+__all__ = ["Body", "SampledResponse", "solve_impact", "choose_dt", "METHODS", "Rigid",
+           "LinearSpring", "Hertz", "ContactLaw", "ImpactResult", "BodyEnergy"]

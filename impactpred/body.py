@@ -1,0 +1,253 @@
+"""A body taking part in an impact: its driving-point model and its motion before contact."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from data_synth import ExactModel
+from modalid import ModalModel
+from modalid._checks import as_real_array, as_real_scalar
+
+__all__ = ["Body", "SampledResponse"]
+
+
+@dataclass(frozen=True, eq=False)
+class SampledResponse:
+    """A driving-point impulse response known only by samples (e.g. measured).
+
+    Parameters
+    ----------
+    t : array_like, shape (n,)
+        Sample times (s), strictly increasing, starting at 0.
+    impulse_response : array_like, shape (n,)
+        ``h(t)`` in m/(N s): the complete response, rigid-body drift included.
+    inverse_mass : float, optional
+        ``1/M`` (1/kg) of the rigid-body part already contained in ``h`` (0 for a
+        grounded body); used for restitution and energy bookkeeping only.
+
+    Notes
+    -----
+    The step response is the trapezoidal integral of the samples, linear between them;
+    it is exact for a piecewise-linear ``h``. The record must cover the whole solve:
+    nothing is extrapolated beyond ``t[-1]``.
+    """
+
+    t: Any
+    impulse_response: Any
+    inverse_mass: float = 0.0
+
+    def __post_init__(self):
+        t = as_real_array("t", self.t, ndim=1)
+        h = as_real_array("impulse_response", self.impulse_response, ndim=1)
+        if t.shape != h.shape:
+            raise ValueError(f"t and impulse_response must have the same shape, got "
+                             f"{t.shape} and {h.shape}")
+        if t.size < 2 or t[0] != 0.0:
+            raise ValueError(f"t must start at 0 and hold at least 2 samples, got "
+                             f"{t.size} samples starting at {t[0] if t.size else None!r}")
+        if np.any(np.diff(t) <= 0):
+            raise ValueError("t must be strictly increasing")
+        step = np.concatenate([[0.0], np.cumsum(0.5 * np.diff(t) * (h[1:] + h[:-1]))])
+        for name, value in (("t", t), ("impulse_response", h), ("_step", step)):
+            value = np.array(value)
+            value.setflags(write=False)
+            object.__setattr__(self, name, value)
+        object.__setattr__(self, "inverse_mass", as_real_scalar("inverse_mass", self.inverse_mass))
+        if self.inverse_mass < 0:
+            raise ValueError(f"inverse_mass must be non-negative, got {self.inverse_mass!r}")
+
+    @property
+    def duration(self) -> float:
+        """Length of the record (s)."""
+        return float(self.t[-1])
+
+    def step_response(self, t) -> np.ndarray:
+        """Trapezoidal step response (m/N) at ``t`` (s); 0 before 0, error past the record."""
+        t = as_real_array("t", t)
+        if np.any(t > self.t[-1] * (1 + 1e-12)):
+            raise ValueError(f"the sampled response covers 0 to {self.t[-1]:.6g} s, asked for "
+                             f"t = {float(np.max(t)):.6g} s: give a longer record or a shorter t_end")
+        tc = np.clip(t, 0.0, self.t[-1])
+        i = np.clip(np.searchsorted(self.t, tc, side="right") - 1, 0, self.t.size - 2)
+        tau = tc - self.t[i]
+        dt = self.t[i + 1] - self.t[i]
+        slope = (self.impulse_response[i + 1] - self.impulse_response[i]) / dt
+        out = self._step[i] + tau * (self.impulse_response[i] + 0.5 * slope * tau)
+        return np.where(t > 0, out, 0.0)
+
+
+@dataclass(frozen=True, eq=False)
+class Body:
+    """One of the two colliding bodies.
+
+    Parameters
+    ----------
+    model : ModalModel, data_synth model or SampledResponse
+        Driving-point receptance at the contact point (m/N).
+    velocity : float, keyword-only
+        Rigid-body velocity before impact (m/s) along ``+y`` (from body 1 towards body 2).
+        A grounded body (no rigid-body mode) must have 0.
+    displacement : float, keyword-only
+        Rigid-body displacement of the contact point at ``t = 0`` (m).
+    vibration : array_like, shape (n, 2), keyword-only
+        Vibration present at ``t = 0``: for each of the model's ``n`` lowest modes, its
+        contribution to the contact point's displacement (m) and velocity (m/s).
+    load : callable or (t, f) pair, keyword-only
+        External force (N) on the body at the contact point, along ``+y``: a vectorised
+        callable ``load(t)`` or samples ``(t, f)`` (linear between samples, 0 outside).
+    """
+
+    model: Any
+    velocity: float = 0.0
+    displacement: float = 0.0
+    vibration: Any = None
+    load: Any = None
+
+    def __init__(self, model, *, velocity=0.0, displacement=0.0, vibration=None, load=None):
+        if not isinstance(model, (ModalModel, ExactModel, SampledResponse)):
+            raise TypeError(f"model must be a ModalModel, a data_synth model or a "
+                            f"SampledResponse, got {type(model).__name__}")
+        velocity = as_real_scalar("velocity", velocity)
+        displacement = as_real_scalar("displacement", displacement)
+        if model.inverse_mass == 0.0 and velocity != 0.0:
+            raise ValueError(f"a grounded body (no rigid-body mode) cannot have a rigid-body "
+                             f"velocity, got velocity={velocity!r}")
+        if model.inverse_mass == 0.0 and displacement != 0.0:
+            raise ValueError(f"a grounded body cannot have a rigid-body displacement, got "
+                             f"displacement={displacement!r}: use the gap")
+        if vibration is not None:
+            if isinstance(model, SampledResponse):
+                raise ValueError("vibration needs modes: a SampledResponse has none; give the "
+                                 "free motion as a load or identify a ModalModel")
+            vibration = as_real_array("vibration", vibration)
+            if vibration.ndim != 2 or vibration.shape[1] != 2:
+                raise ValueError(f"vibration must have shape (n_modes, 2) (displacement, "
+                                 f"velocity per mode), got shape {vibration.shape}")
+            vibration = np.array(vibration)
+            vibration.setflags(write=False)
+        if load is not None:
+            load = _as_load(load)
+        for name, value in (("model", model), ("velocity", velocity),
+                            ("displacement", displacement), ("vibration", vibration),
+                            ("load", load)):
+            object.__setattr__(self, name, value)
+
+    # ------------------------------------------------------------------ queries
+    @property
+    def inverse_mass(self) -> float:
+        """``1/M`` of the rigid-body mode (1/kg); 0 for a grounded body."""
+        return float(self.model.inverse_mass)
+
+    @property
+    def is_rational(self) -> bool:
+        """True when the model is a finite pole-residue receptance (Laplace solver applies)."""
+        return isinstance(self.model, ModalModel) or bool(getattr(self.model, "is_rational", False))
+
+    def modal_model(self, n_modes: int | None = None) -> ModalModel:
+        """The body's model as a ``ModalModel`` (exact for rational models).
+
+        For a continuum, ``n_modes`` modes plus the residual flexibility are used.
+        """
+        if isinstance(self.model, ModalModel):
+            return self.model
+        if isinstance(self.model, SampledResponse):
+            raise ValueError("a SampledResponse has no modal model: identify one with modalid")
+        if self.is_rational:
+            return self.model.modal_model(_rational_order(self.model))
+        if n_modes is None:
+            raise ValueError(f"a {type(self.model).__name__} needs n_modes to become a ModalModel")
+        return self.model.modal_model(n_modes, residual=True)
+
+    def step_response(self, t) -> np.ndarray:
+        """Exact step response (m/N) of the model (``S(0+)`` includes any flexibility)."""
+        return self.model.step_response(t)
+
+    def vibration_modes(self) -> ModalModel | None:
+        """Modal model of the modes that carry :attr:`vibration` (None without vibration)."""
+        if self.vibration is None:
+            return None
+        n = self.vibration.shape[0]
+        if isinstance(self.model, ModalModel):
+            if n > self.model.n_modes:
+                raise ValueError(f"vibration gives {n} modes but the model has "
+                                 f"{self.model.n_modes}")
+            return self.model.truncate(n).without_rigid_body()._replace(
+                flexibility=0.0, real_poles=(), real_residues=())
+        return self.model.modal_model(n).without_rigid_body()._replace(flexibility=0.0)
+
+    def initial_modal_states(self) -> np.ndarray | None:
+        """Complex modal states ``z_k`` (``z' = p z + u``, ``y = 2 Re(r z)``) of :attr:`vibration`."""
+        modes = self.vibration_modes()
+        if modes is None:
+            return None
+        table_order = np.argsort(np.abs(modes.poles), kind="stable")
+        p, r = modes.poles[table_order], modes.residues[table_order]
+        q, qdot = self.vibration[:, 0], self.vibration[:, 1]
+        # 2 Re(r z) = q and 2 Re(r p z) = qdot, with z = x1 + i x2
+        a11, a12 = 2 * r.real, -2 * r.imag
+        rp = r * p
+        a21, a22 = 2 * rp.real, -2 * rp.imag
+        det = a11 * a22 - a12 * a21
+        x1 = (q * a22 - a12 * qdot) / det
+        x2 = (a11 * qdot - a21 * q) / det
+        return p, r, x1 + 1j * x2
+
+    def vibration_energy(self) -> float:
+        """Energy (J) of the initial vibration: ``sum 1/2 m_k (qdot^2 + omega_k^2 q^2)``."""
+        modes = self.vibration_modes()
+        if modes is None:
+            return 0.0
+        table = modes.modes
+        q, qdot = self.vibration[:, 0], self.vibration[:, 1]
+        m, w = table["modal_mass"].to_numpy(), table["omega_n"].to_numpy()
+        return float(np.sum(0.5 * m * (qdot**2 + w**2 * q**2)))
+
+    def free_motion(self, t) -> np.ndarray:
+        """Contact-point displacement (m) with no contact force and no load, at ``t`` (s).
+
+        Rigid translation plus the free decay of :attr:`vibration`, in closed form.
+        """
+        t = np.asarray(t, dtype=float)
+        y = self.displacement + self.velocity * t
+        states = self.initial_modal_states()
+        if states is not None:
+            p, r, z0 = states
+            y = y + 2.0 * np.sum((r * z0 * np.exp(p * t[..., None])).real, axis=-1)
+        return y
+
+    def load_samples(self, t) -> np.ndarray:
+        """External force (N) at times ``t``; zeros without a load."""
+        t = np.asarray(t, dtype=float)
+        if self.load is None:
+            return np.zeros_like(t)
+        values = np.asarray(self.load(t), dtype=float)
+        if values.shape != t.shape or not np.all(np.isfinite(values)):
+            raise ValueError(f"load(t) must return finite values of shape {t.shape}, got "
+                             f"shape {values.shape}")
+        return values
+
+
+def _rational_order(model) -> int:
+    try:
+        return len(model.natural_frequencies(1))
+    except ValueError:
+        return 0
+
+
+def _as_load(load):
+    if callable(load):
+        return load
+    try:
+        t, f = load
+    except (TypeError, ValueError) as exc:
+        raise TypeError(f"load must be a callable load(t) or a pair (t, f), got "
+                        f"{type(load).__name__}") from exc
+    t = as_real_array("load t", t, ndim=1)
+    f = as_real_array("load f", f, ndim=1)
+    if t.shape != f.shape or np.any(np.diff(t) <= 0):
+        raise ValueError(f"load (t, f) must be samples of equal shape with increasing t, got "
+                         f"shapes {t.shape} and {f.shape}")
+    return lambda tt: np.interp(tt, t, f, left=0.0, right=0.0)

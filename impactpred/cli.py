@@ -1,0 +1,99 @@
+"""Command line: ``impactpred <command>``; ``impactpred --help`` lists the commands."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+__all__ = ["main"]
+
+
+def _cmd_models(args) -> int:
+    import numpy as np
+
+    from data_synth import CantileverBeam, Rod, SpringMass
+
+    models = {
+        "Rod(m=1 kg, T=1 s, fixed)": Rod(1.0, 1.0, support="fixed"),
+        "Rod(m=1 kg, T=1 s, free)": Rod(1.0, 1.0, support="free"),
+        "CantileverBeam(m=1 kg, T=1 s)": CantileverBeam(1.0, 1.0),
+        "SpringMass(m=1 kg, k=1e4 N/m, zeta=0.02)": SpringMass(1.0, 1e4, damping_ratio=0.02),
+    }
+    print("First natural frequencies (Hz) of the exact models:")
+    for name, model in models.items():
+        n = 1 if isinstance(model, SpringMass) else args.n_modes
+        freq_hz = model.natural_frequencies(n) / (2 * np.pi)
+        print(f"  {name:42s} " + "  ".join(f"{f:9.4f}" for f in freq_hz))
+    print(f"  {'LumpedMass(1 kg)':42s} (rigid body only)")
+    if args.out:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        out = Path(args.out)
+        out.mkdir(parents=True, exist_ok=True)
+        freq_hz = np.linspace(0.01, 4.0, 4000)
+        fig, ax = plt.subplots(figsize=(7, 4))
+        for name, model in models.items():
+            if isinstance(model, SpringMass):
+                continue
+            ax.semilogy(freq_hz, np.abs(model.frf(2 * np.pi * freq_hz)), label=name, lw=1)
+        ax.set_xlabel("frequency (Hz)")
+        ax.set_ylabel("|receptance| (m/N)")
+        ax.legend(fontsize=8)
+        fig.tight_layout()
+        fig.savefig(out / "exact_models_frf.png", dpi=110)
+        print(f"wrote {out / 'exact_models_frf.png'}")
+    return 0
+
+
+def _cmd_paper(args) -> int:
+    import pandas as pd
+
+    from .paper import run_paper_cases
+
+    table = run_paper_cases(args.out, dt=args.dt, plot=not args.no_plot)
+    with pd.option_context("display.width", 160, "display.max_columns", 20):
+        print(table.drop(columns=["description"]).to_string(float_format=lambda x: f"{x:.6g}"))
+    if args.out:
+        print(f"wrote {Path(args.out) / 'paper_cases.csv'} and the Fig. 4 PNG files")
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="impactpred",
+        description="Predict impacts between linear structures from their driving-point "
+                    "dynamics (Laplace-transform method).")
+    sub = parser.add_subparsers(dest="command", metavar="command")
+    models = sub.add_parser("models", help="print the exact models' natural frequencies, "
+                                           "plot their FRFs")
+    models.add_argument("--n-modes", type=int, default=5, help="frequencies per model")
+    models.add_argument("--out", help="folder for the FRF plot")
+    models.set_defaults(func=_cmd_models)
+    paper = sub.add_parser("paper", help="reproduce the seed paper's Fig. 4 cases (a)-(d)")
+    paper.add_argument("--out", help="folder for the PNG figures and the CSV table")
+    paper.add_argument("--dt", type=float, default=None, help="time step (s); default: auto")
+    paper.add_argument("--no-plot", action="store_true", help="table only")
+    paper.set_defaults(func=_cmd_paper)
+    return parser
+
+
+def main(argv=None) -> int:
+    """Entry point of the ``impactpred`` console script."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if not getattr(args, "func", None):
+        parser.print_help()
+        return 0
+    try:
+        return args.func(args)
+    except (ValueError, TypeError) as exc:
+        print(f"impactpred: error: {exc}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,128 @@
+"""Contact laws between the two contact points.
+
+The gap is ``g = y2 - y1 + g0`` (m); the compressive contact force ``f >= 0`` (N).
+Every law is unilateral: no tension, and no force while the gap is open.
+
+The time-stepping solvers hold the force constant over a step ``[t_n, t_n+1)``; the gap
+at the end of the step is then affine in that force, ``g_{n+1} = G + K0 f_n`` (``G``: the
+gap the step would end with at zero force, ``K0 > 0``: both bodies' step-response
+increment over one step). :meth:`step_force` of each law solves that scalar problem.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from modalid._checks import as_nonnegative_scalar, as_positive_scalar
+
+__all__ = ["Rigid", "LinearSpring", "Hertz", "ContactLaw"]
+
+
+class ContactLaw:
+    """Base class of the contact laws (for ``isinstance`` checks)."""
+
+    #: True when the law is linear while closed, so the exact Laplace solver applies.
+    is_linear: bool = True
+
+    def step_force(self, G: float, K0: float, g_prev: float, dt: float) -> float:
+        """Force (N) over one step such that the law holds at the step's end."""
+        raise NotImplementedError
+
+
+@dataclass(frozen=True)
+class Rigid(ContactLaw):
+    """Rigid (impenetrable) contact: ``f >= 0, g >= 0, f g = 0`` (the paper's law)."""
+
+    def step_force(self, G, K0, g_prev, dt):
+        """Linear complementarity: ``f = max(0, -G/K0)``, which makes ``g_{n+1} = max(G, 0)``."""
+        return -G / K0 if G < 0.0 else 0.0
+
+
+@dataclass(frozen=True)
+class LinearSpring(ContactLaw):
+    """Linear spring-dashpot contact: ``f = max(0, k d + c d')`` while the penetration ``d = -g > 0``.
+
+    Parameters
+    ----------
+    stiffness : float
+        ``k`` in N/m, > 0.
+    damping : float, optional
+        ``c`` in N s/m, >= 0. The dashpot never pulls: the force is clipped at 0.
+    """
+
+    stiffness: float
+    damping: float = 0.0
+
+    def __post_init__(self):
+        object.__setattr__(self, "stiffness", as_positive_scalar("stiffness", self.stiffness))
+        object.__setattr__(self, "damping", as_nonnegative_scalar("damping", self.damping))
+
+    def step_force(self, G, K0, g_prev, dt):
+        """Implicit: ``f = k d_{n+1} + c (d_{n+1} - d_n)/dt`` with ``d = -g``, clipped at 0."""
+        k, c = self.stiffness, self.damping
+        f = (-k * G - c * (G - g_prev) / dt) / (1.0 + K0 * (k + c / dt))
+        return f if (f > 0.0 and G + K0 * f < 0.0) else 0.0
+
+
+@dataclass(frozen=True)
+class Hertz(ContactLaw):
+    """Hertzian contact ``f = k d**exponent`` for penetration ``d = -g > 0``.
+
+    Parameters
+    ----------
+    stiffness : float
+        ``k`` in N/m**exponent, > 0 (for a sphere of radius R on a flat:
+        ``k = 4/3 E* sqrt(R)``).
+    exponent : float, optional
+        1.5 for Hertz's point contact.
+
+    Nonlinear, so only the time-stepping solvers take it: a safeguarded scalar Newton
+    solve per step.
+    """
+
+    stiffness: float
+    exponent: float = 1.5
+    is_linear = False
+
+    def __post_init__(self):
+        object.__setattr__(self, "stiffness", as_positive_scalar("stiffness", self.stiffness))
+        object.__setattr__(self, "exponent", as_positive_scalar("exponent", self.exponent))
+
+    def step_force(self, G, K0, g_prev, dt):
+        """Root of ``phi(f) = f - k (-(G + K0 f))**n`` on ``[0, -G/K0]`` (unique, phi increasing)."""
+        if G >= 0.0:
+            return 0.0
+        k, n = self.stiffness, self.exponent
+        lo, hi = 0.0, -G / K0
+        f = min(hi, k * (-G) ** n)  # the force with the bodies' compliance neglected
+        for _ in range(100):
+            d = -(G + K0 * f)
+            phi = f - k * d**n
+            if phi > 0.0:
+                hi = f
+            else:
+                lo = f
+            dphi = 1.0 + k * n * K0 * d ** (n - 1.0)
+            f_new = f - phi / dphi
+            if not lo < f_new < hi:  # Newton left the bracket: bisect
+                f_new = 0.5 * (lo + hi)
+            if abs(f_new - f) <= 1e-14 * max(f_new, 1e-300) or hi - lo <= 1e-15 * hi:
+                return f_new
+            f = f_new
+        return f
+
+
+def _contact_name(law: ContactLaw) -> str:
+    return type(law).__name__
+
+
+def check_contact(contact) -> ContactLaw:
+    """Return ``contact`` if it is a contact law, else raise ``TypeError`` naming it."""
+    if not isinstance(contact, ContactLaw):
+        raise TypeError(f"contact must be Rigid(), LinearSpring(...) or Hertz(...), got "
+                        f"{contact!r}")
+    return contact
+
+

@@ -1,0 +1,201 @@
+"""``ImpactResult``: everything a solve predicts, immutable, with its own diagnostics."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import pandas as pd
+
+__all__ = ["ImpactResult", "BodyEnergy"]
+
+
+@dataclass(frozen=True)
+class BodyEnergy:
+    """Energy of one body (J) before the impact and at the end of the solve.
+
+    ``vibration_after`` is the vibration energy left at ``t_end``; for a damped body it
+    also contains what the body's own damping dissipated when the solver obtains it by
+    an energy balance (time-stepping solvers on continua).
+    """
+
+    rigid_before: float
+    vibration_before: float
+    rigid_after: float
+    vibration_after: float
+
+    @property
+    def total_before(self) -> float:
+        return self.rigid_before + self.vibration_before
+
+    @property
+    def total_after(self) -> float:
+        return self.rigid_after + self.vibration_after
+
+
+def _frozen(a):
+    a = np.array(a, dtype=float, copy=True)
+    a.setflags(write=False)
+    return a
+
+
+@dataclass(frozen=True)
+class ImpactResult:
+    """The predicted impact.
+
+    Attributes
+    ----------
+    t : ndarray, shape (n,)
+        Times (s). For time-stepping solvers the uniform grid ``k * dt``; for the exact
+        solvers a grid with every event time inserted.
+    force : ndarray, shape (n,)
+        Contact force (N), compressive positive. Time-stepping solvers hold it constant
+        on ``[t_k, t_k+1)``: ``force[k]`` is its value there. Dirac parts are not in it:
+        see ``dirac_impulses``.
+    y1, y2 : ndarray, shape (n,)
+        Contact-point displacements (m) of body 1 and body 2.
+    gap : ndarray, shape (n,)
+        ``y2 - y1 + gap0`` (m).
+    contact_intervals : tuple of (float, float)
+        Every contact interval (start, end) in s within ``t_end`` (a contact still closed
+        at ``t_end`` ends there). A pure Dirac contact has start == end.
+    dirac_impulses : tuple of (float, float)
+        (time s, impulse N s) of every Dirac part of the force.
+    velocities_before, velocities_after : tuple of float
+        Rigid-body velocities (m/s) of the two bodies before and after all contacts.
+    energy : tuple of BodyEnergy
+        Per body.
+    method : str
+        The solver used; ``dt`` the step (s) it used (or its output step).
+    first_contact_impulse, total_impulse : float
+        Impulse (N s) of the first contact and of all contacts, Dirac parts included.
+    inverse_masses : tuple of float
+        ``1/M`` of each body (0 for a grounded one).
+    notes : tuple of str
+        What the solver wants the user to know (e.g. chosen step, micro-separations).
+    """
+
+    t: np.ndarray
+    force: np.ndarray
+    y1: np.ndarray
+    y2: np.ndarray
+    gap: np.ndarray
+    contact_intervals: tuple
+    dirac_impulses: tuple
+    velocities_before: tuple
+    velocities_after: tuple
+    energy_by_body: tuple
+    method: str
+    dt: float
+    first_contact_impulse: float
+    total_impulse: float
+    inverse_masses: tuple
+    notes: tuple = field(default_factory=tuple)
+
+    def __post_init__(self):
+        for name in ("t", "force", "y1", "y2", "gap"):
+            object.__setattr__(self, name, _frozen(getattr(self, name)))
+
+    # ------------------------------------------------------------- derived figures
+    @property
+    def n_contacts(self) -> int:
+        """Number of contact intervals."""
+        return len(self.contact_intervals)
+
+    @property
+    def contact_duration(self) -> float:
+        """Duration (s) of the first contact; 0.0 without contact."""
+        if not self.contact_intervals:
+            return 0.0
+        start, end = self.contact_intervals[0]
+        return end - start
+
+    @property
+    def peak_force(self) -> float:
+        """Largest regular force (N) during the first contact (Dirac parts excluded)."""
+        if not self.contact_intervals:
+            return 0.0
+        start, end = self.contact_intervals[0]
+        inside = (self.t >= start) & (self.t <= end)
+        return float(np.max(self.force[inside], initial=0.0))
+
+    @property
+    def impulse(self) -> float:
+        """Total impulse (N s) of all contacts within ``t_end``, Dirac parts included."""
+        return self.total_impulse
+
+    @property
+    def restitution(self):
+        """``(u2' - u1') / (u1 - u2)`` after the last separation; None without approach."""
+        return _restitution(self.velocities_before, self.velocities_after)
+
+    @property
+    def restitution_first(self):
+        """Restitution after the first contact only; None without approach."""
+        u1, u2 = self.velocities_before
+        p = self.first_contact_impulse
+        after = (u1 - p * self.inverse_masses[0], u2 + p * self.inverse_masses[1])
+        return _restitution(self.velocities_before, after)
+
+    @property
+    def energy(self) -> pd.DataFrame:
+        """Energy table (J): rows body1, body2; rigid/vibration before and after."""
+        rows = {f"body{i + 1}": vars(e) for i, e in enumerate(self.energy_by_body)}
+        table = pd.DataFrame.from_dict(rows, orient="index")
+        table["total_before"] = table["rigid_before"] + table["vibration_before"]
+        table["total_after"] = table["rigid_after"] + table["vibration_after"]
+        return table
+
+    @property
+    def vibration_energy_fraction(self) -> float:
+        """Share of the total energy left in vibration at the end (0 to 1)."""
+        before = sum(e.total_before for e in self.energy_by_body)
+        after_vib = sum(e.vibration_after for e in self.energy_by_body)
+        return after_vib / before if before > 0 else 0.0
+
+    def summary(self) -> dict:
+        """The headline figures as a plain dict."""
+        return {"method": self.method, "dt": self.dt, "n_contacts": self.n_contacts,
+                "contact_duration": self.contact_duration, "peak_force": self.peak_force,
+                "impulse": self.impulse, "restitution_first": self.restitution_first,
+                "restitution": self.restitution,
+                "vibration_energy_fraction": self.vibration_energy_fraction,
+                "n_dirac": len(self.dirac_impulses)}
+
+    def to_pandas(self) -> pd.DataFrame:
+        """Time histories as a DataFrame indexed by time (s)."""
+        return pd.DataFrame({"force": self.force, "y1": self.y1, "y2": self.y2,
+                             "gap": self.gap}, index=pd.Index(self.t, name="t"))
+
+    def plot(self, ax=None):
+        """Force, gap and displacements on one time axis; returns the force Axes."""
+        import matplotlib.pyplot as plt
+
+        if ax is None:
+            _, ax = plt.subplots(figsize=(7, 4))
+        step = "post" if self.method in ("convolution", "modal") else None
+        if step:
+            ax.step(self.t, self.force, where="post", color="C0", label="force")
+        else:
+            ax.plot(self.t, self.force, color="C0", label="force")
+        for time, size in self.dirac_impulses:
+            ax.annotate(f"Dirac {size:.3g} N s", (time, 0), xytext=(time, 0.9 * max(
+                self.peak_force, 1e-300)), arrowprops={"arrowstyle": "->"}, fontsize=8)
+        ax.set_xlabel("t (s)")
+        ax.set_ylabel("contact force (N)")
+        motion = ax.twinx()
+        motion.plot(self.t, self.y1, "C1--", lw=1, label="y1")
+        motion.plot(self.t, self.y2, "C2--", lw=1, label="y2")
+        motion.plot(self.t, self.gap, "C3:", lw=1, label="gap")
+        motion.set_ylabel("displacement (m)")
+        lines = ax.get_legend_handles_labels()
+        more = motion.get_legend_handles_labels()
+        ax.legend(lines[0] + more[0], lines[1] + more[1], loc="upper right", fontsize=8)
+        return ax
+
+
+def _restitution(before, after):
+    approach = before[0] - before[1]
+    if approach <= 0:
+        return None
+    return (after[1] - after[0]) / approach

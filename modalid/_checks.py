@@ -1,0 +1,111 @@
+"""Input validation shared by the three packages.
+
+Every helper raises ``TypeError`` for a value of the wrong kind and ``ValueError`` for a
+value of the right kind but outside its domain, and always names the argument and the
+offending value, so that a user reading the traceback knows what to fix.
+"""
+
+from __future__ import annotations
+
+import numbers
+
+import numpy as np
+
+__all__ = [
+    "as_real_scalar",
+    "as_positive_scalar",
+    "as_nonnegative_scalar",
+    "as_real_array",
+    "as_complex_array",
+    "as_choice",
+    "as_count",
+]
+
+
+def _describe(value) -> str:
+    text = repr(value)
+    return text if len(text) <= 80 else text[:77] + "..."
+
+
+def as_real_scalar(name: str, value) -> float:
+    """Return ``value`` as a finite Python float, or raise naming ``name``."""
+    if isinstance(value, bool) or not isinstance(value, (numbers.Real, np.floating, np.integer)):
+        if isinstance(value, np.ndarray) and value.ndim == 0 and np.isrealobj(value):
+            value = value.item()
+        else:
+            raise TypeError(f"{name} must be a real number, got {_describe(value)} "
+                            f"of type {type(value).__name__}")
+    out = float(value)
+    if not np.isfinite(out):
+        raise ValueError(f"{name} must be finite, got {out!r}")
+    return out
+
+
+def as_positive_scalar(name: str, value) -> float:
+    """Return ``value`` as a finite float > 0, or raise naming ``name``."""
+    out = as_real_scalar(name, value)
+    if out <= 0.0:
+        raise ValueError(f"{name} must be positive, got {out!r}")
+    return out
+
+
+def as_nonnegative_scalar(name: str, value) -> float:
+    """Return ``value`` as a finite float >= 0, or raise naming ``name``."""
+    out = as_real_scalar(name, value)
+    if out < 0.0:
+        raise ValueError(f"{name} must be non-negative, got {out!r}")
+    return out
+
+
+def _as_array(name: str, value, dtype) -> np.ndarray:
+    if isinstance(value, (str, bytes)) or value is None:
+        raise TypeError(f"{name} must be array-like of numbers, got {_describe(value)}")
+    try:
+        arr = np.asarray(value)
+    except Exception as exc:  # ragged lists and the like
+        raise TypeError(f"{name} must be array-like of numbers, got {_describe(value)}") from exc
+    if arr.dtype == object or not (np.issubdtype(arr.dtype, np.number) or arr.dtype == bool):
+        raise TypeError(f"{name} must be array-like of numbers, got dtype {arr.dtype} "
+                        f"from {_describe(value)}")
+    if dtype is float and np.iscomplexobj(arr):
+        raise TypeError(f"{name} must be real, got complex values {_describe(value)}")
+    arr = arr.astype(dtype, copy=False)
+    if not np.all(np.isfinite(arr)):
+        bad = arr[~np.isfinite(arr)].ravel()[0]
+        raise ValueError(f"{name} must be finite, got {bad!r} among its values")
+    return arr
+
+
+def as_real_array(name: str, value, *, ndim: int | None = None) -> np.ndarray:
+    """Return a finite float array (copy-free when possible), or raise naming ``name``."""
+    arr = _as_array(name, value, float)
+    if ndim is not None and arr.ndim != ndim:
+        raise ValueError(f"{name} must be {ndim}-D, got shape {arr.shape}")
+    return arr
+
+
+def as_complex_array(name: str, value, *, ndim: int | None = None) -> np.ndarray:
+    """Return a finite complex array, or raise naming ``name``."""
+    arr = _as_array(name, value, complex)
+    if ndim is not None and arr.ndim != ndim:
+        raise ValueError(f"{name} must be {ndim}-D, got shape {arr.shape}")
+    return arr
+
+
+def as_choice(name: str, value, choices) -> str:
+    """Return ``value`` if it is one of the strings ``choices``, or raise naming ``name``."""
+    if not isinstance(value, str):
+        raise TypeError(f"{name} must be one of {sorted(choices)}, got {_describe(value)}")
+    if value not in choices:
+        raise ValueError(f"{name} must be one of {sorted(choices)}, got {value!r}")
+    return value
+
+
+def as_count(name: str, value, *, minimum: int = 0) -> int:
+    """Return ``value`` as an int >= ``minimum``, or raise naming ``name``."""
+    if isinstance(value, bool) or not isinstance(value, (numbers.Integral, np.integer)):
+        raise TypeError(f"{name} must be an integer, got {_describe(value)}")
+    out = int(value)
+    if out < minimum:
+        raise ValueError(f"{name} must be >= {minimum}, got {out}")
+    return out

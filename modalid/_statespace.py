@@ -1,0 +1,117 @@
+"""Pure array kernels: pole-residue form <-> real state-space matrices.
+
+Kept apart from :class:`~modalid.ModalModel` so that they can be tested on plain arrays.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.linalg
+
+__all__ = ["pole_residue_to_statespace", "pole_residue_from_statespace"]
+
+
+def pole_residue_to_statespace(poles, residues, real_poles, real_residues, inverse_mass,
+                               flexibility):
+    """Real block-diagonal ``(A, b, c, d)`` realising the pole-residue receptance.
+
+    Returns ``A`` (n, n), ``b`` (n,), ``c`` (n,), ``d`` float with
+    ``c (sI - A)^-1 b + d = H(s)``; block order: complex modes, real poles, rigid body.
+    """
+    n_c, n_r = len(poles), len(real_poles)
+    n = 2 * n_c + n_r + (2 if inverse_mass else 0)
+    a = np.zeros((n, n))
+    b = np.zeros(n)
+    c = np.zeros(n)
+    idx = 2 * np.arange(n_c)
+    a[idx, idx] = a[idx + 1, idx + 1] = np.real(poles)
+    a[idx, idx + 1] = -np.imag(poles)
+    a[idx + 1, idx] = np.imag(poles)
+    b[idx] = 1.0
+    c[idx] = 2.0 * np.real(residues)
+    c[idx + 1] = -2.0 * np.imag(residues)
+    j = 2 * n_c + np.arange(n_r)
+    a[j, j] = real_poles
+    b[j] = 1.0
+    c[j] = real_residues
+    if inverse_mass:
+        k = 2 * n_c + n_r
+        a[k, k + 1] = 1.0
+        b[k + 1] = inverse_mass
+        c[k] = 1.0
+    return a, b, c, float(flexibility)
+
+
+def pole_residue_from_statespace(a, b, c, d, *, zero_tol=1e-8, defect_cond=1e10):
+    """Pole-residue parts of the SISO system ``c (sI - A)^-1 b + d``.
+
+    The eigenvalues at 0 (``|lambda| <= zero_tol * ||A||``) are split off by an ordered
+    real Schur form and a Sylvester solve; their block must be a pure double integrator
+    (the rigid-body term). The rest is diagonalised; residues are
+    ``(c v_k)(w_k b)``. Raises ``ValueError`` for a simple pole at 0, a negative
+    rigid-body mass, an unstable pole or a defective (repeated, coupled) pole.
+
+    Returns a dict of keyword arguments for :class:`~modalid.ModalModel`.
+    """
+    a = np.atleast_2d(np.asarray(a, dtype=float))
+    b = np.asarray(b, dtype=float).ravel()
+    c = np.asarray(c, dtype=float).ravel()
+    n = a.shape[0]
+    out = dict(poles=np.zeros(0, complex), residues=np.zeros(0, complex),
+               real_poles=np.zeros(0), real_residues=np.zeros(0), inverse_mass=0.0,
+               flexibility=float(d))
+    if n == 0:
+        return out
+    # Balancing (a diagonal similarity) tames companion forms from transfer functions.
+    a, (scaling, _perm) = scipy.linalg.matrix_balance(a, permute=False, separate=True)
+    b, c = b / scaling, c * scaling
+    norm_a = np.linalg.norm(a, 1)
+    tol = zero_tol * norm_a if norm_a > 0 else 1.0
+    t, z, n_zero = scipy.linalg.schur(a, output="real", sort=lambda re, im: np.hypot(re, im) <= tol)
+    bt, ct = z.T @ b, c @ z
+    t11, t12, t22 = t[:n_zero, :n_zero], t[:n_zero, n_zero:], t[n_zero:, n_zero:]
+    if n_zero and n_zero < n:
+        x = scipy.linalg.solve_sylvester(t11, -t22, -t12)
+        b1, b2 = bt[:n_zero] - x @ bt[n_zero:], bt[n_zero:]
+        c1, c2 = ct[:n_zero], ct[:n_zero] @ x + ct[n_zero:]
+    else:
+        b1, b2, c1, c2 = bt[:n_zero], bt[n_zero:], ct[:n_zero], ct[n_zero:]
+
+    lam, v = (np.linalg.eig(t22) if n_zero < n else (np.zeros(0, complex), np.zeros((0, 0))))
+    if lam.size:
+        if np.linalg.cond(v) > defect_cond:
+            raise ValueError("the system has a defective (repeated, coupled) pole: its "
+                             "receptance is not a sum of simple poles")
+        res = (c2 @ v) * np.linalg.solve(v, b2.astype(complex))
+    else:
+        res = np.zeros(0, complex)
+    omega_ref = float(np.min(np.abs(lam))) if lam.size else 1.0
+
+    if n_zero:
+        k1 = float(c1 @ b1)              # 1/s coefficient
+        k2 = float(c1 @ t11 @ b1)        # 1/s^2 coefficient
+        k3 = float(c1 @ t11 @ t11 @ b1)  # 1/s^3 coefficient
+        scale = abs(k2) / omega_ref**2 + abs(float(d)) + float(np.sum(np.abs(res))) / omega_ref
+        if abs(k1) / omega_ref > 1e-6 * scale:
+            raise ValueError(f"the system has a simple pole at s = 0 (coefficient {k1:.6g} "
+                             "of 1/s): a receptance has a rigid-body double pole or none")
+        if abs(k3) / omega_ref**3 > 1e-6 * scale:
+            raise ValueError(f"the system has a pole of order 3 at s = 0 (coefficient "
+                             f"{k3:.6g} of 1/s^3)")
+        if k2 < -1e-9 * scale * omega_ref**2:
+            raise ValueError(f"the rigid-body term 1/(M s^2) has a negative inverse mass {k2:.6g}")
+        out["inverse_mass"] = max(k2, 0.0)
+
+    stab_tol = 1e-9 * np.abs(lam)
+    unstable = lam.real > stab_tol
+    if np.any(unstable):
+        raise ValueError(f"the system is unstable: pole {lam[unstable][0]:.6g} has a positive "
+                         "real part")
+    lam = np.where(lam.real > 0, 1j * lam.imag, lam)  # rounding of undamped poles
+    is_real = np.abs(lam.imag) <= 1e-12 * np.abs(lam)
+    upper = (~is_real) & (lam.imag > 0)
+    if np.count_nonzero(upper) != np.count_nonzero((~is_real) & (lam.imag < 0)):
+        raise ValueError("the complex poles do not come in conjugate pairs")
+    out["poles"], out["residues"] = lam[upper], res[upper]
+    out["real_poles"], out["real_residues"] = lam[is_real].real, res[is_real].real
+    return out

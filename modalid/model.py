@@ -1,0 +1,368 @@
+"""``ModalModel``: the pole-residue driving-point receptance every stage exchanges.
+
+    H(s) = inverse_mass / s**2 + flexibility
+         + sum_k [ r_k / (s - p_k) + conj(r_k) / (s - conj(p_k)) ]   (Im p_k > 0)
+         + sum_j a_j / (s - sigma_j)                                 (sigma_j < 0)
+
+in m/N, with ``s`` in rad/s. Every evaluation below is a closed form: exact to rounding.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import warnings
+
+import numpy as np
+import pandas as pd
+
+from ._checks import (as_choice, as_complex_array, as_count, as_nonnegative_scalar,
+                      as_real_array, as_real_scalar)
+from .quantities import QUANTITIES, receptance_to
+from ._statespace import pole_residue_from_statespace, pole_residue_to_statespace
+
+__all__ = ["ModalModel"]
+
+
+@contextlib.contextmanager
+def _quiet_polynomial_trimming():
+    """Silence scipy's BadCoefficients while converting between tf and ss.
+
+    The conversions leave rounding-level leading coefficients that ``normalize`` trims
+    with that warning; the round-trip tests bound the actual error.
+    """
+    from scipy.signal import BadCoefficients
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", BadCoefficients)
+        yield
+
+
+def _frozen(array: np.ndarray) -> np.ndarray:
+    array = np.array(array, copy=True)
+    array.setflags(write=False)
+    return array
+
+
+class ModalModel:
+    """Driving-point receptance (m/N) in pole-residue form; immutable.
+
+    Parameters
+    ----------
+    poles : array_like of complex, shape (n_modes,)
+        One pole of each complex-conjugate pair, ``Im p_k > 0`` (rad/s); the model adds
+        the conjugates itself.
+    residues : array_like of complex, shape (n_modes,)
+        Residue ``r_k`` of each pole in ``poles`` (m/N * rad/s).
+    real_poles : array_like of float, shape (n_real,), optional
+        Real poles ``sigma_j < 0`` (rad/s), e.g. overdamped terms.
+    real_residues : array_like of float, shape (n_real,), optional
+        Their real residues ``a_j``.
+    inverse_mass : float, optional
+        Rigid-body term ``1/M`` (1/kg) of a free body; 0 for a grounded one.
+    flexibility : float, optional
+        Constant term (m/N): the residual flexibility of modes above the model's band.
+
+    Notes
+    -----
+    The object is immutable: its arrays are read-only and every method returns a new
+    object. Modes are stored in the order given; :meth:`truncate` and :attr:`modes`
+    sort them by undamped natural frequency ``|p_k|``.
+    """
+
+    __slots__ = ("_poles", "_residues", "_real_poles", "_real_residues",
+                 "_inverse_mass", "_flexibility")
+
+    def __init__(self, *, poles=(), residues=(), real_poles=(), real_residues=(),
+                 inverse_mass=0.0, flexibility=0.0):
+        poles = as_complex_array("poles", poles, ndim=1)
+        residues = as_complex_array("residues", residues, ndim=1)
+        real_poles = as_real_array("real_poles", real_poles, ndim=1)
+        real_residues = as_real_array("real_residues", real_residues, ndim=1)
+        if poles.shape != residues.shape:
+            raise ValueError(f"poles and residues must have the same shape, got "
+                             f"{poles.shape} and {residues.shape}")
+        if real_poles.shape != real_residues.shape:
+            raise ValueError(f"real_poles and real_residues must have the same shape, got "
+                             f"{real_poles.shape} and {real_residues.shape}")
+        if np.any(poles.imag <= 0.0):
+            bad = poles[poles.imag <= 0.0][0]
+            raise ValueError(f"poles must have Im p > 0 (one of each conjugate pair; real "
+                             f"poles go in real_poles), got {bad!r}")
+        if np.any(real_poles == 0.0):
+            raise ValueError("real_poles must be non-zero: a pole at s = 0 is the rigid-body "
+                             "term, give it as inverse_mass")
+        object.__setattr__(self, "_poles", _frozen(poles))
+        object.__setattr__(self, "_residues", _frozen(residues))
+        object.__setattr__(self, "_real_poles", _frozen(real_poles))
+        object.__setattr__(self, "_real_residues", _frozen(real_residues))
+        object.__setattr__(self, "_inverse_mass",
+                           as_nonnegative_scalar("inverse_mass", inverse_mass))
+        object.__setattr__(self, "_flexibility", as_real_scalar("flexibility", flexibility))
+
+    def __setattr__(self, name, value):
+        raise AttributeError(f"ModalModel is immutable: cannot set {name!r}")
+
+    # ------------------------------------------------------------------ attributes
+    poles = property(lambda self: self._poles, doc="Complex poles, Im > 0 (rad/s).")
+    residues = property(lambda self: self._residues, doc="Residues of ``poles``.")
+    real_poles = property(lambda self: self._real_poles, doc="Real poles (rad/s).")
+    real_residues = property(lambda self: self._real_residues, doc="Residues of ``real_poles``.")
+    inverse_mass = property(lambda self: self._inverse_mass, doc="Rigid-body 1/M (1/kg).")
+    flexibility = property(lambda self: self._flexibility, doc="Constant term (m/N).")
+
+    @property
+    def n_modes(self) -> int:
+        """Number of complex-conjugate mode pairs."""
+        return int(self._poles.size)
+
+    @property
+    def order(self) -> int:
+        """State dimension of :meth:`to_statespace`."""
+        return 2 * self.n_modes + self._real_poles.size + (2 if self._inverse_mass else 0)
+
+    # --------------------------------------------------------------- constructors
+    @classmethod
+    def from_modes(cls, omega_n, damping_ratio, modal_mass, *, inverse_mass=0.0,
+                   flexibility=0.0) -> "ModalModel":
+        """Build from real normal modes: ``sum_k 1/(m_k (s^2 + 2 zeta_k w_k s + w_k^2))``.
+
+        Parameters
+        ----------
+        omega_n : array_like of float, shape (n,)
+            Undamped natural frequencies (rad/s), > 0.
+        damping_ratio : float or array_like, shape (n,)
+            Viscous damping ratios, 0 <= zeta < 1.
+        modal_mass : float or array_like, shape (n,)
+            Modal masses at the driving point (kg), > 0 for a passive driving point;
+            a negative one is allowed here (transfer functions) and flagged by
+            :meth:`is_passive`.
+        inverse_mass, flexibility : float
+            As in the constructor.
+        """
+        omega_n = as_real_array("omega_n", omega_n)
+        if omega_n.ndim > 1:
+            raise ValueError(f"omega_n must be 1-D, got shape {omega_n.shape}")
+        omega_n = np.atleast_1d(omega_n)
+        zeta = np.atleast_1d(as_real_array("damping_ratio", damping_ratio))
+        mass = np.atleast_1d(as_real_array("modal_mass", modal_mass))
+        try:
+            omega_n, zeta, mass = np.broadcast_arrays(omega_n, zeta, mass)
+        except ValueError as exc:
+            raise ValueError(f"omega_n, damping_ratio and modal_mass must have matching "
+                             f"shapes, got {omega_n.shape}, {zeta.shape}, {mass.shape}") from exc
+        if np.any(omega_n <= 0):
+            raise ValueError(f"omega_n must be positive (a rigid-body mode goes in "
+                             f"inverse_mass), got {omega_n[omega_n <= 0][0]!r}")
+        if np.any((zeta < 0) | (zeta >= 1)):
+            raise ValueError(f"damping_ratio must be in [0, 1) for a complex mode pair, got "
+                             f"{zeta[(zeta < 0) | (zeta >= 1)][0]!r}")
+        if np.any(mass == 0):
+            raise ValueError("modal_mass must be non-zero, got 0.0")
+        omega_d = omega_n * np.sqrt(1.0 - zeta**2)
+        poles = -zeta * omega_n + 1j * omega_d
+        residues = -0.5j / (mass * omega_d)
+        return cls(poles=poles, residues=residues, inverse_mass=inverse_mass,
+                   flexibility=flexibility)
+
+    @classmethod
+    def from_control(cls, sys) -> "ModalModel":
+        """Build from a SISO python-control ``StateSpace`` or ``TransferFunction``.
+
+        The system must be continuous-time, proper, and stable in Lyapunov's sense
+        (poles with ``Re p <= 0``; a double pole at 0 is the rigid-body term). A simple
+        pole at 0, a repeated non-zero pole, an improper or MIMO system raise
+        ``ValueError``.
+        """
+        import control
+
+        if not isinstance(sys, (control.StateSpace, control.TransferFunction)):
+            raise TypeError(f"sys must be a control.StateSpace or control.TransferFunction, "
+                            f"got {type(sys).__name__}")
+        if sys.ninputs != 1 or sys.noutputs != 1:
+            raise ValueError(f"sys must be SISO, got {sys.noutputs} outputs and "
+                             f"{sys.ninputs} inputs")
+        if sys.dt not in (0, None):
+            raise ValueError(f"sys must be continuous-time, got dt={sys.dt!r}")
+        if isinstance(sys, control.TransferFunction):
+            num = np.trim_zeros(np.atleast_1d(np.squeeze(sys.num[0][0])), "f")
+            den = np.trim_zeros(np.atleast_1d(np.squeeze(sys.den[0][0])), "f")
+            if num.size > den.size:
+                raise ValueError(f"sys is improper: numerator degree {num.size - 1} exceeds "
+                                 f"denominator degree {den.size - 1}")
+            with _quiet_polynomial_trimming():
+                sys = control.ss(sys)
+        a, b, c, d = (np.asarray(m, dtype=float) for m in (sys.A, sys.B, sys.C, sys.D))
+        parts = pole_residue_from_statespace(a, b.ravel(), c.ravel(), float(d.ravel()[0])
+                                             if d.size else 0.0)
+        return cls(**parts)
+
+    # ----------------------------------------------------------------- evaluation
+    def receptance(self, s) -> np.ndarray:
+        """Exact receptance ``H(s)`` (m/N) at complex ``s`` (rad/s), any shape.
+
+        ``H(0)`` of a free body is ``inf`` (its rigid-body term), never ``nan``.
+        """
+        s = as_complex_array("s", s)
+        out = np.full(s.shape, self._flexibility, dtype=complex)
+        if self.n_modes:
+            p, r = self._poles, self._residues
+            sk = s[..., None]
+            out += np.sum(r / (sk - p) + r.conj() / (sk - p.conj()), axis=-1)
+        if self._real_poles.size:
+            out += np.sum(self._real_residues / (s[..., None] - self._real_poles), axis=-1)
+        if self._inverse_mass:
+            zero = s == 0
+            with np.errstate(divide="ignore", invalid="ignore"):
+                rigid = self._inverse_mass / np.where(zero, 1.0, s) ** 2
+            out = np.where(zero, np.inf, out + rigid)
+        return out
+
+    __call__ = receptance
+
+    def frf(self, omega, *, quantity: str = "receptance") -> np.ndarray:
+        """FRF at angular frequencies ``omega`` (rad/s) as receptance, mobility or accelerance.
+
+        The accelerance of a free body at ``omega = 0`` is its finite limit ``inverse_mass``.
+        """
+        as_choice("quantity", quantity, QUANTITIES)
+        omega = as_real_array("omega", omega)
+        if quantity == "accelerance" and self._inverse_mass:
+            elastic = self.without_rigid_body().receptance(1j * omega)
+            return receptance_to(quantity, elastic, omega) + self._inverse_mass
+        return receptance_to(quantity, self.receptance(1j * omega), omega)
+
+    def impulse_response(self, t) -> np.ndarray:
+        """Regular part of the impulse response ``h(t)`` (m/(N s)) at times ``t`` (s).
+
+        ``h = inverse_mass * t + sum 2 Re(r_k exp(p_k t)) + sum a_j exp(sigma_j t)`` for
+        ``t >= 0`` and 0 for ``t < 0``. The flexibility term adds ``flexibility * delta(t)``,
+        which is not in the returned samples (it is in :meth:`step_response`).
+        """
+        t = as_real_array("t", t)
+        tk = t[..., None]
+        out = self._inverse_mass * t
+        if self.n_modes:
+            out = out + 2.0 * np.sum((self._residues * np.exp(self._poles * tk)).real, axis=-1)
+        if self._real_poles.size:
+            out = out + np.sum(self._real_residues * np.exp(self._real_poles * tk), axis=-1)
+        return np.where(t >= 0, out, 0.0)
+
+    def step_response(self, t) -> np.ndarray:
+        """Step response ``S(t) = flexibility + integral_0^t h`` (m/N) for ``t >= 0``, 0 before."""
+        t = as_real_array("t", t)
+        tk = t[..., None]
+        out = self._flexibility + 0.5 * self._inverse_mass * t**2
+        if self.n_modes:
+            p, r = self._poles, self._residues
+            out = out + 2.0 * np.sum((r / p * np.expm1(p * tk)).real, axis=-1)
+        if self._real_poles.size:
+            sig, a = self._real_poles, self._real_residues
+            out = out + np.sum(a / sig * np.expm1(sig * tk), axis=-1)
+        return np.where(t >= 0, out, 0.0)
+
+    def static_flexibility(self) -> float:
+        """Elastic flexibility at ``s = 0`` (m/N): ``H(0)`` less the rigid-body term."""
+        value = self._flexibility - 2.0 * np.sum((self._residues / self._poles).real)
+        return float(value - np.sum(self._real_residues / self._real_poles))
+
+    # ----------------------------------------------------------------- conversions
+    def to_statespace(self):
+        """Real block-diagonal ``control.StateSpace`` with the same receptance.
+
+        Blocks, in order: one ``[[Re p, -Im p], [Im p, Re p]]`` per complex mode (state
+        ``z = x1 + i x2`` with ``z' = p z + u`` and output ``2 Re(r z)``), one ``sigma_j``
+        per real pole, then ``[[0, 1], [0, 0]]`` for the rigid body (states: rigid
+        displacement in m and velocity in m/s, ``B = [0, inverse_mass]``).
+        ``D = flexibility``.
+        """
+        import control
+
+        a, b, c, d = pole_residue_to_statespace(
+            self._poles, self._residues, self._real_poles, self._real_residues,
+            self._inverse_mass, self._flexibility)
+        return control.ss(a, b[:, None], c[None, :], [[d]])
+
+    def to_transfer_function(self):
+        """``control.TransferFunction`` (low orders only: polynomials lose poles at high order)."""
+        import control
+
+        with _quiet_polynomial_trimming():
+            return control.tf(self.to_statespace())
+
+    # ------------------------------------------------------------------- modes etc.
+    @property
+    def modes(self) -> pd.DataFrame:
+        """Table of complex modes sorted by ``omega_n``.
+
+        Columns: ``frequency_hz``, ``omega_n`` (rad/s, ``|p|``), ``damping_ratio``
+        (``-Re p/|p|``), ``residue``, ``modal_mass`` (kg, ``-1/(2 Im(p) Im(r))``: exact
+        for real normal modes, the projection of a complex residue otherwise).
+        """
+        order = np.argsort(np.abs(self._poles), kind="stable")
+        p, r = self._poles[order], self._residues[order]
+        omega_n = np.abs(p)
+        with np.errstate(divide="ignore"):
+            modal_mass = -1.0 / (2.0 * p.imag * r.imag)
+        return pd.DataFrame({"frequency_hz": omega_n / (2 * np.pi), "omega_n": omega_n,
+                             "damping_ratio": 0.0 - p.real / omega_n, "residue": r,
+                             "modal_mass": modal_mass})
+
+    def truncate(self, n: int, *, residual: bool = False) -> "ModalModel":
+        """Keep the ``n`` lowest complex modes (by ``|p|``); real poles and rigid terms stay.
+
+        With ``residual=True`` the dropped modes' static flexibility ``-2 Re(r/p)`` is added
+        to ``flexibility``, so the static flexibility is unchanged.
+        """
+        n = as_count("n", n)
+        order = np.argsort(np.abs(self._poles), kind="stable")
+        keep, drop = order[:n], order[n:]
+        flexibility = self._flexibility
+        if residual and drop.size:
+            flexibility -= 2.0 * float(np.sum((self._residues[drop] / self._poles[drop]).real))
+        return self._replace(poles=self._poles[keep], residues=self._residues[keep],
+                             flexibility=flexibility)
+
+    def without_rigid_body(self) -> "ModalModel":
+        """The same model with ``inverse_mass = 0``."""
+        return self._replace(inverse_mass=0.0)
+
+    def is_stable(self) -> bool:
+        """True when no pole lies in the open right half-plane and real poles are negative.
+
+        Undamped modes (``Re p = 0``) count as stable (Lyapunov), as the rigid-body
+        double pole at 0 does for a free body.
+        """
+        return bool(np.all(self._poles.real <= 0) and np.all(self._real_poles < 0))
+
+    def is_passive(self) -> bool:
+        """Driving-point passivity: positive modal masses and non-negative other terms.
+
+        Checks every modal mass > 0, ``inverse_mass >= 0``, ``flexibility >= 0`` and real
+        residues >= 0 (each real-pole term then has a positive-real mobility).
+        """
+        modal_mass = self.modes["modal_mass"].to_numpy()
+        return bool(self.is_stable() and np.all(modal_mass > 0) and self._flexibility >= 0
+                    and np.all(self._real_residues >= 0))
+
+    def _replace(self, **changes) -> "ModalModel":
+        fields = dict(poles=self._poles, residues=self._residues, real_poles=self._real_poles,
+                      real_residues=self._real_residues, inverse_mass=self._inverse_mass,
+                      flexibility=self._flexibility)
+        fields.update(changes)
+        return ModalModel(**fields)
+
+    def __repr__(self) -> str:
+        return (f"ModalModel(n_modes={self.n_modes}, n_real={self._real_poles.size}, "
+                f"inverse_mass={self._inverse_mass:.6g}, flexibility={self._flexibility:.6g})")
+
+    def __eq__(self, other) -> bool:
+        if not isinstance(other, ModalModel):
+            return NotImplemented
+        return (np.array_equal(self._poles, other._poles)
+                and np.array_equal(self._residues, other._residues)
+                and np.array_equal(self._real_poles, other._real_poles)
+                and np.array_equal(self._real_residues, other._real_residues)
+                and self._inverse_mass == other._inverse_mass
+                and self._flexibility == other._flexibility)
+
+    __hash__ = None

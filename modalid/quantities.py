@@ -1,0 +1,54 @@
+"""FRF quantities: receptance (m/N), mobility (m/s/N) and accelerance (m/s^2/N).
+
+The project's internal form is receptance. For ``s = i*omega``:
+mobility = ``i*omega * receptance``, accelerance = ``-omega**2 * receptance``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._checks import as_choice
+
+__all__ = ["QUANTITIES", "receptance_to", "to_receptance"]
+
+QUANTITIES = ("receptance", "mobility", "accelerance")
+
+
+def receptance_to(quantity: str, receptance, omega) -> np.ndarray:
+    """Convert receptance values (m/N) at angular frequencies ``omega`` (rad/s).
+
+    Parameters
+    ----------
+    quantity : {"receptance", "mobility", "accelerance"}
+    receptance : array_like of complex
+        Receptance at ``omega``; broadcast against ``omega``.
+    omega : array_like of float
+        Angular frequency in rad/s.
+    """
+    as_choice("quantity", quantity, QUANTITIES)
+    iw = 1j * np.asarray(omega, dtype=float)
+    if quantity == "receptance":
+        return np.asarray(receptance, dtype=complex)
+    if quantity == "mobility":
+        return iw * receptance
+    return iw * iw * receptance
+
+
+def to_receptance(quantity: str, values, omega) -> np.ndarray:
+    """Convert mobility or accelerance values to receptance (m/N).
+
+    At ``omega = 0`` a mobility or accelerance carries no information about the
+    receptance (it is divided by zero): a ``ValueError`` names the case instead of
+    returning ``inf``/``nan``. Drop the 0 Hz line or convert it by a model.
+    """
+    as_choice("quantity", quantity, QUANTITIES)
+    values = np.asarray(values, dtype=complex)
+    omega = np.asarray(omega, dtype=float)
+    if quantity == "receptance":
+        return values
+    if np.any(omega == 0.0):
+        raise ValueError(f"cannot convert {quantity} to receptance at omega = 0 rad/s: "
+                         "the receptance there is not determined by the data")
+    iw = 1j * omega
+    return values / iw if quantity == "mobility" else values / (iw * iw)

@@ -1,0 +1,141 @@
+"""solve_impact: method choice, step choice, bad input, loads, results."""
+
+import matplotlib
+import numpy as np
+import pytest
+
+from data_synth import CantileverBeam, LumpedMass, Rod, SpringMass
+from impactpred import Body, Hertz, LinearSpring, Rigid, SampledResponse, choose_dt, solve_impact
+from modalid import ModalModel
+
+matplotlib.use("Agg")
+
+
+def mass(v=1.0):
+    return Body(LumpedMass(1.0), velocity=v)
+
+
+@pytest.mark.parametrize("body2, contact, expected", [
+    (Body(Rod(1.0, 1.0, support="free"), velocity=-1.0), Rigid(), "closed_form"),
+    (Body(Rod(1.0, 0.5, support="free")), Rigid(), "convolution"),
+    (Body(SpringMass(1.0, 100.0)), Rigid(), "laplace"),
+    (Body(SpringMass(1.0, 100.0)), LinearSpring(1e3), "laplace"),
+    (Body(SpringMass(1.0, 100.0)), LinearSpring(1e3, damping=1.0), "modal"),
+    (Body(SpringMass(1.0, 100.0)), Hertz(1e6), "modal"),
+])
+def test_auto_picks_the_exact_method_where_it_applies(body2, contact, expected):
+    body1 = (Body(Rod(1.0, 1.0, support="free"), velocity=1.0) if expected == "closed_form"
+             else mass())
+    r = solve_impact(body1, body2, contact=contact, t_end=0.5)
+    assert r.method == expected
+
+
+def test_result_reports_the_step_it_used():
+    r = solve_impact(mass(), Body(Rod(1.0, 0.75, support="fixed")), t_end=1.0)
+    assert r.dt == pytest.approx(0.75 / 1000)
+    assert any("dt chosen" in note for note in r.notes)
+
+
+def test_auto_step_divides_every_transit_time():
+    dt = choose_dt((Body(Rod(1.0, 1.0, support="free")), Body(Rod(1.0, 0.75, support="free"))),
+                   Rigid(), t_end=8.0)
+    for transit in (1.0, 0.75):
+        assert transit / dt == pytest.approx(round(transit / dt), abs=1e-9)
+    assert dt <= 0.75 / 1000
+
+
+def test_coarse_dt_warns_with_the_recommended_step():
+    with pytest.warns(RuntimeWarning, match="would resolve"):
+        solve_impact(mass(), Body(Rod(1.0, 1.0, support="fixed")), t_end=4.0, dt=0.1)
+
+
+def test_external_load_against_closed_form():
+    """A mass pressed by a step force onto a grounded spring-mass, touching at rest."""
+    m1, m2, k, F0 = 1.0, 2.0, 100.0, 3.0
+    body1 = Body(LumpedMass(m1), load=lambda t: F0 * np.ones_like(t))
+    r = solve_impact(body1, Body(SpringMass(m2, k)), t_end=2.0, dt=1e-4)
+    assert r.method == "modal"
+    omega = np.sqrt(k / (m1 + m2))
+    tm = r.t[:-1] + 0.5e-4
+    exact = F0 * (1 - np.cos(omega * tm) * m1 / (m1 + m2))
+    np.testing.assert_allclose(r.force[:-1], exact, rtol=2e-3)
+    assert r.n_contacts == 1
+
+
+def test_sampled_load_pair_is_accepted():
+    t = np.linspace(0, 1, 11)
+    body = Body(LumpedMass(1.0), load=(t, np.ones_like(t)))
+    np.testing.assert_allclose(body.load_samples(np.array([0.5, 2.0])), [1.0, 0.0])
+
+
+@pytest.mark.parametrize("kwargs, error, match", [
+    (dict(gap=-1e-3), ValueError, "gap"),
+    (dict(gap=float("nan")), ValueError, "gap"),
+    (dict(t_end=0.0), ValueError, "t_end"),
+    (dict(dt=-1.0), ValueError, "dt"),
+    (dict(method="euler"), ValueError, "method"),
+    (dict(contact="rigid"), TypeError, "contact"),
+])
+def test_bad_solver_input(kwargs, error, match):
+    args = dict(t_end=1.0)
+    args.update(kwargs)
+    with pytest.raises(error, match=match):
+        solve_impact(mass(), Body(LumpedMass(1.0)), **args)
+
+
+def test_bad_body_input():
+    with pytest.raises(ValueError, match="grounded.*velocity=1.0"):
+        Body(Rod(1.0, 1.0, support="fixed"), velocity=1.0)
+    with pytest.raises(ValueError, match="velocity"):
+        Body(LumpedMass(1.0), velocity=float("nan"))
+    with pytest.raises(TypeError, match="model"):
+        Body("steel ball")
+    with pytest.raises(ValueError, match="vibration"):
+        Body(Rod(1.0, 1.0, support="fixed"), vibration=[1.0, 2.0, 3.0])
+    with pytest.raises(TypeError, match="body1"):
+        solve_impact(LumpedMass(1.0), Body(LumpedMass(1.0)), t_end=1.0)
+    with pytest.raises(ValueError, match="rational"):
+        solve_impact(mass(), Body(Rod(1.0, 1.0)), t_end=1.0, method="laplace")
+    with pytest.raises(ValueError, match="strictly increasing"):
+        SampledResponse([0.0, 1.0, 1.0], [0.0, 1.0, 2.0])
+    with pytest.raises(ValueError, match="stiffness"):
+        Hertz(-1.0)
+
+
+def test_modal_solver_converges_to_the_exact_solver():
+    beam = CantileverBeam(1.0, 1.0).modal_model(6, residual=True)
+    body1, body2 = Body(LumpedMass(0.5), velocity=1.0), Body(beam)
+    spring = LinearSpring(300.0)
+    exact = solve_impact(body1, body2, contact=spring, t_end=3.0, method="laplace")
+    errors = []
+    for dt in (1e-4, 5e-5):
+        modal = solve_impact(body1, body2, contact=spring, t_end=3.0, method="modal", dt=dt)
+        assert modal.n_contacts == exact.n_contacts == 5
+        ends = np.array(modal.contact_intervals) - np.array(exact.contact_intervals)
+        assert np.max(np.abs(ends)) < 10 * dt
+        errors.append(abs(modal.restitution - exact.restitution))
+    assert errors[1] < 0.7 * errors[0] and errors[1] < 3e-3
+
+
+def test_result_is_immutable_and_exports():
+    r = solve_impact(mass(), Body(SpringMass(1.0, 100.0)), t_end=1.0)
+    with pytest.raises(ValueError):
+        r.force[0] = 1.0
+    with pytest.raises(AttributeError):
+        r.method = "x"
+    frame = r.to_pandas()
+    assert list(frame.columns) == ["force", "y1", "y2", "gap"] and len(frame) == r.t.size
+    ax = r.plot()
+    assert ax.get_ylabel() == "contact force (N)"
+    assert set(r.energy.columns) >= {"rigid_before", "vibration_after", "total_after"}
+
+
+def test_modal_model_bodies_with_real_poles_step_exactly():
+    model = ModalModel(poles=[-0.2 + 6j], residues=[-0.08j], real_poles=[-5.0],
+                       real_residues=[0.01], inverse_mass=0.5)
+    body1, body2 = Body(LumpedMass(1.0), velocity=1.0), Body(model)
+    modal = solve_impact(body1, body2, contact=LinearSpring(100.0), t_end=2.0, method="modal",
+                         dt=1e-3)
+    conv = solve_impact(body1, body2, contact=LinearSpring(100.0), t_end=2.0,
+                        method="convolution", dt=1e-3)
+    np.testing.assert_allclose(modal.force, conv.force, atol=1e-10)

@@ -1,0 +1,150 @@
+"""The convolution solver (exact continua, samples) against exact answers."""
+
+import numpy as np
+import pytest
+
+from data_synth import CantileverBeam, LumpedMass, Rod
+from data_synth.reference_impacts import mass_on_fixed_rod, two_free_rods_equal_transit
+from impactpred import Body, Hertz, LinearSpring, Rigid, SampledResponse, solve_impact
+from impactpred.solvers.convolution import online_complementarity
+
+
+def test_case_a_two_equal_rods_to_rounding():
+    m1, m2, T = 1.0, 2.5, 1.0
+    r = solve_impact(Body(Rod(m1, T, support="free"), velocity=1.0),
+                     Body(Rod(m2, T, support="free"), velocity=-0.5), t_end=6.0,
+                     method="convolution")
+    exact = two_free_rods_equal_transit(m1, m2, T, 1.0, -0.5, r.t)
+    assert r.contact_intervals == ((0.0, pytest.approx(2.0, abs=1e-12)),)
+    assert r.peak_force == pytest.approx(exact.force_height, rel=1e-11)
+    np.testing.assert_allclose(r.force[:-1][r.t[:-1] < 2.0], exact.force_height, rtol=1e-10)
+    np.testing.assert_allclose(r.y1, exact.y1, atol=1e-11)
+    np.testing.assert_allclose(r.y2, exact.y2, atol=1e-11)
+    assert r.restitution == pytest.approx(1.0, abs=1e-11)
+    assert r.energy["vibration_after"].abs().max() < 1e-11
+
+
+def test_closed_form_matches_reference():
+    r = solve_impact(Body(Rod(1.0, 1.0, support="free"), velocity=1.0),
+                     Body(Rod(1.0, 1.0, support="free"), velocity=-1.0), t_end=8.0)
+    assert r.method == "closed_form"
+    exact = two_free_rods_equal_transit(1.0, 1.0, 1.0, 1.0, -1.0, r.t)
+    np.testing.assert_allclose(r.y1, exact.y1, atol=1e-14)
+    np.testing.assert_allclose(r.y2, exact.y2, atol=1e-14)
+    assert r.contact_duration == 2.0 and r.restitution == 1.0
+
+
+@pytest.mark.parametrize("mass_ratio", [0.5, 1.0, 4.0])
+def test_mass_on_fixed_rod_against_saint_venant(mass_ratio):
+    """Whole history, every contact, against the method-of-characteristics solution."""
+    M, m, T, v0 = mass_ratio, 1.0, 1.0, 1.0
+    dt = T / 1000
+    r = solve_impact(Body(LumpedMass(M), velocity=v0), Body(Rod(m, T, support="fixed")),
+                     t_end=8.0, dt=dt)
+    assert r.method == "convolution"
+    exact = mass_on_fixed_rod(M, m, T, v0, r.t[:-1] + 0.5 * dt)
+    assert r.n_contacts == len(exact.contact_intervals)
+    for (a, b), (ea, eb) in zip(r.contact_intervals, exact.contact_intervals):
+        assert a == pytest.approx(ea, abs=2 * dt) and b == pytest.approx(eb, abs=2 * dt)
+    assert r.restitution == pytest.approx(exact.restitution, abs=2e-4)
+    # the step force approximates the mean force over the step: compare away from jumps
+    jumps = np.array(list(exact.force_jump_times) + [x for iv in exact.contact_intervals
+                                                      for x in iv])
+    far = np.min(np.abs((r.t[:-1, None] + 0.5 * dt) - jumps[None, :]), axis=1) > 3 * dt
+    assert np.max(np.abs(r.force[:-1] - exact.force)[far]) < 2e-3 * np.max(exact.force)
+    # energy: the rod's vibration energy is the exact one; a re-contact starting inside a
+    # step dissipates O(dt) there (the scheme never creates energy)
+    assert r.energy.loc["body2", "vibration_after"] == pytest.approx(
+        exact.rod_energy_after, rel=5e-3)
+    total = r.energy["total_after"].sum()
+    assert total <= 0.5 * M * v0**2 * (1 + 1e-12)
+    if len(exact.contact_intervals) == 1:  # every contact starts on the grid: exact balance
+        assert total == pytest.approx(0.5 * M * v0**2, rel=1e-10)
+
+
+def test_heavy_mass_has_no_false_separation_at_4T():
+    """method.md section 5: the force stays positive just before 4T and jumps up there."""
+    r = solve_impact(Body(LumpedMass(2.0), velocity=1.0), Body(Rod(1.0, 1.0, support="fixed")),
+                     t_end=6.0, dt=1.0 / 700)
+    exact = mass_on_fixed_rod(2.0, 1.0, 1.0, 1.0, [0.0])
+    assert r.contact_intervals[0][1] == pytest.approx(exact.separation_time, abs=2.0 / 700)
+
+
+def test_observed_order_of_convergence_in_dt():
+    exact = mass_on_fixed_rod(1.0, 1.0, 1.0, 1.0, [0.0])
+    errors = []
+    steps = [1 / 101, 1 / 202, 1 / 404]  # not aligned with the reflections
+    for dt in steps:
+        r = solve_impact(Body(LumpedMass(1.0), velocity=1.0), Body(Rod(1.0, 1.0, support="fixed")),
+                         t_end=3.5, dt=dt)
+        errors.append(abs(r.restitution_first - exact.restitution_first_contact))
+    order = np.log2(errors[0] / errors[1]), np.log2(errors[1] / errors[2])
+    assert min(order) > 0.8  # first order (the force is piecewise constant)
+
+
+def test_online_convolution_equals_direct_history_sum():
+    rng = np.random.default_rng(7)
+    n = 700
+    kernel = np.abs(rng.normal(size=n)) * np.exp(-np.arange(n) / 200) + 0.1
+    free_gap = np.cumsum(rng.normal(size=n)) * 0.3 - 1.0
+    force = online_complementarity(kernel, free_gap, Rigid(), 1e-3, 0.0)
+    direct = np.zeros(n)
+    for k in range(n):
+        history = np.dot(direct[:k], kernel[k:0:-1]) if k else 0.0
+        direct[k] = max(0.0, -(free_gap[k] + history) / kernel[0])
+    np.testing.assert_allclose(force, direct, rtol=1e-10, atol=1e-12)
+
+
+def test_sampled_response_reproduces_the_exact_model():
+    rod = Rod(1.0, 1.0, support="fixed")
+    t = np.linspace(0.0, 10.0, 20001)
+    sampled = SampledResponse(t, rod.impulse_response(t))
+    exact = solve_impact(Body(LumpedMass(1.0), velocity=1.0), Body(rod), t_end=8.0, dt=1e-3)
+    meas = solve_impact(Body(LumpedMass(1.0), velocity=1.0), Body(sampled), t_end=8.0, dt=1e-3)
+    assert meas.restitution == pytest.approx(exact.restitution, abs=2e-3)
+    assert meas.contact_duration == pytest.approx(exact.contact_duration, abs=3e-3)
+    with pytest.raises(ValueError, match="covers 0 to 10"):
+        solve_impact(Body(LumpedMass(1.0), velocity=1.0), Body(sampled), t_end=12.0, dt=1e-3)
+
+
+def test_hertz_between_masses_matches_the_classical_solution():
+    from scipy.integrate import quad
+
+    m1, m2, k, v = 1.0, 3.0, 1e7, 1.5
+    mu = m1 * m2 / (m1 + m2)
+    r = solve_impact(Body(LumpedMass(m1), velocity=v), Body(LumpedMass(m2)),
+                     contact=Hertz(k), t_end=1e-2)
+    assert r.method == "modal"
+    depth = (5 * mu * v**2 / (4 * k)) ** 0.4
+    duration = 2 * depth / v * quad(lambda x: 1 / np.sqrt(1 - x**2.5), 0, 1)[0]
+    assert r.contact_duration == pytest.approx(duration, rel=2e-3)
+    assert r.peak_force == pytest.approx(k * depth**1.5, rel=2e-3)
+    assert r.restitution == pytest.approx(1.0, abs=5e-3)
+
+
+def test_linear_spring_solvers_agree():
+    body1 = Body(LumpedMass(1.0), velocity=1.0)
+    body2 = Body(Rod(1.0, 1.0, support="fixed").modal_model(20, residual=True))
+    exact = solve_impact(body1, body2, contact=LinearSpring(50.0), t_end=6.0, method="laplace")
+    modal = solve_impact(body1, body2, contact=LinearSpring(50.0), t_end=6.0, method="modal",
+                         dt=1e-4)
+    conv = solve_impact(body1, body2, contact=LinearSpring(50.0), t_end=6.0,
+                        method="convolution", dt=1e-4)
+    assert modal.restitution == pytest.approx(exact.restitution, abs=1e-3)
+    assert conv.restitution == pytest.approx(modal.restitution, abs=1e-9)
+    np.testing.assert_allclose(conv.force, modal.force, atol=1e-9)
+
+
+def test_dashpot_never_pulls():
+    r = solve_impact(Body(LumpedMass(1.0), velocity=1.0), Body(LumpedMass(1.0)),
+                     contact=LinearSpring(1e4, damping=40.0), t_end=0.1)
+    assert np.all(r.force >= 0)
+    assert 0.0 < r.restitution < 1.0
+
+
+def test_rod_on_cantilever_conserves_energy():
+    r = solve_impact(Body(Rod(1.0, 1.0, support="free"), velocity=1.0),
+                     Body(CantileverBeam(10.0, 4.0)), t_end=8.0, dt=2e-3)
+    assert r.contact_intervals[0] == pytest.approx((0.0, 2.0), abs=4e-3)
+    assert r.energy["total_after"].sum() == pytest.approx(0.5, rel=1e-8)
+    assert 0.0 < r.restitution < 1.0

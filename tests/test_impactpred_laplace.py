@@ -1,0 +1,141 @@
+"""The exact (Laplace / state-space) solver against closed forms and conservation laws."""
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from data_synth import LumpedMass, Rod, SpringMass
+from impactpred import Body, LinearSpring, solve_impact
+from modalid import ModalModel
+
+
+def test_two_rigid_masses_give_a_dirac_and_plastic_impact():
+    r = solve_impact(Body(LumpedMass(1.0), velocity=1.0), Body(LumpedMass(2.0), velocity=-0.5),
+                     t_end=1.0)
+    assert r.method == "laplace"
+    mu = 1.0 * 2.0 / 3.0
+    assert len(r.dirac_impulses) == 1
+    t0, p = r.dirac_impulses[0]
+    assert t0 == 0.0 and p == pytest.approx(mu * 1.5, rel=1e-14)
+    assert r.restitution == pytest.approx(0.0, abs=1e-14)
+    assert r.velocities_after[0] == pytest.approx(r.velocities_after[1], rel=1e-14)
+    assert np.all(r.force == 0.0)  # the whole force is the Dirac part
+
+
+def test_mass_on_spring_mass_closed_form():
+    """Plastic Dirac between the masses, then a half period of the stuck pair."""
+    m1, m2, k, v = 1.0, 3.0, 400.0, 2.0
+    r = solve_impact(Body(LumpedMass(m1), velocity=v), Body(SpringMass(m2, k)), t_end=2.0)
+    omega = np.sqrt(k / (m1 + m2))
+    assert r.dirac_impulses[0][1] == pytest.approx(m1 * m2 / (m1 + m2) * v, rel=1e-13)
+    assert r.contact_intervals[0] == pytest.approx((0.0, np.pi / omega), rel=1e-12)
+    v_common = m1 * v / (m1 + m2)
+    # during contact f = m1 * (deceleration of the pair) = m1 * v_common * omega * sin(omega t)
+    inside = (r.t > 0) & (r.t < np.pi / omega)
+    np.testing.assert_allclose(r.force[inside], m1 * v_common * omega * np.sin(omega * r.t[inside]),
+                               rtol=1e-9, atol=1e-12)
+    assert r.velocities_after[0] == pytest.approx(-v_common, rel=1e-12)
+    assert r.restitution == pytest.approx(v_common / v, rel=1e-12)
+
+
+def test_masses_with_linear_spring_contact_are_elastic():
+    m1, m2, k = 2.0, 1.0, 1e4
+    r = solve_impact(Body(LumpedMass(m1), velocity=1.0), Body(LumpedMass(m2), velocity=0.0),
+                     contact=LinearSpring(k), t_end=0.2)
+    mu = m1 * m2 / (m1 + m2)
+    assert r.method == "laplace"
+    assert r.contact_duration == pytest.approx(np.pi * np.sqrt(mu / k), rel=1e-12)
+    assert r.peak_force == pytest.approx(np.sqrt(k * mu) * 1.0, rel=1e-12)
+    assert r.restitution == pytest.approx(1.0, rel=1e-12)
+
+
+def test_initial_gap_delays_contact_exactly():
+    r = solve_impact(Body(LumpedMass(1.0), velocity=2.0), Body(SpringMass(1.0, 100.0)),
+                     gap=0.5, t_end=1.0)
+    assert r.contact_intervals[0][0] == pytest.approx(0.25, rel=1e-13)
+    assert r.dirac_impulses[0][0] == pytest.approx(0.25, rel=1e-13)
+
+
+def test_bodies_moving_apart_have_no_contact():
+    r = solve_impact(Body(LumpedMass(1.0), velocity=-1.0), Body(LumpedMass(1.0), velocity=1.0),
+                     t_end=1.0)
+    assert r.n_contacts == 0 and r.impulse == 0.0 and r.restitution is None
+    assert r.contact_duration == 0.0 and r.peak_force == 0.0
+
+
+def test_residual_flexibility_removes_the_dirac():
+    rod = Rod(1.0, 1.0, support="fixed")
+    bare = solve_impact(Body(LumpedMass(1.0), velocity=1.0), Body(rod.modal_model(10)), t_end=3.0)
+    resid = solve_impact(Body(LumpedMass(1.0), velocity=1.0),
+                         Body(rod.modal_model(10, residual=True)), t_end=3.0)
+    assert len(bare.dirac_impulses) >= 1 and len(resid.dirac_impulses) == 0
+    # rigid contact is held: the gap stays closed while the force acts
+    closing = (resid.t > 0.01) & (resid.t < resid.contact_intervals[0][1] - 0.01)
+    assert np.max(np.abs(resid.gap[closing])) < 1e-9
+
+
+def _random_undamped_modal(draw, free):
+    n = draw(st.integers(1, 6))
+    wn = np.cumsum(draw(st.lists(st.floats(0.5, 20.0), min_size=n, max_size=n)))
+    mass = draw(st.lists(st.floats(0.05, 5.0), min_size=n, max_size=n))
+    inverse_mass = 1.0 / draw(st.floats(0.2, 5.0)) if free else 0.0
+    flexibility = draw(st.sampled_from([0.0, 0.0, 1e-3]))
+    return ModalModel.from_modes(wn, 0.0, mass, inverse_mass=inverse_mass,
+                                 flexibility=flexibility)
+
+
+@st.composite
+def impact_cases(draw):
+    m1 = _random_undamped_modal(draw, free=True)
+    m2 = _random_undamped_modal(draw, free=draw(st.booleans()))
+    v1 = draw(st.floats(0.1, 3.0))
+    v2 = draw(st.floats(-3.0, 0.0)) if m2.inverse_mass else 0.0
+    return m1, m2, v1, v2
+
+
+@settings(max_examples=25, deadline=None)
+@given(impact_cases())
+def test_property_momentum_and_energy(case):
+    m1, m2, v1, v2 = case
+    r = solve_impact(Body(m1, velocity=v1), Body(m2, velocity=v2), t_end=4.0, method="laplace")
+    # momentum: the impulse changes each free body's rigid velocity by impulse/M
+    assert r.velocities_after[0] == pytest.approx(v1 - r.impulse * m1.inverse_mass, abs=1e-9)
+    if m2.inverse_mass:
+        assert r.velocities_after[1] == pytest.approx(v2 + r.impulse * m2.inverse_mass, abs=1e-9)
+        p_before = v1 / m1.inverse_mass + v2 / m2.inverse_mass
+        p_after = (r.velocities_after[0] / m1.inverse_mass
+                   + r.velocities_after[1] / m2.inverse_mass)
+        assert p_after == pytest.approx(p_before, abs=1e-9 * (1 + abs(p_before)))
+    e_before = r.energy["total_before"].sum()
+    e_after = r.energy["total_after"].sum()
+    assert e_after <= e_before * (1 + 1e-9)
+    if not r.dirac_impulses:
+        assert e_after == pytest.approx(e_before, rel=1e-8)
+    assert np.all(r.force >= 0)
+    assert np.min(r.gap) > -1e-9 * (1 + np.max(np.abs(r.y1)))
+
+
+def test_pre_impact_vibration_changes_the_outcome_and_is_counted():
+    rod = Rod(1.0, 1.0, support="fixed").modal_model(8, residual=True)
+    still = solve_impact(Body(LumpedMass(1.0), velocity=1.0), Body(rod), t_end=6.0)
+    vib = np.zeros((2, 2))
+    vib[0] = (0.0, 0.5)  # first mode moving at 0.5 m/s at the contact point
+    shaking = solve_impact(Body(LumpedMass(1.0), velocity=1.0), Body(rod, vibration=vib),
+                           t_end=6.0)
+    assert shaking.energy.loc["body2", "vibration_before"] == pytest.approx(
+        0.5 * rod.modes["modal_mass"].iloc[0] * 0.25, rel=1e-12)
+    assert abs(shaking.restitution - still.restitution) > 0.01
+    assert shaking.energy["total_after"].sum() == pytest.approx(
+        shaking.energy["total_before"].sum(), rel=1e-9)
+
+
+def test_laplace_rejects_nonlinear_contact_and_loads():
+    from impactpred import Hertz
+
+    with pytest.raises(ValueError, match="linear contact"):
+        solve_impact(Body(LumpedMass(1.0), velocity=1.0), Body(LumpedMass(1.0)),
+                     contact=Hertz(1e6), t_end=1.0, method="laplace")
+    with pytest.raises(ValueError, match="load"):
+        solve_impact(Body(LumpedMass(1.0), velocity=1.0, load=lambda t: 0 * t),
+                     Body(LumpedMass(1.0)), t_end=1.0, method="laplace")
