@@ -57,6 +57,8 @@ def _cmd_paper(args) -> int:
     table = run_paper_cases(args.out, dt=args.dt, plot=not args.no_plot)
     with pd.option_context("display.width", 160, "display.max_columns", 20):
         print(table.drop(columns=["description"]).to_string(float_format=lambda x: f"{x:.6g}"))
+    print("Case (b): the paper's stepped force is the equal-mass reading (b_equal_mass); rods "
+          "of the same material give a plain rectangular pulse 2 T2 wide (b_equal_material).")
     if args.out:
         print(f"wrote {Path(args.out) / 'paper_cases.csv'} and the Fig. 4 PNG files")
     return 0

@@ -4,7 +4,8 @@ The single model object of the project is :class:`ModalModel`; identification fr
 measured FRFs builds on it.
 """
 
+from .frf import FRFData
 from .model import ModalModel
 from .quantities import QUANTITIES, receptance_to, to_receptance
 
-__all__ = ["ModalModel", "QUANTITIES", "receptance_to", "to_receptance"]
+__all__ = ["FRFData", "ModalModel", "QUANTITIES", "receptance_to", "to_receptance"]

@@ -1,0 +1,160 @@
+"""``FRFData``: one measured (or synthetic) frequency-response function, validated."""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+
+from ._checks import as_choice, as_complex_array, as_real_array, as_real_scalar
+from .quantities import QUANTITIES, receptance_to, to_receptance
+
+__all__ = ["FRFData"]
+
+
+class FRFData:
+    """A single FRF on a frequency grid; immutable.
+
+    Parameters
+    ----------
+    freq_hz : array_like of float, shape (n,)
+        Frequencies in Hz, finite, non-negative and strictly increasing.
+    values : array_like of complex, shape (n,)
+        The FRF at ``freq_hz``, in SI units of ``quantity``: receptance m/N,
+        mobility (m/s)/N, accelerance (m/s^2)/N.
+    quantity : {"receptance", "mobility", "accelerance"}, keyword-only
+    coherence : array_like of float, shape (n,), optional
+        Ordinary coherence in [0, 1], if measured.
+
+    Attributes
+    ----------
+    freq_hz, values, coherence : ndarray (read-only)
+    omega : ndarray
+        Angular frequency (rad/s).
+    """
+
+    __slots__ = ("_freq_hz", "_values", "_quantity", "_coherence")
+
+    def __init__(self, freq_hz, values, *, quantity="receptance", coherence=None):
+        freq_hz = as_real_array("freq_hz", freq_hz, ndim=1)
+        values = as_complex_array("values", values, ndim=1)
+        as_choice("quantity", quantity, QUANTITIES)
+        if freq_hz.shape != values.shape:
+            raise ValueError(f"freq_hz and values must have the same length, got "
+                             f"{freq_hz.size} and {values.size}")
+        if freq_hz.size < 2:
+            raise ValueError(f"an FRF needs at least 2 frequency lines, got {freq_hz.size}")
+        if freq_hz[0] < 0:
+            raise ValueError(f"freq_hz must be non-negative, got {freq_hz[0]!r}")
+        steps = np.diff(freq_hz)
+        if np.any(steps <= 0):
+            i = int(np.argmax(steps <= 0))
+            raise ValueError(f"freq_hz must be strictly increasing, got {freq_hz[i]!r} then "
+                             f"{freq_hz[i + 1]!r} at index {i}")
+        if coherence is not None:
+            coherence = as_real_array("coherence", coherence, ndim=1)
+            if coherence.shape != freq_hz.shape:
+                raise ValueError(f"coherence must have the length of freq_hz ({freq_hz.size}), "
+                                 f"got {coherence.size}")
+            if np.any((coherence < 0) | (coherence > 1 + 1e-9)):
+                bad = coherence[(coherence < 0) | (coherence > 1 + 1e-9)][0]
+                raise ValueError(f"coherence must lie in [0, 1], got {bad!r}")
+            coherence = np.clip(coherence, 0.0, 1.0)
+        for name, arr in (("_freq_hz", freq_hz), ("_values", values), ("_coherence", coherence)):
+            if arr is not None:
+                arr = np.array(arr)
+                arr.setflags(write=False)
+            object.__setattr__(self, name, arr)
+        object.__setattr__(self, "_quantity", quantity)
+
+    def __setattr__(self, name, value):
+        raise AttributeError(f"FRFData is immutable: cannot set {name!r}")
+
+    freq_hz = property(lambda self: self._freq_hz, doc="Frequencies (Hz).")
+    values = property(lambda self: self._values, doc="FRF values (SI units of quantity).")
+    quantity = property(lambda self: self._quantity, doc="receptance, mobility or accelerance.")
+    coherence = property(lambda self: self._coherence, doc="Coherence, or None.")
+
+    @property
+    def omega(self) -> np.ndarray:
+        """Angular frequencies (rad/s)."""
+        return 2.0 * np.pi * self._freq_hz
+
+    def __len__(self) -> int:
+        return int(self._freq_hz.size)
+
+    def __repr__(self) -> str:
+        return (f"FRFData({len(self)} lines, {self._freq_hz[0]:.6g}-{self._freq_hz[-1]:.6g} Hz, "
+                f"{self._quantity})")
+
+    # ------------------------------------------------------------------ conversions
+    def convert(self, quantity: str) -> "FRFData":
+        """The same FRF as another quantity.
+
+        Dividing by ``i omega`` is undefined at 0 Hz: a 0 Hz line is dropped, with a
+        ``UserWarning`` saying so, when converting towards receptance.
+        """
+        as_choice("quantity", quantity, QUANTITIES)
+        if quantity == self._quantity:
+            return self
+        order = {q: i for i, q in enumerate(QUANTITIES)}
+        data = self
+        if order[quantity] < order[self._quantity] and self._freq_hz[0] == 0.0:
+            warnings.warn(f"dropped the 0 Hz line converting {self._quantity} to {quantity}: "
+                          "it does not determine the value there", UserWarning, stacklevel=2)
+            data = self.select(slice(1, None))
+        receptance = to_receptance(data._quantity, data._values, data.omega)
+        return FRFData(data._freq_hz, receptance_to(quantity, receptance, data.omega),
+                       quantity=quantity, coherence=data._coherence)
+
+    def to_receptance(self) -> "FRFData":
+        """The FRF as receptance (m/N); see :meth:`convert` for the 0 Hz line."""
+        return self.convert("receptance")
+
+    def select(self, index) -> "FRFData":
+        """A subset of the lines (slice, boolean mask or indices)."""
+        coherence = None if self._coherence is None else self._coherence[index]
+        return FRFData(self._freq_hz[index], self._values[index], quantity=self._quantity,
+                       coherence=coherence)
+
+    def band(self, freq_range) -> "FRFData":
+        """The lines with ``fmin <= freq_hz <= fmax`` (Hz); an empty band is an error."""
+        try:
+            fmin, fmax = freq_range
+        except (TypeError, ValueError) as exc:
+            raise TypeError(f"freq_range must be a pair (fmin, fmax) in Hz, got "
+                            f"{freq_range!r}") from exc
+        fmin = as_real_scalar("freq_range[0]", fmin)
+        fmax = as_real_scalar("freq_range[1]", fmax)
+        if fmax <= fmin:
+            raise ValueError(f"freq_range must have fmin < fmax, got ({fmin!r}, {fmax!r})")
+        mask = (self._freq_hz >= fmin) & (self._freq_hz <= fmax)
+        if np.count_nonzero(mask) < 2:
+            raise ValueError(f"freq_range ({fmin:g}, {fmax:g}) Hz holds "
+                             f"{np.count_nonzero(mask)} lines of the data's "
+                             f"{self._freq_hz[0]:g}-{self._freq_hz[-1]:g} Hz: empty band")
+        return self.select(mask)
+
+    # ---------------------------------------------------------------------- plots
+    def plot(self, ax=None, *, label=None, **kwargs):
+        """Magnitude against frequency (Hz) on a log axis; returns the Axes."""
+        import matplotlib.pyplot as plt
+
+        if ax is None:
+            _, ax = plt.subplots(figsize=(7, 4))
+        ax.semilogy(self._freq_hz, np.abs(self._values), label=label, **kwargs)
+        units = {"receptance": "m/N", "mobility": "m/s/N", "accelerance": "m/s²/N"}
+        ax.set_xlabel("frequency (Hz)")
+        ax.set_ylabel(f"|{self._quantity}| ({units[self._quantity]})")
+        return ax
+
+    def plot_phase(self, ax=None, **kwargs):
+        """Phase (degrees) against frequency (Hz); returns the Axes."""
+        import matplotlib.pyplot as plt
+
+        if ax is None:
+            _, ax = plt.subplots(figsize=(7, 3))
+        ax.plot(self._freq_hz, np.degrees(np.angle(self._values)), **kwargs)
+        ax.set_xlabel("frequency (Hz)")
+        ax.set_ylabel("phase (deg)")
+        return ax
