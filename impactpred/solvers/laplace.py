@@ -35,6 +35,7 @@ from modalid._statespace import pole_residue_to_statespace
 
 from ..contact import LinearSpring, Rigid
 from ..result import BodyEnergy, ImpactResult
+from ._spectral import DefectiveSpectrum, SpectralPhase
 
 __all__ = ["solve_laplace", "CoupledSystem"]
 
@@ -116,41 +117,54 @@ def _relative_degree(sysm: CoupledSystem):
     return 2, c2
 
 
-class _Phase:
-    """A linear autonomous phase ``Xa' = M Xa`` with ``Xa = [X, 1, J]`` (J: impulse)."""
+class _ExpmForm:
+    """Fallback with :class:`SpectralPhase`'s interface, by matrix exponentials.
 
-    def __init__(self, M, force_row, event_row):
+    Used when the phase matrix is too close to defective for an eigendecomposition.
+    """
+
+    def __init__(self, M):
         self.M = M
-        self.force_row = force_row    # f = force_row @ Xa
-        self.event_row = event_row    # event when event_row @ Xa changes sign downward
-        self._cache = {}
+        self.max_rate = float(np.max(np.abs(np.linalg.eigvals(M)))) if M.size else 0.0
 
-    def propagator(self, tau):
-        key = round(tau, 15)
-        if key not in self._cache:
-            if len(self._cache) > 8:
-                self._cache.clear()
-            self._cache[key] = scipy.linalg.expm(self.M * tau)
-        return self._cache[key]
+    def coordinates(self, x):
+        return x
 
-    def event_root(self, Xa, tau_max):
-        """Root in ``(0, tau_max]`` of ``event_row @ expm(M t) Xa`` by its Taylor series."""
-        coeffs = []
-        w = Xa.copy()
-        scale = 1.0
-        for j in range(80):
-            coeffs.append(float(self.event_row @ w) * scale)
-            w = self.M @ w
-            scale *= tau_max / (j + 1)
-            if j > 3 and np.max(np.abs(coeffs[-3:])) <= 1e-18 * np.max(np.abs(coeffs)):
-                break
-        poly = np.polynomial.Polynomial(coeffs)  # in the variable u = t / tau_max
-        a, b = 0.0, 1.0
-        fa, fb = poly(a), poly(b)
-        if fa * fb > 0:
-            # the grid saw a sign change the series does not reproduce: take the sampled one
-            return tau_max
-        return brentq(poly, a, b, xtol=1e-16, rtol=4 * np.finfo(float).eps) * tau_max
+    def output_coefficients(self, rows, coords):
+        return np.atleast_2d(rows), coords
+
+    def evaluate(self, coefficients, taus, derivative=0):
+        rows, x = coefficients
+        M_d = np.linalg.matrix_power(self.M, derivative)
+        cols = [M_d @ (scipy.linalg.expm(self.M * tau) @ x) for tau in np.atleast_1d(taus)]
+        return rows @ np.array(cols).T
+
+    def evaluate_orders(self, coefficients, taus, derivatives=(0, 1)):
+        return [self.evaluate(coefficients, taus, d) for d in derivatives]
+
+    def scalar(self, coefficients, tau, derivative=0):
+        return float(self.evaluate(coefficients, [tau], derivative)[0, 0])
+
+    def state(self, coords, tau):
+        return scipy.linalg.expm(self.M * tau) @ coords
+
+
+def _phase_form(M):
+    try:
+        return SpectralPhase(M)
+    except DefectiveSpectrum:
+        return _ExpmForm(M)
+
+
+class _Phase:
+    """One kind of phase (free flight or stuck contact): its propagator and its rows."""
+
+    def __init__(self, M, rows, event_row, contact):
+        self.form = _phase_form(M)
+        self.M = M
+        self.rows = rows            # force, y1, y2, gap (4 x n_aug)
+        self.event_row = event_row  # event when it turns negative
+        self.contact = contact
 
 
 def solve_laplace(bodies, gap0, contact, t_end, dt, *, notes=()):
@@ -160,25 +174,25 @@ def solve_laplace(bodies, gap0, contact, t_end, dt, *, notes=()):
     sysm = CoupledSystem(bodies)
     n = sysm.n
     A, Bf, Cg = sysm.A, sysm.Bf, sysm.Cg
+    D1, D2 = sysm.D
     n_aug = n + 2  # [X, 1, J]
     one, jdx = n, n + 1
 
-    def augment(M_x, force_row_x, force_const):
-        M = np.zeros((n_aug, n_aug))
-        M[:n, :n] = M_x
-        force_row = np.zeros(n_aug)
-        force_row[:n] = force_row_x
-        force_row[one] = force_const
-        return M, force_row
+    def aug(row_x, const=0.0):
+        row = np.zeros(n_aug)
+        row[:n] = row_x
+        row[one] = const
+        return row
 
-    # free flight
-    M_free, zero_force = augment(A, np.zeros(n), 0.0)
-    gap_row = np.zeros(n_aug)
-    gap_row[:n] = Cg
-    gap_row[one] = gap0
-    free = _Phase(M_free, zero_force, gap_row)
+    gap_row = aug(Cg, gap0)
+    y1_row, y2_row = aug(sysm.C1), aug(sysm.C2)
 
-    # contact
+    # free flight: X' = A X
+    M_free = np.zeros((n_aug, n_aug))
+    M_free[:n, :n] = A
+    free = _Phase(M_free, np.stack([np.zeros(n_aug), y1_row, y2_row, gap_row]), gap_row, False)
+
+    # contact: f = Kf X + k0, X' = (A + Bf Kf) X + Bf k0, J' = f
     if isinstance(contact, Rigid):
         rho, coef = _relative_degree(sysm)
         if rho == 0:
@@ -194,31 +208,28 @@ def solve_laplace(bodies, gap0, contact, t_end, dt, *, notes=()):
     else:
         raise ValueError(f"the laplace solver takes Rigid() or an undamped LinearSpring, got "
                          f"{contact!r}: use method='modal' or 'convolution'")
+    force_row = aug(kf, k0)
     M_con = np.zeros((n_aug, n_aug))
     M_con[:n, :n] = A + np.outer(Bf, kf)
     M_con[:n, one] = Bf * k0
-    M_con[jdx, :n] = kf
-    M_con[jdx, one] = k0
-    force_row = np.zeros(n_aug)
-    force_row[:n], force_row[one] = kf, k0
-    stuck = _Phase(M_con, force_row, force_row)
+    M_con[jdx] = force_row
+    stuck = _Phase(M_con, np.stack([force_row, y1_row - D1 * force_row,
+                                    y2_row + D2 * force_row,
+                                    gap_row + sysm.Dg * force_row]), force_row, True)
 
-    lam = np.concatenate([np.linalg.eigvals(M_free[:n, :n]), np.linalg.eigvals(M_con[:n, :n])])
-    lam_max = float(np.max(np.abs(lam))) if lam.size else 0.0
-    step = np.pi / (8 * lam_max) if lam_max > 0 else t_end / 1000
-    step = min(step, dt) if dt is not None else step
+    rate = max(free.form.max_rate, stuck.form.max_rate)
+    step = np.pi / (8 * rate) if rate > 0 else t_end / 1000
     step = min(step, t_end / 20)
-    n_grid = int(math.ceil(t_end / step - 1e-9))
-    step = t_end / n_grid
+    out_step = dt if dt is not None else t_end / 4000
 
     Xa = np.concatenate([sysm.X0, [1.0, 0.0]])
-    u_scale = max(abs(b.velocity) for b in bodies) + 1e-300
+    u_scale = max(abs(b.velocity) for b in bodies)
     y_scale = abs(gap0) + u_scale * t_end + float(np.max(np.abs(sysm.X0), initial=0.0))
-    tol_g = 1e-12 * y_scale
+    tol_g = 1e-12 * max(y_scale, 1e-300)
 
-    times, states, forces = [0.0], [Xa.copy()], []
+    samples = []          # (times, 4 x k values) blocks
     intervals, diracs = [], []
-    first_impulse = None
+    phase_log = []        # (phase, t0, coords) of every contact phase, for the exact peak
 
     def gap_rate(X):
         return float(Cg @ (A @ X[:n])) if n else 0.0
@@ -238,75 +249,120 @@ def solve_laplace(bodies, gap0, contact, t_end, dt, *, notes=()):
         # rounding in the located gap shows up in f0 (as -g/Dg where rho = 0)
         f_tol = 1e-9 * (abs(f0) + abs(df0) * step) + (tol_g / abs(coef) if rho == 0 else 0.0)
         holds = f0 > f_tol or (f0 > -f_tol and df0 > 0)
+        if not holds and df0 > 0 and _free_lobe_height(Xa[:n], A, Cg) <= tol_g:
+            # releasing would open the gap by less than rounding before it closes again:
+            # a separation is real only if the gap then opens (method.md, section 5)
+            holds = True
         return Xa, holds
 
-    def run_phase(phase, t, Xa, contact_phase):
-        """Propagate from (t, Xa) to the phase's first event or t_end.
+    def emit(phase, coeffs, t0, t_from, t_to, inclusive_end):
+        """Output samples of ``phase`` on the output grid in (t_from, t_to)."""
+        k_lo = int(math.floor(t_from / out_step + 1e-9)) + 1
+        k_hi = int(math.ceil(t_to / out_step - 1e-9)) - 1
+        grid = out_step * np.arange(k_lo, k_hi + 1) if k_hi >= k_lo else np.zeros(0)
+        grid = grid[(grid > t_from) & (grid < t_to)]
+        times = np.concatenate([grid, [t_to]]) if inclusive_end else grid
+        if times.size:
+            samples.append((times, phase.form.evaluate(coeffs, times - t0)))
 
-        Contact phase: the event is the force turning negative. Free flight: the gap
-        turning negative beyond rounding (``tol_g``); if it is not positive at the step's
-        start, the contact starts there.
+    def run_phase(phase, t0, Xa):
+        """Propagate from (t0, Xa) to the phase's first event or t_end.
+
+        Contact: the event is the force turning negative. Free flight: the gap turning
+        negative beyond rounding (``tol_g``); if it is not positive at the start of a
+        search step, the contact starts there. The event function is evaluated on
+        chunks of search steps at once and its root polished by Brent's method on the
+        closed form.
         """
-        k = int(math.floor(t / step + 1e-9)) + 1
-        t_prev, X_prev = t, Xa
-        e_prev = float(phase.event_row @ Xa)
-        while t_prev < t_end * (1 - 1e-15):
-            t_next = min(k * step, t_end)
-            tau = t_next - t_prev
-            X_next = phase.propagator(tau) @ X_prev
-            e_next = float(phase.event_row @ X_next)
-            if (e_next < 0.0) if contact_phase else (e_next < -tol_g):
-                root = 0.0 if e_prev <= 0.0 else phase.event_root(X_prev, tau)
-                X_ev = phase.propagator(root) @ X_prev if root < tau else X_next
-                return t_prev + root, X_ev, True
-            times.append(t_next)
-            states.append(X_next)
-            forces.append(phase)
-            t_prev, X_prev, e_prev = t_next, X_next, e_next
-            k += 1
-        return t_prev, X_prev, False
+        form = phase.form
+        coords = form.coordinates(Xa)
+        out_coeffs = form.output_coefficients(phase.rows, coords)
+        ev_coeffs = form.output_coefficients(phase.event_row, coords)
+        if phase.contact:
+            phase_log.append((phase, t0, coords))
+        samples.append((np.array([t0]), form.evaluate(out_coeffs, [0.0])))
+        threshold = 0.0 if phase.contact else -tol_g
+
+        def event(x):
+            return form.scalar(ev_coeffs, x)
+
+        def rate(x):
+            return form.scalar(ev_coeffs, x, derivative=1)
+
+        tau, e_prev, chunk = 0.0, float(phase.event_row @ Xa), 32
+        de_prev = rate(0.0)
+        while t0 + tau < t_end * (1 - 1e-15):
+            taus = tau + step * np.arange(1, chunk + 1)
+            if t0 + taus[-1] >= t_end:  # the last chunk ends exactly at t_end
+                taus = np.append(taus[t0 + taus < t_end], t_end - t0)
+            e, de = (row[0] for row in form.evaluate_orders(ev_coeffs, taus, (0, 1)))
+            # a dip between samples (falling, then rising) may cross and come back: find
+            # its minimum exactly and, if it crosses, cut the samples there
+            starts = np.concatenate([[tau], taus[:-1]])
+            e_starts = np.concatenate([[e_prev], e[:-1]])
+            de_starts = np.concatenate([[de_prev], de[:-1]])
+            dips = np.flatnonzero((de_starts < 0) & (de > 0) & (e_starts >= threshold)
+                                  & (e >= threshold))
+            for d in dips:
+                t_min = brentq(rate, starts[d], taus[d], xtol=1e-15 * max(taus[d], 1e-300))
+                if event(t_min) < threshold:
+                    taus, e = np.append(taus[:d], t_min), np.append(e[:d], event(t_min))
+                    break
+            crossed = e < threshold
+            if np.any(crossed):
+                i = int(np.argmax(crossed))
+                a, b = (taus[i - 1] if i else tau), taus[i]
+                e_a = e[i - 1] if i else e_prev
+                # rounding-level values count as zero
+                zero_tol = tol_g if not phase.contact else 1e-12 * float(np.max(np.abs(e)))
+                if e_a <= zero_tol and a == 0.0:
+                    # the phase starts at an event (e = 0): the event function may open a
+                    # short positive lobe before it turns negative; look for it
+                    fine = np.geomspace(b * 1e-9, b, 256)
+                    e_fine = form.evaluate(ev_coeffs, fine)[0]
+                    positive = np.flatnonzero(e_fine > zero_tol)
+                    if positive.size and np.any(e_fine[positive[0]:] < threshold):
+                        j = positive[0] + int(np.argmax(e_fine[positive[0]:] < threshold))
+                        a, b, e_a = fine[j - 1], fine[j], e_fine[j - 1]
+                if e_a <= zero_tol:
+                    root = a
+                else:
+                    root = brentq(event, a, b, xtol=1e-15 * max(b, 1e-300),
+                                  rtol=4 * np.finfo(float).eps)
+                emit(phase, out_coeffs, t0, t0, t0 + root, True)
+                return t0 + root, form.state(coords, root), True
+            tau, e_prev, de_prev = float(taus[-1]), float(e[-1]), float(de[-1])
+            chunk = min(2 * chunk, 4096)
+        emit(phase, out_coeffs, t0, t0, t_end, True)
+        return t_end, form.state(coords, t_end - t0), False
 
     t = 0.0
     # touching at t = 0 and approaching: the first contact starts at once
     in_contact = bool(n) and gap0 <= tol_g and gap_rate(Xa) < 0
     contact_start = 0.0
-    initial_phase = free
+    first_impulse = None
     if in_contact:
-        Xa, holds = start_contact(0.0, Xa)
-        states[0] = Xa
-        if holds:
-            initial_phase = stuck
-        else:
+        Xa, in_contact = start_contact(0.0, Xa)
+        if not in_contact:
             intervals.append((0.0, 0.0))
-            in_contact = False
     stalled = 0
     while t < t_end * (1 - 1e-15):
-        phase = stuck if in_contact else free
-        t_ev, X_ev, happened = run_phase(phase, t, Xa, in_contact)
+        t_ev, Xa, happened = run_phase(stuck if in_contact else free, t, Xa)
         stalled = stalled + 1 if t_ev == t else 0
         if stalled > 50:
             raise RuntimeError(f"contact events repeat without time advancing at t = {t!r} s: "
                                "the contact state cannot be decided (grazing); use "
                                "method='modal'")
-        t, Xa = t_ev, X_ev
+        t = t_ev
         if not happened:
             break
         if in_contact:  # separation
             intervals.append((contact_start, t))
-            times.append(t)
-            states.append(Xa)
-            forces.append(None)  # force 0 from here
             in_contact = False
         else:  # contact
             contact_start = t
-            Xa, holds = start_contact(t, Xa)
-            times.append(t)
-            states.append(Xa)
-            if holds:
-                forces.append(stuck)
-                in_contact = True
-            else:
-                forces.append(None)
+            Xa, in_contact = start_contact(t, Xa)
+            if not in_contact:
                 intervals.append((t, t))
         if first_impulse is None and intervals:
             first_impulse = float(Xa[jdx])
@@ -315,56 +371,69 @@ def solve_laplace(bodies, gap0, contact, t_end, dt, *, notes=()):
     if first_impulse is None:
         first_impulse = float(Xa[jdx])
 
-    T = np.array(times)
-    X = np.array(states)
-    # force at each sample: the phase that produced the sample (start sample: initial phase)
-    in_stuck = np.array([ph is stuck for ph in [initial_phase] + forces])
-    F = np.where(in_stuck, X @ force_row, 0.0)
-    T, X, F = _insert_exact_peak(T, X, F, in_stuck, intervals, stuck)
-    F = np.maximum(F, 0.0)
-    D1, D2 = sysm.D
-    y1 = X[:, :n] @ sysm.C1 - D1 * F
-    y2 = X[:, :n] @ sysm.C2 + D2 * F
-    gap = y2 - y1 + gap0
-    X_end = X[-1]
-    f_end = F[-1]
+    T = np.concatenate([blk[0] for blk in samples])
+    V = np.concatenate([blk[1] for blk in samples], axis=1)
+    T, V = _insert_exact_peak(T, V, intervals, phase_log)
+    F = np.maximum(V[0], 0.0)
+    X_end = Xa
+    in_contact_end = bool(intervals) and intervals[-1][1] == t_end and intervals[-1][0] < t_end
+    f_end = float(force_row @ X_end) if in_contact_end else 0.0
     u_before = (bodies[0].velocity, bodies[1].velocity)
     u_after = (sysm.rigid_velocity(X_end[:n], 0), sysm.rigid_velocity(X_end[:n], 1))
     before = sysm.energies(sysm.X0, 0.0)
     after = sysm.energies(X_end[:n], f_end)
     energy = tuple(BodyEnergy(b[0], b[1], a[0], a[1]) for b, a in zip(before, after))
     inv = (bodies[0].inverse_mass, bodies[1].inverse_mass)
-    note = (f"exact (Laplace/state-space) solution; {n_grid} output/event-search steps of "
-            f"{step:.4g} s",)
-    return ImpactResult(t=T, force=F, y1=y1, y2=y2, gap=gap,
+    kind = "spectral" if all(isinstance(p.form, SpectralPhase) for p in (free, stuck)) \
+        else "matrix-exponential"
+    note = (f"exact (Laplace/state-space, {kind}) solution; output step {out_step:.4g} s, "
+            f"event search step {step:.4g} s",)
+    return ImpactResult(t=T, force=F, y1=V[1], y2=V[2], gap=V[3],
                         contact_intervals=tuple(intervals), dirac_impulses=tuple(diracs),
                         velocities_before=u_before, velocities_after=u_after,
-                        energy_by_body=energy, method="laplace", dt=step,
+                        energy_by_body=energy, method="laplace", dt=out_step,
                         first_contact_impulse=first_impulse,
                         total_impulse=float(X_end[jdx]), inverse_masses=inv,
                         notes=tuple(notes) + note)
 
 
-def _insert_exact_peak(T, X, F, in_stuck, intervals, stuck):
+def _free_lobe_height(X, A, Cg):
+    """Largest gap (m) a free flight from ``X`` opens before closing, by its cubic Taylor form."""
+    g1 = float(Cg @ (A @ X))
+    g2 = float(Cg @ (A @ (A @ X)))
+    g3 = float(Cg @ (A @ (A @ (A @ X))))
+    if g3 >= 0:
+        return np.inf  # the cubic does not close again: a real opening
+    roots = np.roots([0.5 * g3, g2, g1])          # g'(tau) = 0
+    roots = roots[np.isreal(roots) & (roots.real > 0)].real
+    if roots.size == 0:
+        return 0.0
+    tau = float(np.max(roots))
+    return g1 * tau + 0.5 * g2 * tau**2 + g3 * tau**3 / 6.0
+
+
+def _insert_exact_peak(T, V, intervals, phase_log):
     """Insert the exact maximum of the first contact's force (a root of ``f'``) as a sample."""
-    if not intervals or intervals[0][1] <= intervals[0][0]:
-        return T, X, F
+    if not intervals or intervals[0][1] <= intervals[0][0] or not phase_log:
+        return T, V
     start, end = intervals[0]
-    inside = np.flatnonzero(in_stuck & (T >= start) & (T <= end))
-    if inside.size < 2:
-        return T, X, F
-    i = inside[np.argmax(F[inside])]
-    rate = _Phase(stuck.M, stuck.force_row, stuck.force_row @ stuck.M)
-    for lo in (i - 1, i):
-        if lo < inside[0] or lo + 1 > inside[-1]:
-            continue
-        d_lo = float(rate.event_row @ X[lo])
-        d_hi = float(rate.event_row @ X[lo + 1])
-        if d_lo > 0 >= d_hi:
-            tau = rate.event_root(X[lo], T[lo + 1] - T[lo])
-            x_peak = scipy.linalg.expm(stuck.M * tau) @ X[lo]
-            f_peak = float(stuck.force_row @ x_peak)
-            k = lo + 1
-            return (np.insert(T, k, T[lo] + tau), np.insert(X, k, x_peak, axis=0),
-                    np.insert(F, k, f_peak))
-    return T, X, F
+    phase, t0, coords = phase_log[0]
+    inside = np.flatnonzero((T > start) & (T < end))
+    if inside.size < 1:
+        return T, V
+    i = inside[np.argmax(V[0, inside])]
+    form = phase.form
+    coeffs = form.output_coefficients(phase.event_row, coords)
+
+    def rate(x):
+        return form.evaluate(coeffs, [x - t0], derivative=1)[0, 0]
+
+    lo, hi = (T[i - 1] if i > 0 else start), (T[i + 1] if i + 1 < T.size else end)
+    lo, hi = max(lo, start), min(hi, end)
+    for a, b in ((lo, T[i]), (T[i], hi)):
+        if b > a and rate(a) > 0 >= rate(b):
+            t_peak = brentq(rate, a, b, xtol=1e-15 * max(b, 1e-300))
+            values = form.evaluate(form.output_coefficients(phase.rows, coords), [t_peak - t0])
+            k = int(np.searchsorted(T, t_peak))
+            return np.insert(T, k, t_peak), np.insert(V, k, values[:, 0], axis=1)
+    return T, V
