@@ -13,8 +13,12 @@ frequencies and a truncated :class:`modalid.ModalModel` (method.md section 2):
 from ._base import ExactModel
 from .beam import CantileverBeam
 from .lumped import LumpedMass, SpringMass
+from .measure import (HammerTest, lightly_damped, synthetic_frf, synthetic_hammer_test,
+                      synthetic_impulse_response)
 from .rod import Rod
 from .roots import cantilever_roots
 
 __all__ = ["ExactModel", "LumpedMass", "SpringMass", "Rod", "CantileverBeam",
            "cantilever_roots"]
+__all__ += ["synthetic_frf", "lightly_damped", "synthetic_impulse_response",
+            "synthetic_hammer_test", "HammerTest"]

@@ -1,0 +1,373 @@
+"""Impact-hammer FRF estimation: H1 over hits, force and exponential windows, double hits.
+
+The workflow of a roving- or fixed-hammer test, one excitation/response pair::
+
+    est = frf_from_hammer(force, acceleration, fs, response_type="acceleration",
+                          exponential_decay=4.6)      # records: (n_hits, n_samples)
+    est.frf                      # FRFData (accelerance), with coherence for >= 2 hits
+    fitted = ...                 # a ModalModel identified from est.frf
+    true_model = est.correct(fitted)   # undo the damping added by the exponential window
+
+Conventions: time records start at ``t = 0`` (the first sample), sampled at ``fs`` Hz;
+force in N, response in m, m/s or m/s^2 (``response_type``); spectra are one-sided
+(``scipy.fft.rfft``), frequency lines ``k fs / n_fft``, 0 Hz included.
+"""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.fft
+import scipy.signal
+
+from ._checks import (as_choice, as_complex_array, as_count, as_nonnegative_scalar,
+                      as_positive_scalar, as_real_array, as_real_scalar)
+from .frf import FRFData
+from .model import ModalModel
+
+__all__ = ["RESPONSE_TYPES", "DoubleHitWarning", "HammerFRF", "frf_from_hammer",
+           "find_double_hits", "correct_exponential_window"]
+
+#: Response signal -> FRF quantity it measures (with a force input).
+RESPONSE_TYPES = {"displacement": "receptance", "velocity": "mobility",
+                  "acceleration": "accelerance"}
+
+#: Power of ``s`` relating each quantity to the receptance (``Q(s) = s**k H(s)``).
+_S_POWER = {"receptance": 0, "mobility": 1, "accelerance": 2}
+
+FORCE_WINDOWS = ("force", "none")
+
+
+class DoubleHitWarning(UserWarning):
+    """A force record holds a second hammer pulse after the main one (a double hit)."""
+
+
+# ----------------------------------------------------------------------- result
+@dataclass(frozen=True, repr=False, eq=False)
+class HammerFRF:
+    """Result of :func:`frf_from_hammer`; immutable.
+
+    Attributes
+    ----------
+    frf : FRFData
+        The H1 estimate in the quantity measured by the response (receptance, mobility
+        or accelerance), with ``coherence`` when at least two hits were averaged.
+        With an exponential window it is the FRF of the damped-by-the-window system:
+        see :func:`frf_from_hammer` (Notes) and :meth:`correct`.
+    window_decay_rate : float
+        Decay rate ``sigma_w = 1/tau`` (1/s) of the exponential window applied, 0.0 for
+        none. Every pole of ``frf`` sits ``sigma_w`` further left than the structure's.
+    n_hits : int
+        Number of hits averaged.
+    double_hits : tuple of int
+        Indices of the hits in which :func:`find_double_hits` found a second pulse (each
+        also reported by a :class:`DoubleHitWarning`); they are still averaged.
+    force_spectrum : ndarray of float, shape (n_lines,)
+        Averaged force autospectrum ``mean_i |F_i|^2`` (N^2, unscaled DFT) on the lines
+        of ``frf``, after the windows: the band where it is within, say, 20 dB of its
+        maximum is the band the hammer excited.
+    force_window_length : float or None
+        Length (s, from the record start) of the force window applied, ``None`` without.
+    """
+
+    frf: FRFData
+    window_decay_rate: float
+    n_hits: int
+    double_hits: tuple
+    force_spectrum: np.ndarray
+    force_window_length: float | None
+
+    @property
+    def coherence(self):
+        """Ordinary coherence of the estimate (``frf.coherence``), None for one hit."""
+        return self.frf.coherence
+
+    def correct(self, model_or_poles):
+        """Undo this estimate's exponential window: :func:`correct_exponential_window`
+        with ``decay_rate = window_decay_rate``."""
+        return correct_exponential_window(model_or_poles, self.window_decay_rate)
+
+    def __repr__(self) -> str:
+        return (f"HammerFRF({self.frf!r}, n_hits={self.n_hits}, window_decay_rate="
+                f"{self.window_decay_rate:.6g}, double_hits={self.double_hits})")
+
+
+# ---------------------------------------------------------------------- helpers
+def _as_records(name: str, value) -> np.ndarray:
+    arr = as_real_array(name, value)
+    if arr.ndim not in (1, 2):
+        raise ValueError(f"{name} must be 1-D (one hit) or 2-D (hits x samples), got shape "
+                         f"{arr.shape}")
+    arr = np.atleast_2d(arr)
+    if arr.shape[0] < 1 or arr.shape[1] < 4:
+        raise ValueError(f"{name} must hold at least one hit of at least 4 samples, got "
+                         f"shape {arr.shape}")
+    return arr
+
+
+def _main_pulse(f: np.ndarray):
+    """Sign-normalised record, main peak index, its value and its width at half maximum."""
+    k0 = int(np.argmax(np.abs(f)))
+    if f[k0] < 0:
+        f = -f
+    peak = float(f[k0])
+    above = f >= 0.5 * peak
+    left = k0
+    while left > 0 and above[left - 1]:
+        left -= 1
+    right = k0
+    while right < f.size - 1 and above[right + 1]:
+        right += 1
+    return f, k0, peak, right - left + 1
+
+
+def _double_hits_in(forces: np.ndarray, fs: float, threshold: float):
+    found = []
+    for i, record in enumerate(forces):
+        f, k0, peak, fwhm = _main_pulse(record)
+        if peak == 0.0:
+            raise ValueError(f"force of hit {i} is identically zero: no hammer pulse")
+        below = np.flatnonzero(f[k0:] < threshold * peak)
+        if below.size == 0:
+            continue
+        end = k0 + int(below[0])
+        peaks, props = scipy.signal.find_peaks(f, height=threshold * peak)
+        later = (peaks > end) & (peaks - k0 > fwhm)
+        if np.any(later):
+            heights = props["peak_heights"][later]
+            j = int(np.argmax(heights))
+            k = int(peaks[later][j])
+            found.append((i, k / fs, float(heights[j] / peak), k0 / fs))
+    return found
+
+
+# ------------------------------------------------------------------- functions
+def find_double_hits(force, fs, *, threshold=0.1):
+    """Second hammer pulses after the main one, in each force record.
+
+    The main pulse is the sample of largest ``|force|`` (the record's sign is taken from
+    it). A double hit is a local maximum above ``threshold`` times the main peak that
+    comes after the force has first fallen below that level and more than one pulse
+    width (the main pulse's width at half maximum) after the main peak.
+
+    Parameters
+    ----------
+    force : array_like of float, shape (n_samples,) or (n_hits, n_samples)
+        Force records (N), one row per hit.
+    fs : float
+        Sampling frequency (Hz), > 0.
+    threshold : float, optional
+        Level, as a fraction of the main peak in (0, 1), above which a later pulse counts.
+
+    Returns
+    -------
+    list of tuple (hit, time_s, relative_height)
+        One entry per record with a double hit: the hit index, the time (s, from the
+        record start) of the largest second pulse, and its height over the main peak.
+    """
+    fs = as_positive_scalar("fs", fs)
+    threshold = _as_threshold(threshold)
+    forces = _as_records("force", force)
+    return [(i, t, r) for i, t, r, _ in _double_hits_in(forces, fs, threshold)]
+
+
+def _as_threshold(value) -> float:
+    out = as_real_scalar("double_hit_threshold", value)
+    if not 0.0 < out < 1.0:
+        raise ValueError(f"double_hit_threshold must lie in (0, 1), got {out!r}")
+    return out
+
+
+def frf_from_hammer(force, response, fs, *, response_type="acceleration",
+                    force_window="force", force_window_length=None, exponential_decay=0.0,
+                    n_fft=None, double_hit_threshold=0.1) -> HammerFRF:
+    """H1 estimate of the FRF from impact-hammer records, averaged over hits.
+
+    Parameters
+    ----------
+    force : array_like of float, shape (n_samples,) or (n_hits, n_samples)
+        Hammer force (N), one row per hit, each record starting at ``t = 0``.
+    response : array_like of float, same shape as ``force``
+        Response recorded with each hit.
+    fs : float
+        Sampling frequency (Hz), > 0.
+    response_type : {"acceleration", "velocity", "displacement"}
+        What ``response`` is; the FRF is then accelerance, mobility or receptance.
+    force_window : {"force", "none"}
+        ``"force"`` keeps each force record from ``t = 0`` to ``force_window_length``
+        and sets the rest to zero (it removes the noise recorded on the force channel
+        after the pulse); ``"none"`` leaves the force as recorded.
+    force_window_length : float or None
+        Length (s) of the force window, at most the record length ``n_samples / fs``.
+        ``None``: the latest main peak of all hits plus five times its width at half
+        maximum (the whole half-sine and a margin).
+    exponential_decay : float
+        Decay rate ``sigma_w = 1/tau`` (1/s) of the exponential window
+        ``w(t) = exp(-sigma_w t)`` applied to both channels; 0 (default) for none. For a
+        window that ends at the value ``e`` use ``-log(e) / (n_samples / fs)``.
+    n_fft : int or None
+        FFT length, ``>= n_samples`` (the records are zero-padded); ``None`` for
+        ``n_samples``. The frequency lines are ``k fs / n_fft``, ``k = 0 .. n_fft // 2``.
+    double_hit_threshold : float
+        Fraction of the main force peak above which a later pulse is a double hit
+        (:func:`find_double_hits`).
+
+    Returns
+    -------
+    HammerFRF
+        The estimate (``.frf``, an :class:`FRFData`), the window decay rate, the hits
+        with double hits and the force autospectrum.
+
+    Warns
+    -----
+    DoubleHitWarning
+        For each hit whose force holds a second pulse, naming the hit index and time.
+
+    Notes
+    -----
+    With ``X_i``, ``F_i`` the DFTs of the windowed response and force of hit ``i``,
+    ``H1 = sum_i X_i conj(F_i) / sum_i |F_i|^2`` and the ordinary coherence is
+    ``|sum X_i conj(F_i)|^2 / (sum |X_i|^2 sum |F_i|^2)`` (only for two or more hits:
+    for one it is identically 1). H1 is unbiased by noise on the response channel.
+
+    Exponential window: the windowed impulse response ``h(t) exp(-sigma_w t)`` has the
+    Laplace transform ``H(s + sigma_w)``, whose poles are ``p_k - sigma_w`` with the
+    residues unchanged; both channels are windowed, so the ratio of their spectra is
+    ``Q(i omega + sigma_w)`` for the measured quantity ``Q(s) = s**k H(s)``
+    (``k = 0, 1, 2`` for receptance, mobility, accelerance). It is reported multiplied by
+    ``(i omega / (i omega + sigma_w))**k``, i.e. as ``(i omega)**k H(i omega + sigma_w)``:
+    the quantity-``Q`` FRF of the receptance whose every pole moved by ``-sigma_w``, with
+    the same residues and constant term. A :class:`ModalModel` fitted to it is therefore
+    turned into the structure's model exactly by :func:`correct_exponential_window`,
+    for any quantity (the factor is 1 for receptance and differs from 1 by about
+    ``k sigma_w / omega`` otherwise).
+
+    Raises
+    ------
+    ValueError
+        For non-finite samples, records of different shapes, ``fs <= 0``, a force window
+        longer than the record or ending before a force peak, ``n_fft < n_samples``, a
+        zero force record, or a frequency line where the force spectrum vanishes.
+    """
+    fs = as_positive_scalar("fs", fs)
+    as_choice("response_type", response_type, tuple(RESPONSE_TYPES))
+    quantity = RESPONSE_TYPES[response_type]
+    as_choice("force_window", force_window, FORCE_WINDOWS)
+    decay = as_nonnegative_scalar("exponential_decay", exponential_decay)
+    threshold = _as_threshold(double_hit_threshold)
+    forces = _as_records("force", force)
+    responses = _as_records("response", response)
+    if forces.shape != responses.shape:
+        raise ValueError(f"force and response must have the same shape, got {forces.shape} "
+                         f"and {responses.shape}")
+    n_hits, n_samples = forces.shape
+    duration = n_samples / fs
+    if n_fft is None:
+        n_fft = n_samples
+    n_fft = as_count("n_fft", n_fft, minimum=1)
+    if n_fft < n_samples:
+        raise ValueError(f"n_fft must be >= the record length {n_samples} (records are "
+                         f"zero-padded, never cut), got {n_fft}")
+
+    found = _double_hits_in(forces, fs, threshold)
+    for i, t_second, ratio, t_main in found:
+        warnings.warn(f"double hit in hit {i}: a second force pulse of {ratio:.0%} of the "
+                      f"main peak at t = {t_second:.6g} s, {(t_second - t_main) * 1e3:.3g} ms "
+                      f"after the main peak; it biases the FRF, consider rejecting hit {i}",
+                      DoubleHitWarning, stacklevel=2)
+
+    t = np.arange(n_samples) / fs
+    peaks = [_main_pulse(f)[1:] for f in forces]  # (k0, peak, fwhm) of each hit
+    window_length = None
+    if force_window == "force":
+        if force_window_length is None:
+            last = max(k0 + 5 * fwhm for k0, _, fwhm in peaks)
+            window_length = min(last, n_samples - 1) / fs
+        else:
+            window_length = as_positive_scalar("force_window_length", force_window_length)
+            if window_length > duration:
+                raise ValueError(f"force_window_length must not exceed the record length "
+                                 f"{duration:.6g} s ({n_samples} samples at {fs:g} Hz), got "
+                                 f"{window_length!r}")
+            for i, (k0, _, _) in enumerate(peaks):
+                if t[k0] > window_length:
+                    raise ValueError(f"force_window_length {window_length!r} s ends before "
+                                     f"the force peak of hit {i} at t = {t[k0]:.6g} s")
+        forces = np.where(t <= window_length * (1 + 1e-12), forces, 0.0)
+    elif force_window_length is not None:
+        raise ValueError(f"force_window_length is used only with force_window='force', got "
+                         f"{force_window_length!r} with force_window='none'")
+
+    if decay:
+        w = np.exp(-decay * t)
+        forces = forces * w
+        responses = responses * w
+    F = scipy.fft.rfft(forces, n=n_fft, axis=-1)
+    X = scipy.fft.rfft(responses, n=n_fft, axis=-1)
+    freq = scipy.fft.rfftfreq(n_fft, 1.0 / fs)
+    sff = np.mean(np.abs(F) ** 2, axis=0)
+    sxx = np.mean(np.abs(X) ** 2, axis=0)
+    sxf = np.mean(X * F.conj(), axis=0)
+    if np.any(sff == 0.0):
+        k = int(np.flatnonzero(sff == 0.0)[0])
+        raise ValueError(f"the force spectrum vanishes at {freq[k]:.6g} Hz: the FRF is "
+                         "undefined there")
+    h1 = sxf / sff
+    coherence = None
+    if n_hits >= 2:
+        with np.errstate(invalid="ignore", divide="ignore"):
+            coherence = np.abs(sxf) ** 2 / (sxx * sff)
+        coherence = np.clip(np.nan_to_num(coherence, nan=0.0), 0.0, 1.0)
+    k = _S_POWER[quantity]
+    if decay and k:
+        iw = 2j * np.pi * freq
+        h1 = h1 * (iw / (iw + decay)) ** k
+    sff = np.array(sff)
+    sff.setflags(write=False)
+    return HammerFRF(frf=FRFData(freq, h1, quantity=quantity, coherence=coherence),
+                     window_decay_rate=decay, n_hits=n_hits,
+                     double_hits=tuple(i for i, *_ in found), force_spectrum=sff,
+                     force_window_length=window_length)
+
+
+def correct_exponential_window(model_or_poles, decay_rate):
+    """Remove the damping added by an exponential window ``exp(-decay_rate t)``.
+
+    Parameters
+    ----------
+    model_or_poles : ModalModel or array_like of complex
+        A model (or poles, rad/s) identified from an exponentially windowed FRF.
+    decay_rate : float
+        The window's decay rate ``1/tau`` (1/s), >= 0 (``HammerFRF.window_decay_rate``).
+
+    Returns
+    -------
+    ModalModel or ndarray of complex
+        Of the input's kind: every pole (complex and real) moved right by ``decay_rate``,
+        ``p = p_w + decay_rate``; residues, ``flexibility`` and ``inverse_mass`` unchanged.
+
+    Notes
+    -----
+    The window multiplies the impulse response: ``h_w(t) = h(t) exp(-t/tau)``. By the
+    shift theorem its Laplace transform is ``H_w(s) = H(s + 1/tau)``, and for
+    ``H(s) = sum r_k/(s - p_k) + D``, ``H_w(s) = sum r_k/(s - (p_k - 1/tau)) + D``: each
+    pole moves by ``-1/tau`` and each residue is unchanged, exactly (not merely to first
+    order), because the window is an exact exponential acting on every exponential mode
+    ``r_k exp(p_k t)`` alike. (A free body's rigid term ``1/(M s^2)`` becomes a double
+    pole at ``-1/tau``, which a ModalModel cannot hold: ``inverse_mass`` is passed
+    through unchanged.) :func:`frf_from_hammer` reports windowed mobilities and
+    accelerances so that this holds for them too.
+    """
+    decay_rate = as_nonnegative_scalar("decay_rate", decay_rate)
+    if isinstance(model_or_poles, ModalModel):
+        m = model_or_poles
+        real_poles = m.real_poles + decay_rate
+        if np.any(real_poles >= 0):
+            bad = m.real_poles[real_poles >= 0][0]
+            raise ValueError(f"decay_rate {decay_rate!r} moves the real pole {float(bad)!r} to "
+                             f"Re p >= 0: it was not damped by the window alone")
+        return m._replace(poles=m.poles + decay_rate, real_poles=real_poles)
+    poles = as_complex_array("model_or_poles", model_or_poles)
+    return poles + decay_rate

@@ -1,0 +1,752 @@
+"""Reading and writing measured FRFs: CSV, NumPy ``.npz``, MATLAB ``.mat`` and UFF 58.
+
+One file holds one FRF or several; the rule is the same for every format:
+
+* :func:`read_frfs` returns every FRF in the file, as a list of :class:`FRFData`;
+* :func:`read_frf` returns one :class:`FRFData`: the only one, or the one ``index=``
+  picks; a file holding several without ``index=`` is a ``ValueError``;
+* :func:`describe_frfs` tabulates what :func:`read_frfs` would return (quantity,
+  lines, band, UFF response/reference node and direction), for choosing ``index``.
+
+The quantity (receptance, mobility or accelerance) comes from the file when it says it,
+else from ``quantity=``, else reading fails asking for it; a file and an argument that
+disagree are an error, never silently resolved. Values are taken in SI units of the
+quantity (no unit conversion of the ordinate); frequencies are converted to Hz.
+
+Nothing read is ever executed: ``.npz`` is opened with ``allow_pickle=False``, complex
+text lines are parsed by :class:`complex`, never ``eval``.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import uuid
+import warnings
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ._checks import as_choice, as_count, as_real_array
+from .frf import FRFData
+from .quantities import QUANTITIES
+
+__all__ = ["read_frf", "read_frfs", "write_frf", "describe_frfs", "read_complex_lines"]
+
+READ_FORMATS = ("csv", "npz", "mat", "uff", "complex-lines")
+WRITE_FORMATS = ("csv", "npz", "mat", "uff")
+_EXTENSIONS = {".csv": "csv", ".tsv": "csv", ".txt": "text", ".npz": "npz", ".mat": "mat",
+               ".uff": "uff", ".unv": "uff", ".uf": "uff"}
+_QUANTITY_WORDS = {"receptance": "receptance", "compliance": "receptance",
+                   "mobility": "mobility", "accelerance": "accelerance",
+                   "inertance": "accelerance"}
+# dataset 58, records 9/10 field 1 (specific data type): numerator codes of our quantities
+_UFF_NUMERATOR = {8: "receptance", 11: "mobility", 12: "accelerance"}
+_UFF_CODE = {q: c for c, q in _UFF_NUMERATOR.items()}
+_UFF_FORCE = (13, 9, 0)  # excitation force, reaction force, or unstated
+_UFF_UNITS = {"receptance": "m", "mobility": "m/s", "accelerance": "m/s^2"}
+
+
+# ------------------------------------------------------------------ column names
+_UNITS = {"hz": "hz", "hertz": "hz", "deg": "deg", "degree": "deg", "degrees": "deg",
+          "rad": "rad", "radian": "rad", "radians": "rad", "db": "db"}
+_WORDS = {
+    "freq": {"f", "freq", "frequency", "frequencies"},
+    "omega": {"omega", "w", "angular_frequency", "angular_freq"},
+    "real": {"re", "real", "real_part"},
+    "imag": {"im", "imag", "imaginary", "imag_part", "imaginary_part"},
+    "magnitude": {"mag", "magnitude", "abs", "amplitude", "amp", "modulus"},
+    "phase": {"phase", "arg", "angle", "phi"},
+    "coherence": {"coh", "coherence", "gamma2", "gamma_2"},
+    "values": {"values", "value", "h", "frf", ""},
+    "quantity": {"quantity"},
+}
+_ROLES = {("freq", None): "freq_hz", ("freq", "hz"): "freq_hz", ("", "hz"): "freq_hz",
+          ("freq", "rad_s"): "omega_rad_s", ("omega", None): "omega_rad_s",
+          ("omega", "rad_s"): "omega_rad_s", ("", "rad_s"): "omega_rad_s",
+          ("real", None): "real", ("imag", None): "imag", ("values", None): "values",
+          ("magnitude", None): "magnitude", ("magnitude", "db"): "magnitude_db",
+          ("", "db"): "magnitude_db", ("phase", "deg"): "phase_deg",
+          ("phase", "rad"): "phase_rad", ("phase", None): "phase",
+          ("coherence", None): "coherence", ("quantity", None): "quantity"}
+TABLE_ROLES = ("freq_hz", "omega_rad_s", "real", "imag", "magnitude", "magnitude_db",
+               "phase_deg", "phase_rad", "coherence")
+ARRAY_ROLES = ("freq_hz", "omega_rad_s", "values", "coherence", "quantity")
+
+
+def _column_role(name):
+    """``(role, quantity)`` of a column header or variable name; role None if unknown.
+
+    The name is lower-cased; a trailing ``[unit]``/``(unit)`` counts when it is Hz,
+    rad/s, deg, rad or dB; other characters separate words. Words naming a quantity
+    (``accelerance_real``) give the quantity, and an ``h`` word (``H_real``) is ignored.
+    """
+    text = str(name).strip().lower().replace("°", "deg")
+    match = re.fullmatch(r"(.*?)\s*[\[(]([^\])]*)[\])]\s*", text)
+    if match:
+        text, unit = match.group(1), re.sub(r"[^a-z0-9]+", "_", match.group(2)).strip("_")
+        if unit in _UNITS or unit == "rad_s":
+            text = f"{text}_{unit}"
+    tokens = [t for t in re.sub(r"[^a-z0-9]+", "_", text).split("_") if t]
+    quantities = {_QUANTITY_WORDS[t] for t in tokens if t in _QUANTITY_WORDS}
+    tokens = [t for t in tokens if t not in _QUANTITY_WORDS]
+    unit = None
+    if tokens[-2:] == ["rad", "s"]:
+        unit, tokens = "rad_s", tokens[:-2]
+    elif tokens and tokens[-1] in _UNITS:
+        unit, tokens = _UNITS[tokens[-1]], tokens[:-1]
+    if len(tokens) > 1 or (tokens == ["h"] and unit is not None):
+        tokens = [t for t in tokens if t != "h"]
+    word = "_".join(tokens)
+    kind = next((k for k, words in _WORDS.items() if word in words), None)
+    if kind == "values" and word == "" and unit is not None:
+        kind = ""
+    role = _ROLES.get((kind, unit))
+    if role == "values" and word == "" and not quantities:
+        role = None
+    return role, (quantities.pop() if len(quantities) == 1 else None)
+
+
+def _assign_roles(names, allowed, columns, source):
+    """Map each role in ``allowed`` to one of ``names`` (``columns`` overrides)."""
+    if columns is not None and not isinstance(columns, Mapping):
+        raise TypeError(f"columns must be a dict role -> name, got {columns!r}")
+    found, lower = {}, {str(n).strip().lower(): n for n in names}
+    columns = {} if columns is None else dict(columns)
+    for role, name in columns.items():
+        as_choice("columns key", role, allowed)
+        if str(name).strip().lower() not in lower:
+            raise ValueError(f"columns[{role!r}] = {name!r} is not in {source}; it has "
+                             f"{list(names)}")
+        found[role] = (lower[str(name).strip().lower()], None)
+    claimed = {n for n, _ in found.values()}
+    for name in names:
+        role, quantity = _column_role(name)
+        if role is None or role not in allowed or name in claimed or role in columns:
+            continue
+        if role in found:
+            raise ValueError(f"{source} has two {role} columns, {found[role][0]!r} and "
+                             f"{name!r}: pass columns={{{role!r}: ...}} to pick one")
+        found[role] = (name, quantity)
+    return found
+
+
+_HELP = ("accepted names (case-insensitive, any word separator, optional [unit]): "
+         "frequency f/freq/frequency [Hz] or omega/w [rad/s] (e.g. freq_hz, omega_rad_s); ")
+TABLE_HELP = _HELP + ("real re/real + imag im/imag, or magnitude mag/abs (dB if the name "
+                      "says so, e.g. mag_db) + phase_deg or phase_rad; coherence coh/coherence")
+ARRAY_HELP = _HELP + "values values/H/frf (complex); coherence coh/coherence; quantity"
+
+
+# ------------------------------------------------------------------ raw records
+@dataclass
+class _Raw:
+    """One FRF as read, before the quantity is settled."""
+
+    freq_hz: np.ndarray
+    values: np.ndarray
+    coherence: np.ndarray | None
+    quantity: str | None
+    names: tuple = ("freq_hz", "values", "coherence")
+    meta: dict = field(default_factory=dict)
+
+
+def _finite(source, name, arr):
+    arr = np.asarray(arr)
+    if arr.dtype.kind not in "biufc":
+        raise ValueError(f"{name} of {source} must be numeric, got dtype {arr.dtype}")
+    bad = ~np.isfinite(arr)
+    if np.any(bad):
+        i = int(np.argmax(bad))
+        raise ValueError(f"{name} of {source} holds {arr[i]!r} at index {i} (missing or "
+                         "not finite)")
+    return arr
+
+
+def _vector(source, name, arr):
+    arr = np.asarray(arr)
+    if arr.ndim == 2 and 1 in arr.shape:
+        arr = arr.ravel()
+    if arr.ndim != 1:
+        raise ValueError(f"{name} of {source} must be a vector, got shape {arr.shape}")
+    return _finite(source, name, arr)
+
+
+def _settle_quantity(source, stated, quantity):
+    if quantity is not None:
+        as_choice("quantity", quantity, QUANTITIES)
+    if stated is not None and quantity is not None and stated != quantity:
+        raise ValueError(f"{source} says its FRF is {stated} but quantity={quantity!r} was "
+                         "passed: drop the argument or fix the file")
+    if stated is None and quantity is None:
+        raise ValueError(f"{source} does not say which quantity its FRF is: pass "
+                         f"quantity= one of {list(QUANTITIES)}")
+    return stated or quantity
+
+
+def _build(source, raw, quantity):
+    """FRFData from a raw record; coherence outside [0, 1] is clipped with a warning."""
+    quantity = _settle_quantity(source, raw.quantity, quantity)
+    f_name, v_name, c_name = raw.names
+    if raw.freq_hz.size != raw.values.size:
+        raise ValueError(f"{f_name} and {v_name} of {source} differ in length: "
+                         f"{raw.freq_hz.size} and {raw.values.size}")
+    coherence = raw.coherence
+    if coherence is not None:
+        coherence = np.real(coherence).astype(float)
+        if coherence.size != raw.freq_hz.size:
+            raise ValueError(f"{c_name} of {source} has {coherence.size} lines, "
+                             f"{f_name} has {raw.freq_hz.size}")
+        out = (coherence < 0) | (coherence > 1)
+        if np.any(out):
+            i = int(np.argmax(np.abs(coherence - np.clip(coherence, 0, 1))))
+            warnings.warn(f"{c_name} of {source} lies outside [0, 1] at {np.count_nonzero(out)} "
+                          f"lines (worst {coherence[i]:.6g} at {raw.freq_hz[i]:.6g} Hz); "
+                          "clipped to [0, 1]", UserWarning, stacklevel=4)
+            coherence = np.clip(coherence, 0.0, 1.0)
+    try:
+        return FRFData(raw.freq_hz.astype(float), raw.values.astype(complex),
+                       quantity=quantity, coherence=coherence)
+    except ValueError as exc:
+        raise ValueError(f"{source}: {exc}") from exc
+
+
+# ------------------------------------------------------------------ CSV / text
+def _read_table(path, columns):
+    import pandas as pd
+
+    lines = path.read_text(encoding="utf-8-sig").splitlines()
+    lead, stated = 0, set()
+    for line in lines:
+        if line.strip() and not line.lstrip().startswith("#"):
+            break
+        lead += 1
+        m = re.match(r"\s*#\s*quantity\s*[:=]\s*([A-Za-z]+)", line, re.IGNORECASE)
+        if m:
+            word = m.group(1).lower()
+            if word not in _QUANTITY_WORDS:
+                raise ValueError(f"{path} says '# quantity: {m.group(1)}'; the quantity must "
+                                 f"be one of {list(QUANTITIES)}")
+            stated.add(_QUANTITY_WORDS[word])
+    if lead == len(lines):
+        raise ValueError(f"{path} holds no table: no header line after its comments")
+    sep = next((s for s in (",", ";", "\t") if s in lines[lead]), r"\s+")
+    header = {}
+    try:  # numbers first: the header is the last comment line, as np.savetxt writes it
+        [float(t) for t in re.split(sep, lines[lead].strip())]
+        if lead:
+            text = lines[lead - 1].lstrip().lstrip("#").strip()
+            header = {"header": None, "names": [t.strip() for t in re.split(sep, text)]}
+    except ValueError:
+        pass
+    # pandas >= 3 parses floats exactly by default and deprecates float_precision
+    exact = {"float_precision": "round_trip"} if int(pd.__version__.split(".")[0]) < 3 else {}
+    try:
+        table = pd.read_csv(path, sep=sep, skiprows=lead, comment="#", encoding="utf-8-sig",
+                            skipinitialspace=True, **header, **exact)
+    except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
+        raise ValueError(f"cannot parse {path} as a table: {exc}") from exc
+    names = [str(c) for c in table.columns]
+    table.columns = names
+    found = _assign_roles(names, TABLE_ROLES, columns, str(path))
+
+    def column(role):
+        name = found[role][0]
+        values = pd.to_numeric(table[name], errors="coerce").to_numpy(dtype=float)
+        bad = ~np.isfinite(values)
+        if np.any(bad):
+            i = int(np.argmax(bad))
+            raise ValueError(f"column {name!r} of {path} has a missing, non-numeric or "
+                             f"non-finite value at data row {i + 1}: {table[name].iloc[i]!r}")
+        return values
+
+    freq_role = [r for r in ("freq_hz", "omega_rad_s") if r in found]
+    if len(freq_role) != 1:
+        raise ValueError(f"{path} needs exactly one frequency column, found "
+                         f"{[found[r][0] for r in freq_role]} among {names}; "
+                         + TABLE_HELP)
+    freq = column(freq_role[0]) / (2 * np.pi if freq_role[0] == "omega_rad_s" else 1.0)
+    mags = [r for r in ("magnitude", "magnitude_db") if r in found]
+    phases = [r for r in ("phase_deg", "phase_rad") if r in found]
+    if "real" in found and "imag" in found:
+        used = ["real", "imag"]
+        values = column("real") + 1j * column("imag")
+    elif len(mags) == 1 and len(phases) == 1:
+        used = mags + phases
+        mag = column(mags[0])
+        mag = 10.0 ** (mag / 20.0) if mags[0] == "magnitude_db" else mag
+        phase = column(phases[0])
+        values = mag * np.exp(1j * (np.radians(phase) if phases[0] == "phase_deg" else phase))
+    else:
+        hint = ""
+        if any(_column_role(n)[0] == "phase" for n in names):
+            hint = "; a phase column must say its unit (phase_deg or phase_rad)"
+        raise ValueError(f"{path} has no real/imag pair nor one magnitude + one phase column "
+                         f"among {names}{hint}; " + TABLE_HELP)
+    stated |= {found[r][1] for r in used + freq_role if found[r][1] is not None}
+    if len(stated) > 1:
+        raise ValueError(f"{path} names several quantities: {sorted(stated)}")
+    coherence = column("coherence") if "coherence" in found else None
+    return [_Raw(freq, values, coherence, stated.pop() if stated else None,
+                 (found[freq_role[0]][0], "/".join(found[r][0] for r in used),
+                  found.get("coherence", ("coherence",))[0]))]
+
+
+def _is_complex_lines(path):
+    with open(path, encoding="utf-8-sig", errors="replace") as fh:
+        for line in fh:
+            if line.strip() and not line.lstrip().startswith("#"):
+                return bool(re.fullmatch(r"\s*\(?[-+0-9.eEinfa]+j\)?\s*", line))
+    return False
+
+
+def read_complex_lines(path, *, freq_hz, quantity) -> FRFData:
+    """One FRF stored as one Python complex literal per line, e.g. ``(-0.0775+2.7e-08j)``.
+
+    Lines are parsed by :class:`complex` (never ``eval``); blank lines and ``#`` comments
+    are skipped. The file holds no frequencies: ``freq_hz`` gives one per value line
+    (for the pyuff beam files, line k is k Hz: ``freq_hz=np.arange(1001)``).
+    """
+    path = _as_path(path)
+    freq_hz = as_real_array("freq_hz", freq_hz, ndim=1)
+    values = []
+    with open(path, encoding="utf-8-sig") as fh:
+        for number, line in enumerate(fh, start=1):
+            text = line.strip()
+            if not text or text.startswith("#"):
+                continue
+            try:
+                values.append(complex(text.replace(" ", "")))
+            except ValueError:
+                raise ValueError(f"line {number} of {path} is not a complex number: "
+                                 f"{text[:60]!r}") from None
+    values = _finite(str(path), "the values", np.array(values, dtype=complex))
+    if values.size != freq_hz.size:
+        raise ValueError(f"{path} holds {values.size} values but freq_hz has {freq_hz.size}")
+    return _build(str(path), _Raw(freq_hz, values, None, None, ("freq_hz", "values", "")),
+                  quantity)
+
+
+# ------------------------------------------------------------------ NPZ / MAT
+def _from_arrays(source, arrays, columns):
+    """One raw FRF from named arrays (npz, or a simple .mat layout)."""
+    found = _assign_roles(list(arrays), ARRAY_ROLES, columns, source)
+    freq_role = [r for r in ("freq_hz", "omega_rad_s") if r in found]
+    if len(freq_role) != 1 or "values" not in found:
+        raise ValueError(f"{source} needs one frequency and one values variable, it has "
+                         f"{sorted(arrays)}; " + ARRAY_HELP
+                         + "; or pass columns={'freq_hz': ..., 'values': ...}")
+    f_name, v_name = found[freq_role[0]][0], found["values"][0]
+    freq = _vector(source, f_name, arrays[f_name]).real.astype(float)
+    if freq_role[0] == "omega_rad_s":
+        freq = freq / (2 * np.pi)
+    values = _vector(source, v_name, arrays[v_name])
+    c_name = found.get("coherence", ("coherence",))[0]
+    coherence = _vector(source, c_name, arrays[c_name]) if "coherence" in found else None
+    stated = found["values"][1]
+    if "quantity" in found:
+        q = np.asarray(arrays[found["quantity"][0]])
+        text = str(q.ravel()[0]).strip().lower() if q.dtype.kind in "US" and q.size else None
+        if text not in _QUANTITY_WORDS:
+            raise ValueError(f"variable {found['quantity'][0]!r} of {source} must name one "
+                             f"of {list(QUANTITIES)}, got {q!r}")
+        if stated is not None and stated != _QUANTITY_WORDS[text]:
+            raise ValueError(f"{source} names two quantities: {stated} and {text}")
+        stated = _QUANTITY_WORDS[text]
+    return _Raw(freq, values, coherence, stated, (f_name, v_name, c_name))
+
+
+def _read_npz(path, columns):
+    try:
+        archive = np.load(path, allow_pickle=False)
+        if not isinstance(archive, np.lib.npyio.NpzFile):
+            raise ValueError("it holds a single .npy array, not an .npz archive")
+        with archive:
+            arrays = {key: archive[key] for key in archive.files}
+    except ValueError as exc:
+        raise ValueError(f"cannot read {path} as .npz (pickled/object arrays are refused): "
+                         f"{exc}") from exc
+    except (OSError, EOFError) as exc:
+        raise ValueError(f"{path} is not a readable .npz archive: {exc}") from exc
+    return [_from_arrays(str(path), arrays, columns)]
+
+
+def _read_mat(path, columns):
+    import scipy.io
+
+    try:
+        data = scipy.io.loadmat(path)
+    except NotImplementedError as exc:
+        raise ValueError(f"{path} is a MATLAB v7.3 (HDF5) file, not supported: save it with "
+                         "-v7 or -v6") from exc
+    except (ValueError, TypeError, OSError, scipy.io.matlab.MatReadError) as exc:
+        raise ValueError(f"{path} is not a readable MATLAB file: {exc}") from exc
+    arrays = {k: v for k, v in data.items() if not k.startswith("__")}
+    channels = sorted((int(m.group(1)), k) for k in arrays
+                      if (m := re.fullmatch(r"Hf_chan_(\d+)", k)))
+    if columns is not None or not channels or "Freq_domain" not in arrays:
+        return [_from_arrays(str(path), arrays, columns)]
+    raws = []   # analyzer export: Freq_domain, Hf_chan_N (chan N over chan 1), Hf_coh_chan_N
+    for number, key in channels:
+        names = {"freq_hz": "Freq_domain", "values": key}
+        if f"Hf_coh_chan_{number}" in arrays:
+            names["coherence"] = f"Hf_coh_chan_{number}"
+        raw = _from_arrays(str(path), {v: arrays[v] for v in names.values()}, names)
+        raw.meta = {"response_channel": number, "reference_channel": 1}
+        raws.append(raw)
+    return raws
+
+
+# ------------------------------------------------------------------ UFF 58
+def _uff_delimiters(data):
+    """Count the ``    -1`` dataset delimiters the way pyuff finds them."""
+    count, ind = 0, -1
+    while (ind := data.find(b"    -1", ind + 1)) != -1:
+        end = ind + 6
+        if end == len(data) or data[end] in (10, 13) or data[end:ind + 80] == b" " * 74:
+            count += 1
+    return count
+
+
+def _read_uff(path, columns):
+    import pyuff
+
+    data = path.read_bytes()
+    delimiters = _uff_delimiters(data)
+    if delimiters == 0:
+        raise ValueError(f"{path} is not a UFF file: it has no '    -1' dataset delimiters")
+    if delimiters % 2:
+        raise ValueError(f"{path} is truncated or corrupt: its last dataset has no closing "
+                         "'    -1' delimiter")
+    try:
+        uff = pyuff.UFF(str(path))
+        types = [int(t) for t in uff.get_set_types()]
+        picks = [i for i, t in enumerate(types) if t == 58]
+        sets = uff.read_sets(picks) if picks else []
+    except Exception as exc:  # pyuff raises bare Exception for every failure
+        raise ValueError(f"cannot read UFF file {path} (truncated or corrupt?): {exc}") from exc
+    if not picks:
+        raise ValueError(f"{path} holds no dataset 58 (function at nodal DOF), so no FRF; "
+                         f"its datasets are of types {types}")
+    sets = [sets] if isinstance(sets, dict) else list(sets)
+    frfs = [s for s in sets if s.get("func_type") == 4]
+    if not frfs:
+        raise ValueError(f"{path} has no FRF: its datasets 58 hold function types "
+                         f"{sorted({s.get('func_type') for s in sets})}, an FRF is type 4")
+    cohs = [s for s in sets if s.get("func_type") == 6]
+    return [_uff_raw(path, s, number, cohs) for number, s in enumerate(frfs)]
+
+
+def _uff_dofs(dset):
+    return tuple(dset.get(k) for k in ("rsp_node", "rsp_dir", "ref_node", "ref_dir"))
+
+
+def _uff_raw(path, dset, number, cohs):
+    source = f"{path} (FRF {number}, dataset 58)"
+    if dset.get("x") is None or dset.get("data") is None:
+        raise ValueError(f"{source} is truncated or corrupt: no data values were read")
+    freq = _finite(source, "the abscissa", np.asarray(dset["x"], dtype=float))
+    values = _finite(source, "the ordinate", np.asarray(dset["data"]))
+    if not dset.get("num_pts") == values.size == freq.size:
+        raise ValueError(f"{source} is truncated or corrupt: its header says "
+                         f"{dset.get('num_pts')} values, the file holds {values.size}")
+    axis = dset.get("abscissa_spec_data_type", 0)
+    if axis not in (0, 18):
+        raise ValueError(f"{source} has abscissa specific data type {axis}, not frequency "
+                         "(18)")
+    unit = str(dset.get("abscissa_axis_units_lab", "")).strip().lower().replace(" ", "")
+    if unit in ("rad/s", "rad/sec", "radians/s", "radian/s"):
+        freq = freq / (2 * np.pi)
+    elif unit not in ("", "none", "hz", "hertz", "1/s"):
+        raise ValueError(f"{source} has abscissa units {dset['abscissa_axis_units_lab']!r}; "
+                         "Hz or rad/s are accepted")
+    num = dset.get("ordinate_spec_data_type", 0)
+    den = dset.get("orddenom_spec_data_type", 0)
+    if num in (0, 1):            # unknown / general: the file does not say
+        stated = None
+    elif num in _UFF_NUMERATOR and den in _UFF_FORCE:
+        stated = _UFF_NUMERATOR[num]
+    else:
+        raise ValueError(f"{source} is specific data type {num} over {den}; supported are "
+                         "displacement (8), velocity (11) or acceleration (12) over force (13)")
+    coh = next((c for c in cohs if _uff_dofs(c) == _uff_dofs(dset)
+                and np.size(c["x"]) == freq.size), None)
+    coherence = None if coh is None else _finite(source, "the coherence", np.real(coh["data"]))
+    meta = dict(zip(("response_node", "response_dir", "reference_node", "reference_dir"),
+                    _uff_dofs(dset)), name=str(dset.get("id1", "")).strip())
+    return _Raw(freq, values, coherence, stated, ("the abscissa", "the ordinate",
+                                                  "the coherence dataset"), meta)
+
+
+def _write_uff(path, frf, binary, response, reference):
+    import pyuff
+
+    f = frf.freq_hz
+    spacing = 0                  # binary: abscissa stored per line as float64
+    if not binary:               # ASCII: f0 and df stored as E13.5 (6 significant digits)
+        f0, df = (float(f"{v:13.5e}") for v in (f[0], f[1] - f[0]))
+        if not np.allclose(f0 + np.arange(f.size) * df, f, rtol=0, atol=16 * np.spacing(f[-1])):
+            raise ValueError("ASCII UFF dataset 58 stores frequencies as f0 + k*df with f0 and df "
+                             "in 6 significant digits, which cannot hold this frequency grid "
+                             f"({f[0]!r}, {f[1]!r}, ... {f[-1]!r} Hz): pass binary=True "
+                             "(frequencies stored as float64) or use .npz/.csv/.mat")
+        spacing = 1
+    common = dict(binary=int(binary), rsp_node=response[0], rsp_dir=response[1],
+                  ref_node=reference[0], ref_dir=reference[1], x=f.copy(),
+                  abscissa_spacing=spacing, abscissa_spec_data_type=18,
+                  abscissa_axis_units_lab="Hz")
+    dsets = [pyuff.prepare_58(func_type=4, data=frf.values.copy(), id1=frf.quantity,
+                              ordinate_spec_data_type=_UFF_CODE[frf.quantity],
+                              orddenom_spec_data_type=13,
+                              ordinate_axis_units_lab=_UFF_UNITS[frf.quantity],
+                              orddenom_axis_units_lab="N", **common)]
+    if frf.coherence is not None:
+        dsets.append(pyuff.prepare_58(func_type=6, data=frf.coherence.copy(), id1="coherence",
+                                      ordinate_spec_data_type=0, orddenom_spec_data_type=0,
+                                      **common))
+    # pyuff's overwrite mode loses the header of a binary set: append to a fresh file
+    tmp = path.with_name(f".{path.name}.{uuid.uuid4().hex}.tmp")
+    try:
+        with warnings.catch_warnings():  # pyuff leaves the file of a binary set unclosed
+            warnings.simplefilter("ignore", ResourceWarning)
+            pyuff.UFF(str(tmp)).write_sets(dsets, mode="add")
+        os.replace(tmp, path)
+    finally:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+
+
+# ------------------------------------------------------------------ public API
+def _as_path(path):
+    if not isinstance(path, (str, os.PathLike)):
+        raise TypeError(f"path must be a str or os.PathLike, got {type(path).__name__}")
+    return Path(path)
+
+
+def _format_of(path, fmt, choices):
+    """The format named by ``fmt`` or the extension; "text" (.txt) is sniffed on reading."""
+    if fmt is not None:
+        return as_choice("format", fmt.lower() if isinstance(fmt, str) else fmt, choices)
+    ext = path.suffix.lower()
+    known = set(choices) | ({"text"} if "complex-lines" in choices else set())
+    accepted = [e for e, f in _EXTENSIONS.items() if f in known]
+    if _EXTENSIONS.get(ext) not in known:
+        raise ValueError(f"cannot tell the format of {str(path)!r} from its extension "
+                         f"{ext!r}: accepted extensions are {accepted}, or pass format= one "
+                         f"of {list(choices)}")
+    return _EXTENSIONS[ext]
+
+
+def _resolve(path, fmt):
+    """``(Path, format)`` of an existing file; a .txt file is sniffed."""
+    path = _as_path(path)
+    fmt = _format_of(path, fmt, READ_FORMATS)
+    if not path.is_file():
+        raise FileNotFoundError(f"no such file: {str(path)!r}")
+    if fmt == "text":
+        fmt = "complex-lines" if _is_complex_lines(path) else "csv"
+    return path, fmt
+
+
+def _read_raw(path, fmt, columns):
+    if columns is not None and fmt not in ("csv", "npz", "mat"):
+        raise ValueError(f"columns= applies to CSV, NPZ and MAT files, not to {fmt}")
+    if fmt == "complex-lines":
+        raise ValueError(f"{path} holds bare complex values (no frequencies): read it with "
+                         "read_frf(path, format='complex-lines', freq_hz=..., quantity=...)")
+    readers = {"csv": _read_table, "npz": _read_npz, "mat": _read_mat, "uff": _read_uff}
+    return readers[fmt](path, columns)
+
+
+def _read_all(path, fmt, quantity, columns):
+    raws, frfs = _read_raw(path, fmt, columns), []
+    for i, raw in enumerate(raws):  # a loop, not a comprehension: warnings' stacklevel
+        frfs.append(_build(f"{path}" + (f" (FRF {i})" if len(raws) > 1 else ""), raw, quantity))
+    return frfs
+
+
+def read_frfs(path, *, format=None, quantity=None, columns=None) -> list[FRFData]:
+    """Every FRF in a file, in file order.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+    format : {"csv", "npz", "mat", "uff"}, optional
+        Default: from the extension: .csv/.tsv, .npz, .mat, .uff/.unv/.uf, and .txt (a
+        table, or complex lines when its first line is a complex literal: see
+        :func:`read_frf`).
+    quantity : {"receptance", "mobility", "accelerance"}, optional
+        Needed when the file does not say it; an error if the file says otherwise.
+    columns : dict, optional
+        Role -> column (CSV) or variable (NPZ/MAT) name, overriding name detection.
+        CSV roles: freq_hz | omega_rad_s, real + imag or magnitude | magnitude_db +
+        phase_deg | phase_rad, coherence. NPZ/MAT roles: freq_hz | omega_rad_s, values,
+        coherence, quantity.
+
+    Returns
+    -------
+    list of FRFData
+
+    Notes
+    -----
+    *CSV*: leading ``#`` lines may say ``# quantity: accelerance``; the header is the
+    first other line, or the last ``#`` line when numbers follow it (``np.savetxt``'s
+    ``header=``). Header names are
+    matched case-insensitively, words split on any punctuation, a trailing ``[unit]`` or
+    ``(unit)`` read when it is Hz, rad/s, deg, rad or dB: frequency ``f``, ``freq``,
+    ``frequency`` (Hz unless rad/s is said), ``omega``/``w`` (rad/s); ``re``/``real`` and
+    ``im``/``imag``; ``mag``/``magnitude``/``abs``/``amplitude`` (linear, or dB =
+    20 log10 |H| when the name says dB) with ``phase``/``arg``/``angle`` + ``deg`` or
+    ``rad`` (a phase without unit is refused); ``coh``/``coherence``. An ``H`` word is
+    ignored (``H_real``, ``|H| (dB)``); a quantity word (``accelerance_real``) states the
+    quantity. With both real/imag and magnitude/phase, real/imag are used. Separator:
+    ``,``, ``;``, tab or white space.
+
+    *NPZ*: ``freq_hz`` (or ``omega_rad_s``), ``values``, optional ``coherence`` and
+    ``quantity`` (a string), matched as above.
+
+    *MAT*: the analyzer export (``Freq_domain`` in Hz, ``Hf_chan_N``, ``Hf_coh_chan_N``;
+    one FRF per N; quantity not stated) or the NPZ names; v7.3 (HDF5) is not supported.
+
+    *UFF*: every dataset 58 of function type 4 (FRF), ASCII or binary; a dataset 58 of
+    type 6 (coherence) with the same response/reference DOFs gives its coherence. The
+    abscissa must be frequency (specific data type 18, or 0) in Hz or rad/s (units label).
+    Quantity from the ordinate specific data types (records 9/10): numerator 8
+    displacement -> receptance, 11 velocity -> mobility, 12 acceleration -> accelerance,
+    over 13 excitation force, 9 reaction force or 0; numerator 0/1 (unknown/general)
+    states nothing; other pairs (e.g. force over acceleration) are refused.
+
+    Coherence outside [0, 1] is clipped to it with a ``UserWarning`` saying where.
+    """
+    path, fmt = _resolve(path, format)
+    return _read_all(path, fmt, quantity, columns)
+
+
+def read_frf(path, *, format=None, quantity=None, columns=None, index=None,
+             freq_hz=None) -> FRFData:
+    """The FRF in a file: the only one, or the one ``index`` picks.
+
+    Parameters
+    ----------
+    path, format, quantity, columns
+        As :func:`read_frfs`; ``format`` may also be ``"complex-lines"``.
+    index : int, optional
+        Which FRF (``read_frfs(path)[index]``); required when the file holds several
+        (see :func:`describe_frfs`).
+    freq_hz : array_like of float, optional
+        For ``format="complex-lines"`` only (one Python complex literal per line, no
+        frequencies in the file): the frequency (Hz) of each line; see
+        :func:`read_complex_lines`.
+
+    Returns
+    -------
+    FRFData
+    """
+    index = None if index is None else as_count("index", index)
+    path, fmt = _resolve(path, format)
+    if fmt == "complex-lines" or freq_hz is not None:
+        if fmt != "complex-lines":
+            raise ValueError(f"freq_hz= applies to format='complex-lines' only, not to {fmt}")
+        if freq_hz is None:
+            raise ValueError(f"{path} holds bare complex values: pass freq_hz= (Hz, one per "
+                             "value line)")
+        if columns is not None or index not in (None, 0):
+            raise ValueError("columns= and index= do not apply to format='complex-lines'")
+        return read_complex_lines(path, freq_hz=freq_hz, quantity=quantity)
+    frfs = _read_all(path, fmt, quantity, columns)
+    if index is None:
+        if len(frfs) > 1:
+            raise ValueError(f"{path} holds {len(frfs)} FRFs: pass index= (0 to "
+                             f"{len(frfs) - 1}; see describe_frfs) or use read_frfs")
+        index = 0
+    if index >= len(frfs):
+        raise ValueError(f"index must be below {len(frfs)}, the number of FRFs in {path}, "
+                         f"got {index}")
+    return frfs[index]
+
+
+def describe_frfs(path, *, format=None, columns=None):
+    """A pandas DataFrame, one row per FRF :func:`read_frfs` returns.
+
+    Columns: ``quantity`` (as the file states it, else None), ``n_lines``, ``fmin_hz``,
+    ``fmax_hz``, ``coherence`` (bool), and for UFF ``response_node``, ``response_dir``,
+    ``reference_node``, ``reference_dir``, ``name`` (ID line 1).
+    """
+    import pandas as pd
+
+    raws = _read_raw(*_resolve(path, format), columns)
+    return pd.DataFrame([{"quantity": r.quantity, "n_lines": r.freq_hz.size,
+                          "fmin_hz": r.freq_hz[0], "fmax_hz": r.freq_hz[-1],
+                          "coherence": r.coherence is not None, **r.meta} for r in raws])
+
+
+def _dof(name, value):
+    if value is None:
+        return (1, 3)
+    try:
+        node, direction = value
+    except (TypeError, ValueError) as exc:
+        raise TypeError(f"{name} must be a pair (node, direction), got {value!r}") from exc
+    node, direction = as_count(f"{name} node", node), as_count(f"{name} direction",
+                                                               direction, minimum=-6)
+    if direction > 6:
+        raise ValueError(f"{name} direction must lie in -6..6, got {direction}")
+    return node, direction
+
+
+def write_frf(path, frf, *, format=None, binary=False, response=None, reference=None) -> None:
+    """Write one FRF so that :func:`read_frf` reads it back, quantity included.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        Overwritten if it exists.
+    frf : FRFData
+    format : {"csv", "npz", "mat", "uff"}, optional
+        Default: from the extension (.csv, .npz, .mat, .uff/.unv).
+    binary : bool, default False
+        UFF only: binary dataset 58 (float64 frequencies and values, bit-exact round
+        trip) instead of ASCII.
+    response, reference : (node, direction), optional
+        UFF only: the DOFs of record 6, default ``(1, 3)`` (node 1, +Z).
+
+    Notes
+    -----
+    CSV: ``# quantity: <q>`` then ``freq_hz,real,imag[,coherence]``, shortest round-trip
+    decimals (bit-exact). NPZ and MAT (v5): ``freq_hz``, ``values``, ``quantity``
+    [, ``coherence``] (bit-exact). UFF: dataset 58, function type 4, ordinate type 8/11/12
+    over 13 (force), abscissa type 18 in Hz; coherence as a second dataset 58 of type 6.
+    ASCII UFF holds 12 significant digits per value (format E20.12) and frequencies as
+    f0 + k*df with f0, df in 6 digits: a grid not of that form is refused (use binary).
+    """
+    path = _as_path(path)
+    if not isinstance(frf, FRFData):
+        raise TypeError(f"frf must be an FRFData, got {type(frf).__name__}")
+    fmt = _format_of(path, format, WRITE_FORMATS)
+    if not isinstance(binary, bool):
+        raise TypeError(f"binary must be True or False, got {binary!r}")
+    if fmt != "uff" and (binary or response is not None or reference is not None):
+        raise ValueError(f"binary, response and reference apply to UFF files, not to {fmt}")
+    arrays = {"freq_hz": frf.freq_hz, "values": frf.values, "quantity": np.str_(frf.quantity)}
+    if frf.coherence is not None:
+        arrays["coherence"] = frf.coherence
+    if fmt == "csv":
+        cols = [frf.freq_hz, frf.values.real, frf.values.imag]
+        cols += [] if frf.coherence is None else [frf.coherence]
+        head = "freq_hz,real,imag" + ("" if frf.coherence is None else ",coherence")
+        rows = (",".join(repr(float(v)) for v in row) for row in zip(*cols))
+        with open(path, "w", encoding="utf-8", newline="\n") as fh:
+            fh.write(f"# quantity: {frf.quantity}\n{head}\n" + "\n".join(rows) + "\n")
+    elif fmt == "npz":
+        with open(path, "wb") as fh:
+            np.savez(fh, **arrays)
+    elif fmt == "mat":
+        import scipy.io
+
+        with open(path, "wb") as fh:
+            scipy.io.savemat(fh, {k: np.asarray(v) for k, v in arrays.items()},
+                             oned_as="column")
+    else:
+        _write_uff(path, frf, binary, _dof("response", response), _dof("reference", reference))

@@ -1,0 +1,270 @@
+"""Hammer FRF estimation against exact synthetic hammer tests, and on real hammer records."""
+
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+from scipy.signal import argrelmax
+
+from data_synth import synthetic_hammer_test
+from modalid import (DoubleHitWarning, HammerFRF, ModalModel, correct_exponential_window,
+                     find_double_hits, frf_from_hammer)
+
+FS = 10_000.0
+DURATION = 4.0        # the slowest mode decays by exp(-50): no leakage
+PULSE = 1e-3          # force spectrum: -3 dB near 600 Hz, first zero at 1500 Hz
+REAL_DATA = Path("/work/shared/data/measured/pyfrf_hammer_impacts")
+
+
+@pytest.fixture(scope="module")
+def truth():
+    return ModalModel.from_modes(2 * np.pi * np.array([100.0, 250.0, 600.0]),
+                                 [0.02, 0.01, 0.01], [1.0, 2.0, 0.5])
+
+
+@pytest.fixture(scope="module")
+def clean(truth):
+    return synthetic_hammer_test(truth, FS, DURATION, n_hits=2, force_peak=[100.0, 70.0],
+                                 pulse_width=PULSE, anti_alias=True)
+
+
+def in_band(est, fmin=5.0, db=20.0):
+    """Lines from fmin where the force spectrum is within db of its maximum."""
+    s = est.force_spectrum
+    return (est.frf.freq_hz >= fmin) & (s >= s.max() * 10 ** (-db / 10))
+
+
+def rel_error(est, test, mask):
+    exact = test.true_frf(est.frf.freq_hz[mask]).values
+    return np.abs(est.frf.values[mask] - exact) / np.abs(exact)
+
+
+# ---------------------------------------------------------------------- accuracy
+def test_clean_long_record_reproduces_the_exact_frf(clean):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", DoubleHitWarning)
+        est = frf_from_hammer(clean.force, clean.response, FS, force_window="none")
+    assert isinstance(est, HammerFRF) and est.n_hits == 2 and est.double_hits == ()
+    assert est.frf.quantity == "accelerance" and est.window_decay_rate == 0.0
+    np.testing.assert_allclose(est.frf.freq_hz, np.arange(est.frf.freq_hz.size) / DURATION)
+    band = in_band(est)
+    assert est.frf.freq_hz[band].max() > 1000.0       # the band holds all three modes
+    assert np.all(est.coherence[band] > 1 - 1e-9)
+    err = rel_error(est, clean, band)
+    assert err.max() < 1e-2                           # measured: 2.0e-3 (at 5 Hz)
+    assert np.median(err) < 1e-5                      # measured: 2.8e-6
+    # the force window (default length) changes nothing on clean data
+    windowed = frf_from_hammer(clean.force, clean.response, FS)
+    assert windowed.force_window_length == pytest.approx((20 + 5 + 5 * 7) / FS, abs=3 / FS)
+    np.testing.assert_allclose(windowed.frf.values[band], est.frf.values[band], rtol=1e-6)
+
+
+@pytest.mark.parametrize("response", ["displacement", "velocity"])
+def test_other_response_types(truth, response):
+    test = synthetic_hammer_test(truth, FS, DURATION, pulse_width=PULSE, response=response,
+                                 anti_alias=True)
+    est = frf_from_hammer(test.force[0], test.response[0], FS, response_type=response)
+    assert est.frf.quantity == test.quantity
+    assert est.coherence is None                      # one hit: coherence is not measured
+    assert rel_error(est, test, in_band(est)).max() < 1e-4   # measured: 3.7e-5, 4.2e-5
+
+
+def test_ideal_sampler_aliases_the_mass_line(truth):
+    """Without an anti-aliasing filter the half-sine's 1/f^2 tail times the mass line of the
+    accelerance aliases onto the small low-frequency accelerance."""
+    test = synthetic_hammer_test(truth, FS, DURATION, pulse_width=PULSE)
+    est = frf_from_hammer(test.force, test.response, FS)
+    err = rel_error(est, test, in_band(est))
+    assert err.max() > 1.0 and np.median(err) > 1e-3
+    disp = synthetic_hammer_test(truth, FS, DURATION, pulse_width=PULSE, response="displacement")
+    est = frf_from_hammer(disp.force, disp.response, FS, response_type="displacement")
+    err = rel_error(est, disp, in_band(est))         # force aliasing only
+    assert 1e-3 < np.median(err) < 0.02 and err.max() < 0.1   # measured: 0.013, 0.047
+
+
+# ------------------------------------------------------------- exponential window
+@pytest.mark.parametrize("response", ["acceleration", "displacement"])
+@pytest.mark.parametrize("decay", [5.0, 30.0])
+def test_exponential_window_shifts_every_pole_and_keeps_residues(truth, response, decay):
+    test = synthetic_hammer_test(truth, FS, DURATION, pulse_width=PULSE, response=response,
+                                 anti_alias=True)
+    est = frf_from_hammer(test.force, test.response, FS, response_type=response,
+                          exponential_decay=decay)
+    assert est.window_decay_rate == decay
+    shifted = ModalModel(poles=truth.poles - decay, residues=truth.residues)
+    band = in_band(est, fmin=20.0)
+    f = est.frf.freq_hz[band]
+    exact = shifted.frf(2 * np.pi * f, quantity=test.quantity)
+    err = np.abs(est.frf.values[band] - exact)
+    assert err.max() < 1e-4 * np.abs(exact).max()     # measured: 1.6e-6
+    assert np.median(err / np.abs(exact)) < 1e-5
+    # and it is not the unwindowed FRF: the window adds damping
+    unshifted = truth.frf(2 * np.pi * f, quantity=test.quantity)
+    assert np.max(np.abs(est.frf.values[band] - unshifted)) > 0.1 * np.abs(unshifted).max()
+    # undoing the window restores the model exactly
+    restored = est.correct(shifted)
+    np.testing.assert_allclose(restored.poles, truth.poles, rtol=1e-14)
+    np.testing.assert_array_equal(restored.residues, truth.residues)
+
+
+def test_correct_exponential_window_models_and_poles():
+    model = ModalModel(poles=[-3.0 + 100j, -8.0 + 400j], residues=[-1e-3j, 2e-4 - 1e-4j],
+                       real_poles=[-50.0], real_residues=[0.2], inverse_mass=0.5,
+                       flexibility=1e-6)
+    out = correct_exponential_window(model, 2.5)
+    np.testing.assert_allclose(out.poles, [-0.5 + 100j, -5.5 + 400j])
+    np.testing.assert_allclose(out.real_poles, [-47.5])
+    np.testing.assert_array_equal(out.residues, model.residues)
+    assert (out.inverse_mass, out.flexibility) == (0.5, 1e-6)
+    # the shift theorem: H_w(s) = H(s + 1/tau) for the non-rigid part
+    s = 1j * np.linspace(1, 600, 50)
+    np.testing.assert_allclose(model.without_rigid_body().receptance(s),
+                               out.without_rigid_body().receptance(s + 2.5), rtol=1e-12)
+    np.testing.assert_allclose(correct_exponential_window([-3 + 1j, -4 + 2j], 1.0),
+                               [-2 + 1j, -3 + 2j])
+    assert correct_exponential_window(model, 0.0) == model
+    with pytest.raises(ValueError, match="decay_rate must be non-negative, got -1.0"):
+        correct_exponential_window(model, -1.0)
+    with pytest.raises(ValueError, match="moves the real pole -50.0"):
+        correct_exponential_window(model, 60.0)
+
+
+# ------------------------------------------------------------- noise and averaging
+def test_averaging_lowers_the_noise_and_coherence_drops_with_noise(truth):
+    test = synthetic_hammer_test(truth, FS, 1.0, n_hits=16, pulse_width=PULSE,
+                                 noise=(0.0, 0.002), anti_alias=True, seed=11)
+    one = frf_from_hammer(test.force[:1], test.response[:1], FS, exponential_decay=10.0)
+    four = frf_from_hammer(test.force[:4], test.response[:4], FS, exponential_decay=10.0)
+    all16 = frf_from_hammer(test.force, test.response, FS, exponential_decay=10.0)
+    shifted = ModalModel(poles=truth.poles - 10.0, residues=truth.residues)
+    band = in_band(one, fmin=20.0)
+
+    def rms_error(est):
+        exact = shifted.frf(est.frf.omega[band], quantity="accelerance")
+        return np.sqrt(np.mean(np.abs(est.frf.values[band] - exact) ** 2))
+
+    e1, e4, e16 = rms_error(one), rms_error(four), rms_error(all16)
+    # H1 with response noise: error std ~ 1/sqrt(n_hits)   (measured: 1 : 0.48 : 0.25)
+    assert e4 < 0.65 * e1 and e16 < 0.6 * e4 and e16 < 0.35 * e1
+    # coherence: below 1 with noise, lowest where the response is small
+    coh = all16.coherence[band]
+    assert 0.9 < np.median(coh) < 1 - 1e-6           # measured: 0.9998 (0.80 at worst)
+    clean = synthetic_hammer_test(truth, FS, 1.0, n_hits=4, pulse_width=PULSE, anti_alias=True)
+    clean_coh = frf_from_hammer(clean.force, clean.response, FS).coherence[band]
+    assert np.min(clean_coh) > 1 - 1e-9 and np.median(coh) < np.median(clean_coh)
+    noisier = synthetic_hammer_test(truth, FS, 1.0, n_hits=16, pulse_width=PULSE,
+                                    noise=(0.0, 0.02), anti_alias=True, seed=11)
+    coh2 = frf_from_hammer(noisier.force, noisier.response, FS).coherence[band]
+    assert np.median(coh2) < np.median(coh)          # measured: 0.73
+
+
+def test_force_window_removes_force_channel_noise(clean):
+    """Noise on the force over the whole record biases H1 low (it adds to Sff only); the
+    force window keeps the pulse and drops that noise."""
+    test = synthetic_hammer_test(clean.model, FS, 1.0, n_hits=8, pulse_width=PULSE,
+                                 noise=(0.01, 0.0), anti_alias=True, seed=2)
+    bare = frf_from_hammer(test.force, test.response, FS, force_window="none")
+    windowed = frf_from_hammer(test.force, test.response, FS)
+    assert windowed.force_window_length < 0.01
+    band = in_band(windowed, fmin=20.0)
+    exact = test.true_frf(bare.frf.freq_hz[band]).values
+    ratio_bare = np.abs(bare.frf.values[band]) / np.abs(exact)
+    err_bare = rel_error(bare, test, band)
+    err = rel_error(windowed, test, band)
+    assert np.median(ratio_bare) < 0.97               # biased low; measured: 0.93
+    assert np.median(err) < 0.2 * np.median(err_bare)  # measured: 0.007 against 0.094
+
+
+# ------------------------------------------------------------------- double hits
+def test_double_hit_warns_with_hit_index_and_time(truth):
+    test = synthetic_hammer_test(truth, FS, 1.0, n_hits=3, pulse_width=PULSE, double_hit=[2],
+                                 hit_times=0.01)
+    second_peak = 0.01 + 3 * PULSE + PULSE / 2
+    with pytest.warns(DoubleHitWarning, match=r"hit 2: .* 30% .* t = 0\.0135 s") as record:
+        est = frf_from_hammer(test.force, test.response, FS)
+    assert len(record) == 1
+    assert est.double_hits == (2,)
+    [(hit, time, ratio)] = find_double_hits(test.force, FS)
+    assert hit == 2 and time == pytest.approx(second_peak, abs=0.5 / FS)
+    assert ratio == pytest.approx(0.3, rel=1e-12)
+    # a smaller second pulse below the threshold is not flagged; sign does not matter
+    assert find_double_hits(-test.force, FS, threshold=0.35) == []
+    assert find_double_hits(-test.force[2], FS)[0][0] == 0
+    # pulses that merge (no drop below the threshold between them) are one pulse
+    merged = synthetic_hammer_test(truth, FS, 0.2, pulse_width=PULSE, double_hit=True,
+                                   double_hit_delay=PULSE)
+    assert find_double_hits(merged.force, FS, threshold=0.5) == []
+
+
+# ------------------------------------------------------------------- bad input
+def test_bad_inputs_raise_naming_the_value(clean):
+    f, x = clean.force, clean.response
+    bad = f.copy()
+    bad[1, 7] = np.nan
+    with pytest.raises(ValueError, match="force must be finite, got .*nan"):
+        frf_from_hammer(bad, x, FS)
+    with pytest.raises(ValueError, match=r"same shape, got \(2, 40000\) and \(2, 39999\)"):
+        frf_from_hammer(f, x[:, 1:], FS)
+    for fs in (0.0, -FS):
+        with pytest.raises(ValueError, match=f"fs must be positive, got {fs!r}"):
+            frf_from_hammer(f, x, fs)
+    with pytest.raises(ValueError, match="force_window_length must not exceed the record "
+                                         r"length 4 s .* got 5.0"):
+        frf_from_hammer(f, x, FS, force_window_length=5.0)
+    with pytest.raises(ValueError, match="ends before the force peak of hit 0"):
+        frf_from_hammer(f, x, FS, force_window_length=1e-3)
+    with pytest.raises(ValueError, match="force_window_length is used only with"):
+        frf_from_hammer(f, x, FS, force_window="none", force_window_length=0.1)
+    with pytest.raises(ValueError,
+                       match=r"n_fft must be >= the record length 40000 \(.*\), got 100"):
+        frf_from_hammer(f, x, FS, n_fft=100)
+    with pytest.raises(ValueError, match="exponential_decay must be non-negative, got -2.0"):
+        frf_from_hammer(f, x, FS, exponential_decay=-2.0)
+    with pytest.raises(ValueError, match="response_type must be one of"):
+        frf_from_hammer(f, x, FS, response_type="strain")
+    with pytest.raises(ValueError, match=r"1-D \(one hit\) or 2-D .* got shape \(1, 1, 40000\)"):
+        frf_from_hammer(f[None, :1], x[None, :1], FS)
+    with pytest.raises(ValueError, match="force of hit 0 is identically zero"):
+        frf_from_hammer(np.zeros(100), np.ones(100), FS)
+    with pytest.raises(TypeError, match="force must be real"):
+        frf_from_hammer(f + 0j, x, FS)
+
+
+def test_zero_padding_interpolates_the_same_frf(clean):
+    est = frf_from_hammer(clean.force, clean.response, FS, n_fft=2 * clean.force.shape[1])
+    assert est.frf.freq_hz[1] == pytest.approx(1 / (2 * DURATION))
+    band = in_band(est)
+    assert rel_error(est, clean, band).max() < 1e-2
+
+
+# ------------------------------------------------------------------- real data
+@pytest.fixture(scope="module")
+def real_records():
+    files = [REAL_DATA / f"measurements_{i}.npy" for i in range(1, 6)]
+    if not all(p.exists() for p in files):
+        pytest.skip(f"real hammer records not found in {REAL_DATA}")
+    return np.array([np.load(p) for p in files])            # (5, 3, 25600): t, force, acc
+
+
+def test_real_hammer_records_show_the_documented_peaks(real_records):
+    t = real_records[0, 0]
+    fs = 1.0 / np.mean(np.diff(t))
+    assert fs == pytest.approx(25_600.0, rel=1e-9)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", DoubleHitWarning)
+        est = frf_from_hammer(real_records[:, 1], real_records[:, 2], fs,
+                              response_type="acceleration", force_window="none")
+    assert est.n_hits == 5 and est.frf.quantity == "accelerance"
+    f, mag = est.frf.freq_hz, np.abs(est.frf.values)
+    maxima = f[argrelmax(mag)[0]]
+    for peak in (810, 824, 851, 900, 1518, 2640, 3008, 3035, 3108, 3162, 3669, 4128, 4164,
+                 4392, 4470):
+        assert np.min(np.abs(maxima - peak)) <= 2.0, f"no local maximum of |H| near {peak} Hz"
+    band = (f >= 20) & (f <= 5000)
+    assert np.median(est.coherence[band]) > 0.99              # measured: 0.9989
+    # pyFRF's showcase settings: force window 1 % and exponential window to 1 % of the record
+    windowed = frf_from_hammer(real_records[:, 1], real_records[:, 2], fs,
+                               force_window_length=0.01, exponential_decay=-np.log(0.01))
+    assert np.median(windowed.coherence[band]) > 0.999        # measured: 0.9999
+    assert windowed.window_decay_rate == pytest.approx(4.60517, rel=1e-5)

@@ -1,0 +1,471 @@
+"""modalid.io: round trips through every format, the measured files, and refused inputs."""
+
+import hashlib
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+import pyuff
+import scipy.io
+from scipy.signal import find_peaks
+
+from modalid import FRFData, read_frf, write_frf
+from modalid.io import describe_frfs, read_complex_lines, read_frfs
+
+DATA = Path(__file__).parent / "data"
+QUANTITIES = ("receptance", "mobility", "accelerance")
+SHA256 = {
+    "meas_point_1.txt": "ae99c87c17747ddc0819dffc6fadaf605385b5e5a0eec43415b724aaccf7223a",
+    "meas_point_2.txt": "872f58a6e812cd9abed390262bec120d9064738524faff082929dd303a17e340",
+    "meas_point_3.txt": "2c3a420cbb076fc88532fc625d642295e14cf3b79bcc73d26e759ab33f80b5f6",
+    "case1.mat": "6982bf24ef3d7a4aea02615850c4ace0936ebd829f5644c140cb3e2e34ae9b86",
+    "case2.mat": "1bc35fc10bd1688b78735525185a9a8044e23d01cabc55a60e6a8685e4be373b",
+}
+
+
+def make_frf(quantity="accelerance", coherence=True, freq_hz=None, seed=0):
+    """Values spanning 15 decades, so relative precision is tested at every scale."""
+    rng = np.random.default_rng(seed)
+    f = np.arange(801) * 0.3125 if freq_hz is None else freq_hz
+    scale = 10.0 ** rng.uniform(-12, 3, f.size)
+    values = (rng.normal(size=f.size) + 1j * rng.normal(size=f.size)) * scale
+    coh = rng.uniform(0, 1, f.size) if coherence else None
+    return FRFData(f, values, quantity=quantity, coherence=coh)
+
+
+def write_uff_sets(path, *dsets):
+    uff = pyuff.UFF(str(path))
+    with warnings.catch_warnings():  # pyuff leaves the file of a binary set unclosed
+        warnings.simplefilter("ignore", ResourceWarning)
+        for dset in dsets:
+            uff.write_sets(dset, mode="add")
+    return path
+
+
+def header151():
+    return pyuff.prepare_151(
+        model_name="beam", description="none", db_app="modalid", date_db_created="01-Jan-25",
+        time_db_created="00:00:00", version_db1=1, version_db2=1, file_type=0,
+        date_db_saved="01-Jan-25", time_db_saved="00:00:00", program="modalid",
+        date_db_written="01-Jan-25", time_db_written="00:00:00")
+
+
+def dset58(values=None, freq=None, **fields):
+    freq = np.arange(10.0) if freq is None else freq
+    values = (np.arange(1, freq.size + 1) * (1 + 0.5j)) if values is None else values
+    spec = dict(binary=0, func_type=4, rsp_node=1, rsp_dir=3, ref_node=1, ref_dir=3,
+                abscissa_spacing=1, abscissa_spec_data_type=18, ordinate_spec_data_type=12,
+                orddenom_spec_data_type=13)
+    spec.update(fields)
+    return pyuff.prepare_58(data=values, x=freq, **spec)
+
+
+# --------------------------------------------------------------------- the data files
+@pytest.mark.parametrize("name", sorted(SHA256))
+def test_data_files_are_the_documented_bytes(name):
+    assert hashlib.sha256((DATA / name).read_bytes()).hexdigest() == SHA256[name]
+
+
+# ------------------------------------------------------------------------ round trips
+EXACT = [("a.csv", {}), ("a.npz", {}), ("a.mat", {}), ("a.uff", {"binary": True}),
+         ("a.unv", {"binary": True})]
+
+
+@pytest.mark.parametrize("quantity", QUANTITIES)
+@pytest.mark.parametrize("coherence", [True, False])
+@pytest.mark.parametrize("name, options", EXACT)
+def test_round_trip_is_bit_identical(tmp_path, quantity, coherence, name, options):
+    # an irregular grid of arbitrary doubles: nothing may be rounded
+    f = np.cumsum(np.random.default_rng(1).uniform(0.01, 1.0, 300))
+    frf = make_frf(quantity, coherence, freq_hz=f)
+    write_frf(tmp_path / name, frf, **options)
+    back = read_frf(tmp_path / name)
+    assert back.quantity == quantity
+    np.testing.assert_array_equal(back.freq_hz, frf.freq_hz)
+    np.testing.assert_array_equal(back.values, frf.values)
+    if coherence:
+        np.testing.assert_array_equal(back.coherence, frf.coherence)
+    else:
+        assert back.coherence is None
+
+
+@pytest.mark.parametrize("quantity", QUANTITIES)
+def test_ascii_uff_round_trip_to_the_formats_twelve_digits(tmp_path, quantity):
+    frf = make_frf(quantity)
+    write_frf(tmp_path / "a.uff", frf)
+    assert b"58b" not in (tmp_path / "a.uff").read_bytes()  # ASCII, not binary
+    back = read_frf(tmp_path / "a.uff")
+    assert back.quantity == quantity
+    np.testing.assert_array_equal(back.freq_hz, frf.freq_hz)  # f0 = 0, df = 0.3125 exact
+    # E20.12: each part rounded to 12 significant digits
+    np.testing.assert_allclose(back.values.real, frf.values.real, rtol=5e-12, atol=0)
+    np.testing.assert_allclose(back.values.imag, frf.values.imag, rtol=5e-12, atol=0)
+    np.testing.assert_allclose(back.coherence, frf.coherence, rtol=5e-12, atol=0)
+
+
+def test_ascii_uff_refuses_a_grid_it_cannot_hold(tmp_path):
+    frf = make_frf(freq_hz=np.linspace(1.0, 100.0, 500))  # df = 0.19839679...
+    with pytest.raises(ValueError, match="binary=True"):
+        write_frf(tmp_path / "a.uff", frf)
+    write_frf(tmp_path / "a.uff", frf, binary=True)
+    np.testing.assert_array_equal(read_frf(tmp_path / "a.uff").freq_hz, frf.freq_hz)
+
+
+def test_uff_writes_the_dofs_and_quantity_codes(tmp_path):
+    write_frf(tmp_path / "a.uff", make_frf("mobility"), response=(5, -2), reference=(7, 1))
+    row = describe_frfs(tmp_path / "a.uff").iloc[0]
+    assert (row.response_node, row.response_dir, row.reference_node, row.reference_dir) == \
+        (5, -2, 7, 1)
+    assert row.quantity == "mobility" and row.coherence
+    dsets = pyuff.UFF(str(tmp_path / "a.uff")).read_sets()
+    assert [d["func_type"] for d in dsets] == [4, 6]  # FRF, then its coherence
+    assert (dsets[0]["ordinate_spec_data_type"], dsets[0]["orddenom_spec_data_type"],
+            dsets[0]["abscissa_spec_data_type"]) == (11, 13, 18)
+
+
+def test_write_overwrites(tmp_path):
+    for quantity in ("receptance", "accelerance"):
+        write_frf(tmp_path / "a.uff", make_frf(quantity), binary=True)
+        assert [f.quantity for f in read_frfs(tmp_path / "a.uff")] == [quantity]
+
+
+# ------------------------------------------------------------------ the measured files
+@pytest.mark.parametrize("point", [1, 2, 3])
+def test_pyuff_beam_accelerance(point):
+    path = DATA / f"meas_point_{point}.txt"
+    frf = read_frf(path, format="complex-lines", freq_hz=np.arange(1001.0),
+                   quantity="accelerance")
+    assert len(frf) == 1001 and frf.freq_hz[0] == 0 and frf.freq_hz[-1] == 1000
+    assert frf.quantity == "accelerance"
+    # parsed without eval, and identical to numpy's own complex parser
+    np.testing.assert_array_equal(frf.values, np.genfromtxt(path, dtype=complex))
+    # the six beam modes: the only peaks a decade above their surroundings
+    peaks, _ = find_peaks(np.log10(np.abs(frf.values)), prominence=1.0)
+    np.testing.assert_array_equal(frf.freq_hz[peaks], [52, 142, 279, 460, 687, 959])
+    # the .txt extension is recognised as complex lines; the helper agrees
+    same = read_frf(path, freq_hz=np.arange(1001.0), quantity="accelerance")
+    np.testing.assert_array_equal(same.values, frf.values)
+    helper = read_complex_lines(path, freq_hz=np.arange(1001.0), quantity="accelerance")
+    np.testing.assert_array_equal(helper.values, frf.values)
+
+
+def test_complex_lines_need_frequencies_and_quantity():
+    path = DATA / "meas_point_1.txt"
+    with pytest.raises(ValueError, match="freq_hz="):
+        read_frf(path, quantity="accelerance")
+    with pytest.raises(ValueError, match="quantity="):
+        read_frf(path, freq_hz=np.arange(1001.0))
+    with pytest.raises(ValueError, match="1001 values but freq_hz has 1000"):
+        read_frf(path, freq_hz=np.arange(1000.0), quantity="accelerance")
+
+
+def test_complex_lines_are_never_evaluated(tmp_path):
+    marker = tmp_path / "executed"
+    path = tmp_path / "evil.txt"
+    path.write_text(f"(1+2j)\n__import__('pathlib').Path({str(marker)!r}).touch()\n")
+    with pytest.raises(ValueError, match="line 2 .* is not a complex number"):
+        read_frf(path, format="complex-lines", freq_hz=[0.0, 1.0], quantity="receptance")
+    assert not marker.exists()
+
+
+def test_vtb_case1_analyzer_export():
+    with pytest.warns(UserWarning, match=r"outside \[0, 1\] at 5 lines .*1.24622 at 0 Hz"):
+        frf = read_frf(DATA / "case1.mat", quantity="accelerance")
+    assert len(frf) == 1601 and frf.freq_hz[0] == 0 and frf.freq_hz[-1] == 500
+    np.testing.assert_allclose(np.diff(frf.freq_hz), 0.3125)
+    assert abs(frf.freq_hz[np.argmax(np.abs(frf.values))] - 212.2) < 0.5
+    assert np.all((frf.coherence >= 0) & (frf.coherence <= 1))
+    raw = scipy.io.loadmat(DATA / "case1.mat")
+    np.testing.assert_array_equal(frf.values, raw["Hf_chan_2"].ravel())
+    ok = raw["Hf_coh_chan_2"].ravel() <= 1  # only the 5 lines above 1 were changed
+    np.testing.assert_array_equal(frf.coherence[ok], raw["Hf_coh_chan_2"].ravel()[ok])
+
+
+def test_vtb_case2_analyzer_export():
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        frf = read_frf(DATA / "case2.mat", quantity="mobility")
+    assert len(frf) == 1601 and frf.quantity == "mobility"
+    assert abs(frf.freq_hz[np.argmax(np.abs(frf.values))] - 192.5) < 0.5
+    assert 0 <= frf.coherence.min() and frf.coherence.max() <= 1
+
+
+def test_analyzer_export_needs_the_quantity():
+    with pytest.raises(ValueError, match="does not say which quantity.*pass quantity="):
+        read_frf(DATA / "case2.mat")
+
+
+def test_analyzer_export_with_several_channels(tmp_path):
+    f = np.arange(5.0)
+    scipy.io.savemat(tmp_path / "a.mat", {"Freq_domain": f[:, None],
+                                          "Hf_chan_2": (f + 1j)[:, None],
+                                          "Hf_chan_3": (2 * f + 1j)[:, None]})
+    with pytest.raises(ValueError, match="holds 2 FRFs: pass index="):
+        read_frf(tmp_path / "a.mat", quantity="receptance")
+    third = read_frf(tmp_path / "a.mat", quantity="receptance", index=1)
+    np.testing.assert_array_equal(third.values, 2 * f + 1j)
+    assert list(describe_frfs(tmp_path / "a.mat").response_channel) == [2, 3]
+
+
+# ---------------------------------------------------------------------------- UFF input
+@pytest.mark.parametrize("code, quantity", [(8, "receptance"), (11, "mobility"),
+                                            (12, "accelerance")])
+@pytest.mark.parametrize("binary", [0, 1])
+def test_uff_quantity_from_the_ordinate_type(tmp_path, code, quantity, binary):
+    path = write_uff_sets(tmp_path / "a.uff", dset58(ordinate_spec_data_type=code,
+                                                     binary=binary))
+    frf = read_frf(path)
+    assert frf.quantity == quantity
+    np.testing.assert_array_equal(frf.values, np.arange(1, 11) * (1 + 0.5j))
+    with pytest.raises(ValueError, match=f"says its FRF is {quantity}"):
+        read_frf(path, quantity=next(q for q in QUANTITIES if q != quantity))
+
+
+def test_uff_without_a_stated_quantity(tmp_path):
+    path = write_uff_sets(tmp_path / "a.uff", dset58(ordinate_spec_data_type=0,
+                                                     orddenom_spec_data_type=0))
+    with pytest.raises(ValueError, match="pass quantity="):
+        read_frf(path)
+    assert read_frf(path, quantity="mobility").quantity == "mobility"
+
+
+def test_uff_refuses_other_functions_of_frequency(tmp_path):
+    apparent_mass = write_uff_sets(tmp_path / "m.uff", dset58(ordinate_spec_data_type=13,
+                                                              orddenom_spec_data_type=12))
+    with pytest.raises(ValueError, match="specific data type 13 over 12"):
+        read_frf(apparent_mass)
+    time = write_uff_sets(tmp_path / "t.uff", dset58(abscissa_spec_data_type=17))
+    with pytest.raises(ValueError, match="abscissa specific data type 17"):
+        read_frf(time)
+    response = write_uff_sets(tmp_path / "r.uff", dset58(func_type=1))
+    with pytest.raises(ValueError, match="no FRF.*function types \\[1\\]"):
+        read_frf(response)
+
+
+def test_uff_abscissa_in_rad_per_s(tmp_path):
+    path = write_uff_sets(tmp_path / "a.uff", dset58(freq=np.arange(10.0) * 2 * np.pi,
+                                                     abscissa_spacing=0, binary=1,
+                                                     abscissa_axis_units_lab="rad/s"))
+    np.testing.assert_allclose(read_frf(path).freq_hz, np.arange(10.0), rtol=1e-15)
+
+
+def test_uff_with_several_frfs(tmp_path):
+    path = write_uff_sets(tmp_path / "a.uff", header151(),
+                          dset58(ref_node=1), dset58(ref_node=2, values=np.ones(10) * 1j))
+    with pytest.raises(ValueError, match="holds 2 FRFs"):
+        read_frf(path)
+    frfs = read_frfs(path)
+    assert len(frfs) == 2
+    np.testing.assert_array_equal(read_frf(path, index=1).values, np.ones(10) * 1j)
+    assert list(describe_frfs(path).reference_node) == [1, 2]
+    with pytest.raises(ValueError, match="index must be below 2"):
+        read_frf(path, index=2)
+
+
+def test_uff_without_dataset_58(tmp_path):
+    header = write_uff_sets(tmp_path / "h.uff", header151())
+    with pytest.raises(ValueError, match=r"no dataset 58 .*types \[151\]"):
+        read_frf(header)
+    modes = write_uff_sets(tmp_path / "m.uff", pyuff.prepare_55(
+        model_type=1, id1="NONE", id2="NONE", id3="NONE", id4="NONE", id5="NONE",
+        analysis_type=2, data_ch=2, spec_data_type=8, data_type=2, r1=np.ones(3),
+        r2=np.ones(3), r3=np.ones(3), n_data_per_node=3, node_nums=[1, 2, 3], load_case=1,
+        mode_n=1, modal_m=0, freq=10.0, modal_damp_vis=0.0, modal_damp_his=0.0))
+    with pytest.raises(ValueError, match=r"no dataset 58 .*types \[55\]"):
+        read_frf(modes)
+
+
+@pytest.mark.parametrize("binary", [False, True])
+def test_truncated_uff(tmp_path, binary):
+    write_frf(tmp_path / "a.uff", make_frf(), binary=binary)
+    data = (tmp_path / "a.uff").read_bytes()
+    for cut in (len(data) // 3, len(data) - 10):
+        (tmp_path / "cut.uff").write_bytes(data[:cut])
+        with pytest.raises(ValueError, match="truncated or corrupt"):
+            read_frf(tmp_path / "cut.uff")
+
+
+def test_corrupt_uff(tmp_path):
+    write_frf(tmp_path / "a.uff", make_frf(coherence=False))
+    lines = (tmp_path / "a.uff").read_text().splitlines(keepends=True)
+    (tmp_path / "gap.uff").write_text("".join(lines[:20] + lines[25:]))  # 5 data lines lost
+    with pytest.raises(ValueError, match="header says 801 values, the file holds 791"):
+        read_frf(tmp_path / "gap.uff")
+    lines[30] = lines[30][:25] + "x" + lines[30][26:]  # a number that does not parse
+    (tmp_path / "bad.uff").write_text("".join(lines))
+    with pytest.raises(ValueError, match="cannot read UFF file"):
+        read_frf(tmp_path / "bad.uff")
+    (tmp_path / "text.uff").write_text("freq_hz,real,imag\n0,1,2\n")
+    with pytest.raises(ValueError, match="not a UFF file"):
+        read_frf(tmp_path / "text.uff")
+
+
+# ---------------------------------------------------------------------------- CSV input
+def write_text(path, text):
+    path.write_text(text)
+    return path
+
+
+@pytest.fixture
+def reference_csv(tmp_path):
+    frf = make_frf("accelerance", freq_hz=np.linspace(1.0, 50.0, 50))
+    write_frf(tmp_path / "ref.csv", frf)
+    return frf
+
+
+def test_magnitude_phase_csv_equals_real_imag(tmp_path, reference_csv):
+    f, h, coh = reference_csv.freq_hz, reference_csv.values, reference_csv.coherence
+    layouts = {
+        "Frequency [Hz],Magnitude,Phase [deg],Coherence": (f, np.abs(h), np.degrees(np.angle(h))),
+        "freq_hz,mag_db,phase_rad,coh": (f, 20 * np.log10(np.abs(h)), np.angle(h)),
+        "omega_rad_s,|H| (dB),Phase (°),gamma2": (2 * np.pi * f, 20 * np.log10(np.abs(h)),
+                                                   np.degrees(np.angle(h))),
+        "W (rad/s); H_real; H_imag; COH": (2 * np.pi * f, h.real, h.imag),
+    }
+    for i, (header, cols) in enumerate(layouts.items()):
+        sep = ";" if ";" in header else ","
+        rows = [sep.join(repr(float(v)) for v in row) for row in zip(*cols, coh)]
+        path = write_text(tmp_path / f"{i}.csv", "\n".join([header] + rows) + "\n")
+        frf = read_frf(path, quantity="accelerance")
+        np.testing.assert_allclose(frf.freq_hz, f, rtol=1e-15)
+        np.testing.assert_allclose(frf.values, h, rtol=1e-13)
+        np.testing.assert_array_equal(frf.coherence, coh)
+
+
+def test_csv_quantity_sources(tmp_path):
+    body = "freq_hz,real,imag\n0,1,2\n1,3,4\n"
+    plain = write_text(tmp_path / "plain.csv", body)
+    with pytest.raises(ValueError, match="does not say which quantity.*pass quantity="):
+        read_frf(plain)
+    assert read_frf(plain, quantity="mobility").quantity == "mobility"
+    commented = write_text(tmp_path / "c.csv", "# measured 2024\n# Quantity = Inertance\n" + body)
+    assert read_frf(commented).quantity == "accelerance"
+    with pytest.raises(ValueError, match="says its FRF is accelerance but quantity='mobility'"):
+        read_frf(commented, quantity="mobility")
+    named = write_text(tmp_path / "n.csv", "f,receptance_re,receptance_im\n0,1,2\n1,3,4\n")
+    assert read_frf(named).quantity == "receptance"
+    both = write_text(tmp_path / "b.csv", "# quantity: mobility\nf,receptance_re,receptance_im\n"
+                      "0,1,2\n1,3,4\n")
+    with pytest.raises(ValueError, match="several quantities"):
+        read_frf(both)
+    with pytest.raises(ValueError, match="quantity must be one of"):
+        read_frf(plain, quantity="stiffness")
+
+
+def test_csv_bad_data(tmp_path):
+    cases = {
+        "freq_hz,real,imag\n0,1,2\n1,nan,4\n": "column 'real' .* data row 2",
+        "freq_hz,real,imag\n0,1,2\n1,,4\n": "column 'real' .* data row 2",
+        "freq_hz,real,imag\n0,1,2\n1,3,oops\n": "column 'imag' .*'oops'",
+        "freq_hz,real,imag\n1,1,2\n0,3,4\n": "strictly increasing",
+        "freq_hz,real,imag,coherence\n0,1,2,0.5\n1,3,4,-2\n": r"outside \[0, 1\]",
+        "freq_hz,magnitude,phase\n0,1,2\n1,3,4\n": "phase_deg or phase_rad",
+        "freq_hz,x,y\n0,1,2\n1,3,4\n": "no real/imag pair.*accepted names",
+        "time,real,imag\n0,1,2\n1,3,4\n": "exactly one frequency column",
+        "f,omega,real,imag\n0,0,1,2\n1,6.3,3,4\n": "exactly one frequency column",
+        "f,re,real,imag\n0,0,1,2\n1,6.3,3,4\n": "two real columns",
+        "# quantity: stiffness\nf,re,im\n0,0,1\n1,1,1\n": "quantity must be one of",
+    }
+    for i, (text, message) in enumerate(cases.items()):
+        path = write_text(tmp_path / f"{i}.csv", text)
+        if "-2" in text:
+            with pytest.warns(UserWarning, match=message):
+                read_frf(path, quantity="receptance")
+            continue
+        with pytest.raises(ValueError, match=message):
+            read_frf(path, quantity="receptance")
+
+
+def test_csv_columns_override_and_separators(tmp_path):
+    path = write_text(tmp_path / "a.csv", "x,Re,Im,f_hz\n1,2,3,10\n2,4,5,20\n")
+    frf = read_frf(path, quantity="receptance", columns={"freq_hz": "X"})
+    np.testing.assert_array_equal(frf.freq_hz, [1, 2])
+    np.testing.assert_array_equal(frf.values, [2 + 3j, 4 + 5j])
+    with pytest.raises(ValueError, match=r"columns\['real'\] = 'nope' is not in"):
+        read_frf(path, quantity="receptance", columns={"real": "nope"})
+    with pytest.raises(ValueError, match="columns key must be one of"):
+        read_frf(path, quantity="receptance", columns={"frequency": "x"})
+    data = np.array([[1.0, 2, 3], [2, 4, 5]])
+    np.savetxt(tmp_path / "s.csv", data, delimiter=",", header="freq_hz,real,imag",
+               comments="# quantity: receptance\n# ")  # the header on a comment line
+    frf = read_frf(tmp_path / "s.csv")
+    assert frf.quantity == "receptance"
+    np.testing.assert_array_equal(frf.values, [2 + 3j, 4 + 5j])
+    table = write_text(tmp_path / "a.txt", "# quantity: mobility\nf re im\n1 2 3\n2 4 5\n")
+    frf = read_frf(table)
+    assert frf.quantity == "mobility"
+    np.testing.assert_array_equal(frf.values, [2 + 3j, 4 + 5j])
+
+
+# ---------------------------------------------------------------------- NPZ / MAT input
+def test_npz_and_mat_bad_data(tmp_path):
+    f, h = np.arange(4.0), np.ones(4, complex)
+    np.savez(tmp_path / "short.npz", freq_hz=f, values=h[:3], quantity="receptance")
+    with pytest.raises(ValueError, match="freq_hz and values .* differ in length: 4 and 3"):
+        read_frf(tmp_path / "short.npz")
+    np.savez(tmp_path / "nan.npz", freq_hz=f, values=np.where(f == 2, np.nan, h))
+    with pytest.raises(ValueError, match="values of .* holds .*nan.* at index 2"):
+        read_frf(tmp_path / "nan.npz", quantity="receptance")
+    np.savez(tmp_path / "q.npz", freq_hz=f, values=h, quantity="mobility")
+    with pytest.raises(ValueError, match="says its FRF is mobility"):
+        read_frf(tmp_path / "q.npz", quantity="receptance")
+    np.savez(tmp_path / "other.npz", t=f, y=h)
+    with pytest.raises(ValueError, match=r"one frequency and one values .*\['t', 'y'\]"):
+        read_frf(tmp_path / "other.npz", quantity="receptance")
+    scipy.io.savemat(tmp_path / "named.mat", {"w": 2 * np.pi * f, "Hxy": h, "c": f / 4})
+    frf = read_frf(tmp_path / "named.mat", quantity="receptance",
+                   columns={"omega_rad_s": "w", "values": "Hxy", "coherence": "c"})
+    np.testing.assert_allclose(frf.freq_hz, f, rtol=1e-15)
+    np.testing.assert_array_equal(frf.coherence, f / 4)
+    scipy.io.savemat(tmp_path / "matrix.mat", {"freq_hz": f, "values": np.ones((4, 2))})
+    with pytest.raises(ValueError, match=r"values of .* must be a vector, got shape \(4, 2\)"):
+        read_frf(tmp_path / "matrix.mat", quantity="receptance")
+    (tmp_path / "junk.mat").write_bytes(b"not a mat file" * 20)
+    with pytest.raises(ValueError, match="not a readable MATLAB file"):
+        read_frf(tmp_path / "junk.mat", quantity="receptance")
+
+
+class _Payload:
+    """Unpickling this object would create the file ``_Payload.target``."""
+
+    target = None
+
+    def __reduce__(self):
+        return (Path.touch, (Path(_Payload.target),))
+
+
+def test_npz_never_unpickles(tmp_path):
+    _Payload.target = str(tmp_path / "executed")
+    np.savez(tmp_path / "evil.npz", freq_hz=np.arange(2.0), values=np.ones(2, complex),
+             quantity=np.array([_Payload()], dtype=object))
+    with pytest.raises(ValueError, match="pickled/object arrays are refused"):
+        read_frf(tmp_path / "evil.npz")
+    assert not (tmp_path / "executed").exists()
+
+
+# ------------------------------------------------------------------------- the API edges
+def test_format_and_argument_errors(tmp_path):
+    frf = make_frf()
+    with pytest.raises(ValueError, match=r"'\.xlsx'.*'\.csv'.*'\.npz'.*'\.mat'.*'\.uff'"):
+        write_frf(tmp_path / "a.xlsx", frf)
+    with pytest.raises(ValueError, match=r"extension '\.xlsx'"):
+        read_frf(tmp_path / "a.xlsx")
+    with pytest.raises(ValueError, match="format must be one of"):
+        write_frf(tmp_path / "a.csv", frf, format="hdf5")
+    write_frf(tmp_path / "a.dat", frf, format="NPZ")  # the format argument beats the name
+    np.testing.assert_array_equal(read_frf(tmp_path / "a.dat", format="npz").values, frf.values)
+    with pytest.raises(TypeError, match="frf must be an FRFData"):
+        write_frf(tmp_path / "a.csv", frf.values)
+    with pytest.raises(TypeError, match="path must be a str"):
+        read_frf(3)
+    with pytest.raises(ValueError, match="apply to UFF files"):
+        write_frf(tmp_path / "a.csv", frf, binary=True)
+    with pytest.raises(ValueError, match="response direction must lie in -6..6"):
+        write_frf(tmp_path / "a.uff", frf, response=(1, 7))
+    with pytest.raises(ValueError, match="freq_hz= applies to format='complex-lines' only"):
+        read_frf(tmp_path / "a.dat", format="npz", freq_hz=[0, 1])
+    with pytest.raises(ValueError, match="columns= applies to CSV, NPZ and MAT"):
+        read_frf(DATA / "case1.mat", format="uff", columns={"values": "x"})
+    with pytest.raises(FileNotFoundError):
+        read_frf(tmp_path / "missing.csv")
