@@ -10,7 +10,9 @@ in m/N, with ``s`` in rad/s. Every evaluation below is a closed form: exact to r
 from __future__ import annotations
 
 import contextlib
+import json
 import warnings
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -288,6 +290,56 @@ class ModalModel:
 
         with _quiet_polynomial_trimming():
             return control.tf(self.to_statespace())
+
+    # -------------------------------------------------------------------- persistence
+    def to_json(self, path=None) -> str:
+        """The model as a JSON text (also written to ``path`` when given).
+
+        Complex numbers are stored as ``[re, im]`` pairs; units are SI with s in rad/s.
+        """
+        payload = {
+            "format": "modalid.ModalModel", "version": 1,
+            "units": {"s": "rad/s", "receptance": "m/N"},
+            "poles": [[float(p.real), float(p.imag)] for p in self._poles],
+            "residues": [[float(r.real), float(r.imag)] for r in self._residues],
+            "real_poles": [float(x) for x in self._real_poles],
+            "real_residues": [float(x) for x in self._real_residues],
+            "inverse_mass": self._inverse_mass, "flexibility": self._flexibility,
+        }
+        text = json.dumps(payload, indent=1)
+        if path is not None:
+            Path(path).write_text(text)
+        return text
+
+    @classmethod
+    def from_json(cls, source) -> "ModalModel":
+        """Read a model written by :meth:`to_json`: a JSON text or the path of a file.
+
+        Parsing JSON never executes anything; every field is validated by the constructor.
+        """
+        text = str(source)
+        if not text.lstrip().startswith("{"):
+            text = Path(source).read_text()
+        try:
+            payload = json.loads(text)
+        except json.JSONDecodeError as exc:
+            raise ValueError(f"not a ModalModel JSON text: {exc}") from exc
+        if not isinstance(payload, dict) or payload.get("format") != "modalid.ModalModel":
+            raise ValueError("not a ModalModel JSON text: its 'format' field is missing or "
+                             f"wrong ({payload.get('format') if isinstance(payload, dict) else None!r})")
+
+        def pairs(name):
+            values = np.asarray(payload.get(name, []), dtype=float).reshape(-1, 2)
+            return values[:, 0] + 1j * values[:, 1]
+
+        try:
+            return cls(poles=pairs("poles"), residues=pairs("residues"),
+                       real_poles=payload.get("real_poles", []),
+                       real_residues=payload.get("real_residues", []),
+                       inverse_mass=payload.get("inverse_mass", 0.0),
+                       flexibility=payload.get("flexibility", 0.0))
+        except (TypeError, ValueError) as exc:
+            raise ValueError(f"invalid ModalModel JSON: {exc}") from exc
 
     # ------------------------------------------------------------------- modes etc.
     @property

@@ -202,3 +202,25 @@ def test_from_control_rejects_bad_systems(sys, match):
 def test_frf_rejects_unknown_quantity(model):
     with pytest.raises(ValueError, match="inertance"):
         model.frf([1.0], quantity="inertance")
+
+
+def test_json_round_trip_is_exact(model, tmp_path):
+    m = ModalModel(poles=[-0.3 + 7j, -1.0 + 40j], residues=[0.01 - 0.2j, -0.05j],
+                   real_poles=[-12.0], real_residues=[0.4], inverse_mass=0.25, flexibility=2e-3)
+    back = ModalModel.from_json(m.to_json())
+    assert back == m
+    path = tmp_path / "model.json"
+    model.to_json(path)
+    assert ModalModel.from_json(path) == model
+    assert ModalModel.from_json(str(path)) == model
+
+
+@pytest.mark.parametrize("text, match", [
+    ('{"format": "something else"}', "format"),
+    ("{not json", "not a ModalModel JSON"),
+    ('{"format": "modalid.ModalModel", "poles": [[0.0, -1.0]], "residues": [[0, 1]]}',
+     "Im p > 0"),
+])
+def test_from_json_rejects_bad_text(text, match):
+    with pytest.raises(ValueError, match=match):
+        ModalModel.from_json(text)

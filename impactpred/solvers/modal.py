@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._stepping import Grid, assemble_result, step_kernel
+from ._stepping import Grid, assemble_result
 
 __all__ = ["solve_modal"]
 
@@ -42,8 +42,12 @@ def solve_modal(bodies, gap0, contact, t_end, dt, *, notes=()):
     grid = Grid(t_end, dt)
     models = [b.modal_model() for b in bodies]
     steppers = [_ModalStepper(m, dt) for m in models]
-    kernels = tuple(step_kernel(b, grid) for b in bodies)
-    k0 = float(kernels[0][0] + kernels[1][0])
+    # only the first step-response increment enters the stepping: S(dt) of each body
+    first = [float(m.step_response([dt])[0]) for m in models]
+    if not all(x > 0 for x in first):
+        raise ValueError(f"the step responses over the first step are {first} m/N, not "
+                         "positive: not driving points")
+    k0 = first[0] + first[1]
     loads = [b.load_samples(grid.midpoints) for b in bodies]
 
     # initial modal states of the vibration, in each model's own mode order
@@ -88,8 +92,8 @@ def solve_modal(bodies, gap0, contact, t_end, dt, *, notes=()):
             d[0], d[1] = d1f - m1 * h2 * f, d2f + m2 * h2 * f
             v[0] += (u1 - f) * m1 * h
             v[1] += (u2 + f) * m2 * h
-            y1[n + 1] = y1f - kernels[0][0] * f
-            y2[n + 1] = y2f + kernels[1][0] * f
+            y1[n + 1] = y1f - first[0] * f
+            y2[n + 1] = y2f + first[1] * f
         else:
             z1, z2 = z1f, z2f
             d[0], d[1] = d1f, d2f
@@ -97,5 +101,5 @@ def solve_modal(bodies, gap0, contact, t_end, dt, *, notes=()):
             v[1] += u2 * m2 * h
             y1[n + 1], y2[n + 1] = y1f, y2f
         g_prev = y2[n + 1] - y1[n + 1] + gap0
-    return assemble_result(bodies, gap0, grid, force, kernels, None, method="modal",
+    return assemble_result(bodies, gap0, grid, force, None, None, method="modal",
                            notes=notes, y=(y1, y2))

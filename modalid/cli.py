@@ -1,0 +1,97 @@
+"""Command line: ``modalid fit FILE`` identifies a modal model from a measured FRF."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import warnings
+from pathlib import Path
+
+__all__ = ["main"]
+
+
+def _cmd_fit(args) -> int:
+    import pandas as pd
+
+    from .fit import ModalFit
+    from .io import read_frf
+
+    data = read_frf(args.file, quantity=args.quantity, index=args.index)
+    freq_range = (args.fmin, args.fmax) if args.fmin is not None or args.fmax is not None \
+        else None
+    if freq_range is not None:
+        freq_range = (args.fmin or 0.0, args.fmax or float(data.freq_hz[-1]))
+    fit = ModalFit(method=args.method, freq_range=freq_range,
+                   n_modes=args.n_modes, rigid_body={"auto": "auto", "yes": True,
+                                                     "no": False}[args.rigid_body])
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        fit.fit(data)
+    for w in caught:
+        print(f"warning: {w.message}", file=sys.stderr)
+    report = fit.report_
+    print(f"{args.file}: {len(data)} lines, {data.freq_hz[0]:g}-{data.freq_hz[-1]:g} Hz, "
+          f"{data.quantity}")
+    columns = [c for c in ("frequency_hz", "damping_ratio", "modal_mass", "frequency_hz_std",
+                           "damping_std") if c in report["modes"].columns]
+    with pd.option_context("display.width", 140, "display.float_format", "{:.6g}".format):
+        print(report["modes"][columns].to_string())
+    print(f"rigid body: {report['rigid_body']} (inverse mass {report['inverse_mass']:.6g} 1/kg), "
+          f"residual flexibility {report['flexibility']:.6g} m/N, effective mass "
+          f"{report['effective_mass']:.6g} kg")
+    print(f"FRF NRMSE {report['frf_nrmse']:.4g}; converged: {report['converged']}")
+    if args.out:
+        out = Path(args.out)
+        out.mkdir(parents=True, exist_ok=True)
+        stem = Path(args.file).stem
+        fit.model_.to_json(out / f"{stem}_model.json")
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        fig, axes = plt.subplots(2, 1, figsize=(8, 8))
+        fit.plot_fit(data, ax=axes[0])
+        fit.plot_stabilization(ax=axes[1])
+        fig.tight_layout()
+        fig.savefig(out / f"{stem}_fit.png", dpi=110)
+        plt.close(fig)
+        print(f"wrote {out / (stem + '_model.json')} and {out / (stem + '_fit.png')}")
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="modalid", description="Identify pole-residue "
+                                     "modal models from measured FRFs.")
+    sub = parser.add_subparsers(dest="command", metavar="command")
+    fit = sub.add_parser("fit", help="identify a modal model from an FRF file")
+    fit.add_argument("file", help="CSV, .npz, .mat or UFF 58 file")
+    fit.add_argument("--quantity", choices=("receptance", "mobility", "accelerance"),
+                     help="the FRF's quantity if the file does not say it")
+    fit.add_argument("--index", type=int, default=None, help="which FRF of a multi-FRF file")
+    fit.add_argument("--method", choices=("lscf", "vf"), default="lscf")
+    fit.add_argument("--n-modes", type=int, default=None, help="number of modes (default: auto)")
+    fit.add_argument("--fmin", type=float, default=None, help="lowest frequency (Hz)")
+    fit.add_argument("--fmax", type=float, default=None, help="highest frequency (Hz)")
+    fit.add_argument("--rigid-body", choices=("auto", "yes", "no"), default="auto")
+    fit.add_argument("--out", help="folder for the model JSON and the plots")
+    fit.set_defaults(func=_cmd_fit)
+    return parser
+
+
+def main(argv=None) -> int:
+    """Entry point of the ``modalid`` console script."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if not getattr(args, "func", None):
+        parser.print_help()
+        return 0
+    try:
+        return args.func(args)
+    except (ValueError, TypeError, FileNotFoundError) as exc:
+        print(f"modalid: error: {exc}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())
