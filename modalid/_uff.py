@@ -1,0 +1,154 @@
+"""UFF dataset 58 (function at nodal DOF): reading FRFs and their coherence, writing one FRF.
+
+Private helpers of :mod:`modalid.io`, which documents the behaviour (:func:`modalid.io.read_frfs`
+for reading, :func:`modalid.io.write_frf` for writing). ``pyuff`` is imported when used.
+"""
+
+from __future__ import annotations
+
+import os
+import uuid
+import warnings
+
+import numpy as np
+
+from ._checks import as_count
+from .io import _finite, _Raw
+
+# dataset 58, records 9/10 field 1 (specific data type): numerator codes of our quantities
+_UFF_NUMERATOR = {8: "receptance", 11: "mobility", 12: "accelerance"}
+_UFF_CODE = {q: c for c, q in _UFF_NUMERATOR.items()}
+_UFF_FORCE = (13, 9, 0)  # excitation force, reaction force, or unstated
+_UFF_UNITS = {"receptance": "m", "mobility": "m/s", "accelerance": "m/s^2"}
+
+
+def _uff_delimiters(data):
+    """Count the ``    -1`` dataset delimiters the way pyuff finds them."""
+    count, ind = 0, -1
+    while (ind := data.find(b"    -1", ind + 1)) != -1:
+        end = ind + 6
+        if end == len(data) or data[end] in (10, 13) or data[end:ind + 80] == b" " * 74:
+            count += 1
+    return count
+
+
+def _read_uff(path, columns):
+    import pyuff
+
+    data = path.read_bytes()
+    delimiters = _uff_delimiters(data)
+    if delimiters == 0:
+        raise ValueError(f"{path} is not a UFF file: it has no '    -1' dataset delimiters")
+    if delimiters % 2:
+        raise ValueError(f"{path} is truncated or corrupt: its last dataset has no closing "
+                         "'    -1' delimiter")
+    try:
+        uff = pyuff.UFF(str(path))
+        types = [int(t) for t in uff.get_set_types()]
+        picks = [i for i, t in enumerate(types) if t == 58]
+        sets = uff.read_sets(picks) if picks else []
+    except Exception as exc:  # pyuff raises bare Exception for every failure
+        raise ValueError(f"cannot read UFF file {path} (truncated or corrupt?): {exc}") from exc
+    if not picks:
+        raise ValueError(f"{path} holds no dataset 58 (function at nodal DOF), so no FRF; "
+                         f"its datasets are of types {types}")
+    sets = [sets] if isinstance(sets, dict) else list(sets)
+    frfs = [s for s in sets if s.get("func_type") == 4]
+    if not frfs:
+        raise ValueError(f"{path} has no FRF: its datasets 58 hold function types "
+                         f"{sorted({s.get('func_type') for s in sets})}, an FRF is type 4")
+    cohs = [s for s in sets if s.get("func_type") == 6]
+    return [_uff_raw(path, s, number, cohs) for number, s in enumerate(frfs)]
+
+
+def _uff_dofs(dset):
+    return tuple(dset.get(k) for k in ("rsp_node", "rsp_dir", "ref_node", "ref_dir"))
+
+
+def _uff_raw(path, dset, number, cohs):
+    source = f"{path} (FRF {number}, dataset 58)"
+    if dset.get("x") is None or dset.get("data") is None:
+        raise ValueError(f"{source} is truncated or corrupt: no data values were read")
+    freq = _finite(source, "the abscissa", np.asarray(dset["x"], dtype=float))
+    values = _finite(source, "the ordinate", np.asarray(dset["data"]))
+    if not dset.get("num_pts") == values.size == freq.size:
+        raise ValueError(f"{source} is truncated or corrupt: its header says "
+                         f"{dset.get('num_pts')} values, the file holds {values.size}")
+    axis = dset.get("abscissa_spec_data_type", 0)
+    if axis not in (0, 18):
+        raise ValueError(f"{source} has abscissa specific data type {axis}, not frequency "
+                         "(18)")
+    unit = str(dset.get("abscissa_axis_units_lab", "")).strip().lower().replace(" ", "")
+    if unit in ("rad/s", "rad/sec", "radians/s", "radian/s"):
+        freq = freq / (2 * np.pi)
+    elif unit not in ("", "none", "hz", "hertz", "1/s"):
+        raise ValueError(f"{source} has abscissa units {dset['abscissa_axis_units_lab']!r}; "
+                         "Hz or rad/s are accepted")
+    num = dset.get("ordinate_spec_data_type", 0)
+    den = dset.get("orddenom_spec_data_type", 0)
+    if num in (0, 1):            # unknown / general: the file does not say
+        stated = None
+    elif num in _UFF_NUMERATOR and den in _UFF_FORCE:
+        stated = _UFF_NUMERATOR[num]
+    else:
+        raise ValueError(f"{source} is specific data type {num} over {den}; supported are "
+                         "displacement (8), velocity (11) or acceleration (12) over force (13)")
+    coh = next((c for c in cohs if _uff_dofs(c) == _uff_dofs(dset)
+                and np.size(c["x"]) == freq.size), None)
+    coherence = None if coh is None else _finite(source, "the coherence", np.real(coh["data"]))
+    meta = dict(zip(("response_node", "response_dir", "reference_node", "reference_dir"),
+                    _uff_dofs(dset)), name=str(dset.get("id1", "")).strip())
+    return _Raw(freq, values, coherence, stated, ("the abscissa", "the ordinate",
+                                                  "the coherence dataset"), meta)
+
+
+def _write_uff(path, frf, binary, response, reference):
+    import pyuff
+
+    f = frf.freq_hz
+    spacing = 0                  # binary: abscissa stored per line as float64
+    if not binary:               # ASCII: f0 and df stored as E13.5 (6 significant digits)
+        f0, df = (float(f"{v:13.5e}") for v in (f[0], f[1] - f[0]))
+        if not np.allclose(f0 + np.arange(f.size) * df, f, rtol=0, atol=16 * np.spacing(f[-1])):
+            raise ValueError("ASCII UFF dataset 58 stores frequencies as f0 + k*df with f0 and df "
+                             "in 6 significant digits, which cannot hold this frequency grid "
+                             f"({f[0]!r}, {f[1]!r}, ... {f[-1]!r} Hz): pass binary=True "
+                             "(frequencies stored as float64) or use .npz/.csv/.mat")
+        spacing = 1
+    common = dict(binary=int(binary), rsp_node=response[0], rsp_dir=response[1],
+                  ref_node=reference[0], ref_dir=reference[1], x=f.copy(),
+                  abscissa_spacing=spacing, abscissa_spec_data_type=18,
+                  abscissa_axis_units_lab="Hz")
+    dsets = [pyuff.prepare_58(func_type=4, data=frf.values.copy(), id1=frf.quantity,
+                              ordinate_spec_data_type=_UFF_CODE[frf.quantity],
+                              orddenom_spec_data_type=13,
+                              ordinate_axis_units_lab=_UFF_UNITS[frf.quantity],
+                              orddenom_axis_units_lab="N", **common)]
+    if frf.coherence is not None:
+        dsets.append(pyuff.prepare_58(func_type=6, data=frf.coherence.copy(), id1="coherence",
+                                      ordinate_spec_data_type=0, orddenom_spec_data_type=0,
+                                      **common))
+    # pyuff's overwrite mode loses the header of a binary set: append to a fresh file
+    tmp = path.with_name(f".{path.name}.{uuid.uuid4().hex}.tmp")
+    try:
+        with warnings.catch_warnings():  # pyuff leaves the file of a binary set unclosed
+            warnings.simplefilter("ignore", ResourceWarning)
+            pyuff.UFF(str(tmp)).write_sets(dsets, mode="add")
+        os.replace(tmp, path)
+    finally:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+
+
+def _dof(name, value):
+    if value is None:
+        return (1, 3)
+    try:
+        node, direction = value
+    except (TypeError, ValueError) as exc:
+        raise TypeError(f"{name} must be a pair (node, direction), got {value!r}") from exc
+    node, direction = as_count(f"{name} node", node), as_count(f"{name} direction",
+                                                               direction, minimum=-6)
+    if direction > 6:
+        raise ValueError(f"{name} direction must lie in -6..6, got {direction}")
+    return node, direction
