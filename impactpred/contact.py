@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from modalid._checks import as_nonnegative_scalar, as_positive_scalar
+from modalid._checks import as_nonnegative_scalar, as_positive_scalar, as_real_scalar
 
 __all__ = ["Rigid", "LinearSpring", "Hertz", "ContactLaw"]
 
@@ -89,6 +89,29 @@ class Hertz(ContactLaw):
     def __post_init__(self):
         object.__setattr__(self, "stiffness", as_positive_scalar("stiffness", self.stiffness))
         object.__setattr__(self, "exponent", as_positive_scalar("exponent", self.exponent))
+
+    @classmethod
+    def from_materials(cls, *, radius1, youngs_modulus1, poisson1, youngs_modulus2,
+                       poisson2, radius2=np.inf) -> "Hertz":
+        """Hertz's sphere-on-sphere (or sphere-on-flat, ``radius2=inf``) contact.
+
+        ``k = 4/3 E* sqrt(R*)`` with ``1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2`` and
+        ``1/R* = 1/R1 + 1/R2``; radii in m, moduli in Pa. A steel ball of radius 5 mm on a
+        steel beam: ``Hertz.from_materials(radius1=5e-3, youngs_modulus1=210e9,
+        poisson1=0.3, youngs_modulus2=210e9, poisson2=0.3)``, ``k ~ 1.1e10 N/m^1.5``.
+        """
+        r1 = as_positive_scalar("radius1", radius1)
+        r2 = np.inf if radius2 == np.inf else as_positive_scalar("radius2", radius2)
+        e1 = as_positive_scalar("youngs_modulus1", youngs_modulus1)
+        e2 = as_positive_scalar("youngs_modulus2", youngs_modulus2)
+        nu1 = as_real_scalar("poisson1", poisson1)
+        nu2 = as_real_scalar("poisson2", poisson2)
+        for name, nu in (("poisson1", nu1), ("poisson2", nu2)):
+            if not -1.0 < nu < 0.5:
+                raise ValueError(f"{name} must lie in (-1, 0.5), got {nu!r}")
+        e_star = 1.0 / ((1 - nu1**2) / e1 + (1 - nu2**2) / e2)
+        r_star = 1.0 / (1.0 / r1 + 1.0 / r2)
+        return cls(4.0 / 3.0 * e_star * np.sqrt(r_star), 1.5)
 
     def step_force(self, G, K0, g_prev, dt):
         """Root of ``phi(f) = f - k (-(G + K0 f))**n`` on ``[0, -G/K0]`` (unique, phi increasing)."""

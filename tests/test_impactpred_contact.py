@@ -1,0 +1,48 @@
+"""Contact laws: the scalar step problems and Hertz's constants."""
+
+import numpy as np
+import pytest
+
+from impactpred import Hertz, LinearSpring, Rigid
+
+
+def test_rigid_step_force_closes_the_gap_exactly():
+    assert Rigid().step_force(-2e-3, 1e-4, 0.0, 1e-3) == pytest.approx(20.0)
+    assert Rigid().step_force(1e-3, 1e-4, 0.0, 1e-3) == 0.0
+
+
+def test_linear_spring_step_force_solves_the_implicit_law():
+    k, c, K0, dt, g_prev, G = 1e5, 20.0, 1e-6, 1e-4, -1e-5, -3e-5
+    f = LinearSpring(k, damping=c).step_force(G, K0, g_prev, dt)
+    g_new = G + K0 * f
+    assert f == pytest.approx(k * (-g_new) + c * (-(g_new - g_prev)) / dt, rel=1e-12)
+
+
+@pytest.mark.parametrize("G", [-1e-4, -1e-6, -1e-9])
+def test_hertz_step_force_solves_the_power_law(G):
+    law, K0 = Hertz(1e9), 1e-7
+    f = law.step_force(G, K0, 0.0, 1e-5)
+    assert f == pytest.approx(1e9 * (-(G + K0 * f)) ** 1.5, rel=1e-10)
+    assert law.step_force(1e-6, K0, 0.0, 1e-5) == 0.0
+
+
+def test_hertz_from_materials_steel_ball_on_steel():
+    law = Hertz.from_materials(radius1=5e-3, youngs_modulus1=210e9, poisson1=0.3,
+                               youngs_modulus2=210e9, poisson2=0.3)
+    e_star = 210e9 / (2 * (1 - 0.09))
+    assert law.stiffness == pytest.approx(4 / 3 * e_star * np.sqrt(5e-3), rel=1e-12)
+    two_balls = Hertz.from_materials(radius1=5e-3, radius2=5e-3, youngs_modulus1=210e9,
+                                     poisson1=0.3, youngs_modulus2=210e9, poisson2=0.3)
+    assert two_balls.stiffness == pytest.approx(law.stiffness / np.sqrt(2), rel=1e-12)
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    (dict(radius1=-1.0), "radius1"), (dict(poisson1=0.7), "poisson1"),
+    (dict(youngs_modulus2=0.0), "youngs_modulus2"),
+])
+def test_hertz_from_materials_rejects_bad_values(kwargs, match):
+    args = dict(radius1=5e-3, youngs_modulus1=210e9, poisson1=0.3, youngs_modulus2=210e9,
+                poisson2=0.3)
+    args.update(kwargs)
+    with pytest.raises(ValueError, match=match):
+        Hertz.from_materials(**args)
