@@ -6,6 +6,8 @@ import argparse
 import sys
 from pathlib import Path
 
+from modalid._cli import run_command
+
 __all__ = ["main"]
 
 
@@ -85,16 +87,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv=None) -> int:
     """Entry point of the ``impactpred`` console script."""
-    parser = build_parser()
-    args = parser.parse_args(argv)
-    if not getattr(args, "func", None):
-        parser.print_help()
-        return 0
-    try:
-        return args.func(args)
-    except (ValueError, TypeError) as exc:
-        print(f"impactpred: error: {exc}", file=sys.stderr)
-        return 2
+    return run_command(build_parser(), argv)
 
 
 if __name__ == "__main__":  # pragma: no cover
