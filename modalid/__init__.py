@@ -4,6 +4,7 @@ The single model object of the project is :class:`ModalModel`; identification fr
 measured FRFs builds on it.
 """
 
+from .fit import ModalFit, ModalFitWarning
 from .frf import FRFData
 from .hammer import (DoubleHitWarning, HammerFRF, correct_exponential_window,
                      find_double_hits, frf_from_hammer)
@@ -11,7 +12,7 @@ from .io import read_frf, write_frf
 from .model import ModalModel
 from .quantities import QUANTITIES, receptance_to, to_receptance
 
-__all__ = ["FRFData", "ModalModel", "QUANTITIES", "receptance_to", "to_receptance",
+__all__ = ["ModalFit", "ModalFitWarning", "FRFData", "ModalModel", "QUANTITIES", "receptance_to", "to_receptance",
            "read_frf", "write_frf"]
 __all__ += ["HammerFRF", "DoubleHitWarning", "frf_from_hammer", "find_double_hits",
             "correct_exponential_window"]

@@ -10,13 +10,23 @@ equations ``M = 2 (T - S^T R^-1 S)``, and with ``a_n = 1`` each model order ``n`
 small linear solve. Poles are ``s = log(z_k) / dt`` for the roots of the denominator. The
 basis is unit-modulus on the whole band, so the problem is equally conditioned whatever
 the frequency units.
+
+Because ``|z| = 1`` on the band, ``R``, ``S`` and ``T`` are Toeplitz matrices: entry
+``(j, k)`` depends on ``k - j`` only. Their generating vectors (length ``2 n + 1``) are one
+sum over the lines each, so the normal equations cost ``O(n_lines n)``, not
+``O(n_lines n^2)``.
+
+A basis scaled to the whole band resolves poles at a small fraction of ``omega_max``
+poorly (their ``z`` crowd near 1). :func:`lscf_subbands` therefore also runs LSCF on
+nested low sub-bands ``[omega_0, omega_max / 4^k]``, each with its own ``dt``.
 """
 
 from __future__ import annotations
 
 import numpy as np
+from scipy.linalg import toeplitz
 
-__all__ = ["lscf_poles_all_orders", "lscf_basis_step"]
+__all__ = ["lscf_poles_all_orders", "lscf_basis_step", "lscf_normal_matrix", "lscf_subbands"]
 
 
 def lscf_basis_step(omega: np.ndarray) -> float:
@@ -24,7 +34,35 @@ def lscf_basis_step(omega: np.ndarray) -> float:
     return float(np.pi / np.max(omega))
 
 
-def lscf_poles_all_orders(omega, values, weights, max_order, *, outputs_axis=None):
+def lscf_normal_matrix(omega, values, weights, max_order, dt=None):
+    """Reduced normal matrix ``T - S^T R^-1 S`` (shape ``(n + 1, n + 1)``) of one FRF.
+
+    Built from the Toeplitz generating vectors
+    ``sum_l w_l^2 {1, h_l, |h_l|^2} z_l^m`` for ``m = 0 .. n`` (negative ``m`` are their
+    conjugates, ``|z| = 1``).
+    """
+    dt = lscf_basis_step(omega) if dt is None else dt
+    n1 = max_order + 1
+    # z^m by repeated multiplication (rounding grows like m eps: harmless for m < 1000)
+    powers = np.empty((n1, omega.size), complex)
+    powers[0] = 1.0
+    if n1 > 1:
+        powers[1:] = np.exp(1j * dt * omega)
+        np.cumprod(powers[1:], axis=0, out=powers[1:])
+    w2 = weights**2
+    g = powers @ np.stack([w2, w2 * values, w2 * np.conj(values), w2 * np.abs(values) ** 2],
+                          axis=1).astype(complex)
+    # R_jk = Re sum w^2 z^(k-j), T_jk likewise with |h|^2: symmetric Toeplitz
+    r = toeplitz(g[:, 0].real)
+    t = toeplitz(g[:, 3].real)
+    # S_jk = -Re sum w^2 conj(z^j) h z^k = -Re sum w^2 h z^(k-j)
+    pos = g[:, 1]                       # m = k - j >= 0: sum w^2 h z^m
+    neg = np.conj(g[:, 2])              # m <= 0: sum w^2 h z^-|m| = conj(sum w^2 conj(h) z^|m|)
+    s = -toeplitz(neg.real, pos.real)   # first column m = -j, first row m = k
+    return t - s.T @ np.linalg.solve(r, s)
+
+
+def lscf_poles_all_orders(omega, values, weights, max_order, *, orders=None, dt=None):
     """Poles of every order ``1..max_order`` (continuous time, rad/s).
 
     Parameters
@@ -37,35 +75,75 @@ def lscf_poles_all_orders(omega, values, weights, max_order, *, outputs_axis=Non
         Real weights per line (e.g. ``1/|H|``).
     max_order : int
         Largest denominator order.
+    orders : iterable of int, optional
+        The orders to solve (default ``1..max_order``); the others get no poles.
+    dt : float, optional
+        Basis step (default ``pi / omega_max``).
 
     Returns
     -------
     list of ndarray
         ``poles[n - 1]``: the ``n`` poles of order ``n`` (complex, both halves of each
-        conjugate pair, and real ones).
+        conjugate pair, and real ones); finite only (a root at ``z = 0`` is dropped).
     """
     values = np.atleast_2d(values)
     weights = np.atleast_2d(weights)
-    dt = lscf_basis_step(omega)
-    basis = np.exp(1j * np.outer(omega, np.arange(max_order + 1)) * dt)  # (lines, n+1)
-    n1 = max_order + 1
-    m_total = np.zeros((n1, n1))
-    for h, w in zip(values, weights):
-        x = w[:, None] * basis                      # numerator columns
-        y = -(w * h)[:, None] * basis               # denominator columns
-        r = (x.conj().T @ x).real
-        s = (x.conj().T @ y).real
-        t = (y.conj().T @ y).real
-        m_total += t - s.T @ np.linalg.solve(r, s)
+    dt = lscf_basis_step(omega) if dt is None else dt
+    m_total = sum(lscf_normal_matrix(omega, h, w, max_order, dt)
+                  for h, w in zip(values, weights))
+    wanted = set(range(1, max_order + 1) if orders is None else orders)
     poles = []
     for n in range(1, max_order + 1):
+        if n not in wanted:
+            poles.append(np.zeros(0, complex))
+            continue
         m = m_total[:n + 1, :n + 1]
         try:
             a = np.linalg.solve(m[:n, :n], -m[:n, n])
         except np.linalg.LinAlgError:
             a = np.linalg.lstsq(m[:n, :n], -m[:n, n], rcond=None)[0]
-        coeffs = np.concatenate([a, [1.0]])          # a_0 .. a_n
-        z = np.roots(coeffs[::-1])
-        with np.errstate(divide="ignore"):
-            poles.append(np.log(z) / dt)
+        # roots of a_0 + a_1 z + ... + z^n: eigenvalues of the companion matrix
+        comp = np.zeros((n, n))
+        comp[0, :] = -a[::-1]
+        comp[np.arange(1, n), np.arange(n - 1)] = 1.0
+        z = np.linalg.eigvals(comp)
+        z = z[np.abs(z) > 1e-300]
+        poles.append(np.log(z.astype(complex)) / dt)
     return poles
+
+
+def lscf_subbands(omega, values, weights, max_order, *, factor=4.0, min_lines=64,
+                  peaks=None):
+    """LSCF poles on the whole band and on nested low sub-bands.
+
+    Sub-band ``k`` holds the lines ``omega <= omega_max / factor^k``; it is used while it has
+    at least ``min_lines`` lines and (if ``peaks`` given, resonance-peak frequencies in
+    rad/s) at least one peak below 80 % of its top. Its largest order is scaled down with
+    the number of peaks it holds. Even orders only: a real polynomial of odd order spends
+    a root on the real axis.
+
+    Returns
+    -------
+    list of (omega_top, poles_by_order)
+        One entry per band, whole band first.
+    """
+    out = []
+    top = float(np.max(omega))
+    k = 0
+    while True:
+        mask = omega <= top
+        if k > 0:
+            if np.count_nonzero(mask) < min_lines:
+                break
+            if peaks is not None and not np.any(np.asarray(peaks) < 0.8 * top):
+                break
+        order = max_order
+        if k > 0 and peaks is not None:
+            n_peaks = int(np.count_nonzero(np.asarray(peaks) <= top))
+            order = int(min(max_order, 4 * n_peaks + 16))
+        poles = lscf_poles_all_orders(omega[mask], values[mask], weights[mask], order,
+                                      orders=range(2, order + 1, 2))
+        out.append((top, poles))
+        top /= factor
+        k += 1
+    return out

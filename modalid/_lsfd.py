@@ -7,8 +7,15 @@ The receptance model, ``s = i omega``:
 
 with real unknowns ``Re r_k, Im r_k, c_j, u, d``. Passivity of a driving point (positive
 modal mass ``-1/(2 Im p Im r)``) is ``Im r_k <= 0``; with ``u, d, c_j >= 0`` it makes a
-bound-constrained linear least-squares problem (``scipy.optimize.lsq_linear``). Columns
-are scaled to unit norm, so the solve does not depend on the frequency units.
+bound-constrained linear least-squares problem (solved by an active set on the Gram
+matrix). Columns are scaled to unit norm, so the solve does not depend on the frequency
+units.
+
+The refinement (:func:`refine_varpro`) is a Levenberg-Marquardt iteration on the poles
+alone with the residues eliminated (variable projection, Golub and Pereyra 1973, with
+Kaufman's Jacobian): the residues are linear, so for given poles they are the least-squares
+solution, and only ``2 n`` nonlinear unknowns remain. Passivity bounds on the linear
+unknowns are kept by a bounded linear solve inside the projection.
 """
 
 from __future__ import annotations
@@ -16,9 +23,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import least_squares, lsq_linear
+from scipy.linalg import cho_factor, cho_solve
 
-__all__ = ["Terms", "design_matrix", "fit_residues", "refine", "evaluate"]
+__all__ = ["Terms", "design_matrix", "refine_varpro", "evaluate", "split_coefficients",
+           "place_upper_modes", "release_gain", "removal_cost", "mass_line_significant",
+           "noise_level"]
 
 
 @dataclass(frozen=True)
@@ -29,25 +38,39 @@ class Terms:
     rigid: bool
     upper: bool
 
+    @property
+    def n_extra(self) -> int:
+        return len(self.real_poles) + int(self.rigid) + int(self.upper)
+
 
 def design_matrix(s, poles, terms: Terms):
     """Complex columns (lines x unknowns) in the order Re r, Im r per mode, c_j, u, d."""
-    cols = []
-    for p in poles:
-        a = 1.0 / (s - p)
-        b = 1.0 / (s - np.conj(p))
-        cols += [a + b, 1j * (a - b)]
+    poles = np.asarray(poles, dtype=complex)
+    n = poles.size
+    out = np.empty((s.size, 2 * n + terms.n_extra), dtype=complex)
+    if n:
+        a = 1.0 / (s[:, None] - poles)
+        b = 1.0 / (s[:, None] - poles.conj())
+        out[:, 0:2 * n:2] = a + b
+        out[:, 1:2 * n:2] = 1j * (a - b)
+    k = 2 * n
     for sig in terms.real_poles:
-        cols.append(1.0 / (s - sig))
+        out[:, k] = 1.0 / (s - sig)
+        k += 1
     if terms.rigid:
-        cols.append(1.0 / s**2)
+        out[:, k] = 1.0 / s**2
+        k += 1
     if terms.upper:
-        cols.append(np.ones_like(s))
-    return np.stack(cols, axis=1) if cols else np.zeros((s.size, 0), complex)
+        out[:, k] = 1.0
+    return out
+
+
+def _realify(m):
+    return np.concatenate([m.real, m.imag])
 
 
 def _bounds(n_modes, terms: Terms, passive):
-    n = 2 * n_modes + len(terms.real_poles) + int(terms.rigid) + int(terms.upper)
+    n = 2 * n_modes + terms.n_extra
     lo, hi = np.full(n, -np.inf), np.full(n, np.inf)
     if passive:
         hi[1:2 * n_modes:2] = 0.0                    # Im r <= 0
@@ -55,44 +78,16 @@ def _bounds(n_modes, terms: Terms, passive):
     return lo, hi
 
 
-def _unpack(x, n_modes, terms: Terms):
+def split_coefficients(x, n_modes, terms: Terms):
+    """``(residues, real_residues, inverse_mass, flexibility)`` from the real unknowns."""
     r = x[0:2 * n_modes:2] + 1j * x[1:2 * n_modes:2]
     k = 2 * n_modes
     c = x[k:k + len(terms.real_poles)]
     k += len(terms.real_poles)
-    u = x[k] if terms.rigid else 0.0
+    u = float(x[k]) if terms.rigid else 0.0
     k += int(terms.rigid)
-    d = x[k] if terms.upper else 0.0
+    d = float(x[k]) if terms.upper else 0.0
     return r, c, u, d
-
-
-def fit_residues(omega, values, weights, poles, terms: Terms, *, passive=True):
-    """Linear (bounded) least squares for the residues of fixed ``poles`` (Im p > 0).
-
-    Returns ``(residues, real_residues, inverse_mass, flexibility, covariance, sse)``; the
-    covariance (of the real unknowns) comes from the weighted normal matrix and the
-    residual variance, ``sse`` is the weighted sum of squared residuals.
-    """
-    s = 1j * omega
-    a = design_matrix(s, poles, terms) * weights[:, None]
-    b = values * weights
-    a_real = np.concatenate([a.real, a.imag])
-    b_real = np.concatenate([b.real, b.imag])
-    scale = np.linalg.norm(a_real, axis=0)
-    scale[scale == 0] = 1.0
-    an = a_real / scale
-    # compress the tall problem to its triangular factor: same minimiser, tiny solve
-    q, rmat = np.linalg.qr(an)
-    qb = q.T @ b_real
-    lo, hi = _bounds(len(poles), terms, passive)
-    res = lsq_linear(rmat, qb, bounds=(lo, hi), method="bvls")
-    x = res.x / scale
-    dof = max(b_real.size - x.size, 1)
-    sse = float(np.sum((a_real @ x - b_real) ** 2))
-    cov_scaled = np.linalg.pinv(rmat.T @ rmat) * (sse / dof)
-    cov = cov_scaled / np.outer(scale, scale)
-    r, c, u, d = _unpack(x, len(poles), terms)
-    return r, c, u, d, cov, sse
 
 
 def evaluate(omega, poles, residues, real_poles, real_residues, inverse_mass, flexibility):
@@ -109,80 +104,444 @@ def evaluate(omega, poles, residues, real_poles, real_residues, inverse_mass, fl
     return out
 
 
-def refine(omega, values, weights, poles, residues, real_poles, real_residues, inverse_mass,
-           flexibility, *, rigid, upper, passive=True, max_nfev=200, imag_bounds=None):
-    """Joint weighted nonlinear least squares of every pole and residue.
+# ------------------------------------------------------------------ variable projection
+class _Workspace:
+    """Buffers of one projection, reused from one set of poles to the next.
 
-    Parameters per complex mode: ``Re p, Im p, Re r, Im r``; per real pole ``sigma, c``;
-    then ``u`` and ``d`` if present. Analytic Jacobian; bounds keep poles stable and, with
-    ``passive``, modal masses positive; ``imag_bounds`` (pairs per complex pole) keeps a
-    pole's ``Im p`` in a range (e.g. a residual pseudo-mode outside the band). Returns the
-    refined parts and the ``scipy.optimize.OptimizeResult``.
+    A fresh large temporary costs page faults on first touch, which on some machines
+    cost more than the arithmetic; the projection therefore writes into these.
     """
+
+    def __init__(self, m, n, k):
+        self.mat = np.empty((2 * m, k))
+        (self.a, self.b, self.d, self.wd, self.t, self.p_re, self.p_im, self.br, self.bi,
+         self.u) = (np.empty((m, n)) for _ in range(10))
+
+
+class _Projection:
+    """Weighted linear least squares for fixed poles, in real form.
+
+    Solved through the Gram matrix (columns scaled to unit norm inside the Cholesky
+    factorisation, one step of iterative refinement against the explicit residual): a
+    tenth of the cost of a QR factorisation of the tall matrix, and accurate to the level
+    the fit needs. With ``bounds`` (all at 0 here: passivity) a violated unconstrained
+    solution is replaced by the bounded one (an active set); the columns held at 0 then
+    drop out of the projection.
+
+    Real arithmetic throughout: with ``s = i omega``, ``u = s - Re p``, ``v = Im p``,
+    ``(s - p)(s - conj p) = u^2 + v^2 = A + iB`` with ``A = |p|^2 - omega^2`` and
+    ``B = -2 Re(p) omega``; ``q = 1/(A + iB) = (A - iB)/D``, ``D = A^2 + B^2``. The
+    columns of ``Re r`` and ``Im r`` are ``a + b = 2 q u`` and ``i (a - b) = -2 v q``.
+    """
+
+    def __init__(self, omega, w, y, poles, extra, bounds=None, ws=None):
+        self.poles, self.omega = poles, omega
+        m, n = omega.size, poles.size
+        ws = ws or _Workspace(m, n, 2 * n + extra.shape[1])
+        self.ws = ws
+        sig, v = poles.real, poles.imag
+        a, b, d, wd, t = ws.a, ws.b, ws.d, ws.wd, ws.t
+        om = omega[:, None]
+        np.subtract(np.abs(poles) ** 2, om**2, out=a)
+        np.multiply(om, -2.0 * sig, out=b)
+        np.multiply(a, a, out=d)
+        np.multiply(b, b, out=t)
+        d += t
+        np.divide(w[:, None], d, out=wd)
+        mat = ws.mat
+        np.multiply(a, wd, out=t)                          # Re(w q)
+        np.multiply(t, -2.0 * v, out=mat[:m, 1:2 * n:2])
+        np.multiply(t, -2.0 * sig, out=mat[:m, 0:2 * n:2])
+        np.multiply(t, 2.0 * om, out=mat[m:, 0:2 * n:2])
+        np.multiply(b, wd, out=t)                          # -Im(w q)
+        np.multiply(t, 2.0 * v, out=mat[m:, 1:2 * n:2])
+        t *= 2.0
+        mat[:m, 0:2 * n:2] += t * om                       # 2 w Re(q u) = 2 w (-sig A + omega B)/D
+        mat[m:, 0:2 * n:2] += t * sig                      # 2 w Im(q u) = 2 w (omega A + sig B)/D
+        mat[:, 2 * n:] = extra
+        self.mat = mat
+        self.gram = mat.T @ mat
+        scale = np.sqrt(np.diag(self.gram))
+        scale[scale == 0] = 1.0
+        self.scale = scale
+        rhs = mat.T @ y
+        self.free = np.ones(mat.shape[1], bool)
+        x = self._lstsq(rhs, y)
+        if bounds is not None and (np.any(x < bounds[0]) or np.any(x > bounds[1])):
+            x = self._bounded(rhs, y, bounds)
+        self.residual = y - mat @ x
+        self.cost = float(self.residual @ self.residual)
+        self.x = x
+
+    def _lstsq(self, rhs, y, cols=None):
+        mat = self.mat if cols is None else self.mat[:, cols]
+        d = self.scale if cols is None else self.scale[cols]
+        gram = self.gram if cols is None else self.gram[np.ix_(cols, cols)]
+        try:
+            self.factor = cho_factor(gram / np.outer(d, d))
+            x = cho_solve(self.factor, rhs / d) / d
+            x += cho_solve(self.factor, mat.T @ (y - mat @ x) / d) / d
+        except np.linalg.LinAlgError:
+            self.factor = None
+            x = np.linalg.lstsq(mat, y, rcond=None)[0]
+        return x
+
+    def _bounded(self, rhs, y, bounds):
+        """Least squares with each unknown at a bound of 0 or free (active set: the most
+        violated unknown goes to its bound, a bound whose gradient points inwards is
+        released; a few small Cholesky solves)."""
+        lo, hi = bounds
+        at_bound = np.zeros(rhs.size, bool)
+        x = np.zeros(rhs.size)
+        for _ in range(3 * rhs.size):
+            self.free = ~at_bound
+            x[:] = 0.0
+            x[self.free] = self._lstsq(rhs[self.free], y, self.free)
+            excess = np.maximum(lo - x, x - hi)
+            if np.any(excess > 0):
+                at_bound[int(np.argmax(excess))] = True
+                continue
+            grad = rhs - self.gram @ x                     # -d(cost/2)/dx
+            wrong = at_bound & (((lo == 0) & (grad > 0)) | ((hi == 0) & (grad < 0)))
+            if not np.any(wrong):
+                break
+            at_bound[int(np.argmax(np.where(wrong, np.abs(grad), -1.0)))] = False
+        return np.clip(x, lo, hi)
+
+    def _solve(self, rhs):
+        """``G^-1 rhs`` for the Gram matrix of the free columns."""
+        d = self.scale[self.free][:, None] if rhs.ndim == 2 else self.scale[self.free]
+        if self.factor is not None:
+            return cho_solve(self.factor, rhs / d) / d
+        return np.linalg.lstsq(self.gram[np.ix_(self.free, self.free)], rhs, rcond=None)[0]
+
+    def derivative(self, out=None):
+        """Columns ``d(Phi x)/d(Re p, Im p)`` of each pole (weighted, real form).
+
+        ``d/dRe p = w q^2 (2 Re r (u^2 - v^2) - 4 v Im r u)`` and
+        ``d/dIm p = -w q^2 (2 Im r (u^2 - v^2) + 4 v Re r u)``, with
+        ``u^2 - v^2 = A - 2 v^2 + iB`` and ``w q^2 = w (A^2 - B^2 - 2iAB)/D^2``.
+        """
+        m, n = self.omega.size, self.poles.size
+        re_r, im_r = self.x[0:2 * n:2], self.x[1:2 * n:2]
+        sig, v = self.poles.real, self.poles.imag
+        om = self.omega[:, None]
+        ws = self.ws
+        a, b, t, p_re, p_im, br, bi, u = ws.a, ws.b, ws.t, ws.p_re, ws.p_im, ws.br, ws.bi, ws.u
+        np.divide(ws.wd, ws.d, out=t)                      # w / D^2
+        np.multiply(a, a, out=p_re)
+        np.multiply(b, b, out=u)
+        p_re -= u
+        p_re *= t                                          # Re(w q^2)
+        np.multiply(a, b, out=p_im)
+        p_im *= t
+        p_im *= -2.0                                       # Im(w q^2)
+        out = np.empty((2 * m, 2 * n)) if out is None else out
+        for col, c_re, c_im, sign in ((0, re_r, im_r, 1.0), (1, im_r, -re_r, -1.0)):
+            # bracket = 2 c_re (u^2 - v^2) - 4 v c_im u, u = -sig + i omega
+            np.subtract(a, 2.0 * v**2, out=br)
+            br *= 2.0 * c_re
+            br += 4.0 * v * sig * c_im
+            np.multiply(b, 2.0 * c_re, out=bi)
+            np.multiply(om, 4.0 * v * c_im, out=u)
+            bi -= u
+            re_out, im_out = out[:m, col::2], out[m:, col::2]
+            np.multiply(p_re, br, out=re_out)
+            np.multiply(p_im, bi, out=u)
+            re_out -= u
+            np.multiply(p_re, bi, out=im_out)
+            np.multiply(p_im, br, out=u)
+            im_out += u
+            if sign < 0:
+                re_out *= -1.0
+                im_out *= -1.0
+        return out
+
+    def normal_equations(self, out=None):
+        """``J^T J`` and ``J^T r`` of Kaufman's Jacobian ``J = (I - P) G``."""
+        g = self.derivative(out)
+        cross = (self.mat.T @ g)[self.free]
+        jtj = g.T @ g - cross.T @ self._solve(cross)
+        return 0.5 * (jtj + jtj.T), g.T @ self.residual
+
+
+def refine_varpro(omega, values, weights, poles, terms: Terms, *, imag_lo=None, imag_hi=None,
+                  hold=None, passive=False, max_iter=50, xtol=1e-12, stat_tol=1e-4,
+                  stall_tol=1e-3, with_std=True, buffers=None):
+    """Weighted nonlinear least squares of poles and residues by variable projection.
+
+    Parameters
+    ----------
+    omega, values, weights : ndarray, shape (n_lines,)
+    poles : ndarray of complex, shape (n,)
+        Starting poles, ``Im p > 0``.
+    terms : Terms
+        Extra linear terms (real poles held fixed, rigid body, constant).
+    imag_lo, imag_hi : ndarray, shape (n,), optional
+        Bounds on each ``Im p`` (e.g. a residual pseudo-mode kept outside the band);
+        ``Re p < 0`` always. A parameter that reaches a bound is held there (active set)
+        while the gradient pushes it outwards.
+    hold : ndarray of bool, shape (n,), optional
+        Poles held fixed (their residues are still fitted).
+    buffers : dict, optional
+        Work arrays kept between calls (pass the same empty dict to a series of calls on
+        one data set: a fresh large array costs page faults on first use).
+
+    Returns
+    -------
+    poles : ndarray of complex
+    coefficients : ndarray of float
+        The linear unknowns (see :func:`split_coefficients`).
+    info : dict
+        ``n_iter``, ``converged``, ``message``, ``cost`` (weighted SSE), ``std``
+        (standard deviations of ``Re p, Im p, Re r, Im r`` per pole, shape (n, 4), and of
+        the extra terms; None unless ``with_std``), ``at_bound`` (bool per pole).
+    """
+    omega = np.asarray(omega, dtype=float)
+    w = np.asarray(weights, dtype=float)
+    y = _realify(values * w)
+    p = np.asarray(poles, dtype=complex).copy()
+    n = p.size
+    extra = _realify(design_matrix(1j * omega, np.zeros(0), terms) * w[:, None])
+    bounds = _bounds(n, terms, True) if passive else None
+    key = (omega.size, n, 2 * n + extra.shape[1])
+    buffers = {} if buffers is None else buffers
+    if key not in buffers:
+        buffers[key] = (_Workspace(*key), _Workspace(*key), np.empty((2 * omega.size, 2 * n)))
+    first, spare, g_buffer = buffers[key]
+    lo = np.zeros(n) if imag_lo is None else np.asarray(imag_lo, dtype=float)
+    hi = np.full(n, np.inf) if imag_hi is None else np.asarray(imag_hi, dtype=float)
+
+    def limits(v):
+        """Effective bounds at ``v``: Im p in [lo, hi], then Re p in [-Im p, -1e-9 Im p]."""
+        im = np.clip(v[1::2], np.maximum(lo, 1e-9), hi)
+        low, high = np.empty(2 * n), np.empty(2 * n)
+        low[0::2], high[0::2] = -im, -1e-9 * im
+        low[1::2], high[1::2] = np.maximum(lo, 1e-9), hi
+        return low, high
+
+    def clip(v):
+        low, high = limits(v)
+        return np.clip(v, low, high)
+
+    x = np.empty(2 * n)
+    x[0::2], x[1::2] = p.real, p.imag
+    x = clip(x)
+    cur = _Projection(omega, w, y, x[0::2] + 1j * x[1::2], extra, bounds, first)
+    n_data = y.size
+    lam, nu, n_small = 1e-3, 2.0, 0
+    converged, message, it = n == 0, "maximum number of iterations reached", 0
+    if n == 0:
+        message = "linear least squares (no poles)"
+    while not converged and it < max_iter:
+        jtj, jtr = cur.normal_equations(g_buffer)
+        norms = np.sqrt(np.maximum(np.diag(jtj), 1e-300))
+        a_s = jtj / np.outer(norms, norms)
+        g_s = jtr / norms
+        # active set: parameters on a bound whose gradient step points outwards
+        low, high = limits(x)
+        tol_b = 1e-12 * np.repeat(np.hypot(x[0::2], x[1::2]), 2)
+        free = ~(((x - low <= tol_b) & (g_s < 0)) | ((high - x <= tol_b) & (g_s > 0)))
+        if hold is not None:
+            free &= ~np.repeat(np.asarray(hold, bool), 2)
+        idx = np.flatnonzero(free)
+        if idx.size == 0:
+            converged, message = True, "converged (all poles on bounds)"
+            break
+        a_f, g_f = a_s[np.ix_(idx, idx)], g_s[idx]
+        # statistical stop: the full Gauss-Newton step would lower the cost by less than
+        # ``stat_tol`` of one residual variance (a step far below one standard deviation)
+        try:
+            gain = float(g_f @ np.linalg.solve(a_f, g_f))
+        except np.linalg.LinAlgError:
+            gain = np.inf
+        if gain < stat_tol * cur.cost / max(n_data - 2 * n, 1):
+            converged, message = True, "converged"
+            break
+        it += 1
+        accepted = False
+        while lam < 1e12:
+            step = np.zeros(2 * n)
+            try:
+                step[idx] = np.linalg.solve(a_f + lam * np.eye(idx.size), g_f)
+            except np.linalg.LinAlgError:
+                lam *= nu
+                nu *= 2.0
+                continue
+            step /= norms
+            # trust region: no pole moves by more than a tenth of its modulus at once
+            move = np.hypot(step[0::2], step[1::2]) / np.hypot(x[0::2], x[1::2])
+            if move.max() > 0.1:
+                step *= 0.1 / move.max()
+            x_new = clip(x + step)
+            trial = _Projection(omega, w, y, x_new[0::2] + 1j * x_new[1::2], extra, bounds,
+                                spare)
+            actual = cur.cost - trial.cost
+            if actual >= 0.0:
+                taken = (x_new - x) * norms
+                predicted = taken @ (2 * g_s - a_s @ taken)
+                rho = actual / predicted if predicted > 0 else 1.0
+                lam *= max(1.0 / 3.0, 1.0 - (2.0 * rho - 1.0) ** 3)
+                nu = 2.0
+                accepted = True
+                break
+            lam *= nu
+            nu *= 2.0
+        if not accepted:
+            converged, message = True, "no further decrease of the cost"
+            break
+        change = np.max(np.abs(x_new - x) / np.repeat(np.hypot(x_new[0::2], x_new[1::2]), 2))
+        x, cur, spare = x_new, trial, cur.ws
+        # stalled: two steps in a row that lower the cost by less than ``stall_tol`` of one
+        # residual variance (a flat valley, e.g. of pseudo-modes, statistically settled)
+        small = (actual < stall_tol * cur.cost / max(n_data - 2 * n, 1))
+        n_small = n_small + 1 if small else 0
+        if change < xtol:
+            converged, message = True, "converged (step below xtol)"
+        elif n_small >= 2:
+            converged, message = True, "converged (cost settled)"
+    p = x[0::2] + 1j * x[1::2]
+    low, high = limits(x)
+    at_bound = (x[1::2] - low[1::2] <= 1e-9 * x[1::2]) | (high[1::2] - x[1::2] <= 1e-9 * x[1::2])
+    info = {"n_iter": it, "converged": converged, "message": message, "cost": cur.cost,
+            "std": _std(cur, n, y.size) if with_std else None, "at_bound": at_bound}
+    return p, cur.x, info
+
+
+def release_gain(omega, values, weights, poles, terms: Terms, hold, *, passive=False):
+    """What releasing the ``hold`` poles would gain: the Gauss-Newton decrease of the
+    weighted cost with every pole free, in units of the residual variance.
+
+    At a minimum with ``hold`` fixed, compare it with ``ln(n)`` per released parameter
+    (information criterion) to decide whether the data support moving them.
+    """
+    omega = np.asarray(omega, dtype=float)
+    w = np.asarray(weights, dtype=float)
+    y = _realify(values * w)
+    poles = np.asarray(poles, complex)
+    extra = _realify(design_matrix(1j * omega, np.zeros(0), terms) * w[:, None])
+    bounds = _bounds(poles.size, terms, True) if passive else None
+    proj = _Projection(omega, w, y, poles, extra, bounds)
+    jtj, jtr = proj.normal_equations()
+    norms = np.sqrt(np.maximum(np.diag(jtj), 1e-300))
+    a_s, g_s = jtj / np.outer(norms, norms), jtr / norms
+    free = ~np.repeat(np.asarray(hold, bool), 2)
+
+    def gain(mask):
+        try:
+            return float(g_s[mask] @ np.linalg.solve(a_s[np.ix_(mask, mask)], g_s[mask]))
+        except np.linalg.LinAlgError:
+            return 0.0
+
+    sigma2 = proj.cost / max(y.size - proj.mat.shape[1] - 2 * poles.size, 1)
+    return (gain(np.ones(free.size, bool)) - gain(free)) / sigma2
+
+
+def _std(proj, n, n_data):
+    """Standard deviations from the full (poles and linear unknowns) Jacobian
+    ``[G, Phi]``, its normal matrix assembled from blocks (no tall copy)."""
+    mat = proj.mat
+    if n:
+        g = proj.derivative()
+        cross = mat.T @ g
+        normal = np.block([[g.T @ g, cross.T], [cross, proj.gram]])
+    else:
+        normal = proj.gram
+    dof = max(n_data - normal.shape[0], 1)
+    sigma2 = proj.cost / dof
+    norms = np.sqrt(np.maximum(np.diag(normal), 1e-300))
+    cov = np.linalg.pinv(normal / np.outer(norms, norms), hermitian=True) * sigma2
+    std = np.sqrt(np.clip(np.diag(cov), 0.0, None)) / norms
+    pole_std, lin_std = std[:2 * n], std[2 * n:]
+    per_mode = np.column_stack([pole_std[0::2], pole_std[1::2],
+                                lin_std[0:2 * n:2], lin_std[1:2 * n:2]])
+    return {"modes": per_mode, "extra": lin_std[2 * n:]}
+
+
+def place_upper_modes(omega, values, weights, poles, terms: Terms, *, n_upper=1,
+                      ratios=(1.02, 1.05, 1.1, 1.2, 1.35, 1.6, 2.0, 2.8, 4.0),
+                      damping=(0.02,)):
+    """Starting poles of ``n_upper`` residual pseudo-modes above the band (grid search).
+
+    With ``poles`` and ``terms`` fixed, every combination of ``n_upper`` poles at
+    ``ratios * omega_max`` with each ``damping`` is scored by its linear least-squares
+    cost; the best wins. The fixed columns are projected out once, so each combination
+    costs a ``2 n_upper`` square solve. Returns the poles and the weighted costs without
+    and with them.
+    """
+    from itertools import combinations
+
     s = 1j * omega
-    n_c, n_r = len(poles), len(real_poles)
-    x0 = []
-    for p, r in zip(poles, residues):
-        x0 += [p.real, p.imag, r.real, r.imag]
-    for sig, c in zip(real_poles, real_residues):
-        x0 += [sig, c]
-    if rigid:
-        x0.append(inverse_mass)
-    if upper:
-        x0.append(flexibility)
-    x0 = np.array(x0, dtype=float)
-    lo, hi = np.full(x0.size, -np.inf), np.full(x0.size, np.inf)
-    hi[0:4 * n_c:4] = 0.0                      # Re p <= 0
-    lo[1:4 * n_c:4] = 0.0                      # Im p >= 0
-    if imag_bounds is not None:
-        lo[1:4 * n_c:4] = [b[0] for b in imag_bounds]
-        hi[1:4 * n_c:4] = [b[1] for b in imag_bounds]
-    hi[4 * n_c:4 * n_c + 2 * n_r:2] = 0.0      # sigma <= 0
-    if passive:
-        hi[3:4 * n_c:4] = 0.0                  # Im r <= 0
-        lo[4 * n_c + 1:4 * n_c + 2 * n_r:2] = 0.0
-        lo[4 * n_c + 2 * n_r:] = 0.0
-    x0 = np.clip(x0, lo, hi)
     w = weights
+    y = _realify(values * w)
+    base = _Projection(np.asarray(omega, float), w, y, np.asarray(poles, complex),
+                       _realify(design_matrix(s, np.zeros(0), terms) * w[:, None]))
+    wmax = float(np.max(omega))
+    zeta = np.asarray(damping)[:, None]
+    cand = (wmax * np.asarray(ratios) * (-zeta + 1j * np.sqrt(1 - zeta**2))).ravel()
+    cols = _realify(design_matrix(s, cand, Terms(np.zeros(0), False, False)) * w[:, None])
+    cols /= np.linalg.norm(cols, axis=0)
+    cols -= base.mat[:, base.free] @ base._solve(base.mat[:, base.free].T @ cols)
+    gram = cols.T @ cols
+    rhs = cols.T @ base.residual
+    best, best_cost = None, np.inf
+    for combo in combinations(range(cand.size), n_upper):
+        if len({round(abs(cand[k]), 9) for k in combo}) < n_upper:
+            continue
+        idx = np.ravel([[2 * k, 2 * k + 1] for k in combo])
+        try:
+            gain = rhs[idx] @ np.linalg.solve(gram[np.ix_(idx, idx)], rhs[idx])
+        except np.linalg.LinAlgError:
+            continue
+        if base.cost - gain < best_cost:
+            best, best_cost = combo, base.cost - gain
+    if best is None:
+        return cand[:n_upper], base.cost, base.cost
+    return cand[list(best)], base.cost, best_cost
 
-    def parts(x):
-        xc = x[:4 * n_c].reshape(n_c, 4)
-        p = xc[:, 0] + 1j * xc[:, 1]
-        r = xc[:, 2] + 1j * xc[:, 3]
-        xr = x[4 * n_c:4 * n_c + 2 * n_r].reshape(n_r, 2)
-        k = 4 * n_c + 2 * n_r
-        u = x[k] if rigid else 0.0
-        d = x[k + int(rigid)] if upper else 0.0
-        return p, r, xr[:, 0], xr[:, 1], u, d
 
-    def residual(x):
-        p, r, sig, c, u, d = parts(x)
-        e = (evaluate(omega, p, r, sig, c, u, d) - values) * w
-        return np.concatenate([e.real, e.imag])
+def mass_line_significant(omega, values, weights, poles):
+    """Does a ``u/s^2`` term with ``u > 0`` lower the weighted residual of the linear fit
+    (``poles``, a constant and two pseudo-modes above the band) by more than ``ln(n)``
+    residual variances (information criterion, one parameter)?"""
+    upper = omega[-1] * np.array([1.1, 1.6]) * (-0.02 + 1j * np.sqrt(1 - 4e-4))
+    cols = design_matrix(1j * omega, np.concatenate([poles, upper]),
+                         Terms(np.zeros(0), True, True)) * weights[:, None]
+    mat = _realify(cols)
+    y = _realify(values * weights)
+    mat /= np.linalg.norm(mat, axis=0)
+    k = mat.shape[1] - 2                                   # the 1/s^2 column
+    x1, sse1 = np.linalg.lstsq(mat, y, rcond=None)[:2]
+    sse0 = np.linalg.lstsq(np.delete(mat, k, axis=1), y, rcond=None)[1]
+    if sse1.size == 0 or sse0.size == 0 or x1[k] <= 0:
+        return False
+    n = y.size
+    return bool(n * np.log(sse0[0] / max(sse1[0], 1e-300)) > np.log(n))
 
-    def jacobian(x):
-        p, r, sig, c, u, d = parts(x)
-        cols = np.zeros((s.size, x.size), dtype=complex)
-        if n_c:
-            a = 1.0 / (s[:, None] - p)
-            b = 1.0 / (s[:, None] - np.conj(p))
-            ra2, rb2 = r * a**2, np.conj(r) * b**2
-            cols[:, 0:4 * n_c:4] = ra2 + rb2
-            cols[:, 1:4 * n_c:4] = 1j * (ra2 - rb2)
-            cols[:, 2:4 * n_c:4] = a + b
-            cols[:, 3:4 * n_c:4] = 1j * (a - b)
-        if n_r:
-            q = 1.0 / (s[:, None] - sig)
-            cols[:, 4 * n_c:4 * n_c + 2 * n_r:2] = c * q**2
-            cols[:, 4 * n_c + 1:4 * n_c + 2 * n_r:2] = q
-        k = 4 * n_c + 2 * n_r
-        if rigid:
-            cols[:, k] = 1.0 / s**2
-        if upper:
-            cols[:, k + int(rigid)] = 1.0
-        cols *= w[:, None]
-        return np.concatenate([cols.real, cols.imag])
 
-    result = least_squares(residual, x0, jac=jacobian, bounds=(lo, hi), x_scale="jac",
-                           method="trf", max_nfev=max_nfev, xtol=1e-12, ftol=1e-12, gtol=1e-12)
-    return parts(result.x), result
+def removal_cost(omega, values, weights, poles, terms: Terms, indices, *, passive=False,
+                 buffers=None):
+    """The rise of the weighted cost when each pole in ``indices`` is removed and the
+    rest refitted linearly (poles held), in units of the residual variance: a
+    likelihood-ratio measure of each pole's significance."""
+    kw = dict(passive=passive, max_iter=0, with_std=False, buffers=buffers)
+    cost = refine_varpro(omega, values, weights, poles, terms, **kw)[2]["cost"]
+    sigma2 = cost / max(2 * np.size(omega) - 4 * len(poles) - terms.n_extra, 1)
+    return np.array([refine_varpro(omega, values, weights, np.delete(poles, k), terms,
+                                   **kw)[2]["cost"] - cost for k in indices]) / sigma2
+
+
+def noise_level(h, window=31):
+    """Standard deviation of the noise at each line, estimated from the data themselves.
+
+    The second difference ``h[l+1] - 2 h[l] + h[l-1]`` of white noise of variance
+    ``sigma^2`` has variance ``6 sigma^2``; its squared modulus is exponential, with median
+    ``6 sigma^2 ln 2``. A running median over ``window`` lines ignores the few lines of a
+    sharp resonance, where the curvature is the FRF's own.
+    """
+    from scipy.ndimage import median_filter
+
+    d2 = np.abs(np.diff(h, 2)) ** 2
+    d2 = np.concatenate([d2[:1], d2, d2[-1:]])
+    level = np.sqrt(median_filter(d2, size=window, mode="nearest") / (6 * np.log(2)))
+    return np.maximum(level, 1e-12 * np.max(np.abs(h)))

@@ -1,6 +1,7 @@
 """Relaxed vector fitting (Gustavsen and Semlyen 1999; Gustavsen 2006): pole relocation.
 
-Starting poles ``a_n`` (complex pairs spread over the band, damping 1 %), each iteration
+Starting poles ``a_n`` (complex pairs spread over the band, logarithmically when it spans
+decades, damping 1 %), each iteration
 solves the linear problem
 
     sigma(s) H(s) ~ sum c_n/(s - a_n) + d,     sigma(s) = sum c~_n/(s - a_n) + d~,
@@ -15,6 +16,7 @@ bounded LSFD step.
 from __future__ import annotations
 
 import numpy as np
+from scipy.linalg import solve_triangular
 
 __all__ = ["vector_fit_poles"]
 
@@ -40,30 +42,48 @@ def _columns(s, poles):
     return np.stack(cols, axis=1)
 
 
-def vector_fit_poles(omega, values, weights, n_pairs, *, n_iter=20, tol=1e-10):
-    """Relocated complex poles (Im p > 0), ``n_pairs`` of them, and the iterations used."""
+def vector_fit_poles(omega, values, weights, n_pairs, *, start=None, rigid=False, n_iter=20,
+                     tol=1e-10):
+    """Relocated complex poles (Im p > 0), ``n_pairs`` of them, and the iterations used.
+
+    ``start`` (rad/s, optional) are frequencies to start from, e.g. the resonance peaks;
+    the remaining poles are spread over the band (logarithmically when it spans decades).
+    ``rigid`` adds a mass line ``e/s^2`` to the fitted numerator (a free body, or the
+    modes below the band): without it the poles bend to imitate one.
+    """
     s = 1j * omega
-    beta = np.linspace(omega[0] if omega[0] > 0 else omega[1], omega[-1], n_pairs)
+    low = omega[0] if omega[0] > 0 else omega[1]
+    start = np.zeros(0) if start is None else np.sort(np.asarray(start, float))[:n_pairs]
+    n_fill = n_pairs - start.size
+    spread = np.geomspace if omega[-1] > 10 * low else np.linspace
+    beta = np.sort(np.concatenate([start, spread(low, omega[-1], n_fill + 2)[1:-1]
+                                   if n_fill else []]))
     poles = -0.01 * beta + 1j * beta
     w = weights
     n_lines = s.size
     for iteration in range(1, n_iter + 1):
         phi = _columns(s, poles)                       # (lines, 2 n)
-        ones = np.ones((n_lines, 1))
-        # unknowns: [c (2n), d, c~ (2n), d~]
-        left = np.hstack([phi, ones, -values[:, None] * phi, -values[:, None]]) * w[:, None]
+        known = np.ones((n_lines, 2 if rigid else 1), dtype=complex)
+        if rigid:
+            known[:, 1] = 1.0 / s**2
+        # unknowns: [c (2n), d (, e), c~ (2n), d~]
+        left = np.hstack([phi, known, -values[:, None] * phi, -values[:, None]]) * w[:, None]
         rows = np.concatenate([left.real, left.imag])
         rhs = np.zeros(rows.shape[0])
         # relaxation row: Re sum over lines of sigma = n_lines (scaled by the line count)
-        relax = np.concatenate([np.zeros(phi.shape[1] + 1),
+        relax = np.concatenate([np.zeros(phi.shape[1] + known.shape[1]),
                                 np.sum(phi, axis=0).real, [n_lines]]) / n_lines
         rows = np.vstack([rows, relax * np.sqrt(np.sum(np.abs(values * w) ** 2))])
         rhs = np.append(rhs, np.sqrt(np.sum(np.abs(values * w) ** 2)))
         scale = np.linalg.norm(rows, axis=0)
         scale[scale == 0] = 1.0
-        x = np.linalg.lstsq(rows / scale, rhs, rcond=None)[0] / scale
-        m = phi.shape[1]
-        c_tilde, d_tilde = x[m + 1:2 * m + 1], x[2 * m + 1]
+        q, r = np.linalg.qr(rows / scale)
+        try:
+            x = solve_triangular(r, q.T @ rhs) / scale
+        except np.linalg.LinAlgError:
+            x = np.linalg.lstsq(rows / scale, rhs, rcond=None)[0] / scale
+        m, k = phi.shape[1], known.shape[1]
+        c_tilde, d_tilde = x[m + k:2 * m + k], x[2 * m + k]
         if abs(d_tilde) < 1e-8:
             d_tilde = 1e-8 if d_tilde >= 0 else -1e-8
         a_mat, b_vec = _real_blocks(poles)

@@ -23,9 +23,9 @@ def _cmd_fit(args) -> int:
         else None
     if freq_range is not None:
         freq_range = (args.fmin or 0.0, args.fmax or float(data.freq_hz[-1]))
-    fit = ModalFit(method=args.method, freq_range=freq_range,
-                   n_modes=args.n_modes, rigid_body={"auto": "auto", "yes": True,
-                                                     "no": False}[args.rigid_body])
+    fit = ModalFit(method=args.method, freq_range=freq_range, n_modes=args.n_modes,
+                   rigid_body={"auto": "auto", "yes": True, "no": False}[args.rigid_body],
+                   passive=not args.not_driving_point, weighting=args.weighting)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         fit.fit(data)
@@ -35,11 +35,11 @@ def _cmd_fit(args) -> int:
     print(f"{args.file}: {len(data)} lines, {data.freq_hz[0]:g}-{data.freq_hz[-1]:g} Hz, "
           f"{data.quantity}")
     columns = [c for c in ("frequency_hz", "damping_ratio", "modal_mass", "frequency_hz_std",
-                           "damping_std") if c in report["modes"].columns]
+                           "damping_ratio_std") if c in report["modes"].columns]
     with pd.option_context("display.width", 140, "display.float_format", "{:.6g}".format):
         print(report["modes"][columns].to_string())
     print(f"rigid body: {report['rigid_body']} (inverse mass {report['inverse_mass']:.6g} 1/kg), "
-          f"residual flexibility {report['flexibility']:.6g} m/N, effective mass "
+          f"residual flexibility {report['residual_flexibility']:.6g} m/N, effective mass "
           f"{report['effective_mass']:.6g} kg")
     print(f"FRF NRMSE {report['frf_nrmse']:.4g}; converged: {report['converged']}")
     if args.out:
@@ -53,7 +53,7 @@ def _cmd_fit(args) -> int:
         import matplotlib.pyplot as plt
 
         fig, axes = plt.subplots(2, 1, figsize=(8, 8))
-        fit.plot_fit(data, ax=axes[0])
+        fit.plot_fit(ax=axes[0])
         fit.plot_stabilization(ax=axes[1])
         fig.tight_layout()
         fig.savefig(out / f"{stem}_fit.png", dpi=110)
@@ -76,6 +76,11 @@ def build_parser() -> argparse.ArgumentParser:
     fit.add_argument("--fmin", type=float, default=None, help="lowest frequency (Hz)")
     fit.add_argument("--fmax", type=float, default=None, help="highest frequency (Hz)")
     fit.add_argument("--rigid-body", choices=("auto", "yes", "no"), default="auto")
+    fit.add_argument("--weighting", choices=("relative", "noise", "uniform"), default="relative",
+                     help="relative: noise proportional to the FRF; noise: a noise floor "
+                          "estimated from the data (analyzer exports)")
+    fit.add_argument("--not-driving-point", action="store_true",
+                     help="allow negative modal masses (a transfer FRF, or a reversed sign)")
     fit.add_argument("--out", help="folder for the model JSON and the plots")
     fit.set_defaults(func=_cmd_fit)
     return parser

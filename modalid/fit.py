@@ -1,15 +1,20 @@
 """``ModalFit``: identify a driving-point ``ModalModel`` from an FRF or impulse response.
 
-Pipeline (scikit-learn estimator conventions: settings in ``__init__``, ``fit`` returns
-self, learned attributes end in ``_``):
+A scikit-learn style estimator (settings in ``__init__``, ``fit`` returns self, learned
+attributes end in ``_``). Pipeline:
 
-1. poles of every order: LSCF (``"lscf"``), vector fitting (``"vf"``) or python-control's
-   ERA on an impulse response (``"era"``);
-2. a stabilization diagram and automatic selection of the physical poles (clustering);
-3. residues by bounded least squares with the selected poles, rigid-body (mass-line)
-   and residual terms; ``passive=True`` keeps every modal mass positive;
-4. a joint weighted nonlinear least-squares refinement of all poles and residues
-   (``scipy.optimize.least_squares``), with its own uncertainty estimate.
+1. poles of every order: LSCF on the band and on nested low sub-bands, merged in one
+   stabilization diagram (``"lscf"``); vector fitting from the resonance peaks
+   (``"vf"``); python-control's ERA on an impulse response (``"era"``);
+2. the clusters that persist over the orders (DBSCAN), as many as the Bayesian
+   information criterion supports; or ``n_modes``;
+3. the low end from the lowest lines (a free body's receptance is a mass line
+   ``-1/(M omega^2)`` there, a grounded one's a positive static flexibility); above the
+   band a constant and two pseudo-modes (one free, one held unless the data move it);
+4. variable-projection refinement of all poles (residues eliminated), weighted ``1/|H|``
+   then ``1/|H_model|`` (maximum likelihood for noise proportional to the FRF); modes the
+   estimator missed are added where the residual peaks, poles that are not significant,
+   not passive or duplicated are dropped one at a time.
 """
 
 from __future__ import annotations
@@ -19,17 +24,22 @@ import warnings
 import numpy as np
 from scipy.signal import find_peaks
 from sklearn.base import BaseEstimator
+from threadpoolctl import threadpool_limits
 
 from ._checks import as_choice, as_count, as_real_array
-from ._era import era_poles_all_orders, fit_residues_time
-from ._lscf import lscf_poles_all_orders
-from ._lsfd import Terms, evaluate, fit_residues, refine
+from ._era import identify_impulse, impulse_samples
+from ._lscf import lscf_subbands
+from ._lsfd import (Terms, evaluate, mass_line_significant, noise_level, place_upper_modes,
+                    refine_varpro, release_gain, removal_cost, split_coefficients)
 from ._vf import vector_fit_poles
 from .frf import FRFData
 from .model import ModalModel
-from .stabilization import plot_stabilization, select_poles, stabilization_table
+from .stabilization import (cluster_poles, plot_fit, plot_stabilization,
+                            select_by_information, select_poles, stabilization_table)
 
 __all__ = ["ModalFit", "ModalFitWarning"]
+
+_FAR = 2.0          # the held upper pseudo-mode sits at twice the top of the band
 
 
 class ModalFitWarning(UserWarning):
@@ -48,31 +58,71 @@ class ModalFit(BaseEstimator):
         Number of modes, or their approximate frequencies (Hz); default: automatic.
     max_order : int, optional
         Largest model order of the stabilization diagram; default from the number of
-        resonance peaks (``4 n_peaks + 16``, at most 120).
+        resonance peaks (``4 n_peaks + 16``, at most 120); for ERA from the rank of the
+        Hankel matrix (its singular values above the noise, plus 12).
     freq_range : (float, float), optional
         Band (Hz) to fit; default: all lines above 0 Hz.
     rigid_body : {"auto", True, False}
-        Fit a rigid-body mass line ``1/(M s^2)``; ``"auto"`` keeps it when the data below
-        the first resonance show one.
+        Fit a rigid-body mass line ``1/(M s^2)``; ``"auto"`` keeps it when the lines well
+        below the first resonance show one (negative real receptance falling like
+        ``omega^-2``) and ``freq_range`` did not cut the data there.
     residuals : tuple of {"lower", "upper"}
-        ``"upper"``: a constant flexibility for the modes above the band. ``"lower"``:
-        for a grounded structure whose band starts above its first modes, a pseudo-mode
-        at a quarter of the lowest band frequency stands for them (reported).
+        ``"upper"``: a constant flexibility and two pseudo-modes above the band for the
+        modes there. ``"lower"``: a pseudo-mode below the band for the modes there, used
+        when the data show a mass line that is not a rigid body (``freq_range`` cut the
+        data above the first modes, the data start too close to the first resonance to
+        tell, or ``rigid_body=False``).
     passive : bool
-        Constrain modal masses, the rigid mass, residual flexibility to be positive.
+        Keep modal masses, the rigid mass and the residual flexibility positive.
     refine : bool
-        Run the joint nonlinear refinement.
-    weighting : {"relative", "uniform"}
-        ``"relative"``: weights ``1/|H|`` (times coherence when given), the maximum-
-        likelihood weighting for noise proportional to the FRF.
+        Run the nonlinear refinement (else: residues of the estimated poles only).
+    weighting : {"relative", "noise", "uniform"}
+        ``"relative"``: weights ``1/|H|`` (times the square root of the coherence when
+        given), then ``1/|H_model|``: maximum likelihood for noise proportional to the
+        FRF. ``"noise"``: one over the noise level estimated from the data's own scatter
+        (a running median of second differences), for measured FRFs whose noise is not
+        proportional (a noise floor). ``"uniform"``: equal weights.
 
     Attributes
     ----------
     model_ : ModalModel
+        The identified model, pseudo-modes included (they stand for out-of-band modes).
     poles_ : ndarray of complex (Im > 0)
+        The physical poles, by frequency.
     stabilization_ : pandas.DataFrame
+        Every candidate pole of every order and band (:func:`stabilization_table`).
     clusters_ : pandas.DataFrame
+        The pole clusters and which were selected.
+    frf_ : FRFData
+        The receptance fitted (the band, lines above 0 Hz); ``impulse_`` ``(t, h)`` for
+        ERA.
     report_ : dict
+        ``converged``, ``message``, ``n_iterations``; ``n_modes`` and ``modes`` (the
+        physical modes: frequency, damping, residue, modal mass and their standard
+        deviations); ``rigid_body``, ``rigid_mass``, ``inverse_mass``;
+        ``lower_residual_mode``, ``upper_residual_modes``; the high-frequency behaviour:
+        ``effective_mass`` ``1/(sum 1/m_k + 1/M)`` over the model's modes (pseudo-modes
+        included), ``effective_mass_physical`` (physical modes only) and
+        ``residual_flexibility``; ``frf_nrmse`` (against the data), ``band_hz``,
+        ``max_order``, ``notes`` (modes added or dropped, with why).
+
+    Warns
+    -----
+    ModalFitWarning
+        When the refinement did not converge or the band holds no resonance
+        (``report_`` says so too).
+
+    Examples
+    --------
+    >>> from data_synth import Rod
+    >>> truth = Rod(1.0, 1.0, support="fixed").modal_model(18, damping_ratio=0.01,
+    ...                                                     residual=True)
+    >>> freq = np.linspace(0.001, 4.0, 4000)
+    >>> fit = ModalFit().fit(FRFData(freq, truth.frf(2 * np.pi * freq)))
+    >>> fit.report_["n_modes"], bool(fit.report_["rigid_body"])
+    (8, False)
+    >>> np.round(np.abs(fit.poles_[:3]) / (2 * np.pi), 4)
+    array([0.25, 0.75, 1.25])
     """
 
     def __init__(self, *, method="lscf", n_modes=None, max_order=None, freq_range=None,
@@ -90,224 +140,414 @@ class ModalFit(BaseEstimator):
 
     # ------------------------------------------------------------------ fitting
     def fit(self, data):
-        """Identify the model from ``data``; returns ``self``."""
+        """Identify the model from ``data``; returns ``self``.
+
+        Parameters
+        ----------
+        data : FRFData, or (t, h) for ``method="era"``
+            Any FRF quantity (converted to receptance); the impulse response in m/(N s)
+            on a uniform time grid.
+        """
         as_choice("method", self.method, ("lscf", "vf", "era"))
-        as_choice("weighting", self.weighting, ("relative", "uniform"))
-        if self.rigid_body not in ("auto", True, False):
+        as_choice("weighting", self.weighting, ("relative", "noise", "uniform"))
+        if not (isinstance(self.rigid_body, str) and self.rigid_body == "auto"
+                or isinstance(self.rigid_body, (bool, np.bool_))):
             raise ValueError(f"rigid_body must be 'auto', True or False, got {self.rigid_body!r}")
         bad = set(self.residuals) - {"lower", "upper"}
         if bad:
             raise ValueError(f"residuals must be a subset of ('lower', 'upper'), got {bad}")
-        if self.method == "era":
-            return self._fit_impulse(data)
-        if not isinstance(data, FRFData):
+        self._selection()                        # validates n_modes
+        for name in ("model_", "poles_", "stabilization_", "clusters_", "report_", "frf_",
+                     "impulse_"):
+            self.__dict__.pop(name, None)         # a second fit starts afresh
+        if self.method != "era" and not isinstance(data, FRFData):
             raise TypeError(f"data must be an FRFData for method={self.method!r}, got "
                             f"{type(data).__name__}")
-        return self._fit_frf(data)
-
-    def _prepare(self, data: FRFData):
-        if self.freq_range is not None:
-            data = data.band(self.freq_range)
-        data = data.select(data.freq_hz > 0)
-        frf = data.to_receptance()
-        h = frf.values
-        if self.weighting == "relative":
-            mag = np.abs(h)
-            w = 1.0 / np.maximum(mag, 1e-3 * np.median(mag))
-        else:
-            w = np.full(h.size, 1.0 / np.sqrt(np.mean(np.abs(h) ** 2)))
-        if frf.coherence is not None:
-            w = w * np.sqrt(np.clip(frf.coherence, 1e-3, 1.0))
-        return data, frf, w
-
-    def _default_order(self, h):
-        logmag = np.log10(np.abs(h))
-        peaks, _ = find_peaks(logmag, prominence=0.3)
-        return int(min(120, 4 * max(peaks.size, 2) + 16))
-
-    def _fit_frf(self, data: FRFData):
-        data, frf, w = self._prepare(data)
-        omega, h = frf.omega, frf.values
-        band = (frf.freq_hz[0], frf.freq_hz[-1])
-        max_order = (as_count("max_order", self.max_order, minimum=2) if self.max_order
-                     else self._default_order(h))
-        poles_by_order = lscf_poles_all_orders(omega, h, w, max_order)
-        self.stabilization_ = stabilization_table(poles_by_order, band)
-        poles, self.clusters_ = select_poles(self.stabilization_, **self._selection())
-        if self.n_modes is None:
-            poles = self._select_by_information(omega, h, w, poles)
-        iterations = None
-        if self.method == "vf":
-            n_pairs = poles.size if poles.size else (self.n_modes if isinstance(
-                self.n_modes, int) else 4)
-            poles, iterations = vector_fit_poles(omega, h, w, n_pairs)
-            inside = (np.abs(poles) >= omega[0]) & (np.abs(poles) <= omega[-1])
-            poles = poles[inside]
-        return self._finish(data, frf, w, poles, max_order, vf_iterations=iterations)
+        # small dense algebra: BLAS threads only add overhead (restored on exit)
+        with threadpool_limits(limits=1, user_api="blas"):
+            return self._fit_impulse(data) if self.method == "era" else self._fit_frf(data)
 
     def _selection(self):
         if self.n_modes is None:
             return {}
         if np.ndim(self.n_modes) == 0:
             return {"n_modes": as_count("n_modes", self.n_modes, minimum=1)}
-        return {"frequencies_hz": as_real_array("n_modes", self.n_modes, ndim=1)}
+        freqs = as_real_array("n_modes", self.n_modes, ndim=1)
+        if freqs.size == 0 or np.any(freqs <= 0):
+            raise ValueError(f"n_modes as frequencies must be positive Hz, got {freqs!r}")
+        return {"frequencies_hz": freqs}
 
-    def _select_by_information(self, omega, h, w, candidates):
-        """The persistent clusters that the data support, by the Bayesian information criterion.
+    def _prepare(self, data: FRFData):
+        data = data.select(data.freq_hz > 0)
+        first = data.freq_hz[0]
+        if self.freq_range is not None:
+            data = data.band(self.freq_range)
+        cut = bool(data.freq_hz[0] > first)          # lines below the band were dropped
+        frf = data.to_receptance()
+        mag = np.abs(frf.values)
+        if self.weighting == "relative":
+            w = 1.0 / np.maximum(mag, 1e-12 * mag.max())
+        elif self.weighting == "noise":
+            w = 1.0 / noise_level(frf.values)
+        else:
+            w = np.full(mag.size, 1.0 / np.sqrt(np.mean(mag**2)))
+        self._coherence_weight = (1.0 if frf.coherence is None
+                                  else np.sqrt(np.clip(frf.coherence, 1e-3, 1.0)))
+        return frf, w * self._coherence_weight, cut
 
-        Clusters are added in order of persistence (orders in the stabilization diagram);
-        for each count the residues are refitted and ``BIC = n ln(SSE/n) + k ln(n)``
-        (``n`` real data, ``k`` real parameters) is computed; the count with the smallest
-        BIC wins. A noise pole lowers the residual by about what its four parameters can
-        fit in noise, far less than their ``4 ln(n)`` penalty; a physical pole lowers it by
-        orders of magnitude.
-        """
-        clusters = self.clusters_
-        if candidates.size <= 1:
-            return candidates
-        sel = clusters[clusters["selected"]].copy()
-        sel["pole"] = -sel["damping_ratio"] * sel["omega_n"] + 1j * sel["omega_n"] * np.sqrt(
-            1 - sel["damping_ratio"] ** 2)
-        ranked = sel.sort_values(["size", "first_order"], ascending=[False, True])["pole"]
-        ranked = ranked.to_numpy()
-        terms = Terms(np.zeros(0), self.rigid_body is not False or "lower" in self.residuals,
-                      "upper" in self.residuals)
-        n = 2 * omega.size
-        best_k, best_bic = 0, np.inf
-        upper = self._upper_pole(omega)
-        for k in range(1, ranked.size + 1):
-            *_, sse = fit_residues(omega, h, w, _append(ranked[:k], upper), terms,
-                                   passive=self.passive)
-            n_par = 4 * k + int(terms.rigid) + int(terms.upper)
-            bic = n * np.log(max(sse, 1e-300) / n) + n_par * np.log(n)
-            if bic < best_bic:
-                best_k, best_bic = k, bic
-        keep = np.zeros(len(clusters), bool)
-        chosen = set(np.round(ranked[:best_k], 12))
-        for i, row in clusters.iterrows():
-            if row["selected"]:
-                pole = -row["damping_ratio"] * row["omega_n"] + 1j * row["omega_n"] * np.sqrt(
-                    1 - row["damping_ratio"] ** 2)
-                keep[i] = np.round(pole, 12) in chosen
-        self.clusters_ = clusters.assign(selected=keep)
-        return np.sort_complex(ranked[:best_k])
-
-    def _upper_pole(self, omega):
-        """Pseudo-mode standing for the modes above the band (None without "upper")."""
-        if "upper" not in self.residuals:
-            return None
-        w_u = 1.25 * omega[-1]
-        return -0.01 * w_u + 1j * w_u
-
-    def _residual_terms(self, omega, h, w, poles):
-        """Decide the rigid-body / lower-residual terms; returns (terms, lower_pole)."""
-        upper = "upper" in self.residuals
-        want_mass_line = self.rigid_body is not False or "lower" in self.residuals
-        terms = Terms(np.zeros(0), bool(want_mass_line), upper)
-        if not want_mass_line:
-            return terms, None
-        with_upper = _append(poles, self._upper_pole(omega))
-        r, c, u, d, _, _ = fit_residues(omega, h, w, with_upper, terms, passive=self.passive)
-        below_first = poles.size == 0 or omega[0] < 0.7 * np.min(np.abs(poles))
-        significant = u / omega[0] ** 2 > 0.05 * np.abs(h[0])
-        if self.rigid_body is True or (self.rigid_body == "auto" and significant
-                                        and below_first):
-            return terms, None
-        terms = Terms(np.zeros(0), False, upper)
-        if "lower" in self.residuals and significant and not below_first:
-            w_l = omega[0] / 4
-            return terms, -0.01 * w_l + 1j * w_l
-        return terms, None
-
-    def _finish(self, data, frf, w, poles, max_order, *, vf_iterations=None):
+    def _fit_frf(self, data: FRFData):
+        frf, w, cut = self._prepare(data)
+        self.frf_ = frf
         omega, h = frf.omega, frf.values
-        if poles.size == 0:
-            warnings.warn("no stable physical pole found: the model holds only residual "
-                          "terms; see stabilization_", ModalFitWarning, stacklevel=3)
-        terms, lower_pole = self._residual_terms(omega, h, w, poles)
-        upper_pole = self._upper_pole(omega)
-        all_poles = _append(poles, upper_pole)
-        bounds = [(0.0, np.inf)] * poles.size + ([(omega[-1], np.inf)] if upper_pole else [])
-        if lower_pole is not None:
-            all_poles = np.concatenate([[lower_pole], all_poles])
-            bounds = [(0.0, omega[0])] + bounds
-        r, c, u, d, cov, _ = fit_residues(omega, h, w, all_poles, terms, passive=self.passive)
-        converged, message, nfev = True, "linear least squares", 0
-        std = np.sqrt(np.clip(np.diag(cov), 0, None))
-        if self.refine and all_poles.size:
-            (p, r, _, _, u, d), result = refine(
-                omega, h, w, all_poles, r, np.zeros(0), np.zeros(0), u, d,
-                rigid=terms.rigid, upper=terms.upper, passive=self.passive,
-                imag_bounds=bounds)
-            all_poles = p
-            converged, message, nfev = result.status > 0, result.message, result.nfev
-            std = _parameter_std(result)
-            if not converged:
-                warnings.warn(f"the refinement did not converge: {message}", ModalFitWarning,
-                              stacklevel=3)
-        model = ModalModel(poles=all_poles, residues=r, inverse_mass=max(u, 0.0),
-                           flexibility=d)
-        self.model_ = model
-        physical = slice(int(lower_pole is not None),
-                         all_poles.size - int(upper_pole is not None))
-        self.poles_ = np.sort_complex(all_poles[physical])
-        fitted = evaluate(omega, all_poles, r, np.zeros(0), np.zeros(0), u, d)
-        self.report_ = self._report(frf, fitted, model, converged, message, nfev, max_order,
-                                    lower_pole is not None, upper_pole is not None, std,
-                                    all_poles.size, vf_iterations)
+        peaks, _ = find_peaks(np.log10(np.abs(h)), prominence=0.3)
+        max_order = (as_count("max_order", self.max_order, minimum=2) if self.max_order
+                     else int(min(120, 4 * max(peaks.size, 2) + 16)))
+        bands = lscf_subbands(omega, h, w, max_order, peaks=omega[peaks])
+        f0 = frf.freq_hz[0]
+        # a sub-band's top edge is where its basis wraps (z = -1): its poles there are not
+        tops = [(1.0 if k == 0 else 0.9) * top / (2 * np.pi) for k, (top, _) in enumerate(bands)]
+        self.stabilization_ = stabilization_table([p for _, p in bands],
+                                                  [(f0, top) for top in tops])
+        clusters = cluster_poles(self.stabilization_)
+        if self._selection():
+            poles, selected = select_poles(clusters, **self._selection())
+        else:
+            poles, selected = self._select_by_information(omega, h, w, clusters, cut)
+        self.clusters_ = clusters.assign(selected=selected)
+        iterations = None
+        if self.method == "vf":
+            n_pairs = max(poles.size, 1)
+            mass_line = any(self._low_end(omega, h, w, poles, cut))
+            poles, iterations = vector_fit_poles(omega, h, w, n_pairs + 2, start=omega[peaks],
+                                                 rigid=mass_line)
+            poles = poles[(np.abs(poles) >= omega[0]) & (np.abs(poles) <= omega[-1])]
+            poles = self._screen(omega, h, w, poles, cut)
+        return self._identify(frf, w, poles, cut, max_order, iterations)
+
+    def _select_by_information(self, omega, h, w, clusters, cut, min_share=0.5):
+        """Clusters in ``min_share`` of their band's orders, ranked by persistence; the
+        information criterion decides how many are physical. (Noise and antiresonance
+        poles persist over at most two fifths of the orders, physical ones two thirds; a
+        less persistent mode is left to :meth:`_missed_mode`.)"""
+        share = clusters["share"].to_numpy(float)
+        cand = clusters["pole"].to_numpy(complex)[share >= min_share]
+        selected = np.zeros(len(clusters), bool)
+        if cand.size:
+            keep, _, negative = select_by_information(
+                omega, h, w, cand, *self._linear_terms(omega, h, w, cand, cut),
+                passive=self.passive)
+            self._warn_negative(cand[negative])
+            selected[np.flatnonzero(share >= min_share)[keep]] = True
+            cand = cand[keep]
+        return cand[np.argsort(np.abs(cand))], selected
+
+    def _warn_negative(self, poles):
+        """Resonances the data support but with a negative modal mass: not a passive
+        driving point (a transfer FRF, or the response sign reversed)."""
+        if self.passive and poles.size:
+            freqs = ", ".join(f"{abs(p) / (2 * np.pi):.4g}" for p in np.sort(np.abs(poles)))
+            warnings.warn(f"resonances at {freqs} Hz have a negative modal mass and are left "
+                          "out (passive=True): is this a transfer FRF, or is the sign "
+                          "reversed? Fit with passive=False", ModalFitWarning, stacklevel=5)
+
+    def _screen(self, omega, h, w, poles, cut):
+        """Vector-fitting poles the data support (greedy forward selection, BIC)."""
+        keep, _, negative = select_by_information(
+            omega, h, w, poles, *self._linear_terms(omega, h, w, poles, cut), greedy=True,
+            passive=self.passive)
+        self._warn_negative(poles[negative])
+        return poles[keep][np.argsort(np.abs(poles[keep]))]
+
+    def _linear_terms(self, omega, h, w, poles, cut):
+        """Terms and fixed pseudo-modes of the linear fits that select the poles."""
+        terms = Terms(np.zeros(0), any(self._low_end(omega, h, w, poles, cut)),
+                      "upper" in self.residuals)
+        fixed = np.zeros(0, complex)
+        if "upper" in self.residuals:
+            fixed = omega[-1] * np.array([1.1, 1.6]) * (-0.02 + 1j * np.sqrt(1 - 4e-4))
+        return terms, fixed
+
+    # ----------------------------------------------------------- low end, residuals
+    def _low_end(self, omega, h, w, poles, cut):
+        """``(rigid, lower)``: is there a mass line, and is it a rigid body or the lower
+        residual of modes below the band?
+
+        With lines well below the first pole, their phase and slope decide (a free body's
+        receptance there is ``-1/(M omega^2)``, a grounded one's a positive static
+        flexibility); otherwise a ``1/s^2`` term must lower the weighted residual by more
+        than its information cost, with a positive mass. A mass line is a rigid body when
+        the data reach well below the first pole and ``freq_range`` did not cut them;
+        else (and with ``rigid_body=False``) it is the lower residual.
+        """
+        if self.rigid_body is True:
+            return True, False
+        first = np.min(np.abs(poles)) if poles.size else omega[-1]
+        below = np.flatnonzero(omega < 0.5 * first)[:20]
+        if below.size >= 3:
+            slope = np.polyfit(np.log(omega[below]), np.log(np.abs(h[below])), 1)[0]
+            mass_line = bool(np.median(h[below].real) < 0 and slope < -1.0)
+        else:
+            mass_line = mass_line_significant(omega, h, w, poles)
+        if not mass_line:
+            return False, False
+        lower = "lower" in self.residuals
+        if self.rigid_body is False:
+            return False, lower
+        if below.size >= 3 and not cut:
+            return True, False
+        return not lower, lower
+
+    def _start(self, omega, h, w, poles, cut):
+        """Starting poles with their kinds and the linear terms."""
+        rigid, lower = self._low_end(omega, h, w, poles, cut)
+        upper = "upper" in self.residuals
+        terms = Terms(np.zeros(0), rigid, upper)
+        kinds = ["mode"] * poles.size
+        if lower:
+            wl = 0.5 * omega[0]
+            poles = np.concatenate([[complex(-0.01 * wl, wl)], poles])
+            kinds = ["lower"] + kinds
+        if upper:
+            ups, _, _ = place_upper_modes(omega, h, w, poles, terms, n_upper=1)
+            far = _FAR * omega[-1] * complex(-0.05, np.sqrt(1 - 0.05**2))
+            poles = np.concatenate([poles, ups, [far]])
+            kinds = kinds + ["upper"] * ups.size + ["far"]
+        return poles, np.array(kinds), terms
+
+    def _release_far(self, omega, h, w, poles, kinds, x, info, terms):
+        """Free the held far pseudo-mode when the data support moving it: its two
+        parameters must lower the cost by more than ``2 ln(n)`` residual variances
+        (Gauss-Newton prediction). Clean data do; at a few percent noise it stays put
+        (a fixed shape for the distant modes costs less variance than a free one)."""
+        hold = kinds == "far"
+        wm = self._model_weights(omega, poles, x, terms, w)
+        gain = release_gain(omega, h, wm, poles, terms, hold, passive=self.passive)
+        if gain < 2 * np.log(2 * omega.size):
+            return poles, kinds, x, info
+        kinds = np.where(hold, "upper", kinds)
+        poles, x, info = self._refine(omega, h, w, poles, kinds, terms)
+        return poles, kinds, x, info
+
+    # -------------------------------------------------------------- identification
+    def _identify(self, frf, w, poles, cut, max_order, vf_iterations):
+        omega, h = frf.omega, frf.values
+        poles = poles[np.argsort(np.abs(poles))]
+        poles, kinds, terms = self._start(omega, h, w, poles, cut)
+        notes = []
+        self._iterations, self._buffers = 0, {}
+        if self.refine:
+            start = poles
+            # a quick first pass (a mode missing makes the refinement crawl), then modes
+            # the estimator missed, where the residual peaks
+            poles, x, info = self._refine(omega, h, w, start, kinds, terms, quick=True)
+            tried = []
+            for stage in range(2):
+                for _ in range(0 if self._selection() else 4):
+                    poles, kinds, x, info, found = self._missed_mode(
+                        omega, h, w, poles, kinds, x, info, terms, tried)
+                    if not found:
+                        break
+                    notes += found
+                    start = poles
+                if stage == 0 and info.get("quick"):
+                    poles, x, info = self._refine(omega, h, w, poles, kinds, terms)
+                else:
+                    break
+            # drop the worst non-physical pole, refine again from the start without it
+            for _ in range(0 if self._selection() else 4):
+                k, why = self._worst_pole(omega, h, w, poles, x, info, kinds, terms)
+                if k is None:
+                    break
+                notes.append(why)
+                start, kinds = np.delete(start, k), np.delete(kinds, k)
+                poles, x, info = self._refine(omega, h, w, start, kinds, terms)
+            if np.any(kinds == "far"):
+                poles, kinds, x, info = self._release_far(omega, h, w, poles, kinds, x,
+                                                          info, terms)
+            # a pseudo-mode held at zero modal mass by passivity carries nothing physical
+            for _ in range(2 if self.passive else 0):
+                idle = (kinds != "mode") & (split_coefficients(x, poles.size, terms)[0].imag >= 0)
+                if not idle.any():
+                    break
+                poles, x, info = self._refine(omega, h, w, poles[~idle], kinds[~idle], terms)
+                kinds = kinds[~idle]
+        else:
+            poles, x, info = refine_varpro(omega, h, w, poles, terms, passive=self.passive,
+                                           max_iter=0)
+            info.update(converged=True, message="linear least squares (refine=False)")
+        residues, _, u, d = split_coefficients(x, poles.size, terms)
+        info["n_iter_total"] = self._iterations
+        if not info["converged"]:
+            warnings.warn(f"the refinement did not converge: {info['message']}",
+                          ModalFitWarning, stacklevel=4)
+        if not np.any(kinds == "mode"):
+            warnings.warn("no resonance found in the band: the model holds only residual "
+                          "terms; see stabilization_", ModalFitWarning, stacklevel=4)
+        self._store(frf, poles, kinds, residues, u, d, info, notes, max_order, vf_iterations)
+        del self._buffers
         return self
 
-    def _report(self, frf, fitted, model, converged, message, nfev, max_order, lower, upper,
-                std, n_poles, vf_iterations):
-        h = frf.values
-        nrmse = float(np.linalg.norm(fitted - h) / np.linalg.norm(h))
-        modal_mass = model.modes["modal_mass"].to_numpy()
-        inv_sum = model.inverse_mass + float(np.sum(1.0 / modal_mass[modal_mass > 0]))
-        table = model.modes.copy()
-        order = np.argsort(np.abs(model.poles), kind="stable")
-        if std is not None and std.size >= 4 * n_poles:
-            s4 = std[:4 * n_poles].reshape(n_poles, 4)[order]
-            table["damping_std"] = s4[:, 0] / table["omega_n"]
-            table["frequency_hz_std"] = s4[:, 1] / (2 * np.pi)
-            table["residue_std"] = np.hypot(s4[:, 2], s4[:, 3])
-        return {"method": self.method, "converged": bool(converged), "message": str(message),
-                "n_function_evaluations": int(nfev), "max_order": int(max_order),
-                "n_modes": model.n_modes - int(lower) - int(upper),
-                "lower_residual_mode": bool(lower), "upper_residual_mode": bool(upper),
-                "rigid_body": model.inverse_mass > 0, "inverse_mass": model.inverse_mass,
-                "flexibility": model.flexibility,
-                "effective_mass": (1.0 / inv_sum) if inv_sum > 0 else np.inf,
-                "frf_nrmse": nrmse, "band_hz": (float(frf.freq_hz[0]), float(frf.freq_hz[-1])),
-                "vf_iterations": vf_iterations, "modes": table}
+    @staticmethod
+    def _imag_bounds(kinds, omega, poles):
+        """Bounds on ``Im p``: pseudo-modes stay outside the band, a physical pole within
+        10 % of where it started (it may not wander off to another resonance)."""
+        upper = (kinds == "upper") | (kinds == "far")
+        lo = np.where(upper, omega[-1], np.where(kinds == "mode", 0.9 * poles.imag, 0.0))
+        hi = np.where(upper, 4.0 * omega[-1],
+                      np.where(kinds == "lower", omega[0],
+                               np.where(kinds == "mode", 1.1 * poles.imag, np.inf)))
+        return lo, hi
 
+    def _model_weights(self, omega, poles, x, terms, w0):
+        if self.weighting != "relative":
+            return w0
+        r, _, u, d = split_coefficients(x, poles.size, terms)
+        mag = np.abs(evaluate(omega, poles, r, (), (), u, d))
+        if not np.all(np.isfinite(mag)) or mag.max() <= 0:
+            return w0                                     # no model to weigh by
+        return self._coherence_weight / np.maximum(mag, 1e-12 * mag.max())
+
+    def _refine(self, omega, h, w, poles, kinds, terms, quick=False):
+        """Variable projection with the data's weights (to within about a standard
+        deviation), then reweighted by the model ``1/|H_model|`` and converged; once more
+        if that moved the poles much. ``quick``: the first stage only, 15 steps at most."""
+        lo, hi = self._imag_bounds(kinds, omega, poles)
+        kw = dict(imag_lo=lo, imag_hi=hi, passive=self.passive, hold=kinds == "far",
+                  buffers=self._buffers)
+        relative = self.weighting == "relative"
+        poles, x, info = refine_varpro(omega, h, w, poles, terms, with_std=not relative,
+                                       stat_tol=0.1 if relative else 1e-4,
+                                       max_iter=15 if quick else 50, **kw)
+        n_iter = info["n_iter"]
+        for _ in range(0 if quick or not relative else 2):
+            wm = self._model_weights(omega, poles, x, terms, w)
+            poles, x, info = refine_varpro(omega, h, wm, poles, terms, **kw)
+            n_iter += info["n_iter"]
+            if info["n_iter"] <= 3:
+                break
+        info["n_iter"] = n_iter
+        info["quick"] = quick and relative
+        self._iterations += n_iter
+        return poles, x, info
+
+    def _missed_mode(self, omega, h, w, poles, kinds, x, info, terms, tried):
+        """Add a mode the pole estimator missed, where the weighted residual has a peak.
+
+        The residual power, averaged over 3 lines, must exceed 14 times its median (for
+        noise alone a 1e-9 event) at a frequency not ``tried`` before; a pole of 1 %
+        damping is placed there and kept when a quick refinement halves the cost (the
+        data's weights) and the new pole passes :meth:`_worst_pole`.
+        """
+        r, _, u, d = split_coefficients(x, poles.size, terms)
+        resid = h - evaluate(omega, poles, r, (), (), u, d)
+        wm = self._model_weights(omega, poles, x, terms, w)
+        e2 = np.convolve(np.abs(resid * wm) ** 2, np.ones(3) / 3, mode="same")
+        e2 /= np.median(e2)
+        e2[int(0.98 * e2.size):] = 0.0
+        for wt in tried:
+            e2[np.abs(omega - wt) < 0.02 * wt] = 0.0
+        k = int(np.argmax(e2))
+        if e2[k] < 14.0:
+            return poles, kinds, x, info, []
+        wk = omega[k]
+        tried.append(wk)
+        trial = np.append(poles, complex(-0.01 * wk, wk))
+        kinds_t = np.append(kinds, "mode")
+        order = np.argsort(np.where(kinds_t == "mode", np.abs(trial), np.inf), kind="stable")
+        trial, kinds_t = trial[order], kinds_t[order]
+        poles_t, x_t, info_t = self._refine(omega, h, w, trial, kinds_t, terms, quick=True)
+        new = int(np.flatnonzero(order == trial.size - 1)[0])
+        worst, _ = self._worst_pole(omega, h, w, poles_t, x_t, info_t, kinds_t, terms, only=new)
+        if info_t["cost"] > 0.5 * np.sum(np.abs(resid * w) ** 2) or worst is not None:
+            return poles, kinds, x, info, []
+        note = f"added a mode the pole estimator missed, at {wk / (2 * np.pi):.6g} Hz"
+        return poles_t, kinds_t, x_t, info_t, [note]
+
+    def _worst_pole(self, omega, h, w, poles, x, info, kinds, terms, only=None):
+        """The physical pole to drop first, and why (``(None, None)``: all are fine).
+
+        A physical pole must have a positive modal mass, stay in the band, not duplicate a
+        stronger one (half-power bands overlapping) and be significant, checked in that
+        order; the weakest offender goes. Significant: damping < 0.3 and ``|r| > 6 std``,
+        or else removing the mode (the rest refitted linearly) raises the cost by more
+        than ``4 ln(n)`` residual variances (a sharp resonance on few lines has a poorly
+        determined residue but is plainly there).
+        """
+        r, *_ = split_coefficients(x, poles.size, terms)
+        std = info["std"]["modes"] if info["std"] is not None else np.zeros((poles.size, 4))
+        t = np.abs(r) / np.maximum(np.hypot(std[:, 2], std[:, 3]), 1e-300)
+        wn, zeta = np.abs(poles), -poles.real / np.abs(poles)
+        mode = kinds == "mode"
+        if only is not None:
+            mode = mode & (np.arange(poles.size) == only)
+        overlap = np.abs(wn[:, None] - wn[None, :]) < zeta[:, None] * wn[:, None] + zeta * wn
+        weaker = overlap & mode[None, :] & (t[None, :] > t[:, None])
+        weak = mode & (t < 6.0) & (zeta <= 0.3)
+        if weak.any():
+            gain = removal_cost(omega, h, self._model_weights(omega, poles, x, terms, w),
+                                poles, terms, np.flatnonzero(weak), passive=self.passive,
+                                buffers=self._buffers)
+            weak[weak] = gain < 4 * np.log(2 * omega.size)
+        tests = [(self.passive & (r.imag >= 0), "no positive modal mass"),
+                 ((wn < omega[0]) | (wn > omega[-1]), "it left the band"),
+                 (weaker.any(axis=1), "it duplicates a stronger pole"),
+                 (weak | (zeta > 0.3), "not significant")]
+        for bad, reason in tests:
+            bad = bad & mode
+            if bad.any():
+                k = int(np.flatnonzero(bad)[np.argmin(t[bad])])
+                detail = f" (|r|/std = {t[k]:.3g}, damping {zeta[k]:.3g})"
+                return k, f"dropped the pole at {wn[k] / (2 * np.pi):.6g} Hz: {reason}{detail}"
+        return None, None
+
+    # ------------------------------------------------------------------ results
+    def _store(self, frf, poles, kinds, residues, u, d, info, notes, max_order,
+               vf_iterations):
+        omega, h = frf.omega, frf.values
+        self.model_ = ModalModel(poles=poles, residues=residues, inverse_mass=max(u, 0.0),
+                                 flexibility=d)
+        physical = kinds == "mode"
+        self.poles_ = poles[physical][np.argsort(np.abs(poles[physical]))]
+        fitted = self.model_.frf(omega)
+        modes = ModalModel(poles=poles[physical], residues=residues[physical]).modes
+        std = info.get("std")
+        for name in ("frequency_hz_std", "damping_ratio_std", "residue_std"):
+            modes[name] = np.nan
+        if std is not None:
+            # first-order propagation from (Re p, Im p) to |p| and -Re p/|p|
+            order = np.argsort(np.abs(poles[physical]), kind="stable")
+            s4, p = std["modes"][physical][order], poles[physical][order]
+            wn, sig, nu = np.abs(p), p.real, p.imag
+            modes["frequency_hz_std"] = np.hypot(sig * s4[:, 0], nu * s4[:, 1]) / wn / (2 * np.pi)
+            modes["damping_ratio_std"] = np.hypot(nu**2 * s4[:, 0], sig * nu * s4[:, 1]) / wn**3
+            modes["residue_std"] = np.hypot(s4[:, 2], s4[:, 3])
+        self.report_ = _report(
+            self.model_, kinds, info, notes, method=self.method, max_order=max_order,
+            frf_nrmse=float(np.linalg.norm(fitted - h) / np.linalg.norm(h)),
+            band_hz=(float(frf.freq_hz[0]), float(frf.freq_hz[-1])),
+            vf_iterations=vf_iterations, modes=modes)
+
+    # ------------------------------------------------------------------ ERA
     def _fit_impulse(self, data):
-        try:
-            t, h = data
-        except (TypeError, ValueError) as exc:
-            raise TypeError("method='era' takes an impulse response (t, h)") from exc
-        t = as_real_array("t", t, ndim=1)
-        h = as_real_array("h", h, ndim=1)
-        if t.shape != h.shape or t.size < 16:
-            raise ValueError(f"t and h must have equal lengths of at least 16, got {t.size} "
-                             f"and {h.size}")
-        dt = float(t[1] - t[0])
-        if dt <= 0 or not np.allclose(np.diff(t), dt, rtol=1e-6):
-            raise ValueError("t must be uniformly spaced and increasing for ERA")
-        max_order = as_count("max_order", self.max_order, minimum=2) if self.max_order else 40
-        poles_by_order = era_poles_all_orders(h, dt, max_order)
-        band = (1e-12, 0.5 / dt)
-        self.stabilization_ = stabilization_table(poles_by_order, band)
-        poles, self.clusters_ = select_poles(self.stabilization_, **self._selection())
-        rigid = self.rigid_body is True
-        r, c, u = fit_residues_time(t, h, poles, np.zeros(0), rigid=rigid, passive=self.passive)
-        model = ModalModel(poles=poles, residues=r, inverse_mass=max(u, 0.0))
-        fitted = model.impulse_response(t)
-        self.model_ = model
-        self.poles_ = np.sort_complex(poles)
-        nrmse = float(np.linalg.norm(fitted - h) / np.linalg.norm(h))
-        self.report_ = {"method": "era", "converged": True, "message": "linear least squares",
-                        "max_order": max_order, "n_modes": model.n_modes,
-                        "rigid_body": rigid, "impulse_nrmse": nrmse, "modes": model.modes}
+        t, h = impulse_samples(data)
+        max_order = as_count("max_order", self.max_order, minimum=2) if self.max_order else None
+        out = identify_impulse(t, h, max_order=max_order, selection=self._selection(),
+                               rigid_body=self.rigid_body, passive=self.passive)
+        self.stabilization_, self.clusters_ = out["stabilization"], out["clusters"]
+        self.impulse_ = (t, h)
+        poles, notes = out["poles"], []
+        if poles.size == 0:
+            warnings.warn("no resonance found in the impulse response", ModalFitWarning,
+                          stacklevel=3)
+        model = ModalModel(poles=poles, residues=out["residues"],
+                           inverse_mass=out["inverse_mass"])
+        self.model_, self.poles_ = model, poles
+        info = {"converged": True, "message": "ERA poles, residues by linear least squares"}
+        self.report_ = _report(model, np.full(poles.size, "mode"), info, notes,
+                               method="era", max_order=out["max_order"],
+                               impulse_nrmse=out["nrmse"],
+                               hankel_singular_values=out["singular_values"],
+                               modes=model.modes)
         return self
 
     # ------------------------------------------------------------------ use
@@ -333,30 +573,39 @@ class ModalFit(BaseEstimator):
         self._check_fitted()
         return plot_stabilization(self.stabilization_, selected=self.poles_, ax=ax)
 
-    def plot_fit(self, data: FRFData, ax=None):
-        """Measured and identified FRF magnitude; returns the Axes."""
+    def plot_fit(self, ax=None, *, data=None):
+        """The data fitted (or ``data``, an FRFData) and the model; returns the Axes.
+
+        FRF fits: magnitudes against frequency (Hz); ERA: impulse responses against time.
+        """
         self._check_fitted()
-        data = data.select(data.freq_hz > 0)
-        ax = data.plot(ax=ax, label="data", color="0.6")
-        fitted = self.model_.frf(data.omega, quantity=data.quantity)
-        ax.semilogy(data.freq_hz, np.abs(fitted), "C3", lw=1, label="ModalFit")
-        ax.legend(fontsize=8)
-        return ax
+        if data is None and self.method == "era":
+            return plot_fit(self.model_, impulse=self.impulse_, ax=ax)
+        return plot_fit(self.model_, frf=self.frf_ if data is None else data, ax=ax)
 
 
-def _append(poles, extra):
-    return poles if extra is None else np.concatenate([poles, [extra]])
+def _high_frequency(model, physical):
+    """Effective mass ``1/(sum 1/m_k + 1/M)`` and residual flexibility of a model."""
+    masses = model.modes["modal_mass"].to_numpy()
+    inv_all = model.inverse_mass + float(np.sum(1.0 / masses[masses > 0]))
+    order = np.argsort(np.abs(model.poles), kind="stable")
+    phys = masses[physical[order]]
+    inv_band = model.inverse_mass + float(np.sum(1.0 / phys[phys > 0]))
+    return {"effective_mass": 1.0 / inv_all if inv_all > 0 else np.inf,
+            "effective_mass_physical": 1.0 / inv_band if inv_band > 0 else np.inf,
+            "residual_flexibility": model.flexibility}
 
 
-def _parameter_std(result):
-    """Standard deviations of the refined parameters from ``J^T J`` and the residual."""
-    jac = result.jac
-    dof = max(jac.shape[0] - jac.shape[1], 1)
-    sigma2 = 2 * result.cost / dof
-    try:
-        cov = np.linalg.pinv(jac.T @ jac) * sigma2
-    except np.linalg.LinAlgError:
-        return None
-    return np.sqrt(np.clip(np.diag(cov), 0, None))
-
-
+def _report(model, kinds, info, notes, *, method, max_order, **extra):
+    """The report common to every method, plus ``extra`` entries."""
+    n_modes = int(np.sum(kinds == "mode"))
+    if n_modes == 0:
+        notes = notes + ["no resonance in the band: the model holds only residual terms"]
+    return {"method": method, "converged": bool(info["converged"]),
+            "message": str(info["message"]), "n_iterations": int(info.get("n_iter_total", 0)),
+            "max_order": int(max_order), "n_modes": n_modes,
+            "lower_residual_mode": bool(np.any(kinds == "lower")),
+            "upper_residual_modes": int(np.sum((kinds == "upper") | (kinds == "far"))),
+            "rigid_body": model.inverse_mass > 0, "inverse_mass": model.inverse_mass,
+            "rigid_mass": 1.0 / model.inverse_mass if model.inverse_mass > 0 else np.inf,
+            **_high_frequency(model, kinds == "mode"), "notes": notes, **extra}

@@ -1,37 +1,72 @@
 """Stabilization diagram and automatic selection of physical poles.
 
-A pole of order ``n`` is *stable* when a pole of order ``n - 1`` lies within ``freq_tol``
-(relative) in natural frequency and ``damp_tol`` (relative) in damping ratio. Physical
-poles are stable over many orders; noise poles wander. Selection clusters the frequency-stable poles in (log frequency, damping)
-with scikit-learn's DBSCAN and keeps clusters that persist over a good share of the
-orders; no hand picking. (Damping estimates scatter more than frequencies under noise,
-so damping enters the clustering as a coarse feature rather than as a hard criterion.)
+A pole of order ``n`` is *stable* when a pole of the previous order computed lies within
+``freq_tol`` (relative) in natural frequency and ``damp_tol`` (relative) in damping ratio.
+Physical poles are stable over many orders; noise poles wander. The table may merge
+several (sub-)bands, each with its own orders (column ``band``).
+
+Selection clusters the frequency-stable poles of all bands in (log frequency, log
+damping) with scikit-learn's DBSCAN (damping estimates scatter more than frequencies
+under noise, so damping is a coarse feature, not a hard criterion); a cluster's *share*
+is the fraction of its best band's orders it appears in. :func:`select_by_information`
+then decides, by the Bayesian information criterion on linear least-squares fits of the
+residues, how many of the clusters ranked by share are physical (or, greedily, which of
+unranked candidates); no hand picking.
 """
 
 from __future__ import annotations
 
 import numpy as np
 import pandas as pd
+from scipy.linalg import cho_factor, cho_solve, cholesky, solve_triangular
 from sklearn.cluster import DBSCAN
 
-__all__ = ["stabilization_table", "select_poles", "plot_stabilization"]
+from ._lsfd import Terms, _realify, design_matrix
+
+__all__ = ["stabilization_table", "cluster_poles", "select_poles", "select_by_information",
+           "prefix_information", "plot_stabilization", "plot_fit"]
 
 
 def stabilization_table(poles_by_order, freq_band_hz, *, freq_tol=0.01, damp_tol=0.05,
-                        max_damping=0.3) -> pd.DataFrame:
+                        max_damping=0.3, band=0) -> pd.DataFrame:
     """One row per candidate pole (Im p > 0, in band, 0 < damping < max_damping).
 
-    Columns: ``order``, ``pole``, ``frequency_hz``, ``omega_n``, ``damping_ratio``,
-    ``stable_freq``, ``stable_damp``, ``stable``.
+    Orders without poles (not computed) are skipped: a pole is compared with the last
+    order that has poles. Columns: ``band`` (index of the sub-band), ``order``, ``pole``,
+    ``frequency_hz``, ``omega_n``, ``damping_ratio``, ``stable_freq``, ``stable_damp``,
+    ``stable``. ``poles_by_order`` may also be a list of such lists with a matching list
+    of bands (``freq_band_hz``): one table for all of them, ``band`` their index.
     """
-    rows = []
+    if poles_by_order and isinstance(poles_by_order[0], list):
+        parts = [_stability(p, b, freq_tol, damp_tol, max_damping, k)
+                 for k, (p, b) in enumerate(zip(poles_by_order, freq_band_hz))]
+    else:
+        parts = [_stability(poles_by_order, freq_band_hz, freq_tol, damp_tol, max_damping,
+                            band)]
+    cols = {k: np.concatenate([p[k] for p in parts]) for k in parts[0]}
+    table = pd.DataFrame({"band": cols["band"].astype(int), "order": cols["order"].astype(int),
+                          "pole": cols["pole"].astype(complex),
+                          "frequency_hz": cols["omega_n"] / (2 * np.pi),
+                          "omega_n": cols["omega_n"], "damping_ratio": cols["damping_ratio"],
+                          "stable_freq": cols["stable_freq"].astype(bool),
+                          "stable_damp": cols["stable_damp"].astype(bool)})
+    table["stable"] = table["stable_freq"] & table["stable_damp"]
+    return table
+
+
+def _stability(poles_by_order, freq_band_hz, freq_tol, damp_tol, max_damping, band):
+    """Columns (arrays) of :func:`stabilization_table` for one band."""
+    cols = {k: [np.zeros(0)] for k in ("band", "order", "pole", "omega_n", "damping_ratio",
+                                        "stable_freq", "stable_damp")}
     prev = None
     fmin, fmax = freq_band_hz
     for order, poles in enumerate(poles_by_order, start=1):
+        if len(poles) == 0:
+            continue
         p = poles[np.isfinite(poles) & (poles.imag > 0)]
         wn = np.abs(p)
         zeta = -p.real / wn
-        keep = ((wn / (2 * np.pi) >= fmin) & (wn / (2 * np.pi) <= fmax)
+        keep = ((wn >= 2 * np.pi * fmin) & (wn <= 2 * np.pi * fmax)
                 & (zeta > 0) & (zeta < max_damping))
         p, wn, zeta = p[keep], wn[keep], zeta[keep]
         if prev is not None and prev[0].size and p.size:
@@ -43,77 +78,205 @@ def stabilization_table(poles_by_order, freq_band_hz, *, freq_tol=0.01, damp_tol
         else:
             stable_f = np.zeros(p.size, bool)
             stable_d = np.zeros(p.size, bool)
-        for i in range(p.size):
-            rows.append((order, p[i], wn[i] / (2 * np.pi), wn[i], zeta[i], bool(stable_f[i]),
-                         bool(stable_d[i])))
+        for key, value in (("band", np.full(p.size, band)), ("order", np.full(p.size, order)),
+                           ("pole", p), ("omega_n", wn), ("damping_ratio", zeta),
+                           ("stable_freq", stable_f), ("stable_damp", stable_d)):
+            cols[key].append(value)
         prev = (wn, zeta)
-    table = pd.DataFrame(rows, columns=["order", "pole", "frequency_hz", "omega_n",
-                                        "damping_ratio", "stable_freq", "stable_damp"])
-    table["stable"] = table["stable_freq"] & table["stable_damp"]
-    return table
+    return {k: np.concatenate(v) for k, v in cols.items()}
 
 
-def select_poles(table: pd.DataFrame, *, n_modes=None, frequencies_hz=None, freq_tol=0.01,
+def cluster_poles(table: pd.DataFrame, *, freq_tol=0.01, representative="median") -> pd.DataFrame:
+    """Clusters of frequency-stable poles, most persistent first.
+
+    DBSCAN in (log frequency / ``freq_tol``, log2 damping) over the stable poles of every
+    band together. Per cluster: ``frequency_hz``, ``omega_n``, ``damping_ratio`` (medians
+    over the members of its best band, or with ``representative="last"`` its member of the
+    highest order: exact data), ``size`` (orders it appears in, over all bands),
+    ``share`` (in its best band, the fraction of that band's orders it appears in),
+    ``first_order``, ``band`` (its best band) and ``pole``.
+    """
+    columns = ["frequency_hz", "omega_n", "damping_ratio", "size", "share", "first_order",
+               "band", "pole"]
+    stable = table[table["stable_freq"]]
+    if stable.empty:
+        return pd.DataFrame(columns=columns)
+    zeta = stable["damping_ratio"].to_numpy()
+    features = np.column_stack([np.log(stable["omega_n"].to_numpy()) / freq_tol,
+                                np.log(zeta) / np.log(2.0)])  # a factor 2 in damping ~ 1
+    labels = DBSCAN(eps=1.0, min_samples=2).fit_predict(features)
+    bands_all = table["band"].to_numpy()
+    orders_all = table["order"].to_numpy()
+    n_orders = {b: np.unique(orders_all[bands_all == b]).size for b in np.unique(bands_all)}
+    band = stable["band"].to_numpy()
+    order = stable["order"].to_numpy()
+    wn_all = stable["omega_n"].to_numpy()
+    rows = []
+    for label in np.unique(labels[labels >= 0]):
+        members = labels == label
+        shares = {b: np.unique(order[members & (band == b)]).size / n_orders[b]
+                  for b in np.unique(band[members])}
+        best = max(shares, key=shares.get)
+        own = members & (band == best)
+        if representative == "last":
+            k = np.flatnonzero(own)[np.argmax(order[own])]
+            wn, z = float(wn_all[k]), float(zeta[k])
+        else:
+            wn, z = float(np.median(wn_all[own])), float(np.median(zeta[own]))
+        size = sum(np.unique(order[members & (band == b)]).size for b in shares)
+        rows.append({"frequency_hz": wn / (2 * np.pi), "omega_n": wn, "damping_ratio": z,
+                     "size": int(size), "share": float(shares[best]),
+                     "first_order": int(order[own].min()), "band": int(best),
+                     "pole": complex(-z * wn, wn * np.sqrt(1 - z**2))})
+    clusters = pd.DataFrame(rows, columns=columns)
+    clusters = clusters.sort_values(["share", "size"], ascending=False, kind="stable")
+    return clusters.reset_index(drop=True)
+
+
+def select_poles(clusters: pd.DataFrame, *, n_modes=None, frequencies_hz=None,
                  min_share=0.3):
-    """Physical poles (Im p > 0) chosen from a stabilization table.
+    """Physical poles (Im p > 0) chosen among ``clusters`` (from :func:`cluster_poles`).
 
     Parameters
     ----------
     n_modes : int, optional
         Keep the ``n_modes`` most persistent clusters.
     frequencies_hz : sequence of float, optional
-        Keep, for each frequency, the cluster nearest to it.
+        Keep, for each frequency, the cluster nearest to it (within 5 %); a frequency
+        with no cluster near it gets a pole of 1 % damping there.
     min_share : float
-        Without overrides, a cluster must hold stable poles from at least this share of
-        the orders in which poles near its frequency could appear.
+        Without overrides: the clusters present in at least this share of their band's
+        orders.
 
     Returns
     -------
     poles : ndarray of complex, sorted by frequency
-    clusters : DataFrame (one row per cluster: frequency_hz, damping_ratio, size, selected)
+    selected : ndarray of bool, one per cluster
     """
-    stable = table[table["stable_freq"]]
-    n_orders = int(table["order"].max()) if len(table) else 0
-    if stable.empty:
-        return np.zeros(0, complex), pd.DataFrame(columns=["frequency_hz", "damping_ratio",
-                                                           "size", "selected"])
-    zeta = stable["damping_ratio"].to_numpy()
-    features = np.column_stack([np.log(stable["omega_n"].to_numpy()) / freq_tol,
-                                np.log(zeta) / np.log(2.0)])  # a factor 2 in damping ~ 1
-    labels = DBSCAN(eps=1.0, min_samples=2).fit_predict(features)
-    clusters = []
-    for label in sorted(set(labels) - {-1}):
-        members = stable[labels == label]
-        # one pole per order: a cluster is as large as the orders it persists over
-        size = members["order"].nunique()
-        first_order = int(members["order"].min())
-        possible = max(n_orders - first_order + 1, 1)
-        wn = float(np.median(members["omega_n"]))
-        zeta = float(np.median(members["damping_ratio"]))
-        clusters.append({"frequency_hz": wn / (2 * np.pi), "omega_n": wn,
-                         "damping_ratio": zeta, "size": size, "share": size / possible,
-                         "first_order": first_order})
-    clusters = pd.DataFrame(clusters)
-    if clusters.empty:
-        clusters["selected"] = []
-        return np.zeros(0, complex), clusters
+    selected = np.zeros(len(clusters), bool)
+    extra = []
     if frequencies_hz is not None:
-        chosen = set()
+        freqs = clusters["frequency_hz"].to_numpy()
         for f in np.atleast_1d(frequencies_hz):
-            chosen.add(int(np.argmin(np.abs(clusters["frequency_hz"] - f))))
-        selected = np.zeros(len(clusters), bool)
-        selected[list(chosen)] = True
+            k = int(np.argmin(np.abs(freqs - f))) if freqs.size else -1
+            if k >= 0 and abs(freqs[k] - f) <= 0.05 * f and not selected[k]:
+                selected[k] = True
+            else:
+                wn = 2 * np.pi * float(f)
+                extra.append(complex(-0.01 * wn, wn * np.sqrt(1 - 1e-4)))
     elif n_modes is not None:
-        order = np.argsort(-clusters["size"].to_numpy(), kind="stable")[:n_modes]
-        selected = np.zeros(len(clusters), bool)
-        selected[order] = True
+        selected[:min(n_modes, len(clusters))] = True
     else:
-        selected = (clusters["share"] >= min_share).to_numpy() & (clusters["size"] >= 3)
-    clusters["selected"] = selected
-    picked = clusters[selected].sort_values("omega_n")
-    wn, zeta = picked["omega_n"].to_numpy(), picked["damping_ratio"].to_numpy()
-    poles = -zeta * wn + 1j * wn * np.sqrt(1 - zeta**2)
-    return poles, clusters.reset_index(drop=True)
+        selected = (clusters["share"] >= min_share).to_numpy()
+    poles = np.concatenate([clusters["pole"].to_numpy(complex)[selected],
+                            np.asarray(extra, complex)])
+    return poles[np.argsort(np.abs(poles))], selected
+
+
+def select_by_information(omega, values, weights, candidates, terms: Terms, fixed=(), *,
+                          greedy=False, passive=True):
+    """Which of the ``candidates`` the data support (Bayesian information criterion).
+
+    Residues of the first ``k`` candidates (with the ``fixed`` poles and the ``terms``)
+    are fitted by linear least squares for every ``k``; ``BIC = n ln(SSE/n) + 4 k ln(n)``
+    (``n`` real data, four real parameters per mode) picks ``k``. One Cholesky
+    factorisation of the Gram matrix gives every prefix's SSE. A noise pole lowers the
+    SSE by about what its four parameters fit in noise, far less than the penalty; a
+    physical pole lowers it by orders of magnitude. With ``greedy`` the candidates are
+    not ranked beforehand: each step adds the one that lowers the SSE most (so of two
+    poles on one resonance only one is taken).
+
+    Returns
+    -------
+    keep : ndarray of bool, one per candidate
+        The chosen candidates, less (``passive``) those fitted with a negative modal mass.
+    bic : ndarray, shape (len(candidates) + 1,)
+        Of the prefixes (``greedy``: of the greedy sequence).
+    negative : ndarray of bool, one per candidate
+        Chosen candidates fitted with a negative modal mass.
+    """
+    s = 1j * omega
+    candidates = np.asarray(candidates, complex)
+    head = design_matrix(s, np.asarray(fixed, complex), terms)
+    cols = np.hstack([head, design_matrix(s, candidates, Terms(np.zeros(0), False, False))])
+    return prefix_information(_realify(cols * weights[:, None]), _realify(values * weights),
+                              head.shape[1], candidates.size, greedy=greedy,
+                              passive=passive)
+
+
+def prefix_information(mat, y, n_head, n_candidates, *, per_candidate=2, n_params=4,
+                       rel_floor=1e-12, greedy=False, passive=True):
+    """BIC of every prefix of the candidates' columns (real design ``mat``, data ``y``).
+
+    ``mat`` holds ``n_head`` fixed columns, then ``per_candidate`` columns per candidate
+    (``Re r, Im r``), each candidate counting ``n_params`` parameters. The SSE has a floor
+    of ``(rel_floor |y|)^2``: rounding cannot pass for a fit. Returns
+    ``(keep, bic, negative)`` as :func:`select_by_information`.
+    """
+    mat = mat.copy()
+    scale = np.linalg.norm(mat, axis=0)
+    scale[scale == 0] = 1.0
+    mat /= scale
+    gram = mat.T @ mat
+    gram[np.diag_indices_from(gram)] += 1e-10
+    n, floor = y.size, (rel_floor**2) * float(y @ y) + 1e-300
+    if greedy:
+        return _greedy_information(mat, gram, y, n_head, n_candidates, per_candidate,
+                                   n_params, floor, scale, passive)
+    upper = cholesky(gram)
+    z = solve_triangular(upper, mat.T @ y, trans="T")
+    x = solve_triangular(upper, z)
+    sse_full = float(np.sum((y - mat @ x) ** 2))
+    tail = np.concatenate([np.cumsum((z**2)[::-1])[::-1], [0.0]])
+    sizes = n_head + per_candidate * np.arange(n_candidates + 1)
+    sse = np.maximum(sse_full + tail[sizes], floor)
+    bic = n * np.log(sse / n) + n_params * np.arange(n_candidates + 1) * np.log(n)
+    k = int(np.argmin(bic))
+    keep = np.zeros(n_candidates, bool)
+    keep[:k] = True
+    negative = np.zeros(n_candidates, bool)
+    if k and per_candidate == 2:
+        xk = solve_triangular(upper[:sizes[k], :sizes[k]], z[:sizes[k]]) / scale[:sizes[k]]
+        negative[:k] = xk[n_head + 1::2] > 0.0        # Im r > 0: negative modal mass
+    return keep & ~negative if passive else keep, bic, negative
+
+
+def _greedy_information(mat, gram, y, n_head, n_cand, per, n_params, floor, scale, passive):
+    """Greedy forward selection by SSE with the BIC stop (see :func:`prefix_information`)."""
+    rhs = mat.T @ y
+    yy = float(y @ y)
+
+    def fit(cols):
+        if not cols:
+            return yy, np.zeros(0)
+        try:
+            factor = cho_factor(gram[np.ix_(cols, cols)])
+        except np.linalg.LinAlgError:
+            return np.inf, None
+        x = cho_solve(factor, rhs[cols])
+        return yy - float(rhs[cols] @ x), x
+
+    head = list(range(n_head))
+    chosen, order = [], []
+    sse = [max(fit(head)[0], floor)]
+    remaining = list(range(n_cand))
+    while remaining:
+        trials = [fit(head + [n_head + per * j + i for j in chosen + [k] for i in range(per)])[0]
+                  for k in remaining]
+        best = int(np.argmin(trials))
+        chosen.append(remaining.pop(best))
+        sse.append(max(trials[best], floor))
+    n = y.size
+    bic = n * np.log(np.asarray(sse) / n) + n_params * np.arange(n_cand + 1) * np.log(n)
+    k = int(np.argmin(bic))
+    keep = np.zeros(n_cand, bool)
+    keep[chosen[:k]] = True
+    negative = np.zeros(n_cand, bool)
+    if k and per == 2:
+        cols = head + [n_head + per * j + i for j in chosen[:k] for i in range(per)]
+        x = fit(cols)[1] / scale[cols]
+        negative[np.asarray(chosen[:k])[x[n_head + 1::2] > 0.0]] = True
+    return keep & ~negative if passive else keep, bic, negative
 
 
 def plot_stabilization(table: pd.DataFrame, *, frf=None, selected=None, ax=None):
@@ -138,4 +301,26 @@ def plot_stabilization(table: pd.DataFrame, *, frf=None, selected=None, ax=None)
         twin.semilogy(frf.freq_hz, np.abs(frf.values), color="k", lw=0.7)
         twin.set_ylabel(f"|{frf.quantity}|")
     ax.legend(loc="lower right", fontsize=8)
+    return ax
+
+
+def plot_fit(model, *, frf=None, impulse=None, ax=None):
+    """A model against the FRF (magnitudes, log axis) or impulse response ``(t, h)`` it was
+    fitted to; returns the Axes."""
+    import matplotlib.pyplot as plt
+
+    if ax is None:
+        _, ax = plt.subplots(figsize=(7, 4))
+    if impulse is not None:
+        t, h = impulse
+        ax.plot(t, h, color="0.6", label="data")
+        ax.plot(t, model.impulse_response(t), "C3", lw=1, label="ModalFit")
+        ax.set_xlabel("time (s)")
+        ax.set_ylabel("impulse response (m/(N s))")
+    else:
+        frf = frf.select(frf.freq_hz > 0)
+        frf.plot(ax=ax, label="data", color="0.6")
+        fitted = model.frf(frf.omega, quantity=frf.quantity)
+        ax.semilogy(frf.freq_hz, np.abs(fitted), "C3", lw=1, label="ModalFit")
+    ax.legend(fontsize=8)
     return ax
