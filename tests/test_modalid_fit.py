@@ -7,6 +7,8 @@ circular complex Gaussian of unit variance, fixed seeds. Tolerances scale with t
 ``eta`` and are checked against the fit's own standard deviations too.
 """
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 from sklearn.base import clone
@@ -14,6 +16,8 @@ from sklearn.base import clone
 from data_synth import CantileverBeam, Rod
 from modalid import FRFData
 from modalid.fit import ModalFit, ModalFitWarning
+
+DATA = Path(__file__).parent / "data"
 
 N_BAND, ZETA = 8, 0.01
 STRUCTURES = {
@@ -335,3 +339,28 @@ def test_scikit_learn_conventions_and_plots():
     assert len(fit.plot_fit().get_lines()) == 2
     assert fit.plot_fit(data=data.select(slice(0, 100))).get_lines()
     assert len(fit.stabilization_) > 0 and fit.clusters_["selected"].sum() == N_BAND
+
+
+@pytest.mark.filterwarnings("ignore::UserWarning")
+@pytest.mark.parametrize("point", [1, 2, 3])
+def test_measured_free_free_beam_gives_its_six_modes(point):
+    """pyuff's measured accelerances (tests/data): six resonances between 50 and 1000 Hz."""
+    from modalid.io import read_complex_lines
+
+    data = read_complex_lines(DATA / f"meas_point_{point}.txt", freq_hz=np.arange(1001.0),
+                              quantity="accelerance").band((20, 1000))
+    fit = ModalFit(passive=False, weighting="noise").fit(data)
+    np.testing.assert_allclose(np.sort(fit.report_["modes"]["frequency_hz"].to_numpy()),
+                               [52, 142, 279, 460, 687, 959], atol=1.0)
+    assert fit.score(data) > 0.99
+
+
+@pytest.mark.filterwarnings("ignore::UserWarning")
+def test_noisy_analyzer_export_case2():
+    """vibration_toolbox's case2 (coherence ~0.3): its published mode at 192.59 Hz."""
+    from modalid.io import read_frf
+
+    data = read_frf(DATA / "case2.mat", quantity="accelerance").band((156.25, 312.5))
+    fit = ModalFit(passive=False, weighting="noise").fit(data)
+    freqs = fit.report_["modes"]["frequency_hz"].to_numpy()
+    assert np.min(np.abs(freqs - 192.59)) < 0.5
