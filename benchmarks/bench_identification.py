@@ -1,6 +1,6 @@
 """Accuracy and speed of ``modalid.fit.ModalFit`` against exact truths.
 
-Run:  python benchmarks/bench_identification.py [--seeds 5] [--quick]
+Run:  python benchmarks/bench_identification.py [--seeds 5] [--quick] [--anchors]
 
 The cases (fixed inputs)
 ------------------------
@@ -37,6 +37,38 @@ times vary by 2x). The ``floor`` rows fit the right model (the 8 modes, modes 9-
 upper pseudo-modes, the constant and the rigid term) started from the true values with
 the same weighted refinement: what the noise allows. Below the table, per mode at 5 %
 noise: the worst errors and the standard deviations the fit reports.
+
+Anchors (``--anchors``)
+-----------------------
+With ``--anchors`` the same run also fits every dataset with the third-party anchors of
+``anchors.py`` (optional ``bench`` extra: scikit-rf, sdypy-EMA; python-control), called
+exactly as there (its functions are imported, not copied) and, as there, *told* the model:
+
+* ``skrf VF0`` / ``skrf VF2``: scikit-rf vector fitting with 8 complex starting poles
+  (the 8 in-band modes) and 0 or 2 real ones, constant term fitted;
+* ``sdypy LSCF`` / ``sdypy LSCE``: sdypy-EMA poles (orders up to 30) picked at the 8 true
+  natural frequencies, LSFD residues with lower and upper residuals;
+* ``ctrl ERA 2r`` / ``ctrl ERA 500``: python-control ERA of the truth's order (18 modes,
+  +2 for the rigid body), Hankel size python-control's default ``2 r`` or 500, residues by
+  least squares.
+
+They run on *this* script's data, not on ``identification_data.make_case`` (whose truth,
+``data_synth.lightly_damped``, and noise draw, ``data_synth.synthetic_frf``, differ from
+``frf_case`` here): the FRF anchors get the very ``frf_case(name, noise, seed)`` arrays
+ModalFit gets (noise 0, 1 %, 5 %; same seeds, or the first ``--anchor-seeds``), the ERA
+anchors the very ``impulse_case(name)`` record of the ``era clean`` row. Every anchor's
+poles and residues become a ``ModalModel`` scored by the same :func:`mode_errors` as the
+ModalFit rows (same matching, same ``bad`` count), timed the same way (CPU time of the
+call). The anchors return modes only (no residual terms, no rigid-body mass), so their
+``dM``, ``nrmse``, ``vs true`` and ``rel`` are ``n/a`` (``-`` in ``dM`` means the dataset
+has no rigid body), and ``conv`` is ``-``. An anchor that raises counts its 8 modes as
+``bad`` and is reported below the table. Noise-free FRF rows of the anchors use seed 0
+only (the data do not depend on the seed; ModalFit's noise-free rows repeat the same data
+over the seeds). The closing lines compare, per dataset at 5 % noise, ModalFit's
+(``lscf``) worst-mode ``df``, ``dz``, ``dr`` with the best FRF anchor's for each metric,
+among the FRF anchors with ``bad = 0`` at 5 % (all of them, marked ``*``, when none has;
+the ERA anchors run on clean impulse records only and are not in it). The anchors add
+about 40 s to a 5-seed run on a 2-core machine (whole run about 1 minute).
 """
 
 from __future__ import annotations
@@ -47,6 +79,7 @@ for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_var, "1")
 
 import argparse  # noqa: E402
+import sys  # noqa: E402
 import time  # noqa: E402
 import warnings  # noqa: E402
 
@@ -179,14 +212,118 @@ def run_era(name):
              np.nan)]
 
 
+def _max(v):
+    v = np.asarray(v, float)
+    return np.nan if np.all(np.isnan(v)) else float(np.nanmax(v))
+
+
+def _num(v, fmt, width):
+    return f"{'n/a' if np.isnan(v) else format(v, fmt):>{width}s}"
+
+
 def summarize(label, name, rows):
+    """Print one table row; return its worst ``df``, ``dz``, ``dr`` and ``bad``."""
     a = np.array([r[:8] + r[9:] for r in rows], dtype=float)
-    conv = all(r[8] for r in rows)
-    dm = a[:, 3].max()
-    print(f"| {name:9s} | {label:10s} | {a[:, 0].max():8.2e} | {a[:, 1].max():8.2e} | "
-          f"{a[:, 2].max():8.2e} | {'-' if dm == 0 else f'{dm:.1e}':>7s} | "
-          f"{a[:, 4].max():6.4f} | {a[:, 5].max():6.4f} | {a[:, 8].max():6.4f} | "
-          f"{int(a[:, 6].sum()):3d} | {np.median(a[:, 7]):6.3f} | {'yes' if conv else 'NO':4s} |")
+    conv = [r[8] for r in rows]
+    conv = "-" if any(c is None for c in conv) else ("yes" if all(conv) else "NO")
+    dm = _max(a[:, 3])
+    df, dz, dr = _max(a[:, 0]), _max(a[:, 1]), _max(a[:, 2])
+    dm_txt = "n/a" if np.isnan(dm) else ("-" if dm == 0 else f"{dm:.1e}")
+    print(f"| {name:9s} | {label:18s} | {_num(df, '8.2e', 8)} | {_num(dz, '8.2e', 8)} | "
+          f"{_num(dr, '8.2e', 8)} | {dm_txt:>7s} | "
+          f"{_num(_max(a[:, 4]), '6.4f', 6)} | {_num(_max(a[:, 5]), '6.4f', 6)} | "
+          f"{_num(_max(a[:, 8]), '6.4f', 6)} | "
+          f"{int(a[:, 6].sum()):3d} | {np.median(a[:, 7]):6.3f} | {conv:4s} |")
+    return {"df": df, "dz": dz, "dr": dr, "bad": int(a[:, 6].sum())}
+
+
+# ------------------------------------------------------------------ anchors
+def anchor_fitters():
+    """(label, kind, runner) of the anchors of ``anchors.py``, told the model as there.
+
+    ``kind`` is ``"frf"`` (runner(truth, FRFData) -> (poles, residues, seconds)) or
+    ``"ir"`` (runner(truth, t, h) -> same).
+    """
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    import anchors
+
+    def vf(n_real):
+        return lambda truth, data: anchors.skrf_vector_fit(data, N_BAND, n_poles_real=n_real)
+
+    def ema(fn):
+        return lambda truth, data: fn(
+            data, N_BAND, approx_freq_hz=truth.modes["frequency_hz"].to_numpy()[:N_BAND])
+
+    def era(hankel):
+        return lambda truth, t, h: anchors.control_era(
+            t, h, truth.n_modes, rigid_body=truth.inverse_mass > 0, hankel=hankel)
+
+    return [("skrf VF0", "frf", vf(0)), ("skrf VF2", "frf", vf(2)),
+            ("sdypy LSCF", "frf", ema(anchors.sdypy_lscf)),
+            ("sdypy LSCE", "frf", ema(anchors.sdypy_lsce)),
+            ("ctrl ERA 2r", "ir", era(None)), ("ctrl ERA 500", "ir", era(500))]
+
+
+FAILURES = []
+
+
+def _anchor_row(label, name, truth, runner, args, band, n_truth):
+    """Run one anchor fit and score it like a ModalFit row (modes only: no nrmse/dM)."""
+    dm = np.nan if truth.inverse_mass else 0.0
+    start = time.process_time()
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            p, r, _ = runner(truth, *args)
+        elapsed = time.process_time() - start
+        model = ModalModel(poles=p, residues=r)
+    except Exception as exc:  # an anchor that fails is a result too
+        FAILURES.append(f"{label} on {name}: {type(exc).__name__}: {exc}")
+        return (np.nan, np.nan, np.nan, dm, np.nan, np.nan, N_BAND,
+                time.process_time() - start, None, np.nan)
+    df, dz, dr, bad = mode_errors(truth, model, band, n_truth)
+    return (df, dz, dr, dm, np.nan, np.nan, bad, elapsed, None, np.nan)
+
+
+def run_anchor_frf(label, name, noise, seeds, runner):
+    rows = []
+    for seed in (seeds if noise else list(seeds)[:1]):
+        truth, data, _ = frf_case(name, noise, seed)
+        rows.append(_anchor_row(label, name, truth, runner, (data,),
+                                (data.freq_hz[0], data.freq_hz[-1]), N_BAND))
+    return rows
+
+
+def run_anchor_era(label, name, runner):
+    truth, t, h = impulse_case(name)
+    return [_anchor_row(label, name, truth, runner, (t, h), (0.0, np.inf),
+                        N_BAND + N_ABOVE)]
+
+
+def compare_at_5(results, datasets):
+    """Closing lines: ModalFit's worst-mode errors vs the best anchor's, 5 % noise."""
+    print("\nworst-mode errors at 5 % noise (worst over seeds and the 8 modes), ModalFit "
+          "(lscf) vs the best anchor per metric among anchors with bad = 0 "
+          "(* : none had bad = 0, best of all); ratio < 1: ModalFit better")
+    for name in datasets:
+        ours = results[(name, "lscf 5%")]
+        cands = {lab[:-3]: v for (n, lab), v in results.items()
+                 if n == name and lab.endswith(" 5%") and lab[:-3] in ANCHOR_LABELS}
+        clean = {k: v for k, v in cands.items() if v["bad"] == 0}
+        pool, star = (clean, "") if clean else (cands, "*")
+        parts = []
+        for key in ("df", "dz", "dr"):
+            finite = {k: v[key] for k, v in pool.items() if np.isfinite(v[key])}
+            if not finite:
+                parts.append(f"{key} {ours[key]:.1e} vs n/a")
+                continue
+            best = min(finite, key=finite.get)
+            parts.append(f"{key} {ours[key]:.1e} vs {finite[best]:.1e} ({best}{star}, "
+                         f"ratio {ours[key] / finite[best]:.2g})")
+        print(f"  {name:9s} (ModalFit bad {ours['bad']}): " + "; ".join(parts))
+
+
+ANCHOR_LABELS = set()
 
 
 def worst_modes(seeds, noise=0.05):
@@ -217,28 +354,76 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seeds", type=int, default=5)
     parser.add_argument("--quick", action="store_true", help="5 % noise and LSCF only")
+    parser.add_argument("--anchors", action="store_true",
+                        help="also run the anchors of anchors.py on the same data "
+                             "(needs the bench extra)")
+    parser.add_argument("--anchor-seeds", type=int, default=None,
+                        help="seeds 0..N-1 for the anchors (default: --seeds)")
     args = parser.parse_args(argv)
     seeds = range(args.seeds)
+    anchor_seeds = range(args.seeds if args.anchor_seeds is None else args.anchor_seeds)
+    t_start = time.perf_counter()
     print(f"BLAS threads {os.environ.get('OPENBLAS_NUM_THREADS')}, cpus {os.cpu_count()}, "
           f"load average {os.getloadavg()[0]:.2f}; {args.seeds} seeds; targets at 5 % noise: "
           "df < 5e-4, dz < 5e-2, dr < 1e-2, dM < 1e-2, nrmse (truth) < 0.02, bad = 0, "
           "t < 0.1 s; clean: df < 1e-5, dz < 1e-3, dr < 1e-3")
-    print("| dataset   | fit        | df       | dz       | dr       | dM      | "
+    fitters = []
+    if args.anchors:
+        fitters = anchor_fitters()
+        ANCHOR_LABELS.update(label for label, _, _ in fitters)
+        versions = []
+        for mod in ("skrf", "sdypy.EMA", "control"):
+            try:
+                m = __import__(mod, fromlist=["_"])
+                versions.append(f"{mod} {getattr(m, '__version__', '?')}")
+            except ImportError:
+                versions.append(f"{mod} missing (pip install -e .[bench])")
+        print(f"anchors ({', '.join(versions)}) on the same data: FRF anchors told the 8 "
+              f"in-band modes, seeds 0..{len(anchor_seeds) - 1} (noise 0: seed 0 only), "
+              "ERA anchors told the truth's 18 modes (+ rigid body) on the era-clean record; "
+              "anchors return modes only: dM, nrmse, vs true, rel n/a")
+    print("| dataset   | fit                | df       | dz       | dr       | dM      | "
           "nrmse  | vs true| rel    | bad | t (s)  | conv |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|")
     ModalFit().fit(frf_case("fixed rod", 0.05, 0)[1])          # warm-up (imports)
     run_era("fixed rod")
+    for _, kind, runner in fitters:                            # warm-up (imports)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            try:
+                if kind == "frf":
+                    truth, data, _ = frf_case("fixed rod", 0.05, 0)
+                    runner(truth, data)
+                else:
+                    runner(*impulse_case("fixed rod"))
+            except Exception:
+                pass
     noises = (0.05,) if args.quick else (0.0, 0.01, 0.05)
+    results = {}
     for name in DATASETS:
         for noise in noises:
-            summarize(f"lscf {noise:.0%}", name, run_frf(name, noise, seeds))
+            label = f"lscf {noise:.0%}"
+            results[(name, label)] = summarize(label, name, run_frf(name, noise, seeds))
         if not args.quick:
             summarize("floor 5%", name, run_frf(name, 0.05, seeds, floor=True))
             summarize("vf 5%", name, run_frf(name, 0.05, seeds, method="vf"))
             summarize("era clean", name, run_era(name))
+        for alabel, kind, runner in fitters:
+            if kind == "frf":
+                for noise in noises:
+                    label = f"{alabel} {noise:.0%}"
+                    results[(name, label)] = summarize(
+                        label, name, run_anchor_frf(alabel, name, noise, anchor_seeds, runner))
+            elif not args.quick:
+                summarize(f"{alabel} clean", name, run_anchor_era(alabel, name, runner))
+    for line in FAILURES:
+        print(f"  failed: {line}")
+    if fitters:
+        compare_at_5(results, DATASETS)
     if not args.quick:
         worst_modes(seeds)
-    print(f"load average at the end: {os.getloadavg()[0]:.2f}")
+    print(f"total {time.perf_counter() - t_start:.0f} s; "
+          f"load average at the end: {os.getloadavg()[0]:.2f}")
 
 
 if __name__ == "__main__":
