@@ -66,6 +66,59 @@ def _cmd_paper(args) -> int:
     return 0
 
 
+def _cmd_predict(args) -> int:
+    import warnings
+
+    import pandas as pd
+
+    from .predict import predict
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        pred = predict(args.body1, args.body2, velocity1=args.v1, velocity2=args.v2,
+                       gap=args.gap, contact=args.contact, t_end=args.t_end, dt=args.dt,
+                       method=args.method, quantity=args.quantity)
+    res = pred.result
+    for i, fit in enumerate(pred.fits, start=1):
+        if fit is None:
+            continue
+        report = fit.report_
+        print(f"body {i}: identified from {getattr(args, f'body{i}')} "
+              f"({report['band_hz'][0]:.4g}-{report['band_hz'][1]:.4g} Hz, "
+              f"FRF NRMSE {report['frf_nrmse']:.3g})")
+        with pd.option_context("display.width", 140, "display.float_format", "{:.6g}".format):
+            print(report["modes"][["frequency_hz", "damping_ratio", "modal_mass"]].to_string())
+        print(f"  rigid body: {report['rigid_body']}, effective mass {report['effective_mass']:.6g}"
+              f" kg, residual flexibility {report['residual_flexibility']:.6g} m/N; force energy "
+              f"above the band: {100 * pred.band_reach[i - 1]:.2f} %")
+    for w in caught:
+        print(f"warning: {w.message}", file=sys.stderr)
+    summary = res.summary()
+    for key, value in summary.items():
+        print(f"{key:>26s}: {value}")
+    print(f"{'contact_intervals':>26s}: {[(round(a, 9), round(b, 9)) for a, b in res.contact_intervals]}")
+    with pd.option_context("display.width", 140, "display.float_format", "{:.6g}".format):
+        print(res.energy.to_string())
+    if args.out:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        out = Path(args.out)
+        out.mkdir(parents=True, exist_ok=True)
+        res.to_pandas().to_csv(out / "force_motion.csv")
+        pd.DataFrame([summary]).to_csv(out / "summary.csv", index=False)
+        res.energy.to_csv(out / "energy.csv")
+        fig, ax = plt.subplots(figsize=(8, 4))
+        res.plot(ax=ax)
+        fig.tight_layout()
+        fig.savefig(out / "impact.png", dpi=110)
+        plt.close(fig)
+        print(f"wrote force_motion.csv, summary.csv, energy.csv and impact.png in {out}")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="impactpred",
@@ -82,6 +135,23 @@ def build_parser() -> argparse.ArgumentParser:
     paper.add_argument("--dt", type=float, default=None, help="time step (s); default: auto")
     paper.add_argument("--no-plot", action="store_true", help="table only")
     paper.set_defaults(func=_cmd_paper)
+    pred = sub.add_parser("predict", help="predict the impact of two bodies given as FRF "
+                                          "files, saved models or specs (mass:M, rod:..)")
+    pred.add_argument("body1", help="body 1 (moving towards +y): FRF file, model .json or spec")
+    pred.add_argument("body2", help="body 2")
+    pred.add_argument("--v1", type=float, default=0.0, help="rigid velocity of body 1 (m/s)")
+    pred.add_argument("--v2", type=float, default=0.0, help="rigid velocity of body 2 (m/s)")
+    pred.add_argument("--gap", type=float, default=0.0, help="initial clearance (m)")
+    pred.add_argument("--contact", default="rigid", help="rigid | spring:stiffness=.. | "
+                      "hertz:stiffness=.. | hertz-sphere:radius1=..,youngs_modulus1=..,...")
+    pred.add_argument("--t-end", type=float, required=True, help="end of the prediction (s)")
+    pred.add_argument("--dt", type=float, default=None, help="time step (s); default: auto")
+    pred.add_argument("--method", default="auto",
+                      choices=("auto", "laplace", "modal", "convolution", "closed_form"))
+    pred.add_argument("--quantity", choices=("receptance", "mobility", "accelerance"),
+                      help="quantity of FRF files that do not say it")
+    pred.add_argument("--out", help="folder for the CSV files and the plot")
+    pred.set_defaults(func=_cmd_predict)
     return parser
 
 

@@ -1,0 +1,202 @@
+"""``predict``: from what a user has (measured FRF files, saved models, simple specs) to
+an impact prediction, with each identified body's report and a check of the band.
+
+A body is given as
+
+* a measured FRF file (CSV, ``.npz``, ``.mat``, UFF 58): identified with
+  :class:`modalid.ModalFit`;
+* a saved model (``.json`` from ``ModalModel.to_json``);
+* a spec string: ``mass:M``, ``rod:mass=..,transit_time=..[,support=free|fixed]``,
+  ``spring-mass:mass=..,stiffness=..[,damping_ratio=..]``,
+  ``beam:mass=..,time_scale=..`` (SI units);
+* or any model object ``solve_impact`` takes.
+"""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from data_synth import CantileverBeam, ExactModel, LumpedMass, Rod, SpringMass
+from modalid import ModalFit, ModalModel
+from modalid.io import read_frf
+
+from .api import solve_impact
+from .body import Body, SampledResponse
+from .contact import ContactLaw, Hertz, LinearSpring, Rigid
+from .result import ImpactResult
+
+__all__ = ["predict", "Prediction", "parse_body", "parse_contact", "BandWarning"]
+
+
+class BandWarning(UserWarning):
+    """The predicted force has a good part of its spectrum above a body's measured band."""
+
+
+_SPECS = {
+    "mass": (LumpedMass, ("mass",)),
+    "rod": (Rod, ("mass", "transit_time", "support")),
+    "spring-mass": (SpringMass, ("mass", "stiffness", "damping_ratio")),
+    "beam": (CantileverBeam, ("mass", "time_scale")),
+}
+
+
+def _parse_fields(kind, text, names):
+    values, positional = {}, []
+    for item in filter(None, (part.strip() for part in text.split(","))):
+        if "=" in item:
+            key, value = (x.strip() for x in item.split("=", 1))
+            if key not in names:
+                raise ValueError(f"{kind} spec: unknown field {key!r}; fields are {names}")
+            values[key] = value
+        else:
+            positional.append(item)
+    for name, value in zip(names, positional):
+        values.setdefault(name, value)
+    out = {}
+    for key, value in values.items():
+        if key == "support":
+            out[key] = value
+            continue
+        try:
+            out[key] = float(value)
+        except ValueError as exc:
+            raise ValueError(f"{kind} spec: {key}={value!r} is not a number") from exc
+    return out
+
+
+def parse_body(spec, *, quantity=None, fit=None):
+    """The model of a body spec and, for a measured FRF, its fitted ``ModalFit``.
+
+    Returns ``(model, fit_or_None)``.
+    """
+    if isinstance(spec, (ModalModel, ExactModel, SampledResponse)):
+        return spec, None
+    if not isinstance(spec, (str, Path)):
+        raise TypeError(f"a body must be a file, a spec string or a model, got "
+                        f"{type(spec).__name__}")
+    text = str(spec)
+    kind, sep, rest = text.partition(":")
+    if sep and kind in _SPECS and not Path(text).exists():
+        cls, names = _SPECS[kind]
+        try:
+            return cls(**_parse_fields(kind, rest, names)), None
+        except TypeError as exc:
+            raise ValueError(f"{kind} spec {text!r}: {exc}") from exc
+    path = Path(text)
+    if not path.exists():
+        raise ValueError(f"body {text!r} is neither an existing file nor a spec "
+                         f"({', '.join(k + ':...' for k in _SPECS)})")
+    if path.suffix.lower() == ".json":
+        return ModalModel.from_json(path), None
+    data = read_frf(path, quantity=quantity)
+    estimator = fit if fit is not None else ModalFit()
+    estimator.fit(data)
+    return estimator.model_, estimator
+
+
+def parse_contact(spec) -> ContactLaw:
+    """``rigid``, ``spring:stiffness=..[,damping=..]``, ``hertz:stiffness=..[,exponent=..]``
+    or ``hertz-sphere:radius1=..,youngs_modulus1=..,poisson1=..,youngs_modulus2=..,
+    poisson2=..[,radius2=..]``; a ``ContactLaw`` passes through."""
+    if isinstance(spec, ContactLaw):
+        return spec
+    if not isinstance(spec, str):
+        raise TypeError(f"contact must be a ContactLaw or a spec string, got {spec!r}")
+    kind, _, rest = spec.partition(":")
+    laws = {"spring": (LinearSpring, ("stiffness", "damping")),
+            "hertz": (Hertz, ("stiffness", "exponent")),
+            "hertz-sphere": (Hertz.from_materials, ("radius1", "youngs_modulus1", "poisson1",
+                                                    "youngs_modulus2", "poisson2", "radius2"))}
+    if kind == "rigid":
+        return Rigid()
+    if kind not in laws:
+        raise ValueError(f"contact {spec!r}: use rigid, spring:..., hertz:... or "
+                         "hertz-sphere:...")
+    factory, names = laws[kind]
+    return factory(**_parse_fields(kind, rest, names))
+
+
+@dataclass(frozen=True)
+class Prediction:
+    """An impact prediction and where its models came from.
+
+    Attributes
+    ----------
+    result : ImpactResult
+    fits : tuple
+        The ``ModalFit`` of each body identified from measured data (None otherwise).
+    band_reach : tuple
+        Per identified body: the share of the contact force's energy above the top of
+        the band its model was identified on (None for the others).
+    """
+
+    result: ImpactResult
+    fits: tuple
+    band_reach: tuple
+
+
+def force_energy_above(result: ImpactResult, freq_hz: float) -> float:
+    """Share (0-1) of the contact force's spectral energy above ``freq_hz``.
+
+    Computed from the force history resampled on a uniform grid (FFT); Dirac parts
+    count as white (all frequencies alike) over the grid's band.
+    """
+    t, f = result.t, result.force
+    n = max(4096, int(2 ** np.ceil(np.log2(t.size))))
+    grid = np.linspace(t[0], t[-1], n)
+    dt = grid[1] - grid[0]
+    signal = np.interp(grid, t, f)
+    for time, impulse in result.dirac_impulses:
+        signal[min(int(round(time / dt)), n - 1)] += impulse / dt
+    spectrum = np.abs(np.fft.rfft(signal)) ** 2
+    freq = np.fft.rfftfreq(n, dt)
+    total = float(np.sum(spectrum[1:]))
+    return float(np.sum(spectrum[freq > freq_hz]) / total) if total > 0 else 0.0
+
+
+def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rigid",
+            t_end, dt=None, method="auto", quantity=None, band_tolerance=0.01) -> Prediction:
+    """Predict the impact of two bodies given as files, specs or models.
+
+    Parameters
+    ----------
+    body1, body2 : str, Path or model
+        See the module docstring. ``+y`` points from body 1 to body 2.
+    velocity1, velocity2 : float
+        Rigid-body velocities before impact (m/s).
+    gap, t_end, dt, method
+        As in :func:`solve_impact`.
+    contact : str or ContactLaw
+        See :func:`parse_contact`.
+    quantity : str, optional
+        Quantity of FRF files that do not state it.
+    band_tolerance : float
+        A :class:`BandWarning` is issued when more than this share of the force's energy
+        lies above an identified body's band: the model is extrapolated there.
+    """
+    models, fits = [], []
+    for spec in (body1, body2):
+        model, fit = parse_body(spec, quantity=quantity)
+        models.append(model)
+        fits.append(fit)
+    bodies = (Body(models[0], velocity=velocity1), Body(models[1], velocity=velocity2))
+    result = solve_impact(*bodies, gap=gap, contact=parse_contact(contact), t_end=t_end,
+                          dt=dt, method=method)
+    reach = []
+    for i, fit in enumerate(fits):
+        if fit is None:
+            reach.append(None)
+            continue
+        top = fit.report_["band_hz"][1]
+        share = force_energy_above(result, top)
+        reach.append(share)
+        if share > band_tolerance:
+            warnings.warn(f"body {i + 1}: {100 * share:.1f} % of the contact force's energy "
+                          f"lies above its measured band ({top:.4g} Hz); the prediction "
+                          "relies on the model's residual terms there", BandWarning,
+                          stacklevel=2)
+    return Prediction(result=result, fits=tuple(fits), band_reach=tuple(reach))

@@ -1,0 +1,100 @@
+"""predict: bodies from specs, saved models and measured FRF files, end to end."""
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from data_synth import LumpedMass, Rod, lightly_damped, synthetic_frf
+from impactpred import BandWarning, Body, Hertz, LinearSpring, Rigid, predict, solve_impact
+from impactpred.cli import main
+from impactpred.predict import force_energy_above, parse_body, parse_contact
+from modalid import write_frf
+
+
+def test_spec_bodies_reproduce_solve_impact():
+    pred = predict("mass:1.0", "rod:mass=1,transit_time=1,support=fixed", velocity1=1.0,
+                   t_end=8.0)
+    direct = solve_impact(Body(LumpedMass(1.0), velocity=1.0),
+                          Body(Rod(1.0, 1.0, support="fixed")), t_end=8.0)
+    assert pred.result.restitution == pytest.approx(direct.restitution, abs=1e-12)
+    assert pred.result.restitution == pytest.approx(0.698876, abs=2e-4)
+    assert pred.fits == (None, None) and pred.band_reach == (None, None)
+
+
+def test_saved_model_body(tmp_path):
+    model = Rod(1.0, 1.0, support="fixed").modal_model(10, residual=True)
+    model.to_json(tmp_path / "rod.json")
+    pred = predict("mass:1", tmp_path / "rod.json", velocity1=1.0, t_end=4.0)
+    direct = solve_impact(Body(LumpedMass(1.0), velocity=1.0), Body(model), t_end=4.0)
+    assert pred.result.restitution == pytest.approx(direct.restitution, abs=1e-12)
+
+
+@pytest.fixture(scope="module")
+def measured_rod(tmp_path_factory):
+    """A fixed rod's accelerance, 20 modes in band, 1 % noise, written as CSV."""
+    truth = lightly_damped(Rod(1.0, 1.0, support="fixed"), 30, 0.005)
+    wn = truth.modes["omega_n"].to_numpy()
+    freq = np.linspace(0.005, wn[20] / (2 * np.pi), 4000)
+    path = tmp_path_factory.mktemp("frf") / "rod.csv"
+    write_frf(path, synthetic_frf(truth, freq, quantity="accelerance", noise=0.01, seed=1))
+    return path
+
+
+def test_measured_frf_body_is_identified_and_the_band_is_checked(measured_rod):
+    with pytest.warns(BandWarning, match="above its measured band"):
+        pred = predict("mass:1", measured_rod, velocity1=1.0, t_end=8.0)
+    fit = pred.fits[1]
+    masses = fit.report_["modes"]["modal_mass"].to_numpy()
+    np.testing.assert_allclose(masses[:20], 0.5, rtol=0.01)   # exact: m/2 per mode
+    assert 0.05 < pred.band_reach[1] < 0.5
+    # the truncated model's restitution within a few per cent of the continuum's 0.6989
+    assert pred.result.restitution == pytest.approx(0.698876, rel=0.04)
+    assert pred.result.restitution < 1.0
+
+
+def test_force_energy_above_a_frequency():
+    r = solve_impact(Body(LumpedMass(1.0), velocity=1.0), Body(LumpedMass(1.0)),
+                     contact=LinearSpring(1e4), t_end=0.2)
+    # a half-sine of ~100 rad/s: almost nothing above 100 Hz, almost everything above 0
+    assert force_energy_above(r, 100.0) < 0.01
+    assert force_energy_above(r, 0.01) > 0.9
+
+
+def test_contact_specs():
+    assert parse_contact("rigid") == Rigid()
+    assert parse_contact("spring:stiffness=1e5,damping=3") == LinearSpring(1e5, 3.0)
+    assert parse_contact("hertz:2e9") == Hertz(2e9)
+    sphere = parse_contact("hertz-sphere:radius1=5e-3,youngs_modulus1=210e9,poisson1=0.3,"
+                           "youngs_modulus2=70e9,poisson2=0.33")
+    assert sphere == Hertz.from_materials(radius1=5e-3, youngs_modulus1=210e9, poisson1=0.3,
+                                          youngs_modulus2=70e9, poisson2=0.33)
+
+
+@pytest.mark.parametrize("spec, error, match", [
+    ("mass:heavy", ValueError, "heavy"),
+    ("rod:mass=1,length=2", ValueError, "length"),
+    ("no_such_file.csv", ValueError, "neither an existing file nor a spec"),
+    (3.0, TypeError, "float"),
+])
+def test_bad_body_specs(spec, error, match):
+    with pytest.raises(error, match=match):
+        parse_body(spec)
+
+
+def test_bad_contact_spec():
+    with pytest.raises(ValueError, match="glue"):
+        parse_contact("glue")
+
+
+def test_predict_command_writes_results(measured_rod, tmp_path, capsys):
+    status = main(["predict", "mass:1", str(measured_rod), "--v1", "1", "--t-end", "8",
+                   "--out", str(tmp_path)])
+    assert status == 0
+    out = capsys.readouterr()
+    assert "identified from" in out.out and "restitution" in out.out
+    assert "above its measured band" in out.err
+    frame = pd.read_csv(tmp_path / "force_motion.csv", index_col="t")
+    assert list(frame.columns) == ["force", "y1", "y2", "gap"]
+    summary = pd.read_csv(tmp_path / "summary.csv")
+    assert summary["restitution"].iloc[0] == pytest.approx(0.698876, rel=0.04)
+    assert (tmp_path / "impact.png").stat().st_size > 1000
