@@ -79,7 +79,6 @@ for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
 import argparse  # noqa: E402
 import contextlib  # noqa: E402
 import io  # noqa: E402
-import math  # noqa: E402
 import sys  # noqa: E402
 import time  # noqa: E402
 import warnings  # noqa: E402
@@ -375,7 +374,7 @@ def main(argv=None):
           f"cpus {os.cpu_count()}, load average {os.getloadavg()[0]:.2f}")
     print("errors: worst mode of each run (relative, %), then median / max over seeds; "
           "counts summed over seeds (noise 0: one run, the data do not depend on the seed); a true mode is missed when no pole is within "
-          f"1 % of it (its errors are then not in the worst); spurious = unmatched poles "
+          "1 % of it (its errors are then not in the worst); spurious = unmatched poles "
           "in band; unstable (Re p > 0) and neg. mass (-1/(2 Im p Im r) < 0) count poles in band")
     print("FRF anchors: make_case (4000 lines, 8 modes in band, told the 8 modes); "
           "ERA: make_impulse_case (8000 samples, fs = 4 f9; told the truth's 18 modes "

@@ -533,7 +533,7 @@ def main(argv=None):
         print(f"  skipped (over {TYPICAL_CAP:g} s): rtol " + ", ".join(f"{r:g}" for r in skipped))
 
     # ---- modal ladder
-    print(f"\nmodal ladder: dt = T/n   (* = wrong interval count)")
+    print("\nmodal ladder: dt = T/n   (* = wrong interval count)")
     print(f"  {'n':>7s} {'time (s)':>9s} {header}  >= baseline?")
     modal = []
     for n in (MODAL_N_FULL if args.full else MODAL_N):

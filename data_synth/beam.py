@@ -120,7 +120,7 @@ class CantileverBeam(ExactModel):
 
     @classmethod
     def from_material(cls, length, youngs_modulus, second_moment, area,
-                      density) -> "CantileverBeam":
+                      density) -> CantileverBeam:
         """Build from geometry and material.
 
         Parameters

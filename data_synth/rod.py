@@ -127,7 +127,7 @@ class Rod(ExactModel):
 
     @classmethod
     def from_material(cls, length, area, youngs_modulus, density, *,
-                      support: str = "free") -> "Rod":
+                      support: str = "free") -> Rod:
         """Build from geometry and material.
 
         Parameters

@@ -92,7 +92,7 @@ class Hertz(ContactLaw):
 
     @classmethod
     def from_materials(cls, *, radius1, youngs_modulus1, poisson1, youngs_modulus2,
-                       poisson2, radius2=np.inf) -> "Hertz":
+                       poisson2, radius2=np.inf) -> Hertz:
         """Hertz's sphere-on-sphere (or sphere-on-flat, ``radius2=inf``) contact.
 
         ``k = 4/3 E* sqrt(R*)`` with ``1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2`` and

@@ -88,7 +88,7 @@ class FRFData:
                 f"{self._quantity})")
 
     # ------------------------------------------------------------------ conversions
-    def convert(self, quantity: str) -> "FRFData":
+    def convert(self, quantity: str) -> FRFData:
         """The same FRF as another quantity.
 
         Dividing by ``i omega`` is undefined at 0 Hz: a 0 Hz line is dropped, with a
@@ -107,17 +107,17 @@ class FRFData:
         return FRFData(data._freq_hz, receptance_to(quantity, receptance, data.omega),
                        quantity=quantity, coherence=data._coherence)
 
-    def to_receptance(self) -> "FRFData":
+    def to_receptance(self) -> FRFData:
         """The FRF as receptance (m/N); see :meth:`convert` for the 0 Hz line."""
         return self.convert("receptance")
 
-    def select(self, index) -> "FRFData":
+    def select(self, index) -> FRFData:
         """A subset of the lines (slice, boolean mask or indices)."""
         coherence = None if self._coherence is None else self._coherence[index]
         return FRFData(self._freq_hz[index], self._values[index], quantity=self._quantity,
                        coherence=coherence)
 
-    def band(self, freq_range) -> "FRFData":
+    def band(self, freq_range) -> FRFData:
         """The lines with ``fmin <= freq_hz <= fmax`` (Hz); an empty band is an error."""
         try:
             fmin, fmax = freq_range

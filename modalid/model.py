@@ -125,7 +125,7 @@ class ModalModel:
     # --------------------------------------------------------------- constructors
     @classmethod
     def from_modes(cls, omega_n, damping_ratio, modal_mass, *, inverse_mass=0.0,
-                   flexibility=0.0) -> "ModalModel":
+                   flexibility=0.0) -> ModalModel:
         """Build from real normal modes: ``sum_k 1/(m_k (s^2 + 2 zeta_k w_k s + w_k^2))``.
 
         Parameters
@@ -167,7 +167,7 @@ class ModalModel:
                    flexibility=flexibility)
 
     @classmethod
-    def from_control(cls, sys) -> "ModalModel":
+    def from_control(cls, sys) -> ModalModel:
         """Build from a SISO python-control ``StateSpace`` or ``TransferFunction``.
 
         The system must be continuous-time, proper, and stable in Lyapunov's sense
@@ -312,7 +312,7 @@ class ModalModel:
         return text
 
     @classmethod
-    def from_json(cls, source) -> "ModalModel":
+    def from_json(cls, source) -> ModalModel:
         """Read a model written by :meth:`to_json`: a JSON text or the path of a file.
 
         Parsing JSON never executes anything; every field is validated by the constructor.
@@ -359,7 +359,7 @@ class ModalModel:
                              "damping_ratio": 0.0 - p.real / omega_n, "residue": r,
                              "modal_mass": modal_mass})
 
-    def truncate(self, n: int, *, residual: bool = False) -> "ModalModel":
+    def truncate(self, n: int, *, residual: bool = False) -> ModalModel:
         """Keep the ``n`` lowest complex modes (by ``|p|``); real poles and rigid terms stay.
 
         With ``residual=True`` the dropped modes' static flexibility ``-2 Re(r/p)`` is added
@@ -374,7 +374,7 @@ class ModalModel:
         return self._replace(poles=self._poles[keep], residues=self._residues[keep],
                              flexibility=flexibility)
 
-    def without_rigid_body(self) -> "ModalModel":
+    def without_rigid_body(self) -> ModalModel:
         """The same model with ``inverse_mass = 0``."""
         return self._replace(inverse_mass=0.0)
 
@@ -396,7 +396,7 @@ class ModalModel:
         return bool(self.is_stable() and np.all(modal_mass > 0) and self._flexibility >= 0
                     and np.all(self._real_residues >= 0))
 
-    def _replace(self, **changes) -> "ModalModel":
+    def _replace(self, **changes) -> ModalModel:
         fields = dict(poles=self._poles, residues=self._residues, real_poles=self._real_poles,
                       real_residues=self._real_residues, inverse_mass=self._inverse_mass,
                       flexibility=self._flexibility)

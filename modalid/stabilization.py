@@ -257,7 +257,7 @@ def _greedy_information(mat, gram, y, n_head, n_cand, per, n_params, floor, scal
         return yy - float(rhs[cols] @ x), x
 
     head = list(range(n_head))
-    chosen, order = [], []
+    chosen = []
     sse = [max(fit(head)[0], floor)]
     remaining = list(range(n_cand))
     while remaining:
