@@ -1,0 +1,376 @@
+"""Truncation control: what a model identified on a finite band is missing above it.
+
+A measured FRF covers a finite band, so the identified model has finitely many modes,
+while a rigid impact excites every frequency. A finite modal sum has ``h(0+) = 0``: rigid
+contact against it becomes a train of tiny plastic impacts (chatter). The upper residual
+flexibility (the omitted modes' static compliance) fixes the energy balance only on
+average; the short-time behaviour needs the structure's *high-frequency impedance*.
+
+:func:`continue_above_band` estimates it from the top identified modes. Averaged over
+many lightly damped modes, the driving-point mobility's real part (conductance) is
+
+    G = pi / (2 m_k dw_k)        (modal mass m_k, mode spacing dw_k)
+
+per mode (integrate ``Re s/(m_k (s^2 + w_k^2))`` over one resonance: ``pi/(2 m_k)``;
+spread it over the spacing ``dw_k``). For a uniform rod ``m_k = m/2``, ``dw = pi/T``
+and ``G = T/m = 1/Z`` exactly: the rod's ``h(0+)``. Above the band the structure then
+behaves like a dashpot of admittance ``G``, i.e. a receptance ``G/s``.
+
+The continuation is represented passively as one real pole, ``G/(s + sigma)`` (impulse
+response ``G exp(-sigma t)``, positive residue: a spring and dashpot in series, which is
+passive). Its static compliance ``G/sigma`` is taken out of the upper residual
+flexibility, so the static flexibility and the low-frequency FRF are unchanged. The rate
+``sigma`` is chosen so that ``G/sigma`` equals the upper residual flexibility (the
+omitted modes' compliance) when that is at least ``G/(c omega_top)``; the exact rod gives
+``sigma = (pi/2) omega_top`` approximately. Pseudo-modes above the band (placed there by
+:class:`modalid.ModalFit` to stand for the omitted modes) are folded into the residual
+flexibility first: the continuation replaces them.
+
+A single real pole just above the band damps the in-band FRF by a few per cent (its
+``-G omega/(omega^2 + sigma^2)`` imaginary part). By default the top modes' pattern is
+therefore first continued with synthesized modes (same modal mass, spacing and damping)
+up to ``extend`` (4) times the top mode's frequency, paid for out of the upper residual
+flexibility; the real pole then carries only the rest, far above the band.
+
+:func:`uncertainty_band` re-identifies measured bodies on the band cut to 60 % and 80 %
+and perturbs residues by their reported standard deviations, and reports the spread of
+the impact figures.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+
+from modalid import ModalModel
+
+__all__ = ["continue_above_band", "high_frequency_conductance", "ContinuationInfo",
+           "uncertainty_band", "UncertaintyBand", "impact_figures", "identified_model",
+           "FIGURES"]
+
+#: the figures the uncertainty band covers (``ImpactResult`` attributes)
+FIGURES = ("contact_duration", "peak_force", "impulse", "restitution")
+
+#: lowest allowed sigma, in units of omega_top: below it the term would reach into the band
+_SIGMA_MIN = 1.0
+
+#: synthesized modes stop where the compliance left would put sigma above this x omega
+_SIGMA_EXTEND = 2.0
+
+
+@dataclass(frozen=True)
+class ContinuationInfo:
+    """How a continuation was built (all SI; rad/s for frequencies)."""
+
+    conductance: float          # G (m/(N s) = s/kg)
+    sigma: float                # real pole -sigma (1/s)
+    omega_top: float            # highest physical mode kept (rad/s)
+    mode_spacing: float         # dw of the top modes (rad/s)
+    modal_mass: float           # mean modal mass of the top modes (kg)
+    upper_flexibility: float    # upper residual flexibility before (m/N)
+    flexibility_after: float    # what is left as constant flexibility (m/N)
+    folded_modes: int           # pseudo-modes above the band folded into flexibility
+    note: str = ""
+
+
+def _physical_modes(model: ModalModel, band_top_hz: float):
+    """Modes table sorted by frequency, split into in-band and above-band parts."""
+    modes = model.modes
+    above = modes["frequency_hz"].to_numpy() > band_top_hz * (1 + 1e-9)
+    return modes[~above], modes[above]
+
+
+def high_frequency_conductance(model: ModalModel, band_top_hz: float, *, n_top: int = 3):
+    """``(G, omega_top, dw, m_k)`` from the ``n_top`` highest modes inside the band.
+
+    ``G = pi / (2 m_k dw)``: the mean modal mass of the top modes and their mean spacing
+    (``n_top`` modes give ``n_top - 1`` spacings; with fewer than 2 modes in the band the
+    spacing is taken as the top mode's frequency, i.e. modes evenly spaced from 0).
+    """
+    inside, _ = _physical_modes(model, band_top_hz)
+    inside = inside[inside["modal_mass"].to_numpy() > 0]
+    if inside.empty:
+        raise ValueError("no passive mode inside the band: nothing to continue from")
+    n_top = max(int(n_top), 1)
+    top = inside.iloc[-min(n_top, len(inside)):]
+    omega = top["omega_n"].to_numpy()
+    if omega.size >= 2:
+        dw = float(np.mean(np.diff(omega)))
+    else:
+        below = inside["omega_n"].to_numpy()
+        dw = float(below[-1] - below[-2]) if below.size >= 2 else float(omega[-1])
+    # average conductance per unit frequency: pi/(2 m_k) per mode over dw
+    mk = float(1.0 / np.mean(1.0 / top["modal_mass"].to_numpy()))
+    return math.pi / (2.0 * mk * dw), float(omega[-1]), dw, mk
+
+
+def continue_above_band(model: ModalModel, band_top_hz: float, *, n_top: int = 3,
+                        extend: float = 4.0, fold_pseudo_modes: bool = True,
+                        return_info: bool = False):
+    """``model`` plus a passive high-frequency continuation term above ``band_top_hz``.
+
+    Parameters
+    ----------
+    model : ModalModel
+        An identified (or truncated) driving-point model.
+    band_top_hz : float
+        Top of the band the model describes (Hz), e.g. ``fit.report_["band_hz"][1]``.
+    n_top : int
+        Number of top in-band modes whose modal mass and spacing give ``G``.
+    extend : float
+        Continue the top modes' pattern (same modal mass, spacing and damping) with
+        synthesized modes up to ``extend`` times the top mode's frequency, as long as the
+        upper residual flexibility can pay for them; the real pole then sits beyond them,
+        where its damping no longer shows in the band. ``1``: the real pole alone.
+    fold_pseudo_modes : bool
+        Replace modes above ``band_top_hz`` (pseudo-modes of the fit) by their static
+        flexibility before building the continuation.
+    return_info : bool
+        Also return a :class:`ContinuationInfo`.
+
+    Returns
+    -------
+    ModalModel (and ContinuationInfo)
+        The same model with one more real pole ``G/(s + sigma)`` and the upper residual
+        flexibility reduced by ``G/sigma`` (kept >= 0). Static flexibility unchanged.
+    """
+    if not isinstance(model, ModalModel):
+        raise TypeError(f"model must be a ModalModel, got {type(model).__name__}")
+    band_top_hz = float(band_top_hz)
+    if not band_top_hz > 0:
+        raise ValueError(f"band_top_hz must be positive, got {band_top_hz!r}")
+    G, omega_top, dw, mk = high_frequency_conductance(model, band_top_hz, n_top=n_top)
+    poles, residues = model.poles, model.residues
+    flexibility = model.flexibility
+    folded = 0
+    if fold_pseudo_modes:
+        above = np.abs(poles) > 2 * math.pi * band_top_hz * (1 + 1e-9)
+        if np.any(above):
+            flexibility -= 2.0 * float(np.sum((residues[above] / poles[above]).real))
+            poles, residues = poles[~above], residues[~above]
+            folded = int(np.sum(above))
+    upper = flexibility
+    # synthesized modes continuing the top modes' pattern up to extend * omega_top
+    inside, _ = _physical_modes(ModalModel(poles=poles, residues=residues), band_top_hz)
+    top = inside[inside["modal_mass"].to_numpy() > 0].iloc[-max(int(n_top), 1):]
+    zeta = float(np.median(top["damping_ratio"].to_numpy()))
+    extra_w = []
+    w = omega_top + dw
+    while w <= extend * omega_top * (1 + 1e-12):
+        if upper - 1.0 / (mk * w * w) < G / (_SIGMA_EXTEND * w):
+            break                      # keep enough compliance for the far term
+        extra_w.append(w)
+        upper -= 1.0 / (mk * w * w)
+        w += dw
+    if extra_w:
+        extra = ModalModel.from_modes(np.array(extra_w), zeta, mk)
+        poles = np.concatenate([poles, extra.poles])
+        residues = np.concatenate([residues, extra.residues])
+        omega_top = extra_w[-1]
+    sigma_min = _SIGMA_MIN * omega_top
+    note = ""
+    if upper <= 0:
+        # nothing to take the static compliance from: keep the term's compliance tiny
+        sigma = 0.5 * math.pi * omega_top
+        note = ("no upper residual flexibility to draw from: continuation rate set to "
+                "(pi/2) omega_top, the rod's value; static flexibility grows by G/sigma")
+        flex_after = max(upper, 0.0)
+    else:
+        sigma = G / upper
+        if sigma < sigma_min:
+            sigma = sigma_min
+            note = (f"upper residual flexibility {upper:.4g} exceeds G/omega_top: sigma held "
+                    "at omega_top, the rest stays as constant flexibility")
+        flex_after = max(upper - G / sigma, 0.0)
+    out = ModalModel(poles=poles, residues=residues,
+                     real_poles=np.concatenate([model.real_poles, [-sigma]]),
+                     real_residues=np.concatenate([model.real_residues, [G]]),
+                     inverse_mass=model.inverse_mass, flexibility=flex_after)
+    if note:
+        warnings.warn(note, RuntimeWarning, stacklevel=2)
+    if return_info:
+        return out, ContinuationInfo(G, sigma, omega_top, dw, mk, upper, flex_after,
+                                     folded, note)
+    return out
+
+
+# --------------------------------------------------------------------- figures
+def impact_figures(result, *, resolution: float = 0.0) -> dict:
+    """Duration and peak of the first contact, total impulse and restitution.
+
+    ``resolution`` (s): contact intervals separated by less than this are merged into one
+    contact. A model identified up to ``f_top`` cannot resolve features shorter than
+    about ``1/(2 f_top)``: its force rings there (Gibbs) and may touch zero for a moment
+    where the true force stays positive (the first pitfall of method.md). ``0`` keeps the
+    solver's intervals as they are.
+    """
+    intervals = list(result.contact_intervals)
+    if not intervals:
+        return {"contact_duration": 0.0, "peak_force": 0.0, "impulse": result.impulse,
+                "restitution": result.restitution, "n_contacts": 0}
+    start, end = intervals[0]
+    n_merged = 1
+    for s, e in intervals[1:]:
+        if s - end < resolution:
+            end, n_merged = e, n_merged + 1
+        else:
+            break
+    inside = (result.t >= start) & (result.t <= end)
+    peak = float(np.max(result.force[inside], initial=0.0))
+    n_contacts = len(intervals)
+    merged = [(start, end)]
+    for s, e in intervals[n_merged:]:
+        if s - merged[-1][1] < resolution:
+            merged[-1] = (merged[-1][0], e)
+        else:
+            merged.append((s, e))
+    return {"contact_duration": end - start, "peak_force": peak, "impulse": result.impulse,
+            "restitution": result.restitution, "n_contacts": len(merged),
+            "n_contacts_raw": n_contacts}
+
+
+def band_resolution(fits) -> float:
+    """``1/(2 f_top)`` of the narrowest band among the fits (0 when there is none)."""
+    tops = [fit.report_["band_hz"][1] for fit in fits if fit is not None]
+    return 0.5 / min(tops) if tops else 0.0
+
+
+# ------------------------------------------------------------------ uncertainty
+@dataclass(frozen=True)
+class UncertaintyBand:
+    """Spread of the impact figures over re-identified and perturbed models.
+
+    Attributes
+    ----------
+    nominal : dict
+        Figures of the nominal prediction (see :func:`impact_figures`).
+    low, high : dict
+        Smallest and largest value of each figure in :data:`FIGURES` over the nominal
+        prediction and every variant.
+    variants : tuple of (str, dict)
+        Each variant's label (``"body2 band 60%"``, ``"residue draw 1"``) and figures.
+    """
+
+    nominal: dict
+    low: dict
+    high: dict
+    variants: tuple
+
+    def contains(self, name: str, value: float, *, rel: float = 0.0) -> bool:
+        """Whether ``value`` lies in ``[low, high]`` of figure ``name`` (widened by ``rel``)."""
+        lo, hi = self.low[name], self.high[name]
+        return lo * (1 - rel) <= value <= hi * (1 + rel) if lo >= 0 else lo <= value <= hi
+
+    def table(self) -> str:
+        """A short text table: figure, nominal, low, high."""
+        lines = [f"{'figure':<18}{'nominal':>14}{'low':>14}{'high':>14}"]
+        for name in FIGURES:
+            lines.append(f"{name:<18}{self.nominal[name]:>14.6g}{self.low[name]:>14.6g}"
+                         f"{self.high[name]:>14.6g}")
+        return "\n".join(lines)
+
+
+def refit_on_cut_band(fit, fraction: float):
+    """A new ``ModalFit`` like ``fit``, on the lines up to ``fraction`` of its band top."""
+    low, top = fit.report_["band_hz"]
+    params = fit.get_params()
+    params["freq_range"] = (low, fraction * top)
+    params["n_modes"] = None
+    estimator = type(fit)(**params)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        estimator.fit(fit.frf_)
+    return estimator
+
+
+def perturb_residues(fit, rng) -> ModalModel:
+    """``fit.model_`` with each physical mode's residue moved by a draw of its std."""
+    model = fit.model_
+    modes = fit.report_["modes"]
+    std = modes["residue_std"].to_numpy()
+    residues = model.residues.copy()
+    for pole, s in zip(fit.poles_, std):
+        if not np.isfinite(s):
+            continue
+        k = int(np.argmin(np.abs(model.poles - pole)))
+        residues[k] += s / math.sqrt(2.0) * complex(rng.standard_normal(), rng.standard_normal())
+    return ModalModel(poles=model.poles, residues=residues, real_poles=model.real_poles,
+                      real_residues=model.real_residues, inverse_mass=model.inverse_mass,
+                      flexibility=model.flexibility)
+
+
+def identified_model(fit, *, continuation: bool = True, n_top: int = 3, extend: float = 4.0,
+                     model=None) -> ModalModel:
+    """The model of ``fit`` (or ``model``), continued above the fit's band when asked."""
+    model = fit.model_ if model is None else model
+    if not continuation:
+        return model
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        return continue_above_band(model, fit.report_["band_hz"][1], n_top=n_top,
+                                   extend=extend)
+
+
+def uncertainty_band(models, fits, solve, *, fractions=(0.6, 0.8), n_draws: int = 4,
+                     seed: int = 0, continuation: bool = True, n_top: int = 3,
+                     extend: float = 4.0, nominal=None) -> UncertaintyBand:
+    """Spread of duration, peak, impulse and restitution over plausible models.
+
+    Parameters
+    ----------
+    models : sequence of 2 models
+        The nominal model of each body (as used for the nominal prediction).
+    fits : sequence of 2 (ModalFit or None)
+        The fit of each body identified from an FRF; only these are varied.
+    solve : callable
+        ``solve(model1, model2) -> ImpactResult``.
+    fractions : sequence of float
+        Each identified body is re-identified on its band cut to these fractions of the
+        band top (one body at a time, the other nominal) and continued above the cut.
+    n_draws : int
+        Draws (fixed ``seed``) in which every identified body's physical residues move by
+        a complex Gaussian of their reported standard deviation.
+    nominal : ImpactResult, optional
+        The nominal result, if already solved.
+    """
+    models = list(models)
+    if nominal is None:
+        nominal = solve(*models)
+    variants = []
+    resolution = band_resolution(fits)
+    for i, fit in enumerate(fits):
+        if fit is None:
+            continue
+        for fraction in fractions:
+            refit = refit_on_cut_band(fit, fraction)
+            trial = list(models)
+            try:
+                trial[i] = identified_model(refit, continuation=continuation, n_top=n_top,
+                                            extend=extend)
+            except ValueError:
+                continue
+            cut_fits = [refit if j == i else f for j, f in enumerate(fits)]
+            try:
+                res = solve(*trial)
+            except (ValueError, MemoryError, np.linalg.LinAlgError):
+                continue                 # a degenerate re-identification: no figure
+            variants.append((f"body{i + 1} band {100 * fraction:.0f}%",
+                             impact_figures(res, resolution=band_resolution(cut_fits))))
+    rng = np.random.default_rng(seed)
+    if any(f is not None for f in fits):
+        for d in range(n_draws):
+            trial = list(models)
+            for i, fit in enumerate(fits):
+                if fit is not None:
+                    trial[i] = identified_model(fit, continuation=continuation, n_top=n_top,
+                                                extend=extend, model=perturb_residues(fit, rng))
+            variants.append((f"residue draw {d + 1}",
+                             impact_figures(solve(*trial), resolution=resolution)))
+    base = impact_figures(nominal, resolution=resolution)
+    everything = [base] + [v for _, v in variants]
+    low = {k: min(f[k] for f in everything if f[k] is not None) for k in FIGURES}
+    high = {k: max(f[k] for f in everything if f[k] is not None) for k in FIGURES}
+    return UncertaintyBand(nominal=base, low=low, high=high, variants=tuple(variants))
