@@ -77,7 +77,8 @@ def _cmd_predict(args) -> int:
         warnings.simplefilter("always")
         pred = predict(args.body1, args.body2, velocity1=args.v1, velocity2=args.v2,
                        gap=args.gap, contact=args.contact, t_end=args.t_end, dt=args.dt,
-                       method=args.method, quantity=args.quantity)
+                       method=args.method, quantity=args.quantity,
+                       continuation=args.continuation, uncertainty=args.uncertainty)
     res = pred.result
     for i, fit in enumerate(pred.fits, start=1):
         if fit is None:
@@ -99,6 +100,9 @@ def _cmd_predict(args) -> int:
     print(f"{'contact_intervals':>26s}: {[(round(a, 9), round(b, 9)) for a, b in res.contact_intervals]}")
     with pd.option_context("display.width", 140, "display.float_format", "{:.6g}".format):
         print(res.energy.to_string())
+        if pred.uncertainty is not None:
+            print("uncertainty band (re-identified on 60 % and 80 % of each band, residue draws):")
+            print(pred.uncertainty.table())
     if args.out:
         import matplotlib
 
@@ -150,6 +154,11 @@ def build_parser() -> argparse.ArgumentParser:
                       choices=("auto", "laplace", "modal", "convolution", "closed_form"))
     pred.add_argument("--quantity", choices=("receptance", "mobility", "accelerance"),
                       help="quantity of FRF files that do not say it")
+    pred.add_argument("--continuation", action="store_true",
+                      help="continue identified models above their band (high-frequency "
+                           "impedance of their top modes)")
+    pred.add_argument("--uncertainty", action="store_true",
+                      help="report the spread over cut-band re-identifications")
     pred.add_argument("--out", help="folder for the CSV files and the plot")
     pred.set_defaults(func=_cmd_predict)
     return parser

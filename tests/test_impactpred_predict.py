@@ -98,3 +98,12 @@ def test_predict_command_writes_results(measured_rod, tmp_path, capsys):
     summary = pd.read_csv(tmp_path / "summary.csv")
     assert summary["restitution"].iloc[0] == pytest.approx(0.698876, rel=0.04)
     assert (tmp_path / "impact.png").stat().st_size > 1000
+
+
+def test_predict_command_with_continuation_and_uncertainty(measured_rod, capsys):
+    assert main(["predict", "mass:1", str(measured_rod), "--v1", "1", "--t-end", "8",
+                 "--continuation", "--uncertainty"]) == 0
+    out = capsys.readouterr().out
+    assert "uncertainty band" in out and "restitution" in out
+    # the continued model no longer chatters: one first contact about 3.07 T long
+    assert "contact_intervals: [(0.0, 3.07" in out
