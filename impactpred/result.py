@@ -140,11 +140,10 @@ class ImpactResult:
     @property
     def energy(self) -> pd.DataFrame:
         """Energy table (J): rows body1, body2; rigid/vibration before and after."""
-        rows = {f"body{i + 1}": vars(e) for i, e in enumerate(self.energy_by_body)}
-        table = pd.DataFrame.from_dict(rows, orient="index")
-        table["total_before"] = table["rigid_before"] + table["vibration_before"]
-        table["total_after"] = table["rigid_after"] + table["vibration_after"]
-        return table
+        rows = {f"body{i + 1}": {**vars(e), "total_before": e.total_before,
+                                 "total_after": e.total_after}
+                for i, e in enumerate(self.energy_by_body)}
+        return pd.DataFrame.from_dict(rows, orient="index")
 
     @property
     def vibration_energy_fraction(self) -> float:

@@ -119,16 +119,14 @@ def assemble_result(bodies, gap0, grid: Grid, force, kernels, y_free, *, method,
 
     inv = (b1.inverse_mass, b2.inverse_mass)
     u_before = (b1.velocity, b2.velocity)
-    load_impulse = [float(np.sum(b.load_samples(grid.midpoints)) * dt) if b.load is not None
-                    else 0.0 for b in bodies]
+    loads = [b.load_samples(grid.midpoints) for b in bodies]  # zeros without a load
+    load_impulse = [float(np.sum(load) * dt) for load in loads]
     u_after = (u_before[0] + inv[0] * (load_impulse[0] - total_impulse),
                u_before[1] + inv[1] * (load_impulse[1] + total_impulse))
     energies = []
     for i, (body, yi, sign) in enumerate(((b1, y1, -1.0), (b2, y2, 1.0))):
         dy = np.diff(yi)
-        work = sign * float(np.dot(force, dy))
-        if body.load is not None:
-            work += float(np.dot(body.load_samples(grid.midpoints), dy))
+        work = sign * float(np.dot(force, dy)) + float(np.dot(loads[i], dy))
         rigid_before = 0.5 * u_before[i] ** 2 / inv[i] if inv[i] > 0 else 0.0
         rigid_after = 0.5 * u_after[i] ** 2 / inv[i] if inv[i] > 0 else 0.0
         vib_before = body.vibration_energy()
