@@ -103,7 +103,8 @@ class ModalFit(BaseEstimator):
         ``lower_residual_mode``, ``upper_residual_modes``; the high-frequency behaviour:
         ``effective_mass`` ``1/(sum 1/m_k + 1/M)`` over the model's modes (pseudo-modes
         included), ``effective_mass_physical`` (physical modes only) and
-        ``residual_flexibility``; ``frf_nrmse`` (against the data), ``band_hz``,
+        ``residual_flexibility``; ``frf_nrmse`` (against the receptance),
+        ``frf_nrmse_data`` (in the data's own quantity, ``data_quantity``), ``band_hz``,
         ``max_order``, ``notes`` (modes added or dropped, with why).
 
     Warns
@@ -183,6 +184,7 @@ class ModalFit(BaseEstimator):
         if self.freq_range is not None:
             data = data.band(self.freq_range)
         cut = bool(data.freq_hz[0] > first)          # lines below the band were dropped
+        self._data_band = data                        # in the data's own quantity
         frf = data.to_receptance()
         mag = np.abs(frf.values)
         if self.weighting == "relative":
@@ -286,6 +288,8 @@ class ModalFit(BaseEstimator):
         if below.size >= 3:
             slope = np.polyfit(np.log(omega[below]), np.log(np.abs(h[below])), 1)[0]
             mass_line = bool(np.median(h[below].real) < 0 and slope < -1.0)
+            if not self.passive and slope < -1.5 and np.median(h[below].real) > 0:
+                return False, "lower" in self.residuals    # negative mass line: transfer
         else:
             mass_line = mass_line_significant(omega, h, w, poles)
         if not mass_line:
@@ -387,15 +391,21 @@ class ModalFit(BaseEstimator):
         del self._buffers
         return self
 
-    @staticmethod
-    def _imag_bounds(kinds, omega, poles):
+    def _imag_bounds(self, kinds, omega, poles):
         """Bounds on ``Im p``: pseudo-modes stay outside the band, a physical pole within
-        10 % of where it started (it may not wander off to another resonance)."""
+        10 % of where it started; with ``n_modes`` as frequencies, within 5 % of its own
+        and short of half-way to the next (one pole per requested frequency)."""
         upper = (kinds == "upper") | (kinds == "far")
         lo = np.where(upper, omega[-1], np.where(kinds == "mode", 0.9 * poles.imag, 0.0))
         hi = np.where(upper, 4.0 * omega[-1],
                       np.where(kinds == "lower", omega[0],
                                np.where(kinds == "mode", 1.1 * poles.imag, np.inf)))
+        freqs, mode = self._selection().get("frequencies_hz"), kinds == "mode"
+        if freqs is not None and mode.sum() == freqs.size:
+            wf = 2 * np.pi * np.sort(freqs)
+            mid = 0.5 * (wf[1:] + wf[:-1])
+            lo[mode], hi[mode] = (np.maximum(wf / 1.05, np.insert(mid, 0, 0.0)),
+                                  np.minimum(wf * 1.05, np.append(mid, np.inf)))
         return lo, hi
 
     def _model_weights(self, omega, poles, x, terms, w0):
@@ -508,7 +518,8 @@ class ModalFit(BaseEstimator):
                                  flexibility=d)
         physical = kinds == "mode"
         self.poles_ = poles[physical][np.argsort(np.abs(poles[physical]))]
-        fitted = self.model_.frf(omega)
+        fitted, band = self.model_.frf(omega), self._data_band
+        own = self.model_.frf(band.omega, quantity=band.quantity) - band.values
         modes = ModalModel(poles=poles[physical], residues=residues[physical]).modes
         std = info.get("std")
         for name in ("frequency_hz_std", "damping_ratio_std", "residue_std"):
@@ -524,6 +535,8 @@ class ModalFit(BaseEstimator):
         self.report_ = _report(
             self.model_, kinds, info, notes, method=self.method, max_order=max_order,
             frf_nrmse=float(np.linalg.norm(fitted - h) / np.linalg.norm(h)),
+            frf_nrmse_data=float(np.linalg.norm(own) / np.linalg.norm(band.values)),
+            data_quantity=band.quantity,
             band_hz=(float(frf.freq_hz[0]), float(frf.freq_hz[-1])),
             vf_iterations=vf_iterations, modes=modes)
 

@@ -142,8 +142,9 @@ def select_poles(clusters: pd.DataFrame, *, n_modes=None, frequencies_hz=None,
     n_modes : int, optional
         Keep the ``n_modes`` most persistent clusters.
     frequencies_hz : sequence of float, optional
-        Keep, for each frequency, the cluster nearest to it (within 5 %); a frequency
-        with no cluster near it gets a pole of 1 % damping there.
+        Keep, for each frequency, the cluster nearest to it (within 5 % and nearer than
+        half-way to the next requested frequency); a frequency with no cluster near it
+        gets a pole of 1 % damping there. One pole per frequency, in the same order.
     min_share : float
         Without overrides: the clusters present in at least this share of their band's
         orders.
@@ -157,18 +158,28 @@ def select_poles(clusters: pd.DataFrame, *, n_modes=None, frequencies_hz=None,
     extra = []
     if frequencies_hz is not None:
         freqs = clusters["frequency_hz"].to_numpy()
-        for f in np.atleast_1d(frequencies_hz):
+        req = np.sort(np.atleast_1d(np.asarray(frequencies_hz, float)))
+        gap = np.diff(req)
+        half = 0.5 * np.minimum(np.append(gap, np.inf), np.insert(gap, 0, np.inf))
+        for f, hw in zip(req, half):
             k = int(np.argmin(np.abs(freqs - f))) if freqs.size else -1
-            if k >= 0 and abs(freqs[k] - f) <= 0.05 * f and not selected[k]:
+            wn, zeta = 2 * np.pi * float(f), 0.01
+            if k >= 0 and abs(freqs[k] - f) <= min(0.05 * f, hw) and not selected[k]:
                 selected[k] = True
-            else:
-                wn = 2 * np.pi * float(f)
-                extra.append(complex(-0.01 * wn, wn * np.sqrt(1 - 1e-4)))
+                if abs(freqs[k] - f) <= 1e-3 * f:
+                    continue
+                # the cluster is off the resonance: its damping, at the given frequency
+                zeta = float(np.clip(clusters["damping_ratio"].iloc[k], 1e-4, 0.01))
+            extra.append(complex(-zeta * wn, wn * np.sqrt(1 - zeta**2)))
     elif n_modes is not None:
         selected[:min(n_modes, len(clusters))] = True
     else:
         selected = (clusters["share"] >= min_share).to_numpy()
-    poles = np.concatenate([clusters["pole"].to_numpy(complex)[selected],
+    use = selected.copy()
+    if frequencies_hz is not None:
+        near = np.abs(clusters["frequency_hz"].to_numpy()[:, None] - req) <= 1e-3 * req
+        use &= near.any(axis=1)
+    poles = np.concatenate([clusters["pole"].to_numpy(complex)[use],
                             np.asarray(extra, complex)])
     return poles[np.argsort(np.abs(poles))], selected
 

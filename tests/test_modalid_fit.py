@@ -14,7 +14,7 @@ import pytest
 from sklearn.base import clone
 
 from data_synth import CantileverBeam, Rod
-from modalid import FRFData
+from modalid import FRFData, ModalModel
 from modalid.fit import ModalFit, ModalFitWarning
 
 DATA = Path(__file__).parent / "data"
@@ -364,3 +364,33 @@ def test_noisy_analyzer_export_case2():
     fit = ModalFit(passive=False, weighting="noise").fit(data)
     freqs = fit.report_["modes"]["frequency_hz"].to_numpy()
     assert np.min(np.abs(freqs - 192.59)) < 0.5
+
+
+def _transfer_accelerance():
+    """A transfer accelerance: a negative mass line (accelerance -> -1 at low frequency),
+    close modes at 100 and 103 Hz of opposite sign, a mode at 200 Hz."""
+    wn = 2 * np.pi * np.array([100.0, 103.0, 200.0])
+    truth = ModalModel.from_modes(wn, [0.005, 0.005, 0.01], [2.0, -3.0, 1.5])
+    freq = np.arange(20.0, 400.0, 0.25)
+    values = truth.frf(2 * np.pi * freq, quantity="accelerance") - 1.0
+    return FRFData(freq, values, quantity="accelerance"), wn / (2 * np.pi)
+
+
+@pytest.mark.filterwarnings("ignore::UserWarning")
+def test_transfer_with_negative_mass_line_and_data_quantity_nrmse():
+    data, freqs = _transfer_accelerance()
+    fit = ModalFit(passive=False, freq_range=(30, 380)).fit(data)
+    assert fit.report_["lower_residual_mode"]
+    found = np.abs(fit.poles_) / (2 * np.pi)
+    assert np.all(np.min(np.abs(found[:, None] - freqs), axis=0) < 1e-4 * freqs)
+    assert fit.report_["data_quantity"] == "accelerance"
+    assert fit.report_["frf_nrmse_data"] < 1e-3
+
+
+@pytest.mark.filterwarnings("ignore::UserWarning")
+def test_frequency_list_keeps_one_pole_per_frequency():
+    data, freqs = _transfer_accelerance()
+    fit = ModalFit(passive=False, freq_range=(30, 380), n_modes=[99.5, 103.2, 201.0],
+                   refine=True).fit(data)
+    assert fit.report_["n_modes"] == 3
+    np.testing.assert_allclose(np.abs(fit.poles_) / (2 * np.pi), freqs, rtol=1e-4)
