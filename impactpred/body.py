@@ -174,9 +174,9 @@ class Body:
             if n > self.model.n_modes:
                 raise ValueError(f"vibration gives {n} modes but the model has "
                                  f"{self.model.n_modes}")
-            return self.model.truncate(n).without_rigid_body()._replace(
+            return self.model.truncate(n).without_rigid_body().replace(
                 flexibility=0.0, real_poles=(), real_residues=())
-        return self.model.modal_model(n).without_rigid_body()._replace(flexibility=0.0)
+        return self.model.modal_model(n).without_rigid_body().replace(flexibility=0.0)
 
     def initial_modal_states(self) -> np.ndarray | None:
         """Complex modal states ``z_k`` (``z' = p z + u``, ``y = 2 Re(r z)``) of :attr:`vibration`."""

@@ -137,10 +137,6 @@ class Hertz(ContactLaw):
         return f
 
 
-def _contact_name(law: ContactLaw) -> str:
-    return type(law).__name__
-
-
 def check_contact(contact) -> ContactLaw:
     """Return ``contact`` if it is a contact law, else raise ``TypeError`` naming it."""
     if not isinstance(contact, ContactLaw):

@@ -368,6 +368,6 @@ def correct_exponential_window(model_or_poles, decay_rate):
             bad = m.real_poles[real_poles >= 0][0]
             raise ValueError(f"decay_rate {decay_rate!r} moves the real pole {float(bad)!r} to "
                              f"Re p >= 0: it was not damped by the window alone")
-        return m._replace(poles=m.poles + decay_rate, real_poles=real_poles)
+        return m.replace(poles=m.poles + decay_rate, real_poles=real_poles)
     poles = as_complex_array("model_or_poles", model_or_poles)
     return poles + decay_rate

@@ -371,12 +371,12 @@ class ModalModel:
         flexibility = self._flexibility
         if residual and drop.size:
             flexibility -= 2.0 * float(np.sum((self._residues[drop] / self._poles[drop]).real))
-        return self._replace(poles=self._poles[keep], residues=self._residues[keep],
+        return self.replace(poles=self._poles[keep], residues=self._residues[keep],
                              flexibility=flexibility)
 
     def without_rigid_body(self) -> ModalModel:
         """The same model with ``inverse_mass = 0``."""
-        return self._replace(inverse_mass=0.0)
+        return self.replace(inverse_mass=0.0)
 
     def is_stable(self) -> bool:
         """True when no pole lies in the open right half-plane and real poles are negative.
@@ -396,7 +396,8 @@ class ModalModel:
         return bool(self.is_stable() and np.all(modal_mass > 0) and self._flexibility >= 0
                     and np.all(self._real_residues >= 0))
 
-    def _replace(self, **changes) -> ModalModel:
+    def replace(self, **changes) -> ModalModel:
+        """A copy with some constructor fields changed (validated like the constructor)."""
         fields = dict(poles=self._poles, residues=self._residues, real_poles=self._real_poles,
                       real_residues=self._real_residues, inverse_mass=self._inverse_mass,
                       flexibility=self._flexibility)

@@ -251,7 +251,7 @@ def test_hammer_rejects_bad_input(truth):
     with pytest.raises(ValueError, match="Rod is not rational"):
         synthetic_hammer_test(Rod(mass=1.0, transit_time=1e-3), FS, 0.1)
     with pytest.raises(ValueError, match="flexibility"):
-        synthetic_hammer_test(truth._replace(flexibility=1e-6), FS, 0.1)
+        synthetic_hammer_test(truth.replace(flexibility=1e-6), FS, 0.1)
     with pytest.raises(ValueError, match="pulse_width must be at least 2 samples"):
         synthetic_hammer_test(truth, FS, 0.1, pulse_width=1e-4)
     with pytest.raises(ValueError, match="does not end within the record"):
