@@ -112,6 +112,9 @@ class Body:
                             f"SampledResponse, got {type(model).__name__}")
         velocity = as_real_scalar("velocity", velocity)
         displacement = as_real_scalar("displacement", displacement)
+        if model.inverse_mass < 0.0:
+            raise ValueError(f"model is not a driving-point receptance: its rigid-body term "
+                             f"1/M = {model.inverse_mass!r} is negative")
         if model.inverse_mass == 0.0 and velocity != 0.0:
             raise ValueError(f"a grounded body (no rigid-body mode) cannot have a rigid-body "
                              f"velocity, got velocity={velocity!r}")

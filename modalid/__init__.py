@@ -10,9 +10,11 @@ from .hammer import (DoubleHitWarning, HammerFRF, correct_exponential_window,
                      find_double_hits, frf_from_hammer)
 from .io import read_frf, write_frf
 from .model import ModalModel
+from .multi_output import MultiOutputModalModel
 from .quantities import QUANTITIES, receptance_to, to_receptance
 
 __all__ = ["ModalFit", "ModalFitWarning", "FRFData", "ModalModel", "QUANTITIES", "receptance_to", "to_receptance",
            "read_frf", "write_frf"]
 __all__ += ["HammerFRF", "DoubleHitWarning", "frf_from_hammer", "find_double_hits",
             "correct_exponential_window"]
+__all__ += ["MultiOutputModalModel"]

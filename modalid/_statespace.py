@@ -17,29 +17,43 @@ def pole_residue_to_statespace(poles, residues, real_poles, real_residues, inver
 
     Returns ``A`` (n, n), ``b`` (n,), ``c`` (n,), ``d`` float with
     ``c (sI - A)^-1 b + d = H(s)``; block order: complex modes, real poles, rigid body.
+    With 2-D ``residues`` (n_outputs, n_modes), ``real_residues`` (n_outputs, n_real) and
+    1-D ``inverse_mass``, ``flexibility`` (n_outputs,) it realises one output per row on
+    the same states: ``c`` is then (n_outputs, n) and ``d`` (n_outputs,).
     """
+    multi = np.ndim(residues) == 2
+    residues = np.atleast_2d(residues)
+    real_residues = np.reshape(real_residues, (residues.shape[0], -1))
+    inverse_mass = np.atleast_1d(np.asarray(inverse_mass, dtype=float))
+    has_rigid = bool(np.any(inverse_mass != 0.0))
     n_c, n_r = len(poles), len(real_poles)
-    n = 2 * n_c + n_r + (2 if inverse_mass else 0)
+    n = 2 * n_c + n_r + (2 if has_rigid else 0)
     a = np.zeros((n, n))
     b = np.zeros(n)
-    c = np.zeros(n)
+    c = np.zeros((residues.shape[0], n))
     idx = 2 * np.arange(n_c)
     a[idx, idx] = a[idx + 1, idx + 1] = np.real(poles)
     a[idx, idx + 1] = -np.imag(poles)
     a[idx + 1, idx] = np.imag(poles)
     b[idx] = 1.0
-    c[idx] = 2.0 * np.real(residues)
-    c[idx + 1] = -2.0 * np.imag(residues)
+    c[:, idx] = 2.0 * np.real(residues)
+    c[:, idx + 1] = -2.0 * np.imag(residues)
     j = 2 * n_c + np.arange(n_r)
     a[j, j] = real_poles
     b[j] = 1.0
-    c[j] = real_residues
-    if inverse_mass:
+    c[:, j] = real_residues
+    if has_rigid:
         k = 2 * n_c + n_r
         a[k, k + 1] = 1.0
-        b[k + 1] = inverse_mass
-        c[k] = 1.0
-    return a, b, c, float(flexibility)
+        if multi:  # shared rigid states (displacement per unit 1/M, velocity); 1/M in c
+            b[k + 1] = 1.0
+            c[:, k] = inverse_mass
+        else:      # states are the rigid displacement (m) and velocity (m/s)
+            b[k + 1] = inverse_mass[0]
+            c[:, k] = 1.0
+    if multi:
+        return a, b, c, np.asarray(flexibility, dtype=float).reshape(-1)
+    return a, b, c[0], float(flexibility)
 
 
 def pole_residue_from_statespace(a, b, c, d, *, zero_tol=1e-8, defect_cond=1e10):
@@ -48,8 +62,8 @@ def pole_residue_from_statespace(a, b, c, d, *, zero_tol=1e-8, defect_cond=1e10)
     The eigenvalues at 0 (``|lambda| <= zero_tol * ||A||``) are split off by an ordered
     real Schur form and a Sylvester solve; their block must be a pure double integrator
     (the rigid-body term). The rest is diagonalised; residues are
-    ``(c v_k)(w_k b)``. Raises ``ValueError`` for a simple pole at 0, a negative
-    rigid-body mass, an unstable pole or a defective (repeated, coupled) pole.
+    ``(c v_k)(w_k b)``. Raises ``ValueError`` for a simple pole at 0, an unstable pole or
+    a defective (repeated, coupled) pole.
 
     Returns a dict of keyword arguments for :class:`~modalid.ModalModel`.
     """
@@ -98,9 +112,8 @@ def pole_residue_from_statespace(a, b, c, d, *, zero_tol=1e-8, defect_cond=1e10)
         if abs(k3) / omega_ref**3 > 1e-6 * scale:
             raise ValueError(f"the system has a pole of order 3 at s = 0 (coefficient "
                              f"{k3:.6g} of 1/s^3)")
-        if k2 < -1e-9 * scale * omega_ref**2:
-            raise ValueError(f"the rigid-body term 1/(M s^2) has a negative inverse mass {k2:.6g}")
-        out["inverse_mass"] = max(k2, 0.0)
+        # Rounding-level values are zero; a negative one is a transfer term (rigid rotation).
+        out["inverse_mass"] = k2 if abs(k2) > 1e-9 * scale * omega_ref**2 else 0.0
 
     stab_tol = 1e-9 * np.abs(lam)
     unstable = lam.real > stab_tol

@@ -17,8 +17,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ._checks import (as_choice, as_complex_array, as_count, as_nonnegative_scalar,
-                      as_real_array, as_real_scalar)
+from ._checks import (as_choice, as_complex_array, as_count, as_real_array, as_real_scalar)
 from .quantities import QUANTITIES, receptance_to
 from ._statespace import pole_residue_from_statespace, pole_residue_to_statespace
 
@@ -46,7 +45,7 @@ def _frozen(array: np.ndarray) -> np.ndarray:
 
 
 class ModalModel:
-    """Driving-point receptance (m/N) in pole-residue form; immutable.
+    """Receptance (m/N) in pole-residue form, driving-point or transfer; immutable.
 
     Parameters
     ----------
@@ -60,7 +59,9 @@ class ModalModel:
     real_residues : array_like of float, shape (n_real,), optional
         Their real residues ``a_j``.
     inverse_mass : float, optional
-        Rigid-body term ``1/M`` (1/kg) of a free body; 0 for a grounded one.
+        Rigid-body term: coefficient of ``1/s**2`` (1/kg). At a driving point it is
+        ``1/M >= 0`` of a free body (0 for a grounded one); a transfer receptance may have
+        a negative one (rigid rotation), which :meth:`is_passive` flags.
     flexibility : float, optional
         Constant term (m/N): the residual flexibility of modes above the model's band.
 
@@ -97,8 +98,7 @@ class ModalModel:
         object.__setattr__(self, "_residues", _frozen(residues))
         object.__setattr__(self, "_real_poles", _frozen(real_poles))
         object.__setattr__(self, "_real_residues", _frozen(real_residues))
-        object.__setattr__(self, "_inverse_mass",
-                           as_nonnegative_scalar("inverse_mass", inverse_mass))
+        object.__setattr__(self, "_inverse_mass", as_real_scalar("inverse_mass", inverse_mass))
         object.__setattr__(self, "_flexibility", as_real_scalar("flexibility", flexibility))
 
     def __setattr__(self, name, value):
@@ -109,7 +109,8 @@ class ModalModel:
     residues = property(lambda self: self._residues, doc="Residues of ``poles``.")
     real_poles = property(lambda self: self._real_poles, doc="Real poles (rad/s).")
     real_residues = property(lambda self: self._real_residues, doc="Residues of ``real_poles``.")
-    inverse_mass = property(lambda self: self._inverse_mass, doc="Rigid-body 1/M (1/kg).")
+    inverse_mass = property(lambda self: self._inverse_mass,
+                            doc="Rigid-body 1/s**2 coefficient (1/kg): 1/M at a driving point.")
     flexibility = property(lambda self: self._flexibility, doc="Constant term (m/N).")
 
     @property
@@ -394,7 +395,7 @@ class ModalModel:
         """
         modal_mass = self.modes["modal_mass"].to_numpy()
         return bool(self.is_stable() and np.all(modal_mass > 0) and self._flexibility >= 0
-                    and np.all(self._real_residues >= 0))
+                    and self._inverse_mass >= 0 and np.all(self._real_residues >= 0))
 
     def replace(self, **changes) -> ModalModel:
         """A copy with some constructor fields changed (validated like the constructor)."""

@@ -158,7 +158,7 @@ def test_immutable(model):
     (dict(poles=[1j, 2j], residues=[1.0]), "same shape"),
     (dict(poles=[-1.0 + 0j], residues=[1.0]), "Im p > 0"),
     (dict(poles=[np.nan + 1j], residues=[1.0]), "finite"),
-    (dict(inverse_mass=-1.0), "inverse_mass"),
+    (dict(inverse_mass=float("nan")), "inverse_mass"),
     (dict(real_poles=[0.0], real_residues=[1.0]), "real_poles"),
     (dict(flexibility=float("inf")), "flexibility"),
 ])
@@ -224,3 +224,13 @@ def test_json_round_trip_is_exact(model, tmp_path):
 def test_from_json_rejects_bad_text(text, match):
     with pytest.raises(ValueError, match=match):
         ModalModel.from_json(text)
+
+
+def test_transfer_receptance_may_have_a_negative_rigid_term():
+    """A transfer row of a free body (rigid rotation) has 1/s^2 coefficient < 0."""
+    model = ModalModel(poles=[-0.1 + 10j], residues=[0.02j], inverse_mass=-0.3)
+    assert not model.is_passive()
+    back = ModalModel.from_control(model.to_statespace())
+    assert back.inverse_mass == pytest.approx(-0.3, rel=1e-12)
+    s = 1j * np.array([0.5, 3.0, 40.0])
+    np.testing.assert_allclose(back.receptance(s), model.receptance(s), rtol=1e-12)
