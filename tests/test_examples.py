@@ -1,0 +1,119 @@
+"""Every notebook in ``examples/`` runs top to bottom, in a kernel of this very interpreter.
+
+The notebooks are found by globbing, so a notebook added later is executed too. Each one
+must be saved with its outputs cleared (the repository holds sources, not results) and
+must run without an error in any cell. Notebooks that state conclusions are also checked
+for them (see ``EXPECTED_OUTPUT``).
+
+The kernel: ``nbclient`` starts the kernel named ``python3`` through jupyter_client's
+kernel-spec search path. A ``python3`` spec installed by a user or a system (for instance
+pointing at another Python without this project) could win that search, so the test
+writes its own ``python3`` spec, running ``sys.executable -m ipykernel_launcher``, into a
+temporary directory that it puts first on ``JUPYTER_PATH``. Nothing has to be installed
+with ``ipykernel install``; ``ipykernel`` (the ``test`` extra) must be importable here.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+import sys
+import time
+from pathlib import Path
+
+import nbformat
+import pytest
+from jupyter_client.kernelspec import KernelSpecManager
+from nbclient import NotebookClient
+
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+NOTEBOOKS = sorted(EXAMPLES.glob("*.ipynb"))
+
+#: seconds allowed per cell (a generous bound: CI machines may be loaded)
+CELL_TIMEOUT = 600
+
+#: text that a notebook's executed outputs must contain (regular expressions)
+EXPECTED_OUTPUT = {
+    "restitution_is_not_a_constant.ipynb": [
+        r"\*\*Conclusions: the coefficient of restitution is not a material constant\.\*\*",
+        r"e after all contacts ranges over",
+        r"matches\s+Saint-Venant's exact solution to \d",
+        r"Notebook run time: \d+\.\d s",
+    ],
+}
+#: at least this many figures (PNG outputs)
+EXPECTED_FIGURES = {"restitution_is_not_a_constant.ipynb": 4}
+
+
+def test_examples_exist():
+    assert NOTEBOOKS, f"no notebooks found in {EXAMPLES}"
+
+
+@pytest.fixture
+def this_python_kernel(tmp_path, monkeypatch):
+    """Make kernel name ``python3`` resolve to ``sys.executable``; return the name."""
+    spec_dir = tmp_path / "jupyter" / "kernels" / "python3"
+    spec_dir.mkdir(parents=True)
+    spec = {"argv": [sys.executable, "-m", "ipykernel_launcher", "-f", "{connection_file}"],
+            "display_name": "Python 3 (this interpreter)", "language": "python",
+            "env": {"OPENBLAS_NUM_THREADS": "1", "MPLBACKEND": "Agg"}}
+    (spec_dir / "kernel.json").write_text(json.dumps(spec))
+    monkeypatch.setenv("JUPYTER_PATH", str(tmp_path / "jupyter"))
+    found = KernelSpecManager().get_kernel_spec("python3")
+    assert found.argv[0] == sys.executable, found.argv
+    return "python3"
+
+
+def _outputs(nb):
+    for index, cell in enumerate(nb.cells):
+        if cell.cell_type == "code":
+            for output in cell.get("outputs", []):
+                yield index, output
+
+
+def _text(output) -> str:
+    if output.output_type == "stream":
+        return output.text
+    if output.output_type == "error":
+        return "\n".join(output.traceback)
+    data = output.get("data", {})
+    return "\n".join(data.get(kind, "") for kind in ("text/markdown", "text/plain", "text/html"))
+
+
+@pytest.mark.parametrize("path", NOTEBOOKS, ids=[p.name for p in NOTEBOOKS])
+def test_notebook_saved_without_outputs(path):
+    nb = nbformat.read(path, as_version=4)
+    nbformat.validate(nb)
+    dirty = [i for i, cell in enumerate(nb.cells) if cell.cell_type == "code"
+             and (cell.get("outputs") or cell.get("execution_count") is not None)]
+    assert not dirty, f"{path.name}: clear the outputs of cells {dirty} before saving"
+
+
+@pytest.mark.parametrize("path", NOTEBOOKS, ids=[p.name for p in NOTEBOOKS])
+def test_notebook_executes(path, this_python_kernel):
+    nb = nbformat.read(path, as_version=4)
+    client = NotebookClient(nb, timeout=CELL_TIMEOUT, kernel_name=this_python_kernel,
+                            allow_errors=False,
+                            resources={"metadata": {"path": str(path.parent)}})
+    start = time.perf_counter()
+    client.execute()  # raises CellExecutionError, naming the cell, on the first error
+    elapsed = time.perf_counter() - start
+    print(f"{path.name}: executed in {elapsed:.1f} s")
+
+    code_cells = [cell for cell in nb.cells if cell.cell_type == "code"]
+    assert code_cells, f"{path.name} has no code cell"
+    assert all(cell.execution_count is not None for cell in code_cells)
+    errors = [i for i, output in _outputs(nb) if output.output_type == "error"
+              or (output.output_type == "stream" and "Traceback (most recent call last)"
+                  in output.text)]
+    assert not errors, f"{path.name}: errors in cells {errors}"
+
+    text = "\n".join(_text(output) for _, output in _outputs(nb))
+    for pattern in EXPECTED_OUTPUT.get(path.name, []):
+        assert re.search(pattern, text), f"{path.name}: no output matches {pattern!r}"
+    figures = sum("image/png" in output.get("data", {}) for _, output in _outputs(nb))
+    assert figures >= EXPECTED_FIGURES.get(path.name, 0), f"{path.name}: {figures} figures"
+    # numbers in the conclusions are formatted from variables: none is left unformatted
+    assert not re.search(r"\{[A-Za-z_][^{}]*\}", "\n".join(
+        output["data"]["text/markdown"] for _, output in _outputs(nb)
+        if "text/markdown" in output.get("data", {}))), "unformatted placeholder in the text"
