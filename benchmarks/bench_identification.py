@@ -353,7 +353,7 @@ def worst_modes(seeds, noise=0.05):
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seeds", type=int, default=5)
-    parser.add_argument("--quick", action="store_true", help="5 % noise and LSCF only")
+    parser.add_argument("--quick", action="store_true", help="5 %% noise and LSCF only")
     parser.add_argument("--anchors", action="store_true",
                         help="also run the anchors of anchors.py on the same data "
                              "(needs the bench extra)")
