@@ -6,15 +6,19 @@ measured FRFs builds on it.
 
 from .fit import ModalFit, ModalFitWarning
 from .frf import FRFData
+from .frf_set import FRFSet
 from .hammer import (DoubleHitWarning, HammerFRF, correct_exponential_window,
                      find_double_hits, frf_from_hammer)
 from .io import read_frf, write_frf
+from .io_set import read_frf_set
 from .model import ModalModel
 from .multi_output import MultiOutputModalModel
 from .quantities import QUANTITIES, receptance_to, to_receptance
+from .shapes import mac
 
 __all__ = ["ModalFit", "ModalFitWarning", "FRFData", "ModalModel", "QUANTITIES", "receptance_to", "to_receptance",
            "read_frf", "write_frf"]
 __all__ += ["HammerFRF", "DoubleHitWarning", "frf_from_hammer", "find_double_hits",
             "correct_exponential_window"]
 __all__ += ["MultiOutputModalModel"]
+__all__ += ["FRFSet", "read_frf_set", "mac"]

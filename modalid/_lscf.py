@@ -122,6 +122,9 @@ def lscf_subbands(omega, values, weights, max_order, *, factor=4.0, min_lines=64
     the number of peaks it holds. Even orders only: a real polynomial of odd order spends
     a root on the real axis.
 
+    ``values`` and ``weights`` may hold several outputs, shape (n_outputs, n_lines): their
+    normal equations are summed (global LSCF: one common denominator, common poles).
+
     Returns
     -------
     list of (omega_top, poles_by_order)
@@ -141,8 +144,8 @@ def lscf_subbands(omega, values, weights, max_order, *, factor=4.0, min_lines=64
         if k > 0 and peaks is not None:
             n_peaks = int(np.count_nonzero(np.asarray(peaks) <= top))
             order = int(min(max_order, 4 * n_peaks + 16))
-        poles = lscf_poles_all_orders(omega[mask], values[mask], weights[mask], order,
-                                      orders=range(2, order + 1, 2))
+        poles = lscf_poles_all_orders(omega[mask], values[..., mask], weights[..., mask],
+                                      order, orders=range(2, order + 1, 2))
         out.append((top, poles))
         top /= factor
         k += 1

@@ -33,6 +33,7 @@ from ._lsfd import (Terms, evaluate, mass_line_significant, noise_level, place_u
                     refine_varpro, release_gain, removal_cost, split_coefficients)
 from ._vf import vector_fit_poles
 from .frf import FRFData
+from .frf_set import FRFSet
 from .model import ModalModel
 from .stabilization import (cluster_poles, plot_fit, plot_stabilization,
                             select_by_information, select_poles, stabilization_table)
@@ -145,9 +146,15 @@ class ModalFit(BaseEstimator):
 
         Parameters
         ----------
-        data : FRFData, or (t, h) for ``method="era"``
+        data : FRFData, FRFSet, or (t, h) for ``method="era"``
             Any FRF quantity (converted to receptance); the impulse response in m/(N s)
-            on a uniform time grid.
+            on a uniform time grid. An :class:`FRFSet` (one driving point required) is
+            fitted with common poles (global LSCF, residues per output, joint refinement;
+            ``passive`` constrains the driving-point row only): ``model_`` is then a
+            :class:`MultiOutputModalModel`, ``mode_shapes_`` (n_outputs, n_modes) its
+            physical modes' residue rows divided by the driving point's, and ``report_``
+            gives ``frf_nrmse``, ``frf_nrmse_data`` and ``noise_estimate_data`` (the
+            data's own scatter, relative) per output.
         """
         as_choice("method", self.method, ("lscf", "vf", "era"))
         as_choice("weighting", self.weighting, ("relative", "noise", "uniform"))
@@ -159,11 +166,15 @@ class ModalFit(BaseEstimator):
             raise ValueError(f"residuals must be a subset of ('lower', 'upper'), got {bad}")
         self._selection()                        # validates n_modes
         for name in ("model_", "poles_", "stabilization_", "clusters_", "report_", "frf_",
-                     "impulse_"):
+                     "impulse_", "mode_shapes_"):
             self.__dict__.pop(name, None)         # a second fit starts afresh
+        if isinstance(data, FRFSet):              # common poles: see modalid._global
+            from ._global import fit_set
+            with threadpool_limits(limits=1, user_api="blas"):
+                return fit_set(self, data)
         if self.method != "era" and not isinstance(data, FRFData):
-            raise TypeError(f"data must be an FRFData for method={self.method!r}, got "
-                            f"{type(data).__name__}")
+            raise TypeError(f"data must be an FRFData or FRFSet for method={self.method!r}, "
+                            f"got {type(data).__name__}")
         # small dense algebra: BLAS threads only add overhead (restored on exit)
         with threadpool_limits(limits=1, user_api="blas"):
             return self._fit_impulse(data) if self.method == "era" else self._fit_frf(data)
@@ -569,32 +580,46 @@ class ModalFit(BaseEstimator):
             raise ValueError("this ModalFit is not fitted yet: call fit(data) first")
 
     def predict(self, omega) -> np.ndarray:
-        """Receptance (m/N) of the identified model at ``omega`` (rad/s)."""
+        """Receptance (m/N) of the identified model at ``omega`` (rad/s); shape
+        ``(n_outputs,) + omega.shape`` after fitting an FRFSet."""
         self._check_fitted()
         return self.model_.frf(omega)
 
-    def score(self, data: FRFData) -> float:
-        """``1 - ||H - H_model||^2 / ||H - mean H||^2`` in the data's own quantity."""
+    def score(self, data) -> float:
+        """``1 - ||H - H_model||^2 / ||H - mean H||^2`` in the data's own quantity (for an
+        FRFSet: the mean over its rows, each against its own mean)."""
         self._check_fitted()
         data = data.select(data.freq_hz > 0)
         fitted = self.model_.frf(data.omega, quantity=data.quantity)
         h = data.values
-        return float(1 - np.sum(np.abs(h - fitted) ** 2) / np.sum(np.abs(h - h.mean()) ** 2))
+        mean = h.mean(axis=-1, keepdims=True)
+        scores = 1 - np.sum(np.abs(h - fitted) ** 2, axis=-1) / np.sum(np.abs(h - mean) ** 2,
+                                                                      axis=-1)
+        return float(np.mean(scores))
 
     def plot_stabilization(self, ax=None):
         """Stabilization diagram with the selected poles; returns the Axes."""
         self._check_fitted()
         return plot_stabilization(self.stabilization_, selected=self.poles_, ax=ax)
 
-    def plot_fit(self, ax=None, *, data=None):
-        """The data fitted (or ``data``, an FRFData) and the model; returns the Axes.
+    def plot_fit(self, ax=None, *, data=None, output=None):
+        """The data fitted (or ``data``) and the model; returns the Axes.
 
         FRF fits: magnitudes against frequency (Hz); ERA: impulse responses against time.
+        After fitting an FRFSet: the row ``output`` (index or label; default the driving
+        point).
         """
         self._check_fitted()
         if data is None and self.method == "era":
             return plot_fit(self.model_, impulse=self.impulse_, ax=ax)
-        return plot_fit(self.model_, frf=self.frf_ if data is None else data, ax=ax)
+        data = self.frf_ if data is None else data
+        if isinstance(self.model_, ModalModel):
+            if output is not None:
+                raise ValueError(f"output={output!r} applies to a fit of an FRFSet only")
+            return plot_fit(self.model_, frf=data, ax=ax)
+        i = self.model_.index(self.model_.driving_point if output is None else output)
+        row = data.row(i) if isinstance(data, FRFSet) else data
+        return plot_fit(self.model_.row(i), frf=row, ax=ax)
 
 
 def _high_frequency(model, physical):

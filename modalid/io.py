@@ -208,7 +208,8 @@ def _build(source, raw, quantity):
 
 
 # ------------------------------------------------------------------ CSV / text
-def _read_table(path, columns):
+def _load_table(path):
+    """``(table, stated)``: a table (str column names), the quantities its comments state."""
     import pandas as pd
 
     lines = path.read_text(encoding="utf-8-sig").splitlines()
@@ -242,8 +243,16 @@ def _read_table(path, columns):
                             skipinitialspace=True, **header, **exact)
     except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
         raise ValueError(f"cannot parse {path} as a table: {exc}") from exc
-    names = [str(c) for c in table.columns]
-    table.columns = names
+    table.columns = [str(c) for c in table.columns]
+    return table, stated
+
+
+def _read_table(path, columns, table=None, stated=None):
+    """The raw FRF of a table file (or of ``table``, already loaded, for ``path``)."""
+    import pandas as pd
+
+    table, stated = _load_table(path) if table is None else (table, set(stated))
+    names = list(table.columns)
     found = _assign_roles(names, TABLE_ROLES, columns, str(path))
 
     def column(role):
@@ -259,24 +268,19 @@ def _read_table(path, columns):
     freq_role = [r for r in ("freq_hz", "omega_rad_s") if r in found]
     if len(freq_role) != 1:
         raise ValueError(f"{path} needs exactly one frequency column, found "
-                         f"{[found[r][0] for r in freq_role]} among {names}; "
-                         + TABLE_HELP)
+                         f"{[found[r][0] for r in freq_role]} among {names}; " + TABLE_HELP)
     freq = column(freq_role[0]) / (2 * np.pi if freq_role[0] == "omega_rad_s" else 1.0)
     mags = [r for r in ("magnitude", "magnitude_db") if r in found]
     phases = [r for r in ("phase_deg", "phase_rad") if r in found]
     if "real" in found and "imag" in found:
-        used = ["real", "imag"]
-        values = column("real") + 1j * column("imag")
+        used, values = ["real", "imag"], column("real") + 1j * column("imag")
     elif len(mags) == 1 and len(phases) == 1:
-        used = mags + phases
-        mag = column(mags[0])
+        used, (mag, phase) = mags + phases, (column(mags[0]), column(phases[0]))
         mag = 10.0 ** (mag / 20.0) if mags[0] == "magnitude_db" else mag
-        phase = column(phases[0])
         values = mag * np.exp(1j * (np.radians(phase) if phases[0] == "phase_deg" else phase))
     else:
-        hint = ""
-        if any(_column_role(n)[0] == "phase" for n in names):
-            hint = "; a phase column must say its unit (phase_deg or phase_rad)"
+        hint = ("; a phase column must say its unit (phase_deg or phase_rad)"
+                if any(_column_role(n)[0] == "phase" for n in names) else "")
         raise ValueError(f"{path} has no real/imag pair nor one magnitude + one phase column "
                          f"among {names}{hint}; " + TABLE_HELP)
     stated |= {found[r][1] for r in used + freq_role if found[r][1] is not None}

@@ -1,0 +1,448 @@
+"""Common-pole identification of an :class:`~modalid.FRFSet`: the ``ModalFit`` pipeline for
+several outputs of one input.
+
+1. Global LSCF: the reduced normal equations of every output are summed (one common
+   denominator), on the band and nested low sub-bands, into one stabilization diagram;
+   the same clustering as a single FRF (:mod:`modalid.stabilization`).
+2. How many clusters are physical: the Bayesian information criterion on the linear fits
+   of all outputs together (residues per output, poles shared), each mode counting
+   ``2 + 2 n_outputs`` real parameters.
+3. The low end is judged at the driving point (rigid body or lower pseudo-mode); every
+   output gets the same terms (a rigid ``u_i / s^2``, a constant ``d_i``, the shared
+   pseudo-modes), with its own coefficients.
+4. Joint variable projection: the poles are the only nonlinear unknowns; every output's
+   residues are eliminated by its own weighted linear least squares, so the Gauss-Newton
+   normal equations of the poles are the sum over outputs of Kaufman's single-output ones.
+   ``passive=True`` bounds the driving-point row only (transfer rows take any sign).
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+from scipy.linalg import cholesky, solve_triangular
+from scipy.signal import find_peaks
+
+from ._checks import as_count
+from ._lsfd import Terms, _bounds, _Projection, _realify, _std, design_matrix, noise_level
+from ._lscf import lscf_subbands
+from .frf_set import FRFSet
+from .model import ModalModel
+from .multi_output import MultiOutputModalModel
+from .stabilization import cluster_poles, select_poles, stabilization_table
+
+__all__ = ["fit_set", "refine_joint"]
+
+
+# ----------------------------------------------------------------- the array kernels
+def _coefficients(x, n_modes, terms: Terms):
+    """``(residues, inverse_mass, flexibility)`` of one row's linear unknowns."""
+    r = x[0:2 * n_modes:2] + 1j * x[1:2 * n_modes:2]
+    k = 2 * n_modes + len(terms.real_poles)
+    u = float(x[k]) if terms.rigid else 0.0
+    d = float(x[k + int(terms.rigid)]) if terms.upper else 0.0
+    return r, u, d
+
+
+def split_rows(xs, n_modes, terms):
+    """Residues (n_outputs, n_modes), inverse masses and flexibilities (n_outputs,)."""
+    parts = [_coefficients(x, n_modes, terms) for x in xs]
+    return (np.array([p[0] for p in parts]).reshape(len(xs), n_modes),
+            np.array([p[1] for p in parts]), np.array([p[2] for p in parts]))
+
+
+def evaluate_rows(omega, poles, xs, terms):
+    """Receptance of every row, shape (n_outputs, n_lines)."""
+    cols = design_matrix(1j * omega, poles, terms)
+    return np.array([cols @ x for x in xs]).reshape(len(xs), omega.size)
+
+
+class _Joint:
+    """The projections of all rows for one set of shared poles."""
+
+    def __init__(self, omega, ys, ws, extras, bounds, poles):
+        self.rows = [_Projection(omega, w, y, poles, e, b)
+                     for y, w, e, b in zip(ys, ws, extras, bounds)]
+        self.cost = float(sum(p.cost for p in self.rows))
+        self.xs = [p.x for p in self.rows]
+
+    def normal_equations(self):
+        parts = [p.normal_equations() for p in self.rows]
+        return sum(a for a, _ in parts), sum(b for _, b in parts)
+
+
+def refine_joint(omega, values, weights, poles, terms: Terms, *, passive_row=None,
+                 imag_lo=None, imag_hi=None, hold=None, max_iter=50, stat_tol=1e-4,
+                 stall_tol=1e-3, xtol=1e-12, with_std=True):
+    """Shared poles and per-row residues by variable projection (Levenberg-Marquardt).
+
+    Parameters
+    ----------
+    omega : ndarray, shape (n_lines,)
+        rad/s.
+    values, weights : ndarray, shape (n_outputs, n_lines)
+        Receptances and real weights per row.
+    poles : ndarray of complex, shape (n,)
+        Starting poles, ``Im p > 0``.
+    terms : Terms
+        The same extra terms for every row.
+    passive_row : int, optional
+        The row whose linear unknowns are bounded for passivity (the driving point).
+    imag_lo, imag_hi, hold, max_iter, stat_tol, stall_tol, xtol
+        As :func:`modalid._lsfd.refine_varpro`.
+
+    Returns
+    -------
+    poles : ndarray of complex, shape (n,)
+    xs : list of ndarray
+        Each row's linear unknowns (see :func:`split_rows`).
+    info : dict
+        ``n_iter``, ``converged``, ``message``, ``cost`` (weighted SSE, all rows),
+        ``pole_std`` (shape (n, 2): std of Re p, Im p from the joint Jacobian) and
+        ``residue_std`` (shape (n_outputs, n)), None unless ``with_std``.
+    """
+    omega = np.asarray(omega, float)
+    n_out = values.shape[0]
+    ys = [_realify(values[i] * weights[i]) for i in range(n_out)]
+    base = design_matrix(1j * omega, np.zeros(0), terms)
+    extras = [_realify(base * weights[i][:, None]) for i in range(n_out)]
+    x = np.empty(2 * np.size(poles))
+    n = x.size // 2
+    bounds = [_bounds(n, terms, True) if i == passive_row else None for i in range(n_out)]
+    lo = np.zeros(n) if imag_lo is None else np.asarray(imag_lo, float)
+    hi = np.full(n, np.inf) if imag_hi is None else np.asarray(imag_hi, float)
+
+    def limits(v):
+        im = np.clip(v[1::2], np.maximum(lo, 1e-9), hi)
+        low, high = np.empty(2 * n), np.empty(2 * n)
+        low[0::2], high[0::2] = -im, -1e-9 * im
+        low[1::2], high[1::2] = np.maximum(lo, 1e-9), hi
+        return low, high
+
+    def project(v):
+        return _Joint(omega, ys, weights, extras, bounds, v[0::2] + 1j * v[1::2])
+
+    x[0::2], x[1::2] = np.real(poles), np.imag(poles)
+    x = np.clip(x, *limits(x))
+    cur = project(x)
+    n_data = sum(y.size for y in ys)
+    lam, nu, n_small, it = 1e-3, 2.0, 0, 0
+    converged, message = n == 0, "maximum number of iterations reached"
+    while not converged and it < max_iter:
+        jtj, jtr = cur.normal_equations()
+        norms = np.sqrt(np.maximum(np.diag(jtj), 1e-300))
+        a_s, g_s = jtj / np.outer(norms, norms), jtr / norms
+        low, high = limits(x)
+        tol_b = 1e-12 * np.repeat(np.hypot(x[0::2], x[1::2]), 2)
+        free = ~(((x - low <= tol_b) & (g_s < 0)) | ((high - x <= tol_b) & (g_s > 0)))
+        if hold is not None:
+            free &= ~np.repeat(np.asarray(hold, bool), 2)
+        idx = np.flatnonzero(free)
+        if idx.size == 0:
+            converged, message = True, "converged (all poles on bounds)"
+            break
+        a_f, g_f = a_s[np.ix_(idx, idx)], g_s[idx]
+        try:
+            gain = float(g_f @ np.linalg.solve(a_f, g_f))
+        except np.linalg.LinAlgError:
+            gain = np.inf
+        if gain < stat_tol * cur.cost / max(n_data - 2 * n, 1):
+            converged, message = True, "converged"
+            break
+        it += 1
+        accepted = False
+        while lam < 1e12:
+            step = np.zeros(2 * n)
+            try:
+                step[idx] = np.linalg.solve(a_f + lam * np.eye(idx.size), g_f)
+            except np.linalg.LinAlgError:
+                lam, nu = lam * nu, nu * 2.0
+                continue
+            step /= norms
+            move = np.hypot(step[0::2], step[1::2]) / np.hypot(x[0::2], x[1::2])
+            if move.max() > 0.1:                  # trust region: 10 % of |p| per step
+                step *= 0.1 / move.max()
+            x_new = np.clip(x + step, *limits(x + step))
+            trial = project(x_new)
+            actual = cur.cost - trial.cost
+            if actual >= 0.0:
+                taken = (x_new - x) * norms
+                predicted = taken @ (2 * g_s - a_s @ taken)
+                rho = actual / predicted if predicted > 0 else 1.0
+                lam *= max(1.0 / 3.0, 1.0 - (2.0 * rho - 1.0) ** 3)
+                nu, accepted = 2.0, True
+                break
+            lam, nu = lam * nu, nu * 2.0
+        if not accepted:
+            converged, message = True, "no further decrease of the cost"
+            break
+        change = np.max(np.abs(x_new - x) / np.repeat(np.hypot(x_new[0::2], x_new[1::2]), 2))
+        x, cur = x_new, trial
+        small = actual < stall_tol * cur.cost / max(n_data - 2 * n, 1)
+        n_small = n_small + 1 if small else 0
+        if change < xtol:
+            converged, message = True, "converged (step below xtol)"
+        elif n_small >= 2:
+            converged, message = True, "converged (cost settled)"
+    info = {"n_iter": it, "converged": converged, "message": message, "cost": cur.cost,
+            "pole_std": None, "residue_std": None}
+    if with_std and n:
+        n_lin = sum(p.mat.shape[1] for p in cur.rows)
+        sigma2 = cur.cost / max(n_data - n_lin - 2 * n, 1)
+        jtj, _ = cur.normal_equations()
+        norms = np.sqrt(np.maximum(np.diag(jtj), 1e-300))
+        cov = np.linalg.pinv(jtj / np.outer(norms, norms), hermitian=True) * sigma2
+        s = np.sqrt(np.clip(np.diag(cov), 0.0, None)) / norms
+        info["pole_std"] = np.column_stack([s[0::2], s[1::2]])
+        info["residue_std"] = np.array([_std(p, n, y.size)["modes"][:, 2:4]
+                                        for p, y in zip(cur.rows, ys)])
+    return x[0::2] + 1j * x[1::2], cur.xs, info
+
+
+def prefix_sse(omega, values, weights, candidates, terms: Terms, fixed=()):
+    """Weighted SSE of every prefix ``0..n_candidates`` of ``candidates``: linear fits of
+    every row (one Cholesky factorisation per row), summed over the rows."""
+    s = 1j * omega
+    head = design_matrix(s, np.asarray(fixed, complex), terms)
+    cols = np.hstack([head, design_matrix(s, candidates, Terms(np.zeros(0), False, False))])
+    sizes = head.shape[1] + 2 * np.arange(candidates.size + 1)
+    total = np.zeros(candidates.size + 1)
+    for h, w in zip(values, weights):
+        mat, y = _realify(cols * w[:, None]), _realify(h * w)
+        scale = np.linalg.norm(mat, axis=0)
+        scale[scale == 0] = 1.0
+        mat = mat / scale
+        gram = mat.T @ mat
+        gram[np.diag_indices_from(gram)] += 1e-10
+        upper = cholesky(gram)
+        z = solve_triangular(upper, mat.T @ y, trans="T")
+        full = float(np.sum((y - mat @ solve_triangular(upper, z)) ** 2))
+        tail = np.concatenate([np.cumsum((z**2)[::-1])[::-1], [0.0]])
+        floor = 1e-24 * float(y @ y) + 1e-300
+        total += np.maximum(full + tail[sizes], floor)
+    return total
+
+
+def select_joint(omega, values, weights, candidates, terms, fixed, *, driving_point,
+                 passive):
+    """Which of the ranked ``candidates`` the data of all rows support (BIC).
+
+    ``BIC = n ln(SSE/n) + (2 + 2 n_outputs) k ln(n)``, ``n`` the real data of all rows.
+    Returns ``(keep, negative)``: ``negative`` flags chosen candidates with a negative
+    modal mass at the driving point (dropped from ``keep`` when ``passive``).
+    """
+    n_out = values.shape[0]
+    sse = prefix_sse(omega, values, weights, candidates, terms, fixed)
+    n = 2 * values.size
+    bic = n * np.log(sse / n) + (2 + 2 * n_out) * np.arange(sse.size) * np.log(n)
+    k = int(np.argmin(bic))
+    keep = np.zeros(candidates.size, bool)
+    keep[:k] = True
+    negative = np.zeros(candidates.size, bool)
+    if k:
+        poles = np.concatenate([np.asarray(fixed, complex), candidates[:k]])
+        w = weights[driving_point]
+        mat = design_matrix(1j * omega, poles, terms) * w[:, None]
+        x = np.linalg.lstsq(_realify(mat), _realify(values[driving_point] * w), rcond=None)[0]
+        im_r = x[1:2 * poles.size:2][len(fixed):]
+        negative[:k] = im_r > 0
+    return (keep & ~negative if passive else keep), negative
+
+
+# ----------------------------------------------------------------- the pipeline
+def _fit_warning():
+    from .fit import ModalFitWarning                # fit imports this module lazily
+
+    return ModalFitWarning
+
+
+def _row_weights(est, rec: FRFSet):
+    """Weights per row as :meth:`ModalFit._prepare` (each row on its own scale)."""
+    mag = np.abs(rec.values)
+    if est.weighting == "relative":
+        w = 1.0 / np.maximum(mag, 1e-12 * mag.max(axis=1, keepdims=True))
+    elif est.weighting == "noise":
+        w = 1.0 / np.array([noise_level(h) for h in rec.values])
+    else:
+        w = np.ones_like(mag) / np.sqrt(np.mean(mag**2, axis=1, keepdims=True))
+    coh = (np.ones_like(mag) if rec.coherence is None
+           else np.sqrt(np.clip(rec.coherence, 1e-3, 1.0)))
+    return w * coh, coh
+
+
+def _model_weights(est, omega, poles, xs, terms, w0, coh):
+    if est.weighting != "relative":
+        return w0
+    mag = np.abs(evaluate_rows(omega, poles, xs, terms))
+    if not np.all(np.isfinite(mag)) or np.any(mag.max(axis=1) <= 0):
+        return w0
+    return coh / np.maximum(mag, 1e-12 * mag.max(axis=1, keepdims=True))
+
+
+def _refine(est, omega, h, w, coh, poles, kinds, terms, dp):
+    """Data weights, then (relative weighting) model weights, as ``ModalFit._refine``."""
+    lo, hi = est._imag_bounds(kinds, omega, poles)
+    kw = dict(imag_lo=lo, imag_hi=hi, hold=kinds == "far",
+              passive_row=dp if est.passive else None)
+    relative = est.weighting == "relative"
+    poles, xs, info = refine_joint(omega, h, w, poles, terms, with_std=not relative,
+                                   stat_tol=0.1 if relative else 1e-4, **kw)
+    n_iter = info["n_iter"]
+    for _ in range(2 if relative else 0):
+        wm = _model_weights(est, omega, poles, xs, terms, w, coh)
+        poles, xs, info = refine_joint(omega, h, wm, poles, terms, **kw)
+        n_iter += info["n_iter"]
+        if info["n_iter"] <= 3:
+            break
+    info["n_iter"] = n_iter
+    return poles, xs, info
+
+
+def _worst_pole(est, omega, h, w, coh, poles, xs, info, kinds, terms, dp):
+    """The physical pole to drop first and why, as ``ModalFit._worst_pole`` with every
+    row: no positive modal mass at the driving point (``passive``), out of the band, a
+    duplicate of a stronger pole, or not significant (removing it, all rows refitted
+    linearly, raises the cost by less than ``(2 + 2 n_outputs) ln(n)`` variances)."""
+    r, _, _ = split_rows(xs, poles.size, terms)
+    std = info["residue_std"]
+    std = np.ones(r.shape) * np.inf if std is None else np.hypot(std[..., 0], std[..., 1])
+    t = np.sqrt(np.sum((np.abs(r) / np.maximum(std, 1e-300)) ** 2, axis=0))
+    wn, zeta = np.abs(poles), -poles.real / np.abs(poles)
+    mode = kinds == "mode"
+    overlap = np.abs(wn[:, None] - wn[None, :]) < zeta[:, None] * wn[:, None] + zeta * wn
+    weaker = overlap & mode[None, :] & (t[None, :] > t[:, None])
+    weak = mode & (zeta > 0.3)
+    candidates = np.flatnonzero(mode & (t < 6.0 * np.sqrt(h.shape[0])))
+    if candidates.size:
+        wm = _model_weights(est, omega, poles, xs, terms, w, coh)
+        kw = dict(passive_row=dp if est.passive else None, max_iter=0, with_std=False)
+        cost = refine_joint(omega, h, wm, poles, terms, **kw)[2]["cost"]
+        n_data = 2 * h.size
+        sigma2 = cost / max(n_data - h.shape[0] * (2 * poles.size + terms.n_extra)
+                            - 2 * poles.size, 1)
+        for k in candidates:
+            rise = refine_joint(omega, h, wm, np.delete(poles, k), terms, **kw)[2]["cost"] - cost
+            weak[k] |= rise / sigma2 < (2 + 2 * h.shape[0]) * np.log(n_data)
+    tests = [(est.passive & (r[dp].imag >= 0), "no positive modal mass at the driving point"),
+             ((wn < omega[0]) | (wn > omega[-1]), "it left the band"),
+             (weaker.any(axis=1), "it duplicates a stronger pole"),
+             (weak, "not significant")]
+    for bad, reason in tests:
+        bad = bad & mode
+        if bad.any():
+            k = int(np.flatnonzero(bad)[np.argmin(t[bad])])
+            return k, (f"dropped the pole at {wn[k] / (2 * np.pi):.6g} Hz: {reason} "
+                       f"(joint |r|/std = {t[k]:.3g}, damping {zeta[k]:.3g})")
+    return None, None
+
+
+def fit_set(est, data: FRFSet):
+    """``ModalFit.fit`` for an :class:`FRFSet`: common poles, residues per output."""
+    dp = data.require_driving_point("ModalFit.fit with common poles")
+    if est.method != "lscf":
+        raise ValueError(f"method={est.method!r} does not fit an FRFSet: common poles come "
+                         "from the global LSCF, use method='lscf'")
+    data = data.select(data.freq_hz > 0)
+    first = data.freq_hz[0]
+    if est.freq_range is not None:
+        data = data.band(est.freq_range)
+    cut = bool(data.freq_hz[0] > first)           # lines below the band were dropped
+    est._data_band = data
+    rec = data.to_receptance()
+    omega, h = rec.omega, rec.values
+    w, coh = _row_weights(est, rec)
+    est.frf_ = rec
+    level = np.sum(np.abs(h) / np.sqrt(np.mean(np.abs(h) ** 2, axis=1, keepdims=True)), axis=0)
+    peaks, _ = find_peaks(np.log10(level), prominence=0.3)
+    max_order = (as_count("max_order", est.max_order, minimum=2) if est.max_order
+                 else int(min(120, 4 * max(peaks.size, 2) + 16)))
+    bands = lscf_subbands(omega, h, w, max_order, peaks=omega[peaks])
+    tops = [(1.0 if k == 0 else 0.9) * top / (2 * np.pi) for k, (top, _) in enumerate(bands)]
+    est.stabilization_ = stabilization_table([p for _, p in bands],
+                                             [(rec.freq_hz[0], t) for t in tops])
+    clusters = cluster_poles(est.stabilization_)
+    notes = []
+    if est._selection():
+        poles, selected = select_poles(clusters, **est._selection())
+    else:
+        share = clusters["share"].to_numpy(float)
+        cand = clusters["pole"].to_numpy(complex)[share >= 0.5]
+        selected = np.zeros(len(clusters), bool)
+        if cand.size:
+            terms, fixed = est._linear_terms(omega, h[dp], w[dp], cand, cut)
+            keep, negative = select_joint(omega, h, w, cand, terms, fixed, driving_point=dp,
+                                          passive=est.passive)
+            est._warn_negative(cand[negative])
+            selected[np.flatnonzero(share >= 0.5)[keep]] = True
+            cand = cand[keep]
+        poles = cand[np.argsort(np.abs(cand))]
+    est.clusters_ = clusters.assign(selected=selected)
+    start, kinds, terms = est._start(omega, h[dp], w[dp], poles, cut)
+    if est.refine:
+        p, xs, info = _refine(est, omega, h, w, coh, start, kinds, terms, dp)
+        n_iter = info["n_iter"]
+        for _ in range(0 if est._selection() else 4):
+            k, why = _worst_pole(est, omega, h, w, coh, p, xs, info, kinds, terms, dp)
+            if k is None:
+                break
+            notes.append(why)
+            start, kinds = np.delete(start, k), np.delete(kinds, k)
+            p, xs, info = _refine(est, omega, h, w, coh, start, kinds, terms, dp)
+            n_iter += info["n_iter"]
+        info["n_iter_total"] = n_iter
+    else:
+        p, xs, info = refine_joint(omega, h, w, start, terms, max_iter=0,
+                                   passive_row=dp if est.passive else None)
+        info.update(converged=True, message="linear least squares (refine=False)",
+                    n_iter_total=0)
+    if not info["converged"]:
+        warnings.warn(f"the refinement did not converge: {info['message']}",
+                      _fit_warning(), stacklevel=4)
+    if not np.any(kinds == "mode"):
+        warnings.warn("no resonance found in the band: the model holds only residual terms; "
+                      "see stabilization_", _fit_warning(), stacklevel=4)
+    return _store(est, rec, p, kinds, xs, terms, info, notes, max_order, dp)
+
+
+def _store(est, rec, poles, kinds, xs, terms, info, notes, max_order, dp):
+    from .fit import _report                        # fit imports this module lazily
+
+    r, u, d = split_rows(xs, poles.size, terms)
+    u[dp] = max(u[dp], 0.0)
+    model = MultiOutputModalModel(poles=poles, residues=r, inverse_mass=u, flexibility=d,
+                                  driving_point=dp, outputs=rec.outputs)
+    est.model_ = model
+    physical = kinds == "mode"
+    order = np.argsort(np.abs(poles[physical]), kind="stable")
+    est.poles_ = poles[physical][order]
+    band = est._data_band
+    fitted = model.frf(rec.omega)
+    own = model.frf(band.omega, quantity=band.quantity)
+
+    def nrmse(a, b):
+        return np.linalg.norm(a - b, axis=1) / np.linalg.norm(b, axis=1)
+
+    noise = np.array([np.sqrt(np.mean(noise_level(v) ** 2)) / np.sqrt(np.mean(np.abs(v) ** 2))
+                      for v in band.values])
+    shapes = model.mode_shapes()                   # sorted by |p|: pick the physical ones
+    all_order = np.argsort(np.abs(poles), kind="stable")
+    est.mode_shapes_ = shapes[:, physical[all_order]]
+    modes = ModalModel(poles=poles[physical], residues=r[dp][physical]).modes
+    for name in ("frequency_hz_std", "damping_ratio_std", "residue_std"):
+        modes[name] = np.nan
+    if info.get("pole_std") is not None:
+        s2, p = info["pole_std"][physical][order], poles[physical][order]
+        wn, sig, nu = np.abs(p), p.real, p.imag
+        modes["frequency_hz_std"] = np.hypot(sig * s2[:, 0], nu * s2[:, 1]) / wn / (2 * np.pi)
+        modes["damping_ratio_std"] = np.hypot(nu**2 * s2[:, 0], sig * nu * s2[:, 1]) / wn**3
+        rs = info["residue_std"][dp][physical][order]
+        modes["residue_std"] = np.hypot(rs[:, 0], rs[:, 1])
+    est.report_ = _report(
+        model.driving, kinds, info, notes, method=est.method, max_order=max_order,
+        outputs=list(rec.outputs), driving_point=dp,
+        frf_nrmse=nrmse(fitted, rec.values).tolist(),
+        frf_nrmse_data=nrmse(own, band.values).tolist(),
+        noise_estimate_data=noise.tolist(), data_quantity=band.quantity,
+        band_hz=(float(rec.freq_hz[0]), float(rec.freq_hz[-1])), modes=modes)
+    return est

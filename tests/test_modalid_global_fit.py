@@ -1,0 +1,218 @@
+"""ModalFit on an FRFSet: common poles, residues per output, mode shapes.
+
+Truth: ``CantileverBeam(1, 1).multi_output_model(xi, 6 + 10, damping_ratio=0.01,
+residual=True)`` at four points (the tip, the driving point, and three along the beam; the
+band's 6 modes, 10 above it, the exact static transfer flexibility of the rest); 2000
+lines up to halfway between modes 6 and 7; noise proportional to each FRF,
+``H (1 + eta e)``, ``e`` circular complex Gaussian, fixed seeds. Residue errors are
+relative to the driving point's residue of the same mode (a transfer residue near a node
+is small: its relative error is not a fair measure).
+"""
+
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+from scipy.optimize import least_squares
+
+from data_synth import CantileverBeam, Rod
+from modalid import FRFSet, ModalFit, MultiOutputModalModel, mac, read_frf_set
+from modalid.io import read_complex_lines
+
+DATA = Path(__file__).parent / "data"
+N_BAND, ZETA, XI = 6, 0.01, [0.0, 0.3, 0.6, 0.9]
+
+
+def make_case(structure, noise, seed=0, n_lines=2000):
+    truth = structure.multi_output_model(XI, N_BAND + 10, damping_ratio=ZETA, residual=True)
+    wn = np.sort(np.abs(truth.poles))
+    fmax = 0.5 * (wn[N_BAND - 1] + wn[N_BAND]) / (2 * np.pi)
+    freq = np.linspace(fmax / n_lines, fmax, n_lines)
+    exact = truth.frf(2 * np.pi * freq)
+    rng = np.random.default_rng(seed)
+    e = (rng.normal(size=exact.shape) + 1j * rng.normal(size=exact.shape)) / np.sqrt(2)
+    data = FRFSet(freq, exact * (1 + noise * e), outputs=truth.outputs,
+                  driving_point=truth.driving_point)
+    return truth, data, exact
+
+
+_FITS = {}
+
+
+def fitted(name, noise, **settings):
+    key = (name, noise, tuple(sorted(settings.items())))
+    if key not in _FITS:
+        structure = {"beam": CantileverBeam(1.0, 1.0), "free rod": Rod(1.0, 1.0, support="free")}[name]
+        truth, data, exact = make_case(structure, noise)
+        _FITS[key] = (structure, truth, data, exact, ModalFit(**settings).fit(data))
+    return _FITS[key]
+
+
+def errors(truth, fit):
+    """Relative errors of frequency, damping and residues (per output, scaled by the
+    driving point's residue) of the band's modes, each paired with the nearest pole."""
+    order = np.argsort(np.abs(truth.poles))[:N_BAND]
+    p_true, r_true = truth.poles[order], truth.residues[:, order]
+    model = fit.model_
+    index = [int(np.argmin(np.abs(model.poles - p))) for p in p_true]
+    assert len(set(index)) == N_BAND, f"modes missed or merged: {fit.poles_}"
+    p, r = model.poles[index], model.residues[:, index]
+    df = np.abs(np.abs(p) / np.abs(p_true) - 1)
+    dz = np.abs((-p.real / np.abs(p)) / ZETA - 1)
+    dr = np.abs(r - r_true) / np.abs(r_true[truth.driving_point])
+    return df, dz, dr
+
+
+# ------------------------------------------------------------------ synthetic truth
+@pytest.mark.parametrize("noise, tol_f, tol_z, tol_r", [
+    (0.0, 1e-6, 1e-3, 1e-3),
+    (0.01, 1e-4, 0.02, 0.02),
+    (0.05, 5e-4, 0.06, 0.08),
+])
+def test_common_poles_and_residues_of_a_beam(noise, tol_f, tol_z, tol_r):
+    structure, truth, data, exact, fit = fitted("beam", noise)
+    assert fit.report_["n_modes"] == N_BAND and fit.report_["converged"]
+    df, dz, dr = errors(truth, fit)
+    assert df.max() < tol_f and dz.max() < tol_z and dr.max() < tol_r, (df, dz, dr)
+    # every output: the residual is the noise (NRMSE against the data at most eta; the
+    # peaks' few lines dominate it, so it scatters below eta), and the model is closer to
+    # the exact FRF than the data are (error against the truth well below eta)
+    nrmse = np.asarray(fit.report_["frf_nrmse"])
+    truth_error = (np.linalg.norm(fit.predict(data.omega) - exact, axis=1)
+                   / np.linalg.norm(exact, axis=1))
+    assert nrmse.shape == (4,) and np.all(nrmse < max(1.1 * noise, 2e-4)), nrmse
+    assert np.all(nrmse > 0.5 * noise), nrmse
+    assert np.all(truth_error < max(0.4 * noise, 2e-4)), truth_error
+
+
+@pytest.mark.parametrize("noise, tol", [(0.01, 1e-3), (0.05, 1e-2)])
+def test_mode_shapes_match_the_exact_shapes(noise, tol):
+    structure, truth, data, exact, fit = fitted("beam", noise)
+    shapes = fit.mode_shapes_
+    assert shapes.shape == (4, N_BAND)
+    np.testing.assert_allclose(shapes[0], 1.0)               # scaled by the driving point
+    exact_shapes = structure.mode_shapes(XI, N_BAND)
+    m = mac(shapes, exact_shapes)
+    assert np.all(np.diag(m) > 1 - tol), np.diag(m)
+    off = m - np.diag(np.diag(m))
+    assert off.max() < 0.9
+    # driving-point scaling: phi_i / phi_0, real to within the noise
+    np.testing.assert_allclose(shapes.real, exact_shapes / exact_shapes[0], atol=20 * noise)
+
+
+def test_the_model_and_its_report():
+    structure, truth, data, exact, fit = fitted("beam", 0.01)
+    model = fit.model_
+    assert isinstance(model, MultiOutputModalModel)
+    assert model.outputs == truth.outputs and model.driving_point == 0
+    omega = data.omega[:5]
+    assert fit.predict(omega).shape == (4, 5)
+    assert 0.999 < fit.score(data) <= 1.0
+    assert fit.report_["outputs"] == list(truth.outputs) and fit.report_["driving_point"] == 0
+    assert len(fit.report_["frf_nrmse_data"]) == 4 and len(fit.report_["noise_estimate_data"]) == 4
+    modes = fit.report_["modes"]
+    assert len(modes) == N_BAND and np.all(modes["modal_mass"] > 0)
+    # the standard deviations describe the errors (within a few sigma)
+    df, dz, dr = errors(truth, fit)
+    f_true = np.sort(np.abs(truth.poles))[:N_BAND] / (2 * np.pi)
+    assert np.all(np.abs(modes["frequency_hz"] - f_true) < 5 * modes["frequency_hz_std"])
+    # passive=True bounds the driving point's row only: transfer rows keep both signs
+    im = model.residues[:, [int(np.argmin(np.abs(model.poles - p))) for p in fit.poles_]].imag
+    assert np.all(im[0] < 0) and np.any(im[1:] > 0)
+
+
+def test_plot_fit_per_output():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    structure, truth, data, exact, fit = fitted("beam", 0.01)
+    fig, ax = plt.subplots()
+    assert fit.plot_fit(ax=ax, output="xi=0.6") is ax
+    assert fit.plot_fit(ax=ax) is ax
+    with pytest.raises(ValueError, match="output index 7 is out of range"):
+        fit.plot_fit(ax=ax, output=7)
+    plt.close(fig)
+
+
+def test_free_rod_rigid_body_at_every_output():
+    structure, truth, data, exact, fit = fitted("free rod", 0.01)
+    assert fit.report_["rigid_body"] and fit.report_["n_modes"] == N_BAND
+    np.testing.assert_allclose(fit.model_.inverse_mass, truth.inverse_mass, rtol=0.02)
+    df, dz, dr = errors(truth, fit)
+    assert df.max() < 2e-5 and dz.max() < 0.03 and dr.max() < 0.03
+
+
+# ------------------------------------------------------------------ refused input
+def test_a_set_without_driving_point_or_wrong_method_is_refused():
+    structure, truth, data, exact, fit = fitted("beam", 0.01)
+    none = FRFSet(data.freq_hz, data.values, driving_point=None)
+    with pytest.raises(ValueError, match="needs a driving point .* driving_point=None"):
+        ModalFit().fit(none)
+    with pytest.raises(ValueError, match="method='vf' does not fit an FRFSet"):
+        ModalFit(method="vf").fit(data)
+    with pytest.raises(TypeError, match="FRFData or FRFSet"):
+        ModalFit().fit(data.values)
+
+
+def test_output_does_not_apply_to_a_single_frf():
+    structure, truth, data, exact, fit = fitted("beam", 0.01)
+    single = ModalFit().fit(data.row(0))
+    with pytest.raises(ValueError, match="applies to a fit of an FRFSet only"):
+        single.plot_fit(output=1)
+
+
+# ------------------------------------------------------------------ measured beam
+BETA_L = np.array([4.730041, 7.853205, 10.995608, 14.137165, 17.278760, 20.420352])
+
+
+def free_free_shapes(x):
+    """Free-free Euler-Bernoulli beam, first six bending modes at ``x`` (fraction of L)."""
+    x = np.asarray(x, float)[:, None]
+    s = (np.cosh(BETA_L) - np.cos(BETA_L)) / (np.sinh(BETA_L) - np.sin(BETA_L))
+    return (np.cosh(BETA_L * x) + np.cos(BETA_L * x)
+            - s * (np.sinh(BETA_L * x) + np.sin(BETA_L * x)))
+
+
+def test_measured_beam_three_points_common_poles():
+    """pyuff's three accelerances (tests/data), point 1 given as the driving point.
+
+    Its modal constants alternate in sign (+ - + - + -): not those of a passive driving
+    point, so passive=False (as for the single-point fits). Frequencies: the six peaks.
+    Shapes: the residue rows over point 1's are ``phi_k(x_i) / phi_k(x_1)`` whatever the
+    fixed point; the positions are not documented, so they are fitted (3 unknowns to 12
+    ratios) and the ratios must then match the free-free shapes to 0.1 (modes 2-6 to
+    0.05), MAC > 0.98. Fit error: each output within 7 % NRMSE and at most three times the
+    error of a fit of that point alone (the lightly damped peaks are under-resolved at
+    1 Hz and the separate fits' frequencies differ by up to 0.1 Hz, more than the
+    half-power bandwidths: common poles cannot fit all three to the data's scatter).
+    """
+    data = read_frf_set([DATA / f"meas_point_{k}.txt" for k in (1, 2, 3)],
+                        format="complex-lines", freq_hz=np.arange(1001.0),
+                        quantity="accelerance", driving_point=0).band((20, 1000))
+    fit = ModalFit(passive=False, weighting="noise").fit(data)
+    freqs = fit.report_["modes"]["frequency_hz"].to_numpy()
+    np.testing.assert_allclose(freqs, [52, 142, 279, 460, 687, 959], atol=1.0)
+    assert np.all(np.diff(np.sign(fit.report_["modes"]["modal_mass"])) != 0)
+    nrmse = np.asarray(fit.report_["frf_nrmse_data"])
+    single = []
+    for k in range(3):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            one = ModalFit(passive=False, weighting="noise").fit(data.row(k))
+        single.append(one.report_["frf_nrmse_data"])
+    assert np.all(nrmse < 0.07) and np.all(nrmse < 3 * np.asarray(single)), (nrmse, single)
+    assert fit.score(data) > 0.99
+    ratios = fit.mode_shapes_.real
+    assert np.max(np.abs(fit.mode_shapes_.imag)) < 0.15
+
+    def misfit(x):
+        phi = free_free_shapes(x)
+        return (phi / phi[0] - ratios)[1:].ravel()
+
+    x = least_squares(misfit, [0.95, 0.9, 0.85], bounds=(0, 1)).x
+    err = np.abs(misfit(x)).reshape(2, 6)
+    assert err.max() < 0.15 and err[:, 1:].max() < 0.05, (x, err)
+    assert np.all(np.diag(mac(ratios, free_free_shapes(x))) > 0.98)
