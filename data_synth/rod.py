@@ -14,8 +14,8 @@ form and exact to rounding.
 from __future__ import annotations
 
 import math
-from fractions import Fraction
 from dataclasses import dataclass, field
+from fractions import Fraction
 
 import numpy as np
 from scipy.special import polygamma
@@ -23,6 +23,7 @@ from scipy.special import polygamma
 from modalid._checks import as_choice, as_nonnegative_scalar, as_positive_scalar
 
 from ._base import ExactModel, _check_s, _check_times, _reciprocal
+from ._transfer import _check_xi, _rod_transfer, _rod_waves, _TransferMixin
 
 __all__ = ["Rod"]
 
@@ -89,7 +90,7 @@ def _period_index(t: np.ndarray, period: float) -> np.ndarray:
 
 
 @dataclass(frozen=True)
-class Rod(ExactModel):
+class Rod(ExactModel, _TransferMixin):
     """Uniform rod in axial vibration, struck at its end ``x = l``.
 
     Parameters
@@ -113,6 +114,13 @@ class Rod(ExactModel):
 
     Natural frequencies: fixed ``(k - 1/2) pi/T``, free ``k pi/T`` (``k >= 1``), each
     with driving-point modal mass ``m/2``.
+
+    Away from the driving point (``xi`` = distance from the struck end as a fraction of the
+    length, ``xi = 1`` the far end): :meth:`transfer_receptance`,
+    :meth:`transfer_impulse_response`, :meth:`transfer_step_response` (closed forms, exact
+    to rounding), :meth:`mode_shapes` ``sqrt(2/m) cos(k' pi xi)`` (``k' = k`` free,
+    ``k - 1/2`` fixed), :meth:`static_transfer_flexibility` and
+    :meth:`multi_output_model`.
     """
 
     mass: float
@@ -220,6 +228,99 @@ class Rod(ExactModel):
         else:
             out = (2.0 * T * T / m) * n * n + (T / m) * (2.0 * n + 1.0) * u
         return np.where(t >= 0.0, out, 0.0)
+
+    # ------------------------------------------------------- away from the driving point
+    def transfer_receptance(self, s, xi) -> np.ndarray:
+        """Exact transfer receptance ``H(xi, s)`` (m/N) from the struck end to positions ``xi``.
+
+        With ``eps = sT``, ``Z = m/T`` (the rod's impedance ``EA/c``) and ``u = 1 - xi``:
+
+        * free:  ``H = cosh(eps u) / (Z s sinh eps)``;
+        * fixed: ``H = sinh(eps u) / (Z s cosh eps)`` (0 at the fixed end ``xi = 1``).
+
+        Parameters
+        ----------
+        s : array_like of complex, any shape
+            Laplace variable (rad/s), finite.
+        xi : float or array_like of float, shape (n_points,)
+            Positions as fractions of the length from the struck end, in ``[0, 1]``
+            (a scalar is treated as shape (1,)).
+
+        Returns
+        -------
+        ndarray of complex, shape ``(n_points,) + s.shape``
+            ``H(xi, s)``; at ``xi = 0`` it equals :meth:`receptance` to rounding. ``inf`` at
+            ``s = 0`` for the free rod (and at an exact pole), never ``nan``; no overflow for
+            any finite ``s`` (bounded exponentials for ``|Re sT| > 1``).
+        """
+        s = _check_s(s)
+        xi = _check_xi(xi)
+        return _rod_transfer(s * self.transit_time, xi, self.support, 1.0 / self.stiffness)
+
+    def transfer_impulse_response(self, t, xi) -> np.ndarray:
+        """Exact transfer impulse response ``h(xi, t)`` (m/(N s)), 0 for ``t < 0``.
+
+        A staircase of reflected waves. The force's wave reaches ``xi`` at the times
+        ``a_n = (2n + xi) T`` (travelling away from the struck end) and ``b_n = (2n + 2 - xi)
+        T`` (after reflection at the far end), ``n >= 0``; each arrival changes ``h`` by
+        ``1/Z = T/m``: free rod ``+`` at every arrival; fixed rod ``(-1)^n`` at ``a_n`` and
+        ``-(-1)^n`` at ``b_n``. So the particle velocity under a unit step force is
+        ``h``: at the free far end ``2/Z`` for ``T < t < 3T``. At a jump the value is the
+        right limit. Vectorised closed form (no loop over reflections).
+
+        Parameters
+        ----------
+        t : array_like of float, any shape
+            Times (s).
+        xi : float or array_like of float, shape (n_points,)
+            Positions in ``[0, 1]``.
+
+        Returns
+        -------
+        ndarray of float, shape ``(n_points,) + t.shape``
+            Equal to :meth:`impulse_response` at ``xi = 0``.
+        """
+        t = _check_times(t)
+        xi = _check_xi(xi)
+        T = self.transit_time
+        return (T / self.mass) * _rod_waves(t, xi, T, self.support, "impulse")
+
+    def transfer_step_response(self, t, xi) -> np.ndarray:
+        """Exact transfer step response ``S(xi, t) = integral_0^t h(xi, .)`` (m/N), 0 for ``t < 0``.
+
+        ``(1/Z) sum_n (+-)(t - a_n)_+ (+-)(t - b_n)_+`` with the arrivals and signs of
+        :meth:`transfer_impulse_response`, in closed form: with ``N`` arrivals of a
+        sequence so far and ``u`` the age of the last one, ``sum = N u + T N (N - 1)``
+        (free) or ``2T floor(N/2) + u [N odd]`` (fixed, alternating signs).
+
+        Parameters
+        ----------
+        t : array_like of float, any shape
+            Times (s).
+        xi : float or array_like of float, shape (n_points,)
+            Positions in ``[0, 1]``.
+
+        Returns
+        -------
+        ndarray of float, shape ``(n_points,) + t.shape``
+            Continuous in ``t``; zero until the wave arrives at ``t = xi T``; equal to
+            :meth:`step_response` at ``xi = 0``.
+        """
+        t = _check_times(t)
+        xi = _check_xi(xi)
+        T = self.transit_time
+        return (T / self.mass) * _rod_waves(t, xi, T, self.support, "step")
+
+    def _shape_ratios(self, xi, n):
+        # phi_k(xi)/phi_k(0) = cos(k' pi xi); phi_k(0) = sqrt(2/m)
+        k = np.arange(1.0, n + 1.0) - (0.5 if self.support == "fixed" else 0.0)
+        return np.cos(math.pi * np.multiply.outer(xi, k))
+
+    def _elastic_static_transfer(self, xi):
+        # fixed: H(xi, 0) = (1 - xi)/K; free: lim (H - 1/(m s^2)) = (1/3 - xi + xi^2/2)/K
+        if self.support == "fixed":
+            return (1.0 - xi) / self.stiffness
+        return (1.0 / 3.0 - xi + 0.5 * xi * xi) / self.stiffness
 
     # ----------------------------------------------------------------- properties
     @property
