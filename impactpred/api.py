@@ -45,13 +45,16 @@ def solve_impact(body1: Body, body2: Body, *, gap: float = 0.0, contact=Rigid(),
         Time step (s) of the time-stepping solvers, or the output step of the exact ones.
         ``None`` picks one from the bodies' time scales (see :func:`choose_dt`).
     method : {"auto", "laplace", "modal", "convolution", "closed_form"}, keyword-only
-        ``"auto"``: the closed form for two free rods of equal transit time, the exact
-        Laplace solver for rational models with a linear contact law and no load, the
-        modal solver for other rational cases, the convolution solver otherwise.
+        ``"auto"``: the closed form for two free rods of equal transit time (without
+        output points), the exact Laplace solver for rational models with a linear contact
+        law and no load, the modal solver for other rational cases, the convolution solver
+        otherwise.
 
     Returns
     -------
     ImpactResult
+        With ``points``: a :class:`PointResponse` per body given with outputs
+        (``Body(MultiOutputModalModel)`` or ``Body(Rod/CantileverBeam, outputs=xi)``).
     """
     for name, body in (("body1", body1), ("body2", body2)):
         if not isinstance(body, Body):
@@ -90,8 +93,9 @@ def _choose_method(bodies, contact, method):
     has_load = any(b.load is not None for b in bodies)
     linear = isinstance(contact, Rigid) or (isinstance(contact, LinearSpring)
                                             and contact.damping == 0.0)
+    outputs = any(b.outputs is not None for b in bodies)
     if method == "auto":
-        if applies_closed_form(bodies, contact):
+        if applies_closed_form(bodies, contact) and not outputs:
             return "closed_form"
         if rational and linear and not has_load:
             return "laplace"
@@ -109,6 +113,9 @@ def _choose_method(bodies, contact, method):
     if method == "closed_form" and not applies_closed_form(bodies, contact):
         raise ValueError("method='closed_form' applies to two free rods of equal transit time "
                          "with rigid contact and rigid-body motion only")
+    if method == "closed_form" and outputs:
+        raise ValueError("method='closed_form' gives no output points: use "
+                         "method='convolution' (exact transfer responses of the rods)")
     return method
 
 

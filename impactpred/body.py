@@ -7,8 +7,8 @@ from typing import Any
 
 import numpy as np
 
-from data_synth import ExactModel
-from modalid import ModalModel
+from data_synth import CantileverBeam, ExactModel, Rod
+from modalid import ModalModel, MultiOutputModalModel
 from modalid._checks import as_real_array, as_real_scalar
 
 __all__ = ["Body", "SampledResponse"]
@@ -85,8 +85,10 @@ class Body:
 
     Parameters
     ----------
-    model : ModalModel, data_synth model or SampledResponse
-        Driving-point receptance at the contact point (m/N).
+    model : ModalModel, MultiOutputModalModel, data_synth model or SampledResponse
+        Driving-point receptance at the contact point (m/N). A
+        ``modalid.MultiOutputModalModel`` gives its driving row (stored in ``model``) and
+        its rows as output points (then ``outputs`` must be None).
     velocity : float, keyword-only
         Rigid-body velocity before impact (m/s) along ``+y`` (from body 1 towards body 2).
         A grounded body (no rigid-body mode) must have 0.
@@ -98,6 +100,23 @@ class Body:
     load : callable or (t, f) pair, keyword-only
         External force (N) on the body at the contact point, along ``+y``: a vectorised
         callable ``load(t)`` or samples ``(t, f)`` (linear between samples, 0 outside).
+    outputs : array_like, shape (n_points,), keyword-only
+        For a ``data_synth`` ``Rod`` or ``CantileverBeam`` only: positions ``xi`` of output
+        points as fractions of the length measured from the driving point (0 = the
+        driving point, 1 = the far end). :attr:`ImpactResult.points` then holds their
+        displacement, velocity and acceleration along ``y``.
+
+    Attributes
+    ----------
+    outputs : MultiOutputModalModel, ndarray or None
+        The output points: the multi-output model, the positions ``xi``, or None.
+
+    Notes
+    -----
+    Rigid-body motion of output points: a multi-output model's rigid term is one rigid
+    mode, so point ``i`` moves rigidly by ``inverse_mass_i / inverse_mass`` times the
+    driving point's rigid motion (``displacement``, ``velocity``); a rod translates as a
+    whole.
     """
 
     model: Any
@@ -105,11 +124,14 @@ class Body:
     displacement: float = 0.0
     vibration: Any = None
     load: Any = None
+    outputs: Any = None
 
-    def __init__(self, model, *, velocity=0.0, displacement=0.0, vibration=None, load=None):
+    def __init__(self, model, *, velocity=0.0, displacement=0.0, vibration=None, load=None,
+                 outputs=None):
+        model, outputs = _split_outputs(model, outputs)
         if not isinstance(model, (ModalModel, ExactModel, SampledResponse)):
-            raise TypeError(f"model must be a ModalModel, a data_synth model or a "
-                            f"SampledResponse, got {type(model).__name__}")
+            raise TypeError(f"model must be a ModalModel, a MultiOutputModalModel, a data_synth "
+                            f"model or a SampledResponse, got {type(model).__name__}")
         velocity = as_real_scalar("velocity", velocity)
         displacement = as_real_scalar("displacement", displacement)
         if model.inverse_mass < 0.0:
@@ -135,10 +157,21 @@ class Body:
             load = _as_load(load)
         for name, value in (("model", model), ("velocity", velocity),
                             ("displacement", displacement), ("vibration", vibration),
-                            ("load", load)):
+                            ("load", load), ("outputs", outputs)):
             object.__setattr__(self, name, value)
 
     # ------------------------------------------------------------------ queries
+    @property
+    def output_labels(self) -> tuple | None:
+        """Labels of the output points (None without outputs)."""
+        if self.outputs is None:
+            return None
+        if isinstance(self.outputs, MultiOutputModalModel):
+            return self.outputs.outputs
+        labels = tuple(f"xi={x:g}" for x in self.outputs)
+        return labels if len(set(labels)) == len(labels) else tuple(
+            f"xi={x!r}" for x in self.outputs.tolist())
+
     @property
     def inverse_mass(self) -> float:
         """``1/M`` of the rigid-body mode (1/kg); 0 for a grounded body."""
@@ -231,6 +264,43 @@ class Body:
             raise ValueError(f"load(t) must return finite values of shape {t.shape}, got "
                              f"shape {values.shape}")
         return values
+
+
+def _split_outputs(model, outputs):
+    """``(driving model, outputs)`` from the constructor's ``model`` and ``outputs``."""
+    if isinstance(model, MultiOutputModalModel):
+        if outputs is not None:
+            raise ValueError("a MultiOutputModalModel carries its own outputs (its rows): "
+                             "give outputs=None")
+        inv = model.inverse_mass
+        if inv[model.driving_point] == 0.0 and np.any(inv != 0.0):
+            raise ValueError("the driving point has no rigid-body term (1/M = 0) but other "
+                             f"outputs have one ({inv.tolist()}): a force at the driving point "
+                             "cannot move them rigidly; the model is inconsistent")
+        return model.driving, model
+    if outputs is None:
+        return model, None
+    if not isinstance(model, (Rod, CantileverBeam)):
+        raise TypeError(f"outputs (positions xi along the length) apply to a data_synth Rod or "
+                        f"CantileverBeam, got a {type(model).__name__}: for a modal model give "
+                        "a modalid.MultiOutputModalModel with one row per output point")
+    missing = [name for name in ("transfer_step_response", "transfer_impulse_response")
+               if not hasattr(model, name)]
+    if missing:
+        raise NotImplementedError(f"this data_synth {type(model).__name__} has no "
+                                  f"{', '.join(missing)}: output points need them")
+    xi = as_real_array("outputs", outputs)
+    if xi.ndim != 1 or xi.size == 0:
+        raise ValueError(f"outputs must be a non-empty 1-D array of positions xi, got shape "
+                         f"{xi.shape}")
+    if np.any((xi < 0.0) | (xi > 1.0)):
+        raise ValueError(f"outputs positions xi must lie in [0, 1] (fractions of the length "
+                         f"from the driving point), got {xi.tolist()}")
+    if np.unique(xi).size != xi.size:
+        raise ValueError(f"outputs positions must be distinct, got {xi.tolist()}")
+    xi = np.array(xi)
+    xi.setflags(write=False)
+    return model, xi
 
 
 def _rational_order(model) -> int:

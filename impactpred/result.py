@@ -73,6 +73,9 @@ class ImpactResult:
         ``1/M`` of each body (0 for a grounded one).
     notes : tuple of str
         What the solver wants the user to know (e.g. chosen step, micro-separations).
+    points : tuple of (PointResponse or None)
+        Per body: displacement, velocity and acceleration histories of its output points
+        (None for a body given without outputs); see :class:`impactpred.PointResponse`.
     """
 
     t: np.ndarray
@@ -91,10 +94,15 @@ class ImpactResult:
     total_impulse: float
     inverse_masses: tuple
     notes: tuple = field(default_factory=tuple)
+    points: tuple = (None, None)
 
     def __post_init__(self):
         for name in ("t", "force", "y1", "y2", "gap"):
             object.__setattr__(self, name, _frozen(getattr(self, name)))
+        points = tuple(self.points)
+        if len(points) != 2:
+            raise ValueError(f"points must hold one entry per body, got {len(points)}")
+        object.__setattr__(self, "points", points)
 
     # ------------------------------------------------------------- derived figures
     @property
@@ -160,6 +168,17 @@ class ImpactResult:
                 "restitution": self.restitution,
                 "vibration_energy_fraction": self.vibration_energy_fraction,
                 "n_dirac": len(self.dirac_impulses)}
+
+    def point_peaks(self) -> pd.DataFrame:
+        """Peaks of every output point of both bodies (see :meth:`PointResponse.peaks`).
+
+        Index ``(body, point)`` with ``body`` 1 or 2; empty without output points.
+        """
+        tables = {i + 1: p.peaks() for i, p in enumerate(self.points) if p is not None}
+        if not tables:
+            index = pd.MultiIndex.from_tuples([], names=["body", "point"])
+            return pd.DataFrame(index=index)
+        return pd.concat(tables, names=["body", "point"])
 
     def to_pandas(self) -> pd.DataFrame:
         """Time histories as a DataFrame indexed by time (s)."""

@@ -91,7 +91,7 @@ def contact_runs(force: np.ndarray, gap_end: np.ndarray, tol: float):
 
 
 def assemble_result(bodies, gap0, grid: Grid, force, kernels, y_free, *, method, notes=(),
-                    y=None):
+                    y=None, points=(None, None)):
     """Build the :class:`ImpactResult` of a piecewise-constant force history.
 
     Parameters
@@ -102,6 +102,8 @@ def assemble_result(bodies, gap0, grid: Grid, force, kernels, y_free, *, method,
         Step kernels and free displacements of the two bodies.
     y : pair of ndarray, optional
         Displacements on the grid if the solver already has them.
+    points : pair of (PointResponse or None), optional
+        Output points, if the solver computed them.
     """
     b1, b2 = bodies
     if y is None:
@@ -138,4 +140,4 @@ def assemble_result(bodies, gap0, grid: Grid, force, kernels, y_free, *, method,
                         velocities_before=u_before, velocities_after=u_after,
                         energy_by_body=tuple(energies), method=method, dt=dt,
                         first_contact_impulse=first_impulse, total_impulse=total_impulse,
-                        inverse_masses=inv, notes=tuple(notes))
+                        inverse_masses=inv, notes=tuple(notes), points=tuple(points))

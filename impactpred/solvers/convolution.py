@@ -15,6 +15,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.signal import fftconvolve
 
+from ._outputs import convolution_points
 from ._stepping import Grid, assemble_result, free_displacements, step_kernel
 
 __all__ = ["solve_convolution", "online_complementarity"]
@@ -86,4 +87,4 @@ def solve_convolution(bodies, gap0, contact, t_end, dt, *, notes=()):
     force = online_complementarity(kernels[0] + kernels[1], free_gap[1:], contact, dt,
                                    float(free_gap[0]))
     return assemble_result(bodies, gap0, grid, force, kernels, y_free, method="convolution",
-                           notes=notes)
+                           notes=notes, points=convolution_points(bodies, grid, force))

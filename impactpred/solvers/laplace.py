@@ -35,6 +35,7 @@ from modalid._statespace import pole_residue_to_statespace
 
 from ..contact import LinearSpring, Rigid
 from ..result import BodyEnergy, ImpactResult
+from ._outputs import LaplaceOutputs
 from ._spectral import DefectiveSpectrum, SpectralPhase
 
 __all__ = ["solve_laplace", "CoupledSystem"]
@@ -172,6 +173,7 @@ def solve_laplace(bodies, gap0, contact, t_end, dt, *, notes=()):
     if any(b.load is not None for b in bodies):
         raise ValueError("the laplace solver takes no external load: use method='modal'")
     sysm = CoupledSystem(bodies)
+    points = LaplaceOutputs(bodies, sysm)
     n = sysm.n
     A, Bf, Cg = sysm.A, sysm.Bf, sysm.Cg
     D1, D2 = sysm.D
@@ -190,7 +192,8 @@ def solve_laplace(bodies, gap0, contact, t_end, dt, *, notes=()):
     # free flight: X' = A X
     M_free = np.zeros((n_aug, n_aug))
     M_free[:n, :n] = A
-    free = _Phase(M_free, np.stack([np.zeros(n_aug), y1_row, y2_row, gap_row]), gap_row, False)
+    free = _Phase(M_free, np.vstack([np.zeros(n_aug), y1_row, y2_row, gap_row,
+                                     points.rows(M_free)]), gap_row, False)
 
     # contact: f = Kf X + k0, X' = (A + Bf Kf) X + Bf k0, J' = f
     if isinstance(contact, Rigid):
@@ -213,9 +216,10 @@ def solve_laplace(bodies, gap0, contact, t_end, dt, *, notes=()):
     M_con[:n, :n] = A + np.outer(Bf, kf)
     M_con[:n, one] = Bf * k0
     M_con[jdx] = force_row
-    stuck = _Phase(M_con, np.stack([force_row, y1_row - D1 * force_row,
-                                    y2_row + D2 * force_row,
-                                    gap_row + sysm.Dg * force_row]), force_row, True)
+    stuck = _Phase(M_con, np.vstack([force_row, y1_row - D1 * force_row,
+                                     y2_row + D2 * force_row,
+                                     gap_row + sysm.Dg * force_row,
+                                     points.rows(M_con, force_row)]), force_row, True)
 
     rate = max(free.form.max_rate, stuck.form.max_rate)
     step = np.pi / (8 * rate) if rate > 0 else t_end / 1000
@@ -394,7 +398,8 @@ def solve_laplace(bodies, gap0, contact, t_end, dt, *, notes=()):
                         energy_by_body=energy, method="laplace", dt=out_step,
                         first_contact_impulse=first_impulse,
                         total_impulse=float(X_end[jdx]), inverse_masses=inv,
-                        notes=tuple(notes) + note)
+                        notes=tuple(notes) + note,
+                        points=points.responses(bodies, T, V[4:]))
 
 
 def _free_lobe_height(X, A, Cg):

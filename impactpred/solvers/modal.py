@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ._outputs import ModalOutputs, _require_multi
 from ._stepping import Grid, assemble_result
 
 __all__ = ["solve_modal"]
@@ -39,6 +40,7 @@ class _ModalStepper:
 
 def solve_modal(bodies, gap0, contact, t_end, dt, *, notes=()):
     """Modal time-stepping solve of two bodies with rational (or truncated) models."""
+    _require_multi(bodies, "modal")
     grid = Grid(t_end, dt)
     models = [b.modal_model() for b in bodies]
     steppers = [_ModalStepper(m, dt) for m in models]
@@ -74,6 +76,12 @@ def solve_modal(bodies, gap0, contact, t_end, dt, *, notes=()):
     m1, m2 = s1.inverse_mass, s2.inverse_mass
     law = contact.step_force
     z1, z2 = z
+    rec1, rec2 = (ModalOutputs(b, m, grid.n_steps + 1, dt) if b.outputs is not None else None
+                  for b, m in zip(bodies, models))
+    if rec1:
+        rec1.record(0, z1, d[0], v[0], 0.0)
+    if rec2:
+        rec2.record(0, z2, d[1], v[1], 0.0)
     for n in range(grid.n_steps):
         u1, u2 = loads[0][n], loads[1][n]
         # the end-of-step state at zero contact force
@@ -101,5 +109,10 @@ def solve_modal(bodies, gap0, contact, t_end, dt, *, notes=()):
             v[1] += u2 * m2 * h
             y1[n + 1], y2[n + 1] = y1f, y2f
         g_prev = y2[n + 1] - y1[n + 1] + gap0
+        if rec1:
+            rec1.record(n + 1, z1, d[0], v[0], u1 - f)
+        if rec2:
+            rec2.record(n + 1, z2, d[1], v[1], u2 + f)
+    points = tuple(r.response(b, grid.t) if r else None for r, b in zip((rec1, rec2), bodies))
     return assemble_result(bodies, gap0, grid, force, None, None, method="modal",
-                           notes=notes, y=(y1, y2))
+                           notes=notes, y=(y1, y2), points=points)
