@@ -62,6 +62,12 @@ def solve_impact(body1: Body, body2: Body, *, gap: float = 0.0, contact=Rigid(),
     gap = as_real_scalar("gap", gap)
     if gap < 0:
         raise ValueError(f"gap must be >= 0 (the bodies may not start overlapping), got {gap!r}")
+    y1_0, y2_0 = float(body1.free_motion(0.0)), float(body2.free_motion(0.0))
+    start_gap = gap + y2_0 - y1_0
+    if start_gap < -1e-12 * max(abs(gap), abs(y1_0), abs(y2_0)):
+        raise ValueError(f"the bodies start overlapping: gap + y2(0) - y1(0) = {start_gap!r} m "
+                         f"< 0 (gap={gap!r}, contact-point displacements at t = 0 from "
+                         f"displacement and vibration: y1(0)={y1_0!r}, y2(0)={y2_0!r})")
     contact = check_contact(contact)
     t_end = as_positive_scalar("t_end", t_end)
     if dt is not None:

@@ -139,3 +139,15 @@ def test_modal_model_bodies_with_real_poles_step_exactly():
     conv = solve_impact(body1, body2, contact=LinearSpring(100.0), t_end=2.0,
                         method="convolution", dt=1e-3)
     np.testing.assert_allclose(modal.force, conv.force, atol=1e-10)
+
+
+def test_vibration_that_makes_the_bodies_overlap_at_the_start_is_refused():
+    """gap = 0 but the struck body's vibration puts its contact point 0.1 m behind: overlap."""
+    rod = Rod(1.0, 1.0, support="fixed")
+    with pytest.raises(ValueError, match=r"start overlapping.*y2\(0\)=-0.1"):
+        solve_impact(Body(LumpedMass(1.0), velocity=1.0), Body(rod, vibration=[[-0.1, 0.0]]),
+                     gap=0.0, t_end=1.0)
+    # the same vibration with a clearance that covers it is fine
+    res = solve_impact(Body(LumpedMass(1.0), velocity=1.0), Body(rod, vibration=[[-0.1, 0.0]]),
+                       gap=0.1, t_end=1.0, dt=1e-3)
+    assert res.gap[0] == pytest.approx(0.0, abs=1e-12)
