@@ -4,7 +4,10 @@ import re
 from pathlib import Path
 
 import matplotlib
+import numpy as np
 import pytest
+
+from modalid import mac
 
 matplotlib.use("Agg")
 
@@ -24,8 +27,15 @@ def test_readme_example_runs(index, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     namespace = {}
     exec(compile(code, f"README.md example {index + 1}", "exec"), namespace)  # noqa: S102
-    if "res" in namespace:  # the impact example: its comments state these numbers
+    if "0.69888" in code:  # the impact example: its comments state these numbers
         res = namespace["res"]
         assert res.method == "convolution" and res.dt == pytest.approx(1e-3)
         assert res.restitution == pytest.approx(0.69888, abs=1e-5)
         assert len(res.contact_intervals) == 2
+    if "mac(" in code:  # the multi-point example: common poles, shapes, point responses
+        model, beam, xi = namespace["model"], namespace["beam"], namespace["xi"]
+        assert model.n_outputs == 3 and model.outputs[model.driving_point] == "xi=0"
+        shapes = mac(model.mode_shapes(scaling="mass"), beam.mode_shapes(xi, 8))
+        assert np.all(shapes.diagonal() > 0.99)
+        peaks = namespace["res"].points[1].peaks()["peak_displacement"].to_numpy()
+        assert peaks[0] > peaks[1] > peaks[2] > 0   # the tip moves most, the root least
