@@ -25,8 +25,17 @@ from scipy.linalg import cholesky, solve_triangular
 from scipy.signal import find_peaks
 
 from ._checks import as_count
-from ._lsfd import Terms, _bounds, _Projection, _realify, _std, design_matrix, noise_level
+from ._lm import bounded_lm, pole_limits
 from ._lscf import lscf_subbands
+from ._lsfd import (
+    Terms,
+    _bounds,
+    _Projection,
+    _realify,
+    _std,
+    design_matrix,
+    noise_level,
+)
 from .frf_set import FRFSet
 from .model import ModalModel
 from .multi_output import MultiOutputModalModel
@@ -112,79 +121,17 @@ def refine_joint(omega, values, weights, poles, terms: Terms, *, passive_row=Non
     bounds = [_bounds(n, terms, True) if i == passive_row else None for i in range(n_out)]
     lo = np.zeros(n) if imag_lo is None else np.asarray(imag_lo, float)
     hi = np.full(n, np.inf) if imag_hi is None else np.asarray(imag_hi, float)
-
-    def limits(v):
-        im = np.clip(v[1::2], np.maximum(lo, 1e-9), hi)
-        low, high = np.empty(2 * n), np.empty(2 * n)
-        low[0::2], high[0::2] = -im, -1e-9 * im
-        low[1::2], high[1::2] = np.maximum(lo, 1e-9), hi
-        return low, high
+    limits = pole_limits(lo, hi)
 
     def project(v):
         return _Joint(omega, ys, weights, extras, bounds, v[0::2] + 1j * v[1::2])
 
     x[0::2], x[1::2] = np.real(poles), np.imag(poles)
-    x = np.clip(x, *limits(x))
-    cur = project(x)
     n_data = sum(y.size for y in ys)
-    lam, nu, n_small, it = 1e-3, 2.0, 0, 0
-    converged, message = n == 0, "maximum number of iterations reached"
-    while not converged and it < max_iter:
-        jtj, jtr = cur.normal_equations()
-        norms = np.sqrt(np.maximum(np.diag(jtj), 1e-300))
-        a_s, g_s = jtj / np.outer(norms, norms), jtr / norms
-        low, high = limits(x)
-        tol_b = 1e-12 * np.repeat(np.hypot(x[0::2], x[1::2]), 2)
-        free = ~(((x - low <= tol_b) & (g_s < 0)) | ((high - x <= tol_b) & (g_s > 0)))
-        if hold is not None:
-            free &= ~np.repeat(np.asarray(hold, bool), 2)
-        idx = np.flatnonzero(free)
-        if idx.size == 0:
-            converged, message = True, "converged (all poles on bounds)"
-            break
-        a_f, g_f = a_s[np.ix_(idx, idx)], g_s[idx]
-        try:
-            gain = float(g_f @ np.linalg.solve(a_f, g_f))
-        except np.linalg.LinAlgError:
-            gain = np.inf
-        if gain < stat_tol * cur.cost / max(n_data - 2 * n, 1):
-            converged, message = True, "converged"
-            break
-        it += 1
-        accepted = False
-        while lam < 1e12:
-            step = np.zeros(2 * n)
-            try:
-                step[idx] = np.linalg.solve(a_f + lam * np.eye(idx.size), g_f)
-            except np.linalg.LinAlgError:
-                lam, nu = lam * nu, nu * 2.0
-                continue
-            step /= norms
-            move = np.hypot(step[0::2], step[1::2]) / np.hypot(x[0::2], x[1::2])
-            if move.max() > 0.1:                  # trust region: 10 % of |p| per step
-                step *= 0.1 / move.max()
-            x_new = np.clip(x + step, *limits(x + step))
-            trial = project(x_new)
-            actual = cur.cost - trial.cost
-            if actual >= 0.0:
-                taken = (x_new - x) * norms
-                predicted = taken @ (2 * g_s - a_s @ taken)
-                rho = actual / predicted if predicted > 0 else 1.0
-                lam *= max(1.0 / 3.0, 1.0 - (2.0 * rho - 1.0) ** 3)
-                nu, accepted = 2.0, True
-                break
-            lam, nu = lam * nu, nu * 2.0
-        if not accepted:
-            converged, message = True, "no further decrease of the cost"
-            break
-        change = np.max(np.abs(x_new - x) / np.repeat(np.hypot(x_new[0::2], x_new[1::2]), 2))
-        x, cur = x_new, trial
-        small = actual < stall_tol * cur.cost / max(n_data - 2 * n, 1)
-        n_small = n_small + 1 if small else 0
-        if change < xtol:
-            converged, message = True, "converged (step below xtol)"
-        elif n_small >= 2:
-            converged, message = True, "converged (cost settled)"
+    x, cur, lm_info = bounded_lm(np.clip(x, *limits(x)), project=project, limits=limits,
+                                 n_data=n_data, hold=hold, max_iter=max_iter,
+                                 stat_tol=stat_tol, stall_tol=stall_tol, xtol=xtol)
+    it, converged, message = lm_info["n_iter"], lm_info["converged"], lm_info["message"]
     info = {"n_iter": it, "converged": converged, "message": message, "cost": cur.cost,
             "pole_std": None, "residue_std": None}
     if with_std and n:
@@ -252,7 +199,7 @@ def select_joint(omega, values, weights, candidates, terms, fixed, *, driving_po
 
 # ----------------------------------------------------------------- the pipeline
 def _fit_warning():
-    from .fit import ModalFitWarning                # fit imports this module lazily
+    from .fit import ModalFitWarning  # fit imports this module lazily
 
     return ModalFitWarning
 
@@ -406,7 +353,7 @@ def fit_set(est, data: FRFSet):
 
 
 def _store(est, rec, poles, kinds, xs, terms, info, notes, max_order, dp):
-    from .fit import _report                        # fit imports this module lazily
+    from .fit import _report  # fit imports this module lazily
 
     r, u, d = split_rows(xs, poles.size, terms)
     u[dp] = max(u[dp], 0.0)

@@ -20,10 +20,13 @@ unknowns are kept by a bounded linear solve inside the projection.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
 from scipy.linalg import cho_factor, cho_solve
+
+from ._lm import bounded_lm, pole_limits
 
 __all__ = ["Terms", "design_matrix", "refine_varpro", "evaluate", "split_coefficients",
            "place_upper_modes", "release_gain", "removal_cost", "mass_line_significant",
@@ -311,95 +314,22 @@ def refine_varpro(omega, values, weights, poles, terms: Terms, *, imag_lo=None, 
     first, spare, g_buffer = buffers[key]
     lo = np.zeros(n) if imag_lo is None else np.asarray(imag_lo, dtype=float)
     hi = np.full(n, np.inf) if imag_hi is None else np.asarray(imag_hi, dtype=float)
+    limits = pole_limits(lo, hi)
+    free_workspaces = [spare, first]   # two projections alive at once: recycle their arrays
 
-    def limits(v):
-        """Effective bounds at ``v``: Im p in [lo, hi], then Re p in [-Im p, -1e-9 Im p]."""
-        im = np.clip(v[1::2], np.maximum(lo, 1e-9), hi)
-        low, high = np.empty(2 * n), np.empty(2 * n)
-        low[0::2], high[0::2] = -im, -1e-9 * im
-        low[1::2], high[1::2] = np.maximum(lo, 1e-9), hi
-        return low, high
-
-    def clip(v):
-        low, high = limits(v)
-        return np.clip(v, low, high)
+    def project(v):
+        projection = _Projection(omega, w, y, v[0::2] + 1j * v[1::2], extra, bounds,
+                                 free_workspaces.pop())
+        projection.normal_equations = functools.partial(projection.normal_equations, g_buffer)
+        return projection
 
     x = np.empty(2 * n)
     x[0::2], x[1::2] = p.real, p.imag
-    x = clip(x)
-    cur = _Projection(omega, w, y, x[0::2] + 1j * x[1::2], extra, bounds, first)
-    n_data = y.size
-    lam, nu, n_small = 1e-3, 2.0, 0
-    converged, message, it = n == 0, "maximum number of iterations reached", 0
-    if n == 0:
-        message = "linear least squares (no poles)"
-    while not converged and it < max_iter:
-        jtj, jtr = cur.normal_equations(g_buffer)
-        norms = np.sqrt(np.maximum(np.diag(jtj), 1e-300))
-        a_s = jtj / np.outer(norms, norms)
-        g_s = jtr / norms
-        # active set: parameters on a bound whose gradient step points outwards
-        low, high = limits(x)
-        tol_b = 1e-12 * np.repeat(np.hypot(x[0::2], x[1::2]), 2)
-        free = ~(((x - low <= tol_b) & (g_s < 0)) | ((high - x <= tol_b) & (g_s > 0)))
-        if hold is not None:
-            free &= ~np.repeat(np.asarray(hold, bool), 2)
-        idx = np.flatnonzero(free)
-        if idx.size == 0:
-            converged, message = True, "converged (all poles on bounds)"
-            break
-        a_f, g_f = a_s[np.ix_(idx, idx)], g_s[idx]
-        # statistical stop: the full Gauss-Newton step would lower the cost by less than
-        # ``stat_tol`` of one residual variance (a step far below one standard deviation)
-        try:
-            gain = float(g_f @ np.linalg.solve(a_f, g_f))
-        except np.linalg.LinAlgError:
-            gain = np.inf
-        if gain < stat_tol * cur.cost / max(n_data - 2 * n, 1):
-            converged, message = True, "converged"
-            break
-        it += 1
-        accepted = False
-        while lam < 1e12:
-            step = np.zeros(2 * n)
-            try:
-                step[idx] = np.linalg.solve(a_f + lam * np.eye(idx.size), g_f)
-            except np.linalg.LinAlgError:
-                lam *= nu
-                nu *= 2.0
-                continue
-            step /= norms
-            # trust region: no pole moves by more than a tenth of its modulus at once
-            move = np.hypot(step[0::2], step[1::2]) / np.hypot(x[0::2], x[1::2])
-            if move.max() > 0.1:
-                step *= 0.1 / move.max()
-            x_new = clip(x + step)
-            trial = _Projection(omega, w, y, x_new[0::2] + 1j * x_new[1::2], extra, bounds,
-                                spare)
-            actual = cur.cost - trial.cost
-            if actual >= 0.0:
-                taken = (x_new - x) * norms
-                predicted = taken @ (2 * g_s - a_s @ taken)
-                rho = actual / predicted if predicted > 0 else 1.0
-                lam *= max(1.0 / 3.0, 1.0 - (2.0 * rho - 1.0) ** 3)
-                nu = 2.0
-                accepted = True
-                break
-            lam *= nu
-            nu *= 2.0
-        if not accepted:
-            converged, message = True, "no further decrease of the cost"
-            break
-        change = np.max(np.abs(x_new - x) / np.repeat(np.hypot(x_new[0::2], x_new[1::2]), 2))
-        x, cur, spare = x_new, trial, cur.ws
-        # stalled: two steps in a row that lower the cost by less than ``stall_tol`` of one
-        # residual variance (a flat valley, e.g. of pseudo-modes, statistically settled)
-        small = (actual < stall_tol * cur.cost / max(n_data - 2 * n, 1))
-        n_small = n_small + 1 if small else 0
-        if change < xtol:
-            converged, message = True, "converged (step below xtol)"
-        elif n_small >= 2:
-            converged, message = True, "converged (cost settled)"
+    x, cur, info = bounded_lm(np.clip(x, *limits(x)), project=project, limits=limits,
+                              n_data=y.size, hold=hold, max_iter=max_iter, stat_tol=stat_tol,
+                              stall_tol=stall_tol, xtol=xtol,
+                              release=lambda old: free_workspaces.append(old.ws))
+    it, converged, message = info["n_iter"], info["converged"], info["message"]
     p = x[0::2] + 1j * x[1::2]
     low, high = limits(x)
     at_bound = (x[1::2] - low[1::2] <= 1e-9 * x[1::2]) | (high[1::2] - x[1::2] <= 1e-9 * x[1::2])
