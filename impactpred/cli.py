@@ -100,6 +100,9 @@ def _cmd_predict(args) -> int:
     print(f"{'contact_intervals':>26s}: {[(round(a, 9), round(b, 9)) for a, b in res.contact_intervals]}")
     with pd.option_context("display.width", 140, "display.float_format", "{:.6g}".format):
         print(res.energy.to_string())
+        if any(p is not None for p in res.points):
+            print("peaks at the output points (body, point):")
+            print(res.point_peaks().to_string())
         if pred.uncertainty is not None:
             print("uncertainty band (re-identified on 60 % and 80 % of each band, residue draws):")
             print(pred.uncertainty.table())
@@ -114,12 +117,17 @@ def _cmd_predict(args) -> int:
         res.to_pandas().to_csv(out / "force_motion.csv")
         pd.DataFrame([summary]).to_csv(out / "summary.csv", index=False)
         res.energy.to_csv(out / "energy.csv")
+        for i, points in enumerate(res.points, start=1):
+            if points is not None:
+                points.to_pandas().to_csv(out / f"points_body{i}.csv")
         fig, ax = plt.subplots(figsize=(8, 4))
         res.plot(ax=ax)
         fig.tight_layout()
         fig.savefig(out / "impact.png", dpi=110)
         plt.close(fig)
-        print(f"wrote force_motion.csv, summary.csv, energy.csv and impact.png in {out}")
+        points = "".join(f", points_body{i}.csv" for i, p in enumerate(res.points, 1)
+                         if p is not None)
+        print(f"wrote force_motion.csv, summary.csv, energy.csv{points} and impact.png in {out}")
     return 0
 
 

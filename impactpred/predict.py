@@ -5,7 +5,8 @@ A body is given as
 
 * a measured FRF file (CSV, ``.npz``, ``.mat``, UFF 58): identified with
   :class:`modalid.ModalFit`;
-* a saved model (``.json`` from ``ModalModel.to_json``);
+* a saved model (``.json`` from ``ModalModel.to_json``, or from
+  ``MultiOutputModalModel.to_json``: the prediction then gives every point's response);
 * a spec string: ``mass:M``, ``rod:mass=..,transit_time=..[,support=free|fixed]``,
   ``spring-mass:mass=..,stiffness=..[,damping_ratio=..]``,
   ``beam:mass=..,time_scale=..`` (SI units);
@@ -21,7 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from data_synth import CantileverBeam, ExactModel, LumpedMass, Rod, SpringMass
-from modalid import ModalFit, ModalModel
+from modalid import ModalFit, ModalModel, MultiOutputModalModel
 from modalid.io import read_frf
 
 from .api import solve_impact
@@ -76,7 +77,7 @@ def parse_body(spec, *, quantity=None, fit=None, continuation=False):
     an FRF file carries the high-frequency continuation of
     :func:`impactpred.truncation.continue_above_band`.
     """
-    if isinstance(spec, (ModalModel, ExactModel, SampledResponse)):
+    if isinstance(spec, (ModalModel, MultiOutputModalModel, ExactModel, SampledResponse)):
         return spec, None
     if not isinstance(spec, (str, Path)):
         raise TypeError(f"a body must be a file, a spec string or a model, got "
@@ -94,7 +95,10 @@ def parse_body(spec, *, quantity=None, fit=None, continuation=False):
         raise ValueError(f"body {text!r} is neither an existing file nor a spec "
                          f"({', '.join(k + ':...' for k in _SPECS)})")
     if path.suffix.lower() == ".json":
-        return ModalModel.from_json(path), None
+        text = path.read_text()
+        if '"modalid.MultiOutputModalModel"' in text:   # several points: their responses too
+            return MultiOutputModalModel.from_json(text), None
+        return ModalModel.from_json(text), None
     data = read_frf(path, quantity=quantity)
     estimator = fit if fit is not None else ModalFit()
     estimator.fit(data)

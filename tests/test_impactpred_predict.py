@@ -4,7 +4,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from data_synth import LumpedMass, Rod, lightly_damped, synthetic_frf
+from data_synth import CantileverBeam, LumpedMass, Rod, lightly_damped, synthetic_frf
 from impactpred import BandWarning, Body, Hertz, LinearSpring, Rigid, predict, solve_impact
 from impactpred.cli import main
 from impactpred.predict import force_energy_above, parse_body, parse_contact
@@ -107,3 +107,22 @@ def test_predict_command_with_continuation_and_uncertainty(measured_rod, capsys)
     assert "uncertainty band" in out and "restitution" in out
     # the continued model no longer chatters: one first contact about 3.07 T long
     assert "contact_intervals: [(0.0, 3.07" in out
+
+
+def test_predict_command_with_a_saved_multi_point_model_writes_every_point(tmp_path, capsys):
+    """A saved MultiOutputModalModel: the driving row is struck, every point is reported."""
+    model = CantileverBeam(1.0, 1.0).multi_output_model([0.0, 0.5, 0.8], 10,
+                                                        damping_ratio=0.01, residual=True)
+    path = tmp_path / "beam3.json"
+    model.to_json(path)
+    out = tmp_path / "out"
+    assert main(["predict", "mass:0.1", str(path), "--v1", "1.0", "--t-end", "0.5",
+                 "--out", str(out)]) == 0
+    printed = capsys.readouterr().out
+    assert "peaks at the output points" in printed and "xi=0.8" in printed
+    table = pd.read_csv(out / "points_body2.csv", header=[0, 1], index_col=0)
+    assert table.shape[1] == 9
+    motion = pd.read_csv(out / "force_motion.csv", index_col=0)
+    # the driving-point row is the struck point's displacement
+    np.testing.assert_allclose(table[("displacement", "xi=0")].to_numpy(),
+                               motion["y2"].to_numpy(), rtol=0, atol=1e-12)
