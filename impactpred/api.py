@@ -163,7 +163,7 @@ def choose_dt(bodies, contact, *, t_end, method="convolution") -> float:
     if not pairs:
         return t_end / 1000
     if method == "laplace":
-        return min(min(s for s, _ in pairs) / 20, t_end / 200)
+        return max(min(min(s for s, _ in pairs) / 20, t_end / 200), t_end / _MAX_STEPS)
     sampled = [float(np.min(np.diff(b.model.t))) for b in bodies
                if isinstance(b.model, SampledResponse)]
     dt = min(sampled) if sampled else min(s / n for s, n in pairs)
@@ -211,5 +211,7 @@ def _contact_time_scale(bodies, contact):
         v = abs(bodies[0].velocity - bodies[1].velocity) or 1.0
         depth = (5 * m_eff * v**2 / (4 * contact.stiffness)) ** (1 / (contact.exponent + 1))
         return depth / v
-    flex = sum(b.model.flexibility for b in bodies if isinstance(b.model, ModalModel))
+    # rounding-level flexibilities (e.g. left by a continuation) are no compliance
+    flex = sum(b.model.flexibility for b in bodies if isinstance(b.model, ModalModel)
+               and b.model.flexibility > 1e-9 * abs(b.model.static_flexibility()))
     return math.sqrt(m_eff * flex) if flex > 0 else None

@@ -151,3 +151,26 @@ def test_vibration_that_makes_the_bodies_overlap_at_the_start_is_refused():
     res = solve_impact(Body(LumpedMass(1.0), velocity=1.0), Body(rod, vibration=[[-0.1, 0.0]]),
                        gap=0.1, t_end=1.0, dt=1e-3)
     assert res.gap[0] == pytest.approx(0.0, abs=1e-12)
+
+
+def test_rounding_level_flexibility_does_not_shrink_the_step():
+    """Two continued rod models: their flexibilities are rounding (1e-20 m/N), not a spring.
+
+    Regression: the contact time scale sqrt(m_eff * flex) gave dt ~ 1e-12 s and the exact
+    solver tried to allocate terabytes of output samples.
+    """
+    from data_synth import lightly_damped
+    from impactpred.truncation import continue_above_band
+
+    def continued(rod, n=10):
+        truth = lightly_damped(rod, n + 10, 0.001)
+        w = np.sort(truth.modes["omega_n"].to_numpy())
+        return continue_above_band(truth.truncate(n, residual=True),
+                                   0.5 * (w[n - 1] + w[n]) / (2 * np.pi))
+
+    bodies = (Body(continued(Rod(1.0, 1.0)), velocity=1.0),
+              Body(continued(Rod(0.75, 0.75)), velocity=-1.0))
+    dt = choose_dt(bodies, Rigid(), t_end=2.0, method="laplace")
+    assert 1e-5 < dt < 1e-3
+    res = solve_impact(*bodies, t_end=2.0, method="laplace")
+    assert 0.7 < res.restitution < 0.8      # same material, T2/T1 = 0.75: exact e = 0.75

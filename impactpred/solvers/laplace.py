@@ -80,7 +80,8 @@ class CoupledSystem:
         for i, m in enumerate(self.models):
             offset = 0 if i == 0 else self.n1
             z = X[offset:offset + 2 * m.n_modes:2] + 1j * X[offset + 1:offset + 2 * m.n_modes:2]
-            modal_mass = -1.0 / (2.0 * m.poles.imag * m.residues.imag)
+            with np.errstate(divide="ignore"):   # a zero residue: no energy in that mode
+                modal_mass = -1.0 / (2.0 * m.poles.imag * m.residues.imag)
             vib = float(np.sum(np.abs(z) ** 2 / (2.0 * modal_mass))) + 0.5 * self.D[i] * f**2
             u = self.rigid_velocity(X, i)
             rigid = 0.5 * u**2 / m.inverse_mass if m.inverse_mass else 0.0
