@@ -131,6 +131,22 @@ def _cmd_predict(args) -> int:
     return 0
 
 
+def _cmd_benchmark(args) -> int:
+    import pandas as pd
+
+    from .benchmark import markdown_table, run_benchmark
+
+    table = run_benchmark(quick=args.quick, out=args.out, progress=True,
+                          bands=tuple(args.bands), noises=tuple(n / 100 for n in args.noise))
+    print(markdown_table(table))
+    with pd.option_context("display.width", 140):
+        print(table.attrs["targets"].to_string(index=False))
+    print(f"total {table.attrs['seconds']:.0f} s"
+          + (f"; wrote synthetic_benchmark.csv, .md and figures in {args.out}" if args.out
+             else ""))
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="impactpred",
@@ -169,6 +185,16 @@ def build_parser() -> argparse.ArgumentParser:
                       help="report the spread over cut-band re-identifications")
     pred.add_argument("--out", help="folder for the CSV files and the plot")
     pred.set_defaults(func=_cmd_predict)
+    bench = sub.add_parser("benchmark", help="synthetic hammer tests -> identification -> "
+                                             "prediction, against the exact answers")
+    bench.add_argument("--quick", action="store_true",
+                       help="10 modes, 1 %% noise, two cases (seconds)")
+    bench.add_argument("--bands", type=int, nargs="+", default=[5, 10, 20],
+                       help="modes covered by the measured band")
+    bench.add_argument("--noise", type=float, nargs="+", default=[1.0, 5.0],
+                       help="noise levels in per cent")
+    bench.add_argument("--out", help="folder for the CSV and markdown tables and the figures")
+    bench.set_defaults(func=_cmd_benchmark)
     return parser
 
 

@@ -44,3 +44,11 @@ def test_paper_table_without_files():
 def test_cli_reports_bad_input_without_a_traceback(capsys):
     assert main(["paper", "--dt", "-1", "--no-plot"]) == 2
     assert "dt must be positive" in capsys.readouterr().err
+
+
+def test_benchmark_command_quick_writes_tables(tmp_path, capsys):
+    assert main(["benchmark", "--quick", "--out", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "mass-rod M/m=1" in out and "no prediction with e > 1" in out
+    table = pd.read_csv(tmp_path / "synthetic_benchmark.csv")
+    assert len(table) == 2 and (tmp_path / "synthetic_benchmark.md").exists()

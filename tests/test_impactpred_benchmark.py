@@ -1,0 +1,74 @@
+"""The synthetic-hammer benchmark (impactpred.benchmark): table, exact references, pipeline."""
+
+import math
+
+import numpy as np
+import pytest
+
+from impactpred.benchmark import (
+    TARGETS,
+    Measurement,
+    WindowCorrectedFit,
+    benchmark_cases,
+    check_targets,
+    exact_reference,
+    markdown_table,
+    run_benchmark,
+)
+
+
+def _case(key):
+    return {c.key: c for c in benchmark_cases()}[key]
+
+
+def test_exact_references():
+    ref = exact_reference(_case("mass-rod M/m=1"))
+    assert ref.figures["restitution"] == pytest.approx(0.6988755820, abs=1e-9)
+    ref = exact_reference(_case("rod-rod L2/L1=1"))
+    assert ref.figures["restitution"] == pytest.approx(1.0, abs=1e-12)
+    assert ref.figures["contact_duration"] == pytest.approx(2.0)
+    assert ref.figures["impulse"] == pytest.approx(1.0 * 1.0 * 2.0 / 2.0 * 2.0)  # m1m2/M v12 2T/T
+    assert ref.figures["peak_force"] == pytest.approx(1.0)
+
+
+def test_cases_are_defined():
+    keys = [c.key for c in benchmark_cases()]
+    assert "mass-rod M/m=1" in keys and "rod-rod L2/L1=1" in keys
+    assert any("Hertz" in k for k in keys) and "rod-cantilever" in keys
+    assert all(c.velocity1 > c.velocity2 for c in benchmark_cases())
+
+
+def test_quick_subset_table():
+    table = run_benchmark(cases=("mass-rod M/m=1",), quick=True, progress=False,
+                          band_modes=())
+    assert len(table) == 1
+    for col in ("duration_err_%", "peak_err_%", "impulse_err_%", "e_err_%", "force_err_%",
+                "e_truth_err_%", "t_identify_s", "t_predict_s", "in_band_e", "e_above_1"):
+        assert col in table.columns
+    row = table.iloc[0]
+    assert row.failure == ""
+    for col in ("duration_err_%", "peak_err_%", "impulse_err_%", "e_err_%", "force_err_%"):
+        assert math.isfinite(row[col])
+    assert abs(row["e_err_%"]) < 10 and abs(row["impulse_err_%"]) < 10
+    assert row.e_exact == pytest.approx(0.6988755820, abs=1e-9)
+    targets = check_targets(table)
+    assert set(targets.result) <= {"PASS", "MISS"} and len(targets) == len(TARGETS) + 2
+    assert "mass-rod M/m=1" in markdown_table(table)
+
+
+def test_window_corrected_fit_moves_poles_back():
+    from data_synth import Rod, lightly_damped
+    from modalid import FRFData
+
+    truth = lightly_damped(Rod(1.0, 1.0, support="fixed"), 8, 0.01)
+    sigma = 0.2
+    windowed = truth.replace(poles=truth.poles - sigma)
+    freq = np.linspace(0.02, 3.0, 1500)
+    fit = WindowCorrectedFit(window_decay_rate=sigma).fit(
+        FRFData(freq, windowed.frf(2 * np.pi * freq)))
+    p = fit.poles_[np.argsort(np.abs(fit.poles_))][:3]
+    q = truth.poles[np.argsort(np.abs(truth.poles))][:3]
+    assert np.allclose(p, q, rtol=1e-4)
+    assert np.all(fit.model_.poles.real < 0) and fit.report_["window_clipped"] == 0
+    assert fit.get_params()["window_decay_rate"] == sigma
+    assert Measurement().damping_ratio == 0.001
