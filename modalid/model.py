@@ -38,6 +38,11 @@ def _quiet_polynomial_trimming():
         yield
 
 
+def _rebuild(cls, fields):
+    """Unpickling: the class's constructor with its fields (validated again)."""
+    return cls(**fields)
+
+
 def _frozen(array: np.ndarray) -> np.ndarray:
     array = np.array(array, copy=True)
     array.setflags(write=False)
@@ -103,6 +108,15 @@ class ModalModel:
 
     def __setattr__(self, name, value):
         raise AttributeError(f"ModalModel is immutable: cannot set {name!r}")
+
+    def __reduce__(self):
+        """Pickle through the constructor (for process pools), never by setting attributes."""
+        return (_rebuild, (type(self), self._fields()))
+
+    def _fields(self) -> dict:
+        return dict(poles=self._poles, residues=self._residues, real_poles=self._real_poles,
+                    real_residues=self._real_residues, inverse_mass=self._inverse_mass,
+                    flexibility=self._flexibility)
 
     # ------------------------------------------------------------------ attributes
     poles = property(lambda self: self._poles, doc="Complex poles, Im > 0 (rad/s).")
@@ -399,9 +413,7 @@ class ModalModel:
 
     def replace(self, **changes) -> ModalModel:
         """A copy with some constructor fields changed (validated like the constructor)."""
-        fields = dict(poles=self._poles, residues=self._residues, real_poles=self._real_poles,
-                      real_residues=self._real_residues, inverse_mass=self._inverse_mass,
-                      flexibility=self._flexibility)
+        fields = self._fields()
         fields.update(changes)
         return ModalModel(**fields)
 

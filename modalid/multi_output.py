@@ -21,7 +21,7 @@ import pandas as pd
 
 from ._checks import as_choice, as_complex_array, as_real_array
 from ._statespace import pole_residue_from_statespace, pole_residue_to_statespace
-from .model import ModalModel, _frozen
+from .model import ModalModel, _frozen, _rebuild
 from .quantities import QUANTITIES, receptance_to
 
 __all__ = ["MultiOutputModalModel"]
@@ -123,6 +123,16 @@ class MultiOutputModalModel:
 
     def __setattr__(self, name, value):
         raise AttributeError(f"MultiOutputModalModel is immutable: cannot set {name!r}")
+
+    def __reduce__(self):
+        """Pickle through the constructor (for process pools), never by setting attributes."""
+        return (_rebuild, (type(self), self._fields()))
+
+    def _fields(self) -> dict:
+        return dict(poles=self._poles, residues=self._residues, real_poles=self._real_poles,
+                    real_residues=self._real_residues, inverse_mass=self._inverse_mass,
+                    flexibility=self._flexibility, driving_point=self._driving_point,
+                    outputs=self._outputs)
 
     # ------------------------------------------------------------------ attributes
     poles = property(lambda self: self._poles, doc="Shared complex poles, Im > 0 (rad/s).")
@@ -382,10 +392,7 @@ class MultiOutputModalModel:
     # ------------------------------------------------------------------------ misc
     def replace(self, **changes) -> MultiOutputModalModel:
         """A copy with some constructor fields changed (validated like the constructor)."""
-        fields = dict(poles=self._poles, residues=self._residues, real_poles=self._real_poles,
-                      real_residues=self._real_residues, inverse_mass=self._inverse_mass,
-                      flexibility=self._flexibility, driving_point=self._driving_point,
-                      outputs=self._outputs)
+        fields = self._fields()
         fields.update(changes)
         return MultiOutputModalModel(**fields)
 

@@ -234,3 +234,11 @@ def test_transfer_receptance_may_have_a_negative_rigid_term():
     assert back.inverse_mass == pytest.approx(-0.3, rel=1e-12)
     s = 1j * np.array([0.5, 3.0, 40.0])
     np.testing.assert_allclose(back.receptance(s), model.receptance(s), rtol=1e-12)
+
+
+def test_pickle_round_trip_is_exact(model):
+    """Process pools (sweeps) send models to workers by pickling."""
+    import pickle
+
+    back = pickle.loads(pickle.dumps(model))
+    assert back == model and back.poles.flags.writeable is False

@@ -140,3 +140,10 @@ def test_output_lookup_errors(model):
         model.row("foo")
     with pytest.raises(TypeError, match="row index or a label"):
         model.row(1.5)
+
+
+def test_pickle_round_trip_is_exact(model):
+    import pickle
+
+    back = pickle.loads(pickle.dumps(model))
+    assert back == model and back.outputs == model.outputs
