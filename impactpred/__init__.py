@@ -7,6 +7,8 @@ The core is the Laplace-transform method: while the bodies touch, the contact fo
 from .api import METHODS, choose_dt, solve_impact
 from .body import Body, SampledResponse
 from .contact import ContactLaw, Hertz, LinearSpring, Rigid
+from .damper import (BaseExcitation, DamperResult, HarmonicForce, ImpactDamper,
+                     InstantaneousImpact)
 from .points import PointResponse
 from .predict import BandWarning, Prediction, predict
 from .result import BodyEnergy, ImpactResult
@@ -14,3 +16,5 @@ from .result import BodyEnergy, ImpactResult
 __all__ = ["Body", "SampledResponse", "solve_impact", "choose_dt", "METHODS", "Rigid",
            "LinearSpring", "Hertz", "ContactLaw", "ImpactResult", "BodyEnergy", "predict", "Prediction",
            "BandWarning", "PointResponse"]
+__all__ += ["ImpactDamper", "HarmonicForce", "BaseExcitation", "InstantaneousImpact",
+            "DamperResult"]

@@ -40,9 +40,24 @@ EXPECTED_OUTPUT = {
         r"matches\s+Saint-Venant's exact solution to \d",
         r"Notebook run time: \d+\.\d s",
     ],
+    "impact_damper_design.ipynb": [
+        r"\*\*Conclusions: impact damper on the identified primary\.\*\*",
+        r"matches Masri &\s+Caughey's closed form at \d+ operating points",
+        r"\*\*What the finite contact does\.\*\*",
+        r"\*Optimum clearance\.\* At resonance",
+        r"Notebook run time: \d+\.\d s",
+    ],
+    "measured_beam_damper.ipynb": [
+        r"\*\*Conclusions: an impact damper for the first bending mode of the measured beam\.\*\*",
+        r"signs of the modal masses, mode by mode: \+ - \+ - \+ -",
+        r"is the fitted model passive \(a valid driving point\)\? False",
+        r"\*Best design on the grid:\* mass ratio",
+        r"Notebook run time: \d+\.\d s",
+    ],
 }
 #: at least this many figures (PNG outputs)
-EXPECTED_FIGURES = {"restitution_is_not_a_constant.ipynb": 4}
+EXPECTED_FIGURES = {"restitution_is_not_a_constant.ipynb": 4, "impact_damper_design.ipynb": 5,
+                    "measured_beam_damper.ipynb": 4}
 
 
 def test_examples_exist():

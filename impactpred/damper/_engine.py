@@ -1,0 +1,188 @@
+"""The event-driven exact engine of :class:`~impactpred.damper.ImpactDamper`.
+
+State (real, shape (n,), ``n = n_p + 3``): the primary's block-diagonal modal states
+(``ModalModel.to_statespace`` layout, ``n_p`` of them), the damper mass's displacement
+``y_d`` (m) and velocity ``v_d`` (m/s), and a constant 1 (carries the clearance). The
+excitation is the harmonic pair ``xh = [cos(Omega t + phi), sin(Omega t + phi)]``,
+appended as two more states when the phase matrices are built and then removed again
+by the particular solution (:class:`._engine_form.PhaseKind`).
+
+``lam`` is the contact force on the primary along ``+y`` (N): ``lam = s f`` with
+``f >= 0`` the compressive force at the stop on side ``s`` (+1: the damper mass hits
+the upper stop, ``y_d - y_p = c``; -1: the lower one). The gap at side ``s`` is
+``g_s = c - s (y_d - y_p)``.
+
+Every kind of phase (free flight; stuck contact, one per damper, shared by both stops;
+linear-spring contact, one per stop) is decomposed once per damper; a phase then costs
+two matrix-vector products to start and a vectorised evaluation to search.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from modalid._statespace import pole_residue_to_statespace
+
+from ..contact import LinearSpring, Rigid
+from ._engine_form import PhaseKind
+from .contact import InstantaneousImpact
+
+__all__ = ["Engine", "EngineState"]
+
+#: outputs sampled (rows of every phase): y_p, v_p, y_d, v_d, lam, excitation
+OUT_YP, OUT_VP, OUT_YD, OUT_VD, OUT_LAM, OUT_EXC, OUT_FEQ, OUT_BV = range(8)
+
+
+class EngineState:
+    """Where a run stopped: enough to continue it exactly (see ``DamperResult.final_state``)."""
+
+    __slots__ = ("time", "state", "mode", "side", "open_impact")
+
+    def __init__(self, time, state, mode, side, open_impact):
+        self.time, self.mode, self.side, self.open_impact = time, mode, side, open_impact
+        state = np.array(state, dtype=float)
+        state.setflags(write=False)
+        self.state = state
+
+
+def _relative_degree(c0, c1, c2, scale):
+    ref = abs(c2) + abs(c1) * scale + abs(c0) * scale ** 2
+    if abs(c0) * scale ** 2 > 1e-12 * ref:
+        return 0
+    if abs(c1) * scale > 1e-12 * ref:
+        return 1
+    return 2
+
+
+class Engine:
+    """Matrices and phase kinds of one damper, built once (see the module docstring)."""
+
+    def __init__(self, model, *, damper_mass, clearance, contact, excitation, base_spring):
+        a_p, b_p, c_p, d_p = pole_residue_to_statespace(
+            model.poles, model.residues, model.real_poles, model.real_residues, 0.0,
+            model.flexibility)
+        n_p = a_p.shape[0]
+        n = n_p + 3
+        iy, iv, i1 = n_p, n_p + 1, n_p + 2
+        self.n_p, self.n, self.iy, self.iv, self.i1 = n_p, n, iy, iv, i1
+        self.model, self.m_d, self.c, self.contact = model, damper_mass, clearance, contact
+        om = excitation.omega
+        self.omega, self.phi, self.period = om, excitation.phase, 2 * math.pi / om
+        h = np.array([1.0, -1.0j]) * complex(math.cos(excitation.phase),
+                                             math.sin(excitation.phase))
+        amp = excitation.amplitude
+        if base_spring is None:     # force: F = F0 cos
+            fvec, exc_row = np.array([amp, 0.0]), np.array([amp, 0.0])
+            bv_row = np.zeros(2)
+            self.base_damping = 0.0
+        else:                       # base: F = k y_b + c y_b' on the mass
+            k_b, c_b = base_spring
+            fvec, exc_row = amp * np.array([k_b, -c_b * om]), np.array([amp, 0.0])
+            bv_row = amp * np.array([0.0, -om])      # y_b'
+            self.base_damping = c_b
+        self.base_velocity_amplitude = amp * om if base_spring is not None else 0.0
+        N = n + 2
+        A = np.zeros((N, N))
+        A[:n_p, :n_p] = a_p
+        A[:n_p, n:] = np.outer(b_p, fvec)
+        A[iy, iv] = 1.0
+        A[n, n + 1], A[n + 1, n] = -om, om
+        Bl = np.zeros(N)
+        Bl[:n_p] = b_p
+        Bl[iv] = -1.0 / damper_mass
+        e1 = np.zeros(N)
+        e1[i1] = 1.0
+        yp0 = np.zeros(N)
+        yp0[:n_p] = c_p
+        yp0[n:] = d_p * fvec
+        ey = np.zeros(N)
+        ey[iy] = 1.0
+        r0 = ey - yp0                   # y_d - y_p without the contact force's D-part
+        self.A, self.Bl, self.e1, self.yp0, self.r0, self.d_p = A, Bl, e1, yp0, r0, d_p
+        self.h = h
+        self.rows_extra = (exc_row, fvec, bv_row)
+        # relative degree of the gap w.r.t. the contact force
+        c1 = -float(r0 @ Bl)
+        c2 = -float(r0 @ A @ Bl)
+        rate = max(float(np.max(np.abs(np.linalg.eigvals(a_p)))) if n_p else 0.0, om)
+        self.rho = _relative_degree(d_p, c1, c2, rate)
+        self.c_coefs = (d_p, c1, c2)
+        #: velocity jump of y_d - y_p per unit impulse: 1/m_d + 1/M_eff
+        self.inv_mu = c2
+        self.free = self._kind(A, np.zeros(N), [clearance * e1 - r0, clearance * e1 + r0],
+                               "free-flight")
+        self._stuck, self._spring, self._pen = {}, {}, {}
+        self.stick_rows = {}
+        if isinstance(contact, (Rigid, InstantaneousImpact)):
+            for s in (1, -1):
+                self.stuck(s)
+        elif isinstance(contact, LinearSpring):
+            if contact.damping > 0 and d_p > 0:
+                raise ValueError("a LinearSpring with damping on a primary with a flexibility "
+                                 f"term ({d_p!r} m/N) is not supported: use damping=0, or a "
+                                 "model without residual flexibility")
+            for s in (1, -1):
+                self.spring(s)
+
+    # ---------------------------------------------------------------- phase kinds
+    def _kind(self, M, lam_row, event_rows, name):
+        n = self.n
+        yp = self.yp0 + self.d_p * lam_row
+        exc_row, fvec, bv_row = self.rows_extra
+
+        def harm(v):
+            row = np.zeros(n + 2)
+            row[n:] = v
+            return row
+
+        ey, ev = np.zeros(n + 2), np.zeros(n + 2)
+        ey[self.iy], ev[self.iv] = 1.0, 1.0
+        out = np.vstack([yp, yp @ M, ey, ev, lam_row, harm(exc_row), harm(fvec), harm(bv_row)])
+        kind = PhaseKind(M, self.h, self.omega, np.vstack(event_rows), out, name=name)
+        kind.M_lam = lam_row
+        return kind
+
+    def stuck(self, s):
+        """Stuck phase (damper mass moving with the primary) at side ``s``."""
+        key = s if self.rho == 0 else 1
+        if key not in self._stuck:
+            d_p, c1, c2 = self.c_coefs
+            A, r0 = self.A, self.r0
+            if self.rho == 2:
+                lam = r0 @ A @ A / c2
+            elif self.rho == 1:
+                lam = r0 @ A / c1
+            else:
+                lam = (r0 - s * self.c * self.e1) / d_p
+            M = self.A + np.outer(self.Bl, lam)
+            self._stuck[key] = self._kind(M, lam, [lam, -lam], "stuck-contact")
+        return self._stuck[key]
+
+    def spring(self, s):
+        """Linear spring(-dashpot) contact phase at side ``s``: ``f = k pen + c pen'``."""
+        if s not in self._spring:
+            k, cd = self.contact.stiffness, self.contact.damping
+            pen = s * self.r0 - self.c * self.e1
+            d_p = self.d_p
+            if cd > 0:     # d_p == 0: pen' = pen A X + (pen Bl) lam, lam = s f
+                f = (k * pen + cd * pen @ self.A) / (1.0 - cd * s * float(pen @ self.Bl))
+            else:
+                f = k * pen / (1.0 + k * d_p)
+            lam = s * f
+            M = self.A + np.outer(self.Bl, lam)
+            self._spring[s] = self._kind(M, lam, [f], f"spring-contact({s:+d})")
+            q = k * pen + cd * pen @ self.A
+            self._pen[s] = self._kind(self.A, np.zeros(self.n + 2), [-q, pen],
+                                      f"penetrating-flight({s:+d})")
+        return self._spring[s]
+
+    # ---------------------------------------------------------------- helpers
+    def augmented(self, x, t):
+        ph = self.omega * t + self.phi
+        return np.concatenate([x, [math.cos(ph), math.sin(ph)]])
+
+    def gap_rate(self, xa, s):
+        """``g_s'`` in free flight (m/s)."""
+        return -s * float(self.r0 @ (self.A @ xa))

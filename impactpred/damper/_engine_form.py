@@ -1,0 +1,498 @@
+"""Closed-form phases of the impact-damper engine and their event search.
+
+A phase is linear and autonomous up to the harmonic excitation::
+
+    x' = M x + Bh xh(t),      xh(t) = Re(h e^{i Omega t})      (x real, shape (n,))
+
+``M`` is decomposed once per kind of phase (free flight, stuck contact, spring contact)
+by :class:`impactpred.solvers._spectral.SpectralPhase`: a nilpotent block (the damper
+mass's free flight, constants, a rigid constraint) and a diagonalised rest. With the
+particular solution ``xp(t) = Re(X e^{i Omega t})``, ``X = (i Omega - M)^-1 Bh h``, any
+output row ``r`` of the state is, on a phase starting at ``t0``,
+
+    r x(t0 + tau) = Re(sum_j b_j e^{lambda_j tau}) + poly(tau)
+
+(one term per eigenvalue with ``Im >= 0``, conjugates folded in, the excitation as the
+term ``lambda = i Omega``): coefficient arithmetic, exact to rounding, evaluated for a
+whole vector of times in one call.
+
+Event search (:func:`first_event`): the phase ends at the first ``tau`` where one of its
+event rows turns negative. It is certified, multilevel: the terms are nested by
+``|lambda|``; a level resolves the slow ones on steps ``pi / (8 Lambda)`` and bounds the
+others by the sum of their moduli (``|e^{lambda tau}| <= 1`` since ``Re lambda <= 0``); a
+step is cleared when the cubic Hermite interpolant's minimum, less its error bound
+``h^4/384 sum |b| |lambda|^4``, less that sum, stays above the rounding level. Only the
+steps not cleared are searched at the next level (``_RATIO`` times finer), so the fast
+modes cost work only right at an event. At the last level (every term) a sign change
+brackets the root and a dip (slope from negative to positive) has its minimum located;
+the root is polished by safeguarded Newton steps on the closed form, to rounding.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy.optimize import brentq
+
+from ..solvers._spectral import DefectiveSpectrum, SpectralPhase
+
+__all__ = ["PhaseKind", "first_event"]
+
+#: fraction of a row's scale the fast terms may carry (bounded, not sampled)
+_ETA = 0.05
+#: search steps per radian of the fastest resolved term: step = pi / (8 |lambda|)
+_STEP = math.pi / 8.0
+#: ratio of the resolved rates of two successive levels of the search
+_RATIO = 64.0
+#: geometric grid (fractions of the fine step) searched at a phase that starts on an event
+_GEO = np.geomspace(1e-9, 1.0, 16)
+#: max of the Hermite basis functions u(1-u)^2 and u^2(1-u) on [0, 1]
+_H1 = 4.0 / 27.0
+
+
+class PhaseKind:
+    """The exact solution of one kind of phase, decomposed once.
+
+    Parameters
+    ----------
+    M_aug : ndarray, shape (n + 2, n + 2)
+        Phase matrix on ``[x, xh]`` (``xh``: the two harmonic states, last).
+    h : ndarray of complex, shape (2,)
+        ``xh(t) = Re(h e^{i omega t})``.
+    omega : float
+        Excitation frequency (rad/s).
+    event_rows, output_rows : ndarray, shape (k, n + 2)
+        Rows on ``[x, xh]``: the event functions (the phase ends when one turns negative)
+        and the outputs sampled.
+    """
+
+    def __init__(self, M_aug, h, omega, event_rows, output_rows, *, name):
+        n = M_aug.shape[0] - 2
+        M, Bh = M_aug[:n, :n], M_aug[:n, n:]
+        self.name, self.n, self.omega, self.M_aug = name, n, omega, M_aug
+        try:
+            sp = SpectralPhase(M)
+        except DefectiveSpectrum as exc:
+            raise ValueError(f"the {name} phase's matrix is defective ({exc}): two modes of "
+                             "the coupled system coincide; perturb a parameter") from exc
+        lam = sp.lam.copy()
+        # rounding of undamped poles: no growth
+        lam.real = np.minimum(lam.real, 0.0)
+        keep = lam.imag >= 0.0
+        weight = np.where(lam.imag > 0.0, 2.0, 1.0)[keep]
+        shift = 1j * omega * np.eye(n) - M
+        if np.linalg.cond(shift) > 1e13:
+            raise ValueError(f"the excitation frequency {omega / (2 * np.pi)!r} Hz coincides "
+                             f"with an undamped mode of the {name} phase: the forced response "
+                             "grows without bound")
+        self.X = np.linalg.solve(shift, Bh @ h)          # particular solution amplitude
+        self.h = np.asarray(h, complex)
+        self.lam = np.concatenate([lam[keep], [1j * omega]])
+        self.V = sp.s1v[:, keep] * weight
+        self.Vinv = sp.in1[keep]
+        self.k = sp.k
+        self.in0 = sp.in0
+        self.S0P = [sp.s0 @ p for p in sp.powers]       # x_poly(tau) = sum_j tau^j S0P_j c0
+        self.max_rate = float(np.max(np.abs(self.lam)))
+        self.order_desc = np.argsort(-np.abs(self.lam), kind="stable")
+        self.abs_lam = np.abs(self.lam)
+        self.abs_lam4 = self.abs_lam ** 4
+        self.cuts = {}            # level cuts of the event search, by first cut
+        self.powers_k = np.arange(self.k)
+        self.event = self._rows(np.atleast_2d(event_rows))
+        self.output = self._rows(np.atleast_2d(output_rows))
+
+    def _rows(self, rows):
+        n = self.n
+        rx, rh = rows[:, :n], rows[:, n:]
+        rp = (np.stack([rx @ p for p in self.S0P], axis=1) if self.k
+              else np.zeros((rows.shape[0], 0, 0)))      # (rows, degree, k)
+        return (rx @ self.V, rp, rx @ self.X + rh @ self.h)
+
+    # ---------------------------------------------------------------- per phase
+    def start(self, x, t0):
+        """Coordinates ``(c1, c0, e^{i omega t0})`` of the state ``x`` at time ``t0``."""
+        rot = complex(math.cos(self.omega * t0), math.sin(self.omega * t0))
+        dev = x - (self.X * rot).real
+        return self.Vinv @ dev, self.in0 @ dev, rot
+
+    def coefficients(self, rows, coords):
+        """``(b, poly)`` of ``rows`` (``self.event`` or ``self.output``) for ``coords``."""
+        rv, rp, rx = rows
+        c1, c0, rot = coords
+        b = np.empty((rv.shape[0], self.lam.size), complex)
+        b[:, :-1] = rv * c1
+        b[:, -1] = rx * rot
+        poly = rp @ c0 if self.k else np.zeros((rv.shape[0], 0))
+        return b, poly
+
+    def state(self, coords, tau):
+        """The state ``x`` (shape (n,)) at ``tau`` after the phase's start."""
+        c1, c0, rot = coords
+        e = np.exp(self.lam[:-1] * tau)
+        x = (self.V @ (e * c1)).real
+        if self.k:
+            x = x + sum((tau ** j) * (p @ c0) for j, p in enumerate(self.S0P))
+        return x + (self.X * (rot * e_i(self.omega * tau))).real
+
+
+def e_i(phi):
+    return complex(math.cos(phi), math.sin(phi))
+
+
+def _poly_derivative(poly):
+    """Coefficients of the derivative of the rows ``poly`` (same shape)."""
+    out = np.zeros_like(poly)
+    k = poly.shape[1]
+    if k > 1:
+        out[:, :-1] = poly[:, 1:] * np.arange(1, k)
+    return out
+
+
+def evaluate(lam, b, poly, taus, derivatives=(0,)):
+    """Rows (k x len(taus)) and time derivatives of ``Re(b e^{lam tau}) + poly(tau)``."""
+    taus = np.asarray(taus, dtype=float)
+    e = np.exp(np.outer(lam, taus))
+    k = poly.shape[1]
+    tpow = taus[None, :] ** np.arange(k)[:, None] if k else None
+    out = []
+    for d in derivatives:
+        value = ((b * lam ** d) @ e).real if d else (b @ e).real
+        if k > d:
+            p = poly
+            for _ in range(d):
+                p = _poly_derivative(p)
+            value += p @ tpow
+        out.append(value)
+    return out
+
+
+def _scalar(lam, b_row, poly_row, tau, d=0):
+    value = float(np.dot(b_row * lam ** d if d else b_row, np.exp(lam * tau)).real)
+    for j in range(d, poly_row.size):
+        value += poly_row[j] * math.perm(j, d) * tau ** (j - d)
+    return value
+
+
+def _cubic_min(fa, fb, da, db, h):
+    """Minimum over the step of the cubic Hermite interpolant (arrays of any shape)."""
+    delta = fb - fa
+    dah = da * h
+    c2 = 3.0 * delta - (2.0 * dah + db * h)
+    c3 = (dah + db * h) - 2.0 * delta
+    # p'(u) = da h + 2 c2 u + 3 c3 u^2 on u in [0, 1]; candidates: its roots (c3 != 0)
+    # and the root of the linear case (c3 == 0); denominators guarded, no warnings
+    out = np.minimum(fa, fb)
+    sq = np.sqrt(np.maximum(c2 * c2 - 3.0 * c3 * dah, 0.0))
+    z3, z2 = c3 == 0.0, c2 == 0.0
+    d3 = np.where(z3, 1.0, 3.0 * c3)
+    d2 = np.where(z2, 1.0, 2.0 * c2)
+    for u, bad in (((-c2 + sq) / d3, z3), ((-c2 - sq) / d3, z3), (-dah / d2, z2)):
+        u = np.where(bad, 0.0, np.clip(u, 0.0, 1.0))
+        out = np.minimum(out, fa + u * (dah + u * (c2 + u * c3)))
+    return out
+
+
+def _levels(kind, amp, scale):
+    """Nested term sets for the multilevel search, slowest first.
+
+    The first level leaves out the fastest terms whose summed moduli stay under
+    ``_ETA * scale`` (every row); each further level resolves the terms up to ``_RATIO``
+    times the previous level's fastest rate; the last resolves every term. Returns a
+    list of ``(cols, tail, g4, h)``: the terms resolved (indices into ``kind.lam``), the
+    bound ``sum |b|`` of those left out (per row), the bound ``sum |b| |lambda|^4`` of
+    those resolved and the level's step ``pi / (8 Lambda)``.
+    """
+    order = kind.order_desc                                  # fastest first
+    a = amp[:, order]
+    cum = np.cumsum(a, axis=1)
+    ok = (cum <= _ETA * scale[:, None]).all(axis=0)
+    m = ok.size
+    n_cut = int(np.argmin(ok)) if not ok.all() else m - 1
+    cuts = kind.cuts.get(n_cut)
+    if cuts is None:                   # depends on the rates only: cached per kind
+        absd = kind.abs_lam[order]
+        cuts = [n_cut]
+        while cuts[-1] > 0:
+            nxt = int(np.count_nonzero(absd > _RATIO * absd[cuts[-1]]))
+            cuts.append(min(nxt, cuts[-1] - 1))
+        kind.cuts[n_cut] = cuts
+    c4 = np.cumsum((a * kind.abs_lam4[order])[:, ::-1], axis=1)[:, ::-1]
+    zero = np.zeros(amp.shape[0])
+    absl = kind.abs_lam
+    return [(order[n_c:], cum[:, n_c - 1] if n_c else zero, c4[:, n_c],
+             _STEP / absl[order[n_c]] if absl[order[n_c]] > 0 else math.inf)
+            for n_c in cuts]
+
+
+def first_event(kind, b, poly, tau_max, *, scale, zero_tol, on_boundary, open_rows=()):
+    """First ``tau`` in ``(0, tau_max]`` where a row falls below ``-zero_tol``.
+
+    Certified multilevel search: the terms ``b_j e^{lambda_j tau}`` are nested by
+    ``|lambda_j|`` into levels ``Lambda_0 < Lambda_1 < ... `` (ratio ~ ``_RATIO``); level
+    ``l`` resolves the terms with ``|lambda| <= Lambda_l`` on steps ``h_l = pi / (8
+    Lambda_l)`` and bounds the rest by ``A_l = sum |b_j|`` (``|e^{lambda tau}| <= 1``,
+    ``Re lambda <= 0``). On a step, the exact minimum of the cubic Hermite interpolant of
+    the resolved part, less its error bound ``h^4 / 384 sum |b_j| |lambda_j|^4``, less
+    ``A_l``, certifies that no row can cross; only uncertified steps are searched at the
+    next level, and at the last one (every term) a sign change brackets the root and a
+    dip (slope from negative to positive) has its minimum located; the root is polished
+    by safeguarded Newton steps on the closed form. The polynomial part (degree <= 3)
+    is interpolated exactly.
+
+    Parameters
+    ----------
+    kind : PhaseKind
+        Gives the exponents ``lam`` (m,).
+    b : ndarray of complex, shape (K, m); poly : ndarray, shape (K, deg <= 4)
+        Rows ``Re(b e^{lam tau}) + poly(tau)``.
+    tau_max : float
+        End of the search (s).
+    scale, zero_tol : ndarray, shape (K,)
+        Each row's scale (the terms bounded, not sampled, on the first level carry at
+        most ``_ETA`` of it) and rounding level.
+    on_boundary : bool
+        The phase starts at an event: a row (not in ``open_rows``) starting at
+        ``<= zero_tol`` that does not turn positive on a geometric grid of the first
+        fine step ends the phase at once (``tau = 0``).
+    open_rows : sequence of int
+        Rows that start at 0 and were decided to open (the contact decision of
+        :mod:`._engine_run`): never an event at ``tau = 0``; if rounding keeps them
+        negative, their event is where they leave ``[-zero_tol, 0]``.
+
+    Returns
+    -------
+    (tau, row) or (None, -1) when no row crosses before ``tau_max``.
+    """
+    lam = kind.lam
+    K = b.shape[0]
+    amp = np.abs(b)
+    total = amp.sum(axis=1) + np.abs(poly).sum(axis=1)
+    levels = _levels(kind, amp, scale) if lam.size else []
+    h_f = levels[-1][3] if levels else tau_max
+    bl = b * lam
+    k = poly.shape[1]
+    dpoly = _poly_derivative(poly)
+    PP = np.vstack([poly, dpoly]) if k else None
+    ar = np.arange(k)
+    BB = np.vstack([b, bl])
+    opened = np.zeros(K, bool)
+    opened[list(open_rows)] = True
+    n_lev = len(levels)
+    level_b = {}
+
+    def ev(taus, lv=None):
+        """Values and slopes (2K x len(taus)) of all terms, or of level ``lv``'s."""
+        if lv is None or lv == n_lev - 1:
+            out = (BB @ np.exp(np.outer(lam, taus))).real
+        else:
+            if lv not in level_b:
+                c = levels[lv][0]
+                level_b[lv] = (lam[c], BB[:, c])
+            lam_l, B = level_b[lv]
+            out = (B @ np.exp(np.outer(lam_l, taus))).real
+        if k:
+            out += PP @ (taus[None, :] ** ar[:, None])
+        return out
+
+    def row_fun(i, d=0):
+        bi = b[i] if d == 0 else bl[i]
+        pi = (poly[i] if d == 0 else dpoly[i])[::-1].tolist()
+
+        def f(tau):
+            value = float(np.dot(bi, np.exp(lam * tau)).real)
+            acc = 0.0
+            for c in pi:
+                acc = acc * tau + c
+            return value + acc
+        return f
+
+    def locate(i, lo, hi):
+        """Root of row ``i`` in ``[lo, hi]`` (>= -zero_tol at lo, < -zero_tol at hi).
+
+        Newton's method on the closed form, safeguarded by bisection of the bracket. An
+        open row still at rounding level at ``lo`` (value in ``[-zero_tol, 0]``) has its
+        event where it leaves that band (root of ``row + zero_tol``).
+        """
+        bi, bli = b[i], bl[i]
+        p0, p1 = poly[i][::-1].tolist(), dpoly[i][::-1].tolist()
+
+        def fd(tau):
+            ex = np.exp(lam * tau)
+            v, d = float(np.dot(bi, ex).real), float(np.dot(bli, ex).real)
+            a0 = 0.0
+            for c in p0:
+                a0 = a0 * tau + c
+            a1 = 0.0
+            for c in p1:
+                a1 = a1 * tau + c
+            return v + a0 + shift, d + a1
+
+        shift = 0.0
+        noise = 4e-16 * total[i]
+        f_lo, _ = fd(lo)
+        if f_lo <= 0.0:
+            if not (opened[i] and f_lo >= -zero_tol[i]):
+                return lo
+            # an open row may rise above rounding by less than zero_tol (a low bounce):
+            # its event is then its own root after that lobe, found on a geometric grid
+            # from the phase's start (where the open row is 0)
+            g = hi * _GEO
+            vals = [fd(x)[0] for x in g]
+            pos = [j for j, v in enumerate(vals) if v > noise]
+            neg = [j for j, v in enumerate(vals) if pos and j > pos[0] and v <= 0.0]
+            if neg:
+                lo, hi = g[neg[0] - 1], g[neg[0]]
+                f_lo = vals[neg[0] - 1]
+            else:
+                shift = float(zero_tol[i])
+                f_lo += shift
+                if f_lo <= 0.0:
+                    return lo
+        f_hi, _ = fd(hi)
+        x = lo + (hi - lo) * f_lo / (f_lo - f_hi)
+        for _ in range(100):
+            fx, dx = fd(x)
+            if abs(fx) <= noise:
+                return x
+            if fx > 0.0:
+                lo = x
+            elif fx < 0.0:
+                hi = x
+            else:
+                return x
+            x_new = x - fx / dx if dx != 0.0 else 0.5 * (lo + hi)
+            if not lo < x_new < hi:
+                x_new = 0.5 * (lo + hi)
+            if abs(x_new - x) <= 4e-16 * max(abs(x), 1e-300) or hi - lo <= 4e-16 * hi:
+                return x_new
+            x = x_new
+        return x
+
+    def crossings(t_all, e_all, de_all, g4):
+        """First event among steps ``t_all[j] -> t_all[j+1]`` with full values, or None."""
+        below = e_all[:, 1:] < -zero_tol[:, None]
+        dips = (de_all[:, :-1] < 0) & (de_all[:, 1:] > 0) & ~below
+        if dips.any():
+            h = np.diff(t_all)[None, :]
+            cm = _cubic_min(e_all[:, :-1], e_all[:, 1:], de_all[:, :-1], de_all[:, 1:], h)
+            dips &= cm - h ** 4 / 384 * g4[:, None] < zero_tol[:, None]
+        flagged = np.flatnonzero((below | dips).any(axis=0))
+        for j in flagged:
+            best = None
+            for i in range(K):
+                lo, hi = t_all[j], t_all[j + 1]
+                if not below[i, j]:
+                    if not dips[i, j]:
+                        continue
+                    rate = row_fun(i, 1)
+                    d_lo, d_hi = rate(lo), rate(hi)
+                    t_min = (lo if d_lo >= 0.0 else hi if d_hi <= 0.0
+                             else brentq(rate, lo, hi, xtol=4e-16 * hi))
+                    if row_fun(i)(t_min) >= -zero_tol[i]:
+                        continue
+                    hi = t_min
+                root = locate(i, lo, hi)
+                if best is None or root < best[0]:
+                    best = (root, int(i))
+            if best is not None:
+                return best
+        return None
+
+    g4_full = amp @ kind.abs_lam4
+
+    def fine(a, b_end):
+        """Search ``[a, b_end]`` with every term, every ``h_f`` at most."""
+        n = max(1, int(math.ceil((b_end - a) / h_f - 1e-9)))
+        t_all = a + (b_end - a) * np.arange(n + 1) / n
+        t_all[-1] = b_end
+        v = ev(t_all)
+        return crossings(t_all, v[:K], v[K:], g4_full)
+
+    def uncertified(lv, t_all, v):
+        """Indices of the steps of ``t_all`` that level ``lv`` cannot certify.
+
+        Lower bound of the cubic Hermite interpolant ``H00 s_a + H01 s_b + h H10 s'_a +
+        h H11 s'_b`` (``H00 + H01 = 1``, both >= 0; ``0 <= H10 <= 4/27``,
+        ``-4/27 <= H11 <= 0``), less its error bound, less the terms left out.
+        """
+        _, tail, g4, _ = levels[lv]
+        h = t_all[1:] - t_all[:-1]
+        s, ds = v[:K], v[K:]
+        bound = (np.minimum(s[:, :-1], s[:, 1:])
+                 - _H1 * h * (np.maximum(-ds[:, :-1], 0.0) + np.maximum(ds[:, 1:], 0.0))
+                 - (h ** 4 / 384.0) * g4[:, None] - tail[:, None] - zero_tol[:, None])
+        bad = np.flatnonzero((bound <= 0.0).any(axis=0)) if K > 1 \
+            else np.flatnonzero(bound[0] <= 0.0)
+        if bad.size == 0:
+            return bad
+        # the exact minimum of the interpolant, on the few steps the cheap bound flags
+        sa, sb, da, db = s[:, bad], s[:, bad + 1], ds[:, bad], ds[:, bad + 1]
+        hb = h[bad]
+        cm = _cubic_min(sa, sb, da, db, hb)
+        cm -= (hb ** 4 / 384.0) * g4[:, None] + tail[:, None] + zero_tol[:, None]
+        return bad[(cm <= 0.0).any(axis=0)]
+
+    def refine(lv, a, b_end):
+        """First event in ``[a, b_end]``, searching level ``lv`` and deeper."""
+        if lv >= n_lev - 1:
+            return fine(a, b_end)
+        h = levels[lv][3]
+        n = max(1, int(math.ceil((b_end - a) / h - 1e-9)))
+        t_all = a + (b_end - a) * np.arange(n + 1) / n
+        t_all[-1] = b_end
+        for j0, j1 in _runs(uncertified(lv, t_all, ev(t_all, lv))):
+            found = refine(lv + 1, t_all[j0], t_all[j1 + 1])
+            if found is not None:
+                return found
+        return None
+
+    tau = 0.0
+    if on_boundary:     # a start lobe shorter than a fine step is seen on this grid
+        geo = min(h_f, tau_max) * _GEO
+        taus = np.concatenate([[0.0], geo])
+        e = ev(taus)[:K]
+        eg = e[:, 1:]
+        for i in np.flatnonzero((e[:, 0] <= zero_tol) & ~opened):  # rows at an event
+            pos = np.flatnonzero(eg[i] > zero_tol[i])
+            if pos.size == 0 or e[i, 0] < -zero_tol[i] or np.any(eg[i, :pos[0]] < -zero_tol[i]):
+                return 0.0, int(i)     # the row does not open: the event is now
+            eg[i, :pos[0]] = zero_tol[i]   # rounding-level start: not an event
+        below = eg < -zero_tol[:, None]
+        if below.any():
+            j = int(np.argmax(below.any(axis=0)))
+            lo = geo[j - 1] if j else 0.0
+            return min((locate(i, lo, geo[j]), int(i)) for i in np.flatnonzero(below[:, j]))
+        if geo[-1] >= tau_max:
+            return None, -1
+        # the rows opened: search on from the end of the geometric grid
+        tau = float(geo[-1])
+    if n_lev == 0:          # constant rows (no live term): only the polynomial
+        found = fine(tau, tau_max)
+        return found if found is not None else (None, -1)
+    h0 = levels[0][3]
+    chunk = 16
+    while tau < tau_max:
+        grid = tau + h0 * np.arange(0, chunk + 1)
+        if grid[-1] >= tau_max:
+            grid = np.append(grid[grid < tau_max], tau_max)
+        for j0, j1 in _runs(uncertified(0, grid, ev(grid, 0))):
+            # consecutive uncertified steps are searched as one span (same first event)
+            found = (refine(1, grid[j0], grid[j1 + 1]) if n_lev > 1
+                     else fine(grid[j0], grid[j1 + 1]))
+            if found is not None:
+                return found
+        tau = float(grid[-1])
+        chunk = min(2 * chunk, 512)
+    return None, -1
+
+
+def _runs(indices):
+    """Runs of consecutive step indices as ``(first, last)`` pairs, in order."""
+    if len(indices) == 0:
+        return []
+    breaks = np.flatnonzero(np.diff(indices) != 1)
+    starts = np.concatenate([[indices[0]], indices[breaks + 1]])
+    ends = np.concatenate([indices[breaks], [indices[-1]]])
+    return list(zip(starts.tolist(), ends.tolist()))

@@ -1,0 +1,331 @@
+"""The event loop of the impact-damper engine (see :mod:`._engine`).
+
+One pass of the loop is one phase: start its closed form at the current state, find
+its first event (:func:`._engine_form.first_event`), sample the outputs on the output
+grid inside it, and apply the event (impulse, contact start, separation). Hertz
+contacts are time-stepped by :mod:`._engine_hertz`.
+
+Rigid (and low-restitution instantaneous) contacts: at a contact instant the damper
+mass is put exactly on the stop (a rounding-level correction), a plastic Dirac impulse
+zeroes the relative velocity (relative degree 2), and :func:`decide` chooses, once,
+between the stuck phase and a separation from the sign of the first non-zero Taylor
+coefficient of the force the stuck phase would need. The phase chosen starts with its
+event row "open" (never an event at its start), so an event never repeats at the same
+time: grazing returns and accumulations of micro-impacts resolve into sticking or into
+separations that advance time. A stuck phase ends where its force crosses zero; the
+free flight then starts open from the stop.
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+
+import numpy as np
+
+from ..contact import LinearSpring, Rigid
+from ._engine import OUT_BV, OUT_FEQ, OUT_LAM, OUT_VP, EngineState
+from ._engine_form import evaluate, first_event
+from ._engine_hertz import hertz_contact
+from .contact import InstantaneousImpact
+
+__all__ = ["run"]
+
+_STALL = 50
+
+
+def _integral(lam, b, poly, tau):
+    """``int_0^tau Re(b e^{lam s}) + poly(s) ds`` for each row of ``b`` (scalar ``tau``)."""
+    z = lam * tau
+    with np.errstate(divide="ignore", invalid="ignore"):
+        e = np.where(lam == 0, tau, np.expm1(z) / np.where(lam == 0, 1.0, lam))
+    out = (b @ e).real
+    for j in range(poly.shape[1]):
+        out = out + poly[:, j] * tau ** (j + 1) / (j + 1)
+    return out
+
+
+def _work(a, lam, vb, taus):
+    """``int_0^tau Re(a_r e^{i w s}) Re(sum vb e^{lam s}) ds`` for each ``a_r`` of ``a``.
+
+    ``lam[-1] = i w``; returns shape (len(a), len(taus)).
+    """
+    iw = lam[-1]
+    out = np.zeros((a.size, taus.size))
+    for mu, coef in ((iw + lam, vb), (iw + lam.conj(), vb.conj())):
+        zero = mu == 0.0
+        mu_safe = np.where(zero, 1.0, mu)
+        e = np.expm1(np.outer(mu, taus)) / mu_safe[:, None]
+        e[zero] = taus
+        out += 0.5 * (np.outer(a, coef) @ e).real
+    return out
+
+
+#: a Taylor coefficient of the stuck force is zero when below this fraction of the sum of
+#: the magnitudes it is computed from (its rounding is ~1e-16 of that sum)
+_DECIDE_RTOL = 1e-10
+
+
+def decide(lam, b, poly, orders=4):
+    """Stick (True) or separate, at a contact instant with zero relative velocity.
+
+    ``f(tau) = Re(sum b e^{lam tau}) + poly(tau)`` is the compressive force the stuck
+    phase would need. Its first Taylor coefficient at ``tau = 0`` that is not zero to
+    rounding decides: positive, stick; negative, separate. With ``f^(j)(0) = 0`` for
+    ``j < k``, the free flight's gap has ``g^(j+2)(0) = 0`` for ``j < k`` and
+    ``g^(k+2)(0) = -f^(k)(0) (1/m_d + 1/M_eff)`` (same for relative degrees 0 and 1 with
+    their own factor), so exactly one of the two phases is consistent (Signorini's
+    condition ``g >= 0, f >= 0, f g = 0`` on a right neighbourhood): stick when the free
+    flight would penetrate, separate when the stuck phase would pull. Every coefficient
+    zero to rounding (grazing to order ``orders - 1``): stick; the stuck phase's own
+    search then finds where the force turns tensile, at a later time. The decision is
+    taken once per contact instant, so no event can repeat at the same time.
+    """
+    fact = 1.0
+    lam_k = np.ones_like(lam)
+    for k in range(orders):
+        if k:
+            lam_k = lam_k * lam
+            fact *= k
+        d = float(np.dot(b, lam_k).real)
+        mag = float(np.dot(np.abs(b), np.abs(lam_k)))
+        if k < poly.size:
+            d += fact * poly[k]
+            mag += fact * abs(poly[k])
+        if abs(d) > _DECIDE_RTOL * mag:
+            return d > 0.0
+    return True
+
+
+class _Progress:
+    def __init__(self, enabled, n_cycles, t_start, period):
+        self.enabled, self.n, self.t0, self.T = enabled, n_cycles, t_start, period
+        self.shown = -1
+
+    def update(self, t):
+        if not self.enabled:
+            return
+        done = min(self.n, int((t - self.t0) / self.T + 1e-9))
+        pct = int(100 * done / self.n)
+        if pct != self.shown:
+            self.shown = pct
+            bar = "#" * (pct // 4) + "." * (25 - pct // 4)
+            sys.stderr.write(f"\rimpact damper [{bar}] {pct:3d}% ({done}/{self.n} cycles)")
+            if done >= self.n:
+                sys.stderr.write("\n")
+            sys.stderr.flush()
+
+
+def run(eng, *, start: EngineState, n_cycles, samples_per_cycle, progress):
+    """Simulate ``n_cycles`` forcing periods from ``start``; returns a dict of raw outputs."""
+    T = eng.period
+    dt_out = T / samples_per_cycle
+    t0_run = start.time
+    t_end = t0_run + n_cycles * T
+    n = eng.n
+    t, x = start.time, np.array(start.state, dtype=float)
+    mode, side = start.mode, start.side
+    contact = eng.contact
+    impacts = []
+    cur = dict(start.open_impact) if start.open_impact is not None else None
+    if cur is not None:
+        cur["continued"] = True
+        impacts.append(cur)
+    chunks_t, chunks_v, chunks_w, chunks_g = [], [], [], []
+    work = np.zeros(2)
+    v_max = eng.c * eng.omega
+    on_boundary = mode != "free"
+    open_row = None           # event row decided to open at the phase's start
+    stall = crawl = 0
+    bar = _Progress(progress, n_cycles, t0_run, T)
+    bar.update(t)
+    first_sample = True
+
+    def emit(kind, coords, t_a, tau):
+        nonlocal first_sample
+        ob, op = kind.coefficients(kind.output, coords)
+        j_lo = int(math.floor((t_a - t0_run) / dt_out + 1e-9)) + 1
+        j_hi = int(math.ceil((t_a + tau - t0_run) / dt_out - 1e-9)) - 1
+        grid = np.arange(j_lo, j_hi + 1)
+        taus = t0_run + grid * dt_out - t_a
+        keep = (taus > 0) & (taus < tau)
+        grid, taus = grid[keep], taus[keep]
+        end_j = (t_a + tau - t0_run) / dt_out
+        end_grid = int(round(end_j)) if abs(end_j - round(end_j)) < 1e-7 else -1
+        lead = [0.0] if first_sample else []
+        lead_g = [0] if first_sample else []
+        first_sample = False
+        taus = np.concatenate([lead, taus, [tau]])
+        grid = np.concatenate([lead_g, grid, [end_grid]])
+        vals = evaluate(kind.lam, ob, op, taus)[0]
+        w = _work(ob[OUT_FEQ:OUT_BV + 1, -1], kind.lam, ob[OUT_VP], taus) + work[:, None]
+        chunks_t.append(t_a + taus)
+        chunks_v.append(vals[:6])
+        chunks_w.append(w)
+        chunks_g.append(grid)
+        work[:] = w[:, -1]
+        return ob, op
+
+    r0A = eng.r0 @ eng.A      # relative velocity row (free flight; no Dirac part)
+    r0AA = r0A @ eng.A        # relative acceleration row (free flight)
+
+    def pin(x, t, s, velocity):
+        """Put the damper mass exactly on stop ``s`` (and at zero relative velocity).
+
+        Removes the rounding-level drift of a located contact instant or of a stuck
+        phase (a constraint kept only to rounding by its closed form), which would
+        otherwise accumulate over thousands of contacts.
+        """
+        xa = eng.augmented(x, t)
+        x = x.copy()
+        x[eng.iy] += s * eng.c - float(eng.r0 @ xa)
+        if velocity:
+            x[eng.iv] -= float(r0A @ xa)
+        return x
+
+    def sticks(s, x, t):
+        """Contact decision at side ``s`` with the relative velocity zero (see ``decide``)."""
+        kind = eng.stuck(s)
+        coords = kind.start(x, t)
+        b, poly = kind.coefficients(kind.event, coords)
+        i = 0 if s == 1 else 1
+        return decide(kind.lam, b[i], poly[i])
+
+    def open_impact(s, t, v_rel):
+        phase = (eng.omega * t + eng.phi) % (2 * math.pi)
+        rec = dict(time=t, side=s, impulse=0.0, duration=0.0, relative_velocity=v_rel,
+                   phase=phase, continued=False)
+        impacts.append(rec)
+        return rec
+
+    while t < t_end - 1e-12 * T:
+        if mode == "hertz":
+            t_new, x, impulse, samples, closed = hertz_contact(eng, x, t, side, t_end, t0_run,
+                                                               dt_out)
+            w0 = work.copy()
+            for ts, vals, g, dw in samples:
+                # Hertz samples carry the input work since the contact phase's start
+                chunks_t.append(ts)
+                chunks_v.append(vals)
+                chunks_w.append(w0[:, None] + dw)
+                chunks_g.append(g)
+                work[:] = w0 + dw[:, -1]
+            first_sample = False
+            cur["impulse"] += impulse
+            cur["duration"] = t_new - cur["time"]
+            stall = stall + 1 if t_new == t else 0
+            t = t_new
+            mode, on_boundary = ("hertz" if closed else "free"), True
+            if not closed:      # left at the exit with the gap opening (0 to rounding)
+                open_row = 0 if side == 1 else 1
+            bar.update(t)
+            continue
+        if mode == "free":
+            kind, sel = eng.free, slice(0, 2)
+        elif mode == "stuck":
+            kind = eng.stuck(side)
+            sel = slice(0, 1) if side == 1 else slice(1, 2)
+        elif mode == "spring":
+            kind, sel = eng.spring(side), slice(0, 1)
+        else:  # "pen"
+            eng.spring(side)
+            kind, sel = eng._pen[side], slice(0, 2)
+        coords = kind.start(x, t)
+        b, poly = kind.coefficients(kind.event, coords)
+        b, poly = b[sel], poly[sel]
+        if mode == "free" and open_row is not None and poly.shape[1]:
+            # the damper mass was put exactly on the stop: the open gap row is 0 at the
+            # start; remove the closed form's rounding there (it scales with the
+            # eigenvector conditioning and may exceed the rows' zero tolerance)
+            poly = poly.copy()
+            poly[open_row, 0] -= float(b[open_row].real.sum() + poly[open_row, 0])
+        total = np.abs(b).sum(axis=1) + np.abs(poly).sum(axis=1)
+        zero_tol = 1e-12 * total + 1e-300
+        scale = np.full(total.shape, eng.c) if (mode == "free" and eng.c > 0) else total
+        tau, row = first_event(kind, b, poly, t_end - t, scale=scale, zero_tol=zero_tol,
+                               on_boundary=on_boundary,
+                               open_rows=() if open_row is None else (open_row,))
+        open_row = None
+        happened = tau is not None
+        if not happened:
+            tau = t_end - t
+        ob, op = emit(kind, coords, t, tau)
+        if mode in ("stuck", "spring") and cur is not None:
+            cur["impulse"] += side * float(_integral(kind.lam, ob[OUT_LAM:OUT_LAM + 1],
+                                                      op[OUT_LAM:OUT_LAM + 1], tau)[0])
+        x = kind.state(coords, tau)
+        stall = stall + 1 if tau == 0.0 else 0
+        crawl = crawl + 1 if tau < 1e-9 * T else 0
+        if stall > _STALL or crawl > 100 * _STALL:
+            raise RuntimeError(f"contact events repeat without time advancing at t = {t!r} s "
+                               f"({mode} phase): the contact state cannot be decided (grazing)")
+        t = t + tau
+        bar.update(t)
+        if not happened:
+            break
+        on_boundary = True
+        if mode == "free":
+            s = 1 if row == 0 else -1
+            xa = eng.augmented(x, t)
+            v_rel = -eng.gap_rate(xa, s)
+            v_max = max(v_max, v_rel)
+            cur = open_impact(s, t, v_rel)
+            if isinstance(contact, (Rigid, InstantaneousImpact)):
+                x = pin(x, t, s, False)
+                e = contact.restitution if isinstance(contact, InstantaneousImpact) else 0.0
+                if e > 0.0:
+                    # the bounce's height under the free flight's relative acceleration:
+                    # below rounding, the rest of the (Zeno) sequence of ever smaller
+                    # bounces is replaced by its limit, a plastic impact
+                    xa = eng.augmented(x, t)
+                    acc = -s * float(r0AA @ xa)
+                    low = acc < 0.0 and (e * v_rel) ** 2 <= -2.0 * acc * 1e-12 * max(
+                        eng.c, abs(float(eng.r0 @ xa)))
+                else:
+                    low = True
+                if low or e * v_rel <= 1e-6 * v_max:
+                    # plastic (or restitution below resolution): zero the relative velocity
+                    # (a Dirac only where the gap has relative degree 2), then decide
+                    p = max(v_rel, 0.0) / eng.inv_mu if eng.rho == 2 else 0.0
+                    x = x + s * p * eng.Bl[:n]
+                    cur["impulse"] += p
+                    if eng.rho == 2:
+                        x = pin(x, t, s, True)
+                    stick = sticks(s, x, t)
+                else:
+                    p = (1.0 + e) * v_rel / eng.inv_mu
+                    x = x + s * p * eng.Bl[:n]
+                    cur["impulse"] += p
+                    stick = False
+                if stick:
+                    mode, side, open_row = "stuck", s, 0
+                else:
+                    mode, open_row = "free", (0 if s == 1 else 1)
+            elif isinstance(contact, LinearSpring):
+                mode, side = "spring", s
+            else:
+                mode, side = "hertz", s
+        elif mode == "stuck":
+            cur["duration"] = t - cur["time"]
+            x = pin(x, t, side, eng.rho == 2)
+            mode, open_row = "free", (0 if side == 1 else 1)
+        elif mode == "spring":
+            cur["duration"] = t - cur["time"]
+            xa = eng.augmented(x, t)
+            pen = side * float(eng.r0 @ xa) - eng.c
+            mode = "pen" if pen > 1e-12 * max(eng.c, abs(float(eng.r0 @ xa))) else "free"
+        else:  # pen
+            mode = "spring" if row == 0 else "free"
+    if mode == "free" or cur is None or mode == "pen":
+        open_rec = None
+    else:
+        open_rec = {k: v for k, v in cur.items() if k != "continued"}
+    if cur is not None and mode in ("stuck", "spring", "hertz"):
+        cur["duration"] = t - cur["time"]
+    bar.update(t_end)
+    return dict(
+        t=np.concatenate(chunks_t), values=np.concatenate(chunks_v, axis=1),
+        work=np.concatenate(chunks_w, axis=1), grid=np.concatenate(chunks_g),
+        impacts=impacts,
+        final=EngineState(t, x, mode, side, open_rec),
+        t_start=t0_run, t_end=t_end)

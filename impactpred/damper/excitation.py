@@ -1,0 +1,98 @@
+"""Harmonic excitations of an impact damper's primary structure.
+
+Both are ``Re(X e^{i Omega t})`` with ``Omega = 2 pi freq_hz`` (rad/s): a force on the
+primary at its driving point, or (for a :class:`data_synth.SpringMass` primary only) a
+prescribed displacement of its base.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from modalid._checks import as_nonnegative_scalar, as_positive_scalar, as_real_scalar
+
+__all__ = ["HarmonicForce", "BaseExcitation"]
+
+
+def _check(obj):
+    object.__setattr__(obj, "amplitude", as_nonnegative_scalar("amplitude", obj.amplitude))
+    object.__setattr__(obj, "freq_hz", as_positive_scalar("freq_hz", obj.freq_hz))
+    object.__setattr__(obj, "phase", as_real_scalar("phase", obj.phase))
+
+
+@dataclass(frozen=True)
+class HarmonicForce:
+    """Force ``amplitude * cos(2 pi freq_hz t + phase)`` (N) on the primary's driving point.
+
+    Parameters
+    ----------
+    amplitude : float
+        Force amplitude ``F0`` (N), >= 0.
+    freq_hz : float
+        Forcing frequency (Hz), finite and > 0.
+    phase : float, keyword-only, optional
+        Phase at ``t = 0`` (rad).
+    """
+
+    amplitude: float
+    freq_hz: float
+    phase: float = field(default=0.0, kw_only=True)
+
+    def __post_init__(self):
+        _check(self)
+
+    @property
+    def omega(self) -> float:
+        """Forcing frequency ``Omega`` (rad/s)."""
+        return 2.0 * math.pi * self.freq_hz
+
+    @property
+    def period(self) -> float:
+        """Forcing period (s)."""
+        return 1.0 / self.freq_hz
+
+    def with_frequency(self, freq_hz) -> HarmonicForce:
+        """The same excitation at another frequency (Hz)."""
+        return HarmonicForce(self.amplitude, freq_hz, phase=self.phase)
+
+
+@dataclass(frozen=True)
+class BaseExcitation:
+    """Base displacement ``amplitude * cos(2 pi freq_hz t + phase)`` (m).
+
+    Exact for a :class:`data_synth.SpringMass` primary: its mass, in absolute coordinates,
+    then feels the force ``k y_b + c y_b'`` (``c = 2 zeta sqrt(k m)``). A driving-point
+    receptance alone does not contain the base transmissibility, so other primaries
+    raise ``ValueError`` in :class:`~impactpred.damper.ImpactDamper`.
+
+    Parameters
+    ----------
+    amplitude : float
+        Base displacement amplitude (m), >= 0.
+    freq_hz : float
+        Frequency (Hz), finite and > 0.
+    phase : float, keyword-only, optional
+        Phase at ``t = 0`` (rad).
+    """
+
+    amplitude: float
+    freq_hz: float
+    phase: float = field(default=0.0, kw_only=True)
+
+    def __post_init__(self):
+        _check(self)
+
+    @property
+    def omega(self) -> float:
+        """Frequency ``Omega`` (rad/s)."""
+        return 2.0 * math.pi * self.freq_hz
+
+    @property
+    def period(self) -> float:
+        """Period (s)."""
+        return 1.0 / self.freq_hz
+
+    def with_frequency(self, freq_hz) -> BaseExcitation:
+        """The same excitation at another frequency (Hz)."""
+        return BaseExcitation(self.amplitude, freq_hz, phase=self.phase)

@@ -1,0 +1,272 @@
+"""``DamperResult``: the histories, impacts and steady-state figures of one damper run."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from ._engine_form import _cubic_min
+
+__all__ = ["DamperResult", "DamperState", "build_result"]
+
+#: relative tolerance on Poincare points for "the response repeats"
+STEADY_RTOL = 1e-6
+#: periods tried for a periodic steady state (period-1 .. period-4 motion)
+MAX_PERIOD = 4
+_IMPACT_COLUMNS = ["time", "side", "impulse", "duration", "relative_velocity", "phase"]
+
+
+def _frozen(a, dtype=float):
+    a = np.array(a, dtype=dtype, copy=True)
+    a.setflags(write=False)
+    return a
+
+
+@dataclass(frozen=True)
+class DamperState:
+    """Where a run ended, for ``ImpactDamper.simulate(initial=...)``.
+
+    Attributes
+    ----------
+    time : float
+        Time (s); the excitation's phase follows from it.
+    state : ndarray, shape (n,)
+        Engine state: the primary's modal states, ``y_d`` (m), ``v_d`` (m/s), 1.
+    mode : str
+        ``"free"``, ``"stuck"``, ``"spring"``, ``"pen"`` (spring-dashpot released while
+        still overlapping) or ``"hertz"``.
+    side : int
+        Stop in contact (+1 upper, -1 lower; 0 in free flight).
+    open_impact : dict or None
+        The impact still in progress at ``time``, continued by the next run.
+    """
+
+    time: float
+    state: np.ndarray
+    mode: str
+    side: int
+    open_impact: Any = None
+
+
+@dataclass(frozen=True)
+class DamperResult:
+    """One run of :meth:`ImpactDamper.simulate`; immutable (read-only arrays).
+
+    Attributes
+    ----------
+    t : ndarray, shape (n_samples,)
+        Times (s): ``samples_per_cycle`` per forcing period plus every event time.
+    primary, damper : ndarray, shape (n_samples,)
+        Displacement (m) of the primary's driving point and of the damper mass.
+    primary_velocity, damper_velocity : ndarray, shape (n_samples,)
+        Their velocities (m/s); after an event the value just after it.
+    force : ndarray, shape (n_samples,)
+        Contact force on the primary along ``+y`` (N): positive at the upper stop,
+        negative at the lower one. Dirac parts are only in ``impacts``.
+    excitation : ndarray, shape (n_samples,)
+        The force (N) or base displacement (m).
+    input_work : ndarray, shape (n_samples,)
+        Energy put in by the excitation since the run's start (J), exact (closed-form
+        integrals of force times velocity; for a base excitation the base's work through
+        the spring and dashpot).
+    freq_hz, period : float
+        Excitation frequency (Hz) and period (s).
+    impacts : pandas.DataFrame
+        One row per impact: ``time`` (s), ``side`` (+1 upper, -1 lower), ``impulse``
+        (N s, Dirac part included), ``duration`` (s, 0 for instantaneous),
+        ``relative_velocity`` (m/s, approach speed before it), ``phase`` (rad of the
+        forcing at impact, in [0, 2 pi)).
+    steady_state_cycle : int or None
+        First cycle from which the Poincare points repeat (period ``steady_period``)
+        to ``STEADY_RTOL``; None if they do not.
+    is_steady : bool
+    steady_period : int or None
+        Number of forcing cycles of the periodic response (1: period-1 motion).
+    primary_amplitude : float
+        Half peak-to-peak displacement (m) of the primary over the steady cycles (the
+        last 10 % of the cycles if not steady; see ``notes``); peaks refined by cubic
+        Hermite interpolation of displacement and velocity between samples.
+    impacts_per_cycle : float
+        Impacts per forcing period over the same cycles.
+    power_dissipated : float
+        Mean input power (W) over the same cycles: in a steady state it equals the power
+        dissipated by impacts, contact damping and the primary's damping.
+    reduction : float
+        ``primary_amplitude / amplitude_without_damper``.
+    amplitude_without_damper : float
+        Closed-form steady amplitude (m) of the primary alone.
+    notes : tuple of str
+    final_state : DamperState
+        Pass the result (or this) as ``initial=`` to continue the run.
+    damper_config : ImpactDamper
+        The damper simulated.
+    """
+
+    t: np.ndarray
+    primary: np.ndarray
+    damper: np.ndarray
+    primary_velocity: np.ndarray
+    damper_velocity: np.ndarray
+    force: np.ndarray
+    excitation: np.ndarray
+    input_work: np.ndarray
+    grid_index: np.ndarray
+    freq_hz: float
+    period: float
+    t_start: float
+    n_cycles: int
+    samples_per_cycle: int
+    impacts: pd.DataFrame
+    steady_state_cycle: int | None
+    is_steady: bool
+    steady_period: int | None
+    primary_amplitude: float
+    impacts_per_cycle: float
+    power_dissipated: float
+    reduction: float
+    amplitude_without_damper: float
+    notes: tuple
+    final_state: DamperState
+    damper_config: Any
+
+    def poincare(self) -> pd.DataFrame:
+        """States once per forcing period, at the run's starting phase.
+
+        Returns
+        -------
+        pandas.DataFrame
+            Columns ``cycle``, ``time`` (s), ``primary`` (m), ``primary_velocity`` (m/s),
+            ``damper`` (m), ``damper_velocity`` (m/s); one row per cycle boundary
+            (``n_cycles + 1`` rows).
+        """
+        idx = _poincare_index(self.grid_index, self.samples_per_cycle)
+        return pd.DataFrame({
+            "cycle": np.arange(idx.size), "time": self.t[idx], "primary": self.primary[idx],
+            "primary_velocity": self.primary_velocity[idx], "damper": self.damper[idx],
+            "damper_velocity": self.damper_velocity[idx]})
+
+    def plot(self, ax=None, *, last_cycles=None):
+        """Primary and damper-mass displacement against time, impacts marked.
+
+        Parameters
+        ----------
+        ax : matplotlib Axes, optional
+        last_cycles : int, keyword-only, optional
+            Plot only the last cycles (default: all).
+
+        Returns
+        -------
+        matplotlib.axes.Axes
+        """
+        import matplotlib.pyplot as plt
+
+        if ax is None:
+            _, ax = plt.subplots(figsize=(8, 3.5))
+        t0 = -np.inf if last_cycles is None else self.t[-1] - last_cycles * self.period
+        sel = self.t >= t0
+        ax.plot(self.t[sel], self.primary[sel] * 1e3, label="primary (driving point)")
+        ax.plot(self.t[sel], self.damper[sel] * 1e3, label="damper mass", lw=0.8)
+        imp = self.impacts[self.impacts["time"] >= t0]
+        if len(imp):
+            y = np.interp(imp["time"], self.t, self.damper) * 1e3
+            ax.plot(imp["time"], y, "k.", ms=3, label="impacts")
+        ax.set_xlabel("time (s)")
+        ax.set_ylabel("displacement (mm)")
+        ax.set_title(f"{self.freq_hz:.4g} Hz: amplitude {self.primary_amplitude * 1e3:.4g} mm "
+                     f"(x{self.reduction:.3g} of the bare structure)")
+        ax.legend(loc="upper right", fontsize="small")
+        return ax
+
+
+def _poincare_index(grid, spc):
+    on = np.flatnonzero((grid >= 0) & (grid % spc == 0))
+    _, first = np.unique(grid[on], return_index=True)
+    return on[first]
+
+
+def _steady(points, rtol):
+    """(first steady cycle, period) from Poincare points (n_points, n_comp), or (None, None)."""
+    n = points.shape[0]
+    scale = np.max(np.abs(points), axis=0)
+    scale = np.where(scale > 0, scale, 1.0)
+    for m in range(1, MAX_PERIOD + 1):
+        if n <= 3 * m:
+            break
+        d = np.max(np.abs(points[m:] - points[:-m]) / scale, axis=1)
+        bad = np.flatnonzero(d > rtol)
+        first = int(bad[-1]) + 1 if bad.size else 0
+        if n - 1 - first >= 3 * m:            # at least three repeats seen
+            return first, m
+    return None, None
+
+
+def _amplitude(t, y, v):
+    """Half peak-to-peak of ``y``, extremes refined by cubic Hermite steps."""
+    if y.size < 2:
+        return 0.0
+    h = np.diff(t)
+    ok = h > 0
+    ya, yb, va, vb, h = y[:-1][ok], y[1:][ok], v[:-1][ok], v[1:][ok], h[ok]
+    lo = float(np.min(_cubic_min(ya, yb, va, vb, h), initial=np.min(y)))
+    hi = -float(np.min(_cubic_min(-ya, -yb, -va, -vb, h), initial=-np.max(y)))
+    return 0.5 * (hi - lo)
+
+
+def build_result(damper, raw, *, n_cycles, samples_per_cycle):
+    """Assemble a :class:`DamperResult` from the engine's raw output."""
+    spc = samples_per_cycle
+    t, vals, work, grid = raw["t"], raw["values"], raw["work"], raw["grid"]
+    eng = damper.engine()
+    T = eng.period
+    t0 = raw["t_start"]
+    notes = []
+    pidx = _poincare_index(grid, spc)
+    points = vals[:4, pidx].T
+    first, period = _steady(points, STEADY_RTOL)
+    if first is not None:
+        n_use = ((n_cycles - first) // period) * period
+        c_a = n_cycles - n_use
+    else:
+        c_a = n_cycles - max(1, int(round(0.1 * n_cycles)))
+        notes.append(f"no steady state within {n_cycles} cycles (Poincare points do not repeat "
+                     f"to {STEADY_RTOL:g} with period <= {MAX_PERIOD}): amplitude, impacts and "
+                     f"power are over the last {n_cycles - c_a} cycles")
+    t_a, t_b = t0 + c_a * T, raw["t_end"]
+    win = (t >= t_a - 1e-12 * T) & (t <= t_b + 1e-12 * T)
+    amp = _amplitude(t[win], vals[0, win], vals[1, win])
+    ia, ib = pidx[c_a], pidx[-1]
+    dt = t[ib] - t[ia]
+    dw = work[:, ib] - work[:, ia]
+    power = dw[0] / dt
+    if eng.base_damping:
+        cb, vb = eng.base_damping, eng.base_velocity_amplitude
+        power = (dw[0] - 2 * cb * dw[1]) / dt + 0.5 * cb * vb ** 2
+    imp = pd.DataFrame([{k: r[k] for k in _IMPACT_COLUMNS} for r in raw["impacts"]],
+                       columns=_IMPACT_COLUMNS)
+    imp["side"] = imp["side"].astype(int)
+    n_imp = int(np.count_nonzero((imp["time"] >= t_a - 1e-12 * T)
+                                 & (imp["time"] < t_b - 1e-12 * T)))
+    a0 = damper.amplitude_without_damper()
+    w_in = work[0]
+    if eng.base_damping:
+        om, phi = eng.omega, eng.phi
+        sin2 = 0.5 * (t - t0) - (np.sin(2 * (om * t + phi)) - math.sin(2 * (om * t0 + phi))) \
+            / (4 * om)
+        w_in = work[0] - 2 * eng.base_damping * work[1] \
+            + eng.base_damping * eng.base_velocity_amplitude ** 2 * sin2
+    fs = raw["final"]
+    final = DamperState(fs.time, fs.state, fs.mode, fs.side, fs.open_impact)
+    return DamperResult(
+        t=_frozen(t), primary=_frozen(vals[0]), primary_velocity=_frozen(vals[1]),
+        damper=_frozen(vals[2]), damper_velocity=_frozen(vals[3]), force=_frozen(vals[4]),
+        excitation=_frozen(vals[5]), input_work=_frozen(w_in), grid_index=_frozen(grid, int),
+        freq_hz=1.0 / T, period=T, t_start=t0, n_cycles=n_cycles, samples_per_cycle=spc,
+        impacts=imp, steady_state_cycle=first, is_steady=first is not None,
+        steady_period=period, primary_amplitude=amp,
+        impacts_per_cycle=n_imp / (n_cycles - c_a), power_dissipated=float(power),
+        reduction=amp / a0 if a0 > 0 else math.nan, amplitude_without_damper=a0,
+        notes=tuple(notes), final_state=final, damper_config=damper)

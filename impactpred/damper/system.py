@@ -1,0 +1,211 @@
+"""``ImpactDamper``: a primary structure, a free damper mass between two stops, a contact
+law and a harmonic excitation; :meth:`ImpactDamper.simulate` runs the exact engine."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from data_synth import SpringMass
+from modalid import ModalModel, MultiOutputModalModel
+from modalid._checks import as_count, as_nonnegative_scalar, as_positive_scalar
+
+from ..contact import Hertz, LinearSpring, Rigid
+from ._engine import Engine, EngineState
+from ._engine_run import run
+from .contact import InstantaneousImpact
+from .excitation import BaseExcitation, HarmonicForce
+from .result import DamperResult, DamperState, build_result
+
+__all__ = ["ImpactDamper"]
+
+_CONTACTS = (Rigid, LinearSpring, Hertz, InstantaneousImpact)
+
+
+def _primary_model(primary):
+    """(ModalModel, (k, c) of a SpringMass or None) of a primary, validated."""
+    if isinstance(primary, SpringMass):
+        k, m = primary.stiffness, primary.mass
+        return primary.modal_model(1), (k, 2.0 * primary.damping_ratio * math.sqrt(k * m))
+    if isinstance(primary, MultiOutputModalModel):
+        model = primary.driving()
+    elif isinstance(primary, ModalModel):
+        model = primary
+    else:
+        raise TypeError(f"primary must be a modalid.ModalModel, a MultiOutputModalModel or a "
+                        f"data_synth.SpringMass, got {type(primary).__name__} (for a rod or "
+                        f"a beam pass its modal_model(n))")
+    if model.inverse_mass != 0.0:
+        raise ValueError(f"the primary must be grounded: its inverse_mass is "
+                         f"{model.inverse_mass!r} 1/kg (a free body); an impact damper needs a "
+                         f"structure that can be excited into steady vibration")
+    if model.n_modes == 0 and model.real_poles.size == 0:
+        raise ValueError("the primary has no mode: a pure flexibility has no mass to vibrate")
+    if not model.is_passive():
+        raise ValueError(f"the primary's driving-point receptance is not passive ({model!r}): "
+                         "modal masses must be positive and poles stable")
+    return model, None
+
+
+@dataclass(frozen=True)
+class ImpactDamper:
+    """A primary structure with an impact damper at its driving point.
+
+    Parameters
+    ----------
+    primary : ModalModel, MultiOutputModalModel or data_synth.SpringMass
+        Grounded (``inverse_mass == 0``), passive driving-point receptance (m/N) at the
+        point where the damper acts; a multi-output model gives its driving row.
+    damper_mass : float, keyword-only
+        Mass of the free damper body ``m_d`` (kg), > 0.
+    clearance : float, keyword-only
+        Free travel ``c >= 0`` (m) on EACH side: the damper mass flies freely while
+        ``-c < y_d - y_p < c`` (total free travel ``2 c``).
+    contact : Rigid, LinearSpring, Hertz or InstantaneousImpact, keyword-only
+        Law at both stops (default ``Rigid()``: a Dirac impulse, then the damper mass
+        sticks to the primary until the contact force turns tensile).
+    excitation : HarmonicForce or BaseExcitation, keyword-only
+        A force at the driving point, or (``SpringMass`` only) a base displacement.
+
+    Notes
+    -----
+    Exact between events: every phase is a sum of exponentials, the excitation's
+    harmonic and a polynomial (the damper mass's free flight), evaluated in closed form;
+    events are located by a certified search and Brent's method on the closed form
+    (:mod:`impactpred.damper._engine_form`). Only ``Hertz`` is time-stepped, during
+    contact only. The matrices and eigendecompositions are built once per damper, on the
+    first :meth:`simulate`, and reused.
+    """
+
+    primary: Any
+    damper_mass: float = field(kw_only=True)
+    clearance: float = field(kw_only=True)
+    contact: Any = field(default=Rigid(), kw_only=True)
+    excitation: Any = field(default=None, kw_only=True)
+
+    def __post_init__(self):
+        model, base = _primary_model(self.primary)
+        object.__setattr__(self, "damper_mass", as_positive_scalar("damper_mass",
+                                                                    self.damper_mass))
+        object.__setattr__(self, "clearance", as_nonnegative_scalar("clearance", self.clearance))
+        if not isinstance(self.contact, _CONTACTS):
+            raise TypeError(f"contact must be Rigid(), LinearSpring(...), Hertz(...) or "
+                            f"InstantaneousImpact(...), got {self.contact!r}")
+        exc = self.excitation
+        if not isinstance(exc, (HarmonicForce, BaseExcitation)):
+            raise TypeError(f"excitation must be a HarmonicForce or a BaseExcitation, got "
+                            f"{exc!r}")
+        if isinstance(exc, BaseExcitation) and base is None:
+            raise ValueError(f"BaseExcitation needs a data_synth.SpringMass primary, got a "
+                             f"{type(self.primary).__name__}: a driving-point receptance does "
+                             "not contain the base transmissibility (use a HarmonicForce)")
+        object.__setattr__(self, "_model", model)
+        object.__setattr__(self, "_base", base if isinstance(exc, BaseExcitation) else None)
+        object.__setattr__(self, "_engine_cache", None)
+
+    def __getstate__(self):
+        return {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
+
+    def __setstate__(self, state):
+        for name, value in state.items():
+            object.__setattr__(self, name, value)
+        self.__post_init__()
+
+    # ------------------------------------------------------------------ properties
+    @property
+    def model(self) -> ModalModel:
+        """The primary's driving-point receptance as a ``ModalModel``."""
+        return self._model
+
+    @property
+    def primary_mass(self) -> float:
+        """Modal mass (kg) at the driving point of the primary's lowest mode.
+
+        For a ``SpringMass``: its mass.
+        """
+        if isinstance(self.primary, SpringMass):
+            return self.primary.mass
+        modes = self._model.modes
+        if modes.empty:
+            raise ValueError("the primary has no complex mode: its modal mass is undefined")
+        return float(modes["modal_mass"].iloc[0])
+
+    @property
+    def mass_ratio(self) -> float:
+        """``damper_mass / primary_mass``."""
+        return self.damper_mass / self.primary_mass
+
+    def amplitude_without_damper(self) -> float:
+        """Steady amplitude (m) of the primary's driving point with no damper.
+
+        ``|H(i Omega)| F0`` for a force; ``Y |k + i c Omega| / |k - m Omega^2 + i c Omega|``
+        (absolute displacement) for a base excitation of a ``SpringMass``.
+        """
+        exc = self.excitation
+        om = exc.omega
+        if self._base is None:
+            return float(abs(self._model.receptance(1j * om)) * exc.amplitude)
+        k, c = self._base
+        m = self.primary.mass
+        return float(exc.amplitude * abs(k + 1j * c * om) / abs(k - m * om ** 2 + 1j * c * om))
+
+    def replace(self, **changes) -> ImpactDamper:
+        """A validated copy with some of ``primary, damper_mass, clearance, contact,
+        excitation`` changed."""
+        return dataclasses.replace(self, **changes)
+
+    def engine(self) -> Engine:
+        """The damper's engine (matrices, decompositions), built once and cached."""
+        if self._engine_cache is None:
+            object.__setattr__(self, "_engine_cache", Engine(
+                self._model, damper_mass=self.damper_mass, clearance=self.clearance,
+                contact=self.contact, excitation=self.excitation, base_spring=self._base))
+        return self._engine_cache
+
+    # ------------------------------------------------------------------ simulation
+    def simulate(self, n_cycles, *, initial=None, samples_per_cycle=32,
+                 progress=False) -> DamperResult:
+        """Run ``n_cycles`` forcing periods with the exact event-driven engine.
+
+        Parameters
+        ----------
+        n_cycles : int
+            Number of forcing periods (>= 1).
+        initial : None, DamperResult or DamperState, keyword-only
+            ``None``: everything at rest at ``t = 0``, the damper mass centred. A
+            ``DamperResult`` (or its ``final_state``) continues that run from its end,
+            contact state included; the damper may differ (e.g. a frequency step) as long
+            as the primary has the same number of states.
+        samples_per_cycle : int, keyword-only
+            Output samples per forcing period (>= 4), plus every event time.
+        progress : bool, keyword-only
+            Print a progress bar to stderr.
+
+        Returns
+        -------
+        DamperResult
+        """
+        n_cycles = as_count("n_cycles", n_cycles, minimum=1)
+        spc = as_count("samples_per_cycle", samples_per_cycle, minimum=4)
+        eng = self.engine()
+        if initial is None:
+            x0 = np.zeros(eng.n)
+            x0[eng.i1] = 1.0
+            start = EngineState(0.0, x0, "free", 0, None)
+        else:
+            state = initial.final_state if isinstance(initial, DamperResult) else initial
+            if not isinstance(state, DamperState):
+                raise TypeError(f"initial must be None, a DamperResult or a DamperState, got "
+                                f"{type(initial).__name__}")
+            if state.state.shape != (eng.n,):
+                raise ValueError(f"initial has {state.state.size} states, this damper's engine "
+                                 f"{eng.n}: it comes from another primary")
+            start = EngineState(state.time, state.state, state.mode, state.side,
+                                state.open_impact)
+        raw = run(eng, start=start, n_cycles=n_cycles, samples_per_cycle=spc,
+                  progress=bool(progress))
+        return build_result(self, raw, n_cycles=n_cycles, samples_per_cycle=spc)
