@@ -39,3 +39,7 @@ def test_readme_example_runs(index, tmp_path, monkeypatch):
         assert np.all(shapes.diagonal() > 0.99)
         peaks = namespace["res"].points[1].peaks()["peak_displacement"].to_numpy()
         assert peaks[0] > peaks[1] > peaks[2] > 0   # the tip moves most, the root least
+    if "masri_caughey(" in code:  # the impact damper reaches the classical closed form
+        res, exact = namespace["res"], namespace["exact"]
+        assert exact.exists and exact.stable and res.impacts_per_cycle == 2.0
+        assert res.primary_amplitude == pytest.approx(exact.amplitude, rel=1e-4)
