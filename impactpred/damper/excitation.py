@@ -7,6 +7,7 @@ prescribed displacement of its base.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 
@@ -15,14 +16,36 @@ from modalid._checks import as_nonnegative_scalar, as_positive_scalar, as_real_s
 __all__ = ["HarmonicForce", "BaseExcitation"]
 
 
-def _check(obj):
-    object.__setattr__(obj, "amplitude", as_nonnegative_scalar("amplitude", obj.amplitude))
-    object.__setattr__(obj, "freq_hz", as_positive_scalar("freq_hz", obj.freq_hz))
-    object.__setattr__(obj, "phase", as_real_scalar("phase", obj.phase))
+@dataclass(frozen=True)
+class _Harmonic:
+    """``amplitude * cos(2 pi freq_hz t + phase)``: the fields and helpers both share."""
+
+    amplitude: float
+    freq_hz: float
+    phase: float = field(default=0.0, kw_only=True)
+
+    def __post_init__(self):
+        object.__setattr__(self, "amplitude", as_nonnegative_scalar("amplitude", self.amplitude))
+        object.__setattr__(self, "freq_hz", as_positive_scalar("freq_hz", self.freq_hz))
+        object.__setattr__(self, "phase", as_real_scalar("phase", self.phase))
+
+    @property
+    def omega(self) -> float:
+        """Frequency ``Omega`` (rad/s)."""
+        return 2.0 * math.pi * self.freq_hz
+
+    @property
+    def period(self) -> float:
+        """Period (s)."""
+        return 1.0 / self.freq_hz
+
+    def with_frequency(self, freq_hz):
+        """The same excitation at another frequency (Hz), validated."""
+        return dataclasses.replace(self, freq_hz=freq_hz)
 
 
 @dataclass(frozen=True)
-class HarmonicForce:
+class HarmonicForce(_Harmonic):
     """Force ``amplitude * cos(2 pi freq_hz t + phase)`` (N) on the primary's driving point.
 
     Parameters
@@ -35,30 +58,9 @@ class HarmonicForce:
         Phase at ``t = 0`` (rad).
     """
 
-    amplitude: float
-    freq_hz: float
-    phase: float = field(default=0.0, kw_only=True)
-
-    def __post_init__(self):
-        _check(self)
-
-    @property
-    def omega(self) -> float:
-        """Forcing frequency ``Omega`` (rad/s)."""
-        return 2.0 * math.pi * self.freq_hz
-
-    @property
-    def period(self) -> float:
-        """Forcing period (s)."""
-        return 1.0 / self.freq_hz
-
-    def with_frequency(self, freq_hz) -> HarmonicForce:
-        """The same excitation at another frequency (Hz)."""
-        return HarmonicForce(self.amplitude, freq_hz, phase=self.phase)
-
 
 @dataclass(frozen=True)
-class BaseExcitation:
+class BaseExcitation(_Harmonic):
     """Base displacement ``amplitude * cos(2 pi freq_hz t + phase)`` (m).
 
     Exact for a :class:`data_synth.SpringMass` primary: its mass, in absolute coordinates,
@@ -75,24 +77,3 @@ class BaseExcitation:
     phase : float, keyword-only, optional
         Phase at ``t = 0`` (rad).
     """
-
-    amplitude: float
-    freq_hz: float
-    phase: float = field(default=0.0, kw_only=True)
-
-    def __post_init__(self):
-        _check(self)
-
-    @property
-    def omega(self) -> float:
-        """Frequency ``Omega`` (rad/s)."""
-        return 2.0 * math.pi * self.freq_hz
-
-    @property
-    def period(self) -> float:
-        """Period (s)."""
-        return 1.0 / self.freq_hz
-
-    def with_frequency(self, freq_hz) -> BaseExcitation:
-        """The same excitation at another frequency (Hz)."""
-        return BaseExcitation(self.amplitude, freq_hz, phase=self.phase)
