@@ -109,7 +109,8 @@ def refine_joint(omega, values, weights, poles, terms: Terms, *, passive_row=Non
     info : dict
         ``n_iter``, ``converged``, ``message``, ``cost`` (weighted SSE, all rows),
         ``pole_std`` (shape (n, 2): std of Re p, Im p from the joint Jacobian) and
-        ``residue_std`` (shape (n_outputs, n)), None unless ``with_std``.
+        ``residue_std`` (shape (n_outputs, n, 2): std of Re r, Im r), None unless
+        ``with_std``.
     """
     omega = np.asarray(omega, float)
     n_out = values.shape[0]
@@ -356,7 +357,11 @@ def _store(est, rec, poles, kinds, xs, terms, info, notes, max_order, dp):
     from .fit import _report  # fit imports this module lazily
 
     r, u, d = split_rows(xs, poles.size, terms)
-    u[dp] = max(u[dp], 0.0)
+    if u[dp] <= 0.0 and np.any(u != 0.0):
+        # the rigid-body mode is one mode: without it at the driving point, no row has it
+        u[:] = 0.0
+        notes.append("no positive rigid-body term at the driving point: the rigid-body "
+                     "terms of every output were dropped")
     model = MultiOutputModalModel(poles=poles, residues=r, inverse_mass=u, flexibility=d,
                                   driving_point=dp, outputs=rec.outputs)
     est.model_ = model

@@ -7,6 +7,7 @@ import warnings
 import numpy as np
 
 from ._checks import as_choice, as_complex_array, as_real_array, as_real_scalar
+from .model import _rebuild
 from .quantities import QUANTITIES, receptance_to, to_receptance
 
 __all__ = ["FRFData"]
@@ -69,6 +70,11 @@ class FRFData:
 
     def __setattr__(self, name, value):
         raise AttributeError(f"FRFData is immutable: cannot set {name!r}")
+
+    def __reduce__(self):
+        """Pickle through the constructor (fitted estimators keep their data)."""
+        return (_rebuild, (FRFData, dict(freq_hz=self._freq_hz, values=self._values,
+                                         quantity=self._quantity, coherence=self._coherence)))
 
     freq_hz = property(lambda self: self._freq_hz, doc="Frequencies (Hz).")
     values = property(lambda self: self._values, doc="FRF values (SI units of quantity).")

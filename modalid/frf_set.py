@@ -15,6 +15,7 @@ import numpy as np
 
 from ._checks import as_choice, as_complex_array, as_real_array
 from .frf import FRFData
+from .model import _rebuild
 from .quantities import QUANTITIES, receptance_to, to_receptance
 
 __all__ = ["FRFSet"]
@@ -123,6 +124,13 @@ class FRFSet:
 
     def __setattr__(self, name, value):
         raise AttributeError(f"FRFSet is immutable: cannot set {name!r}")
+
+    def __reduce__(self):
+        """Pickle through the constructor (fitted estimators keep their data)."""
+        return (_rebuild, (FRFSet, dict(freq_hz=self._freq_hz, values=self._values,
+                                        quantity=self._quantity, coherence=self._coherence,
+                                        outputs=self._outputs,
+                                        driving_point=self._driving_point)))
 
     freq_hz = property(lambda self: self._freq_hz, doc="Frequencies (Hz), shape (n_freq,).")
     values = property(lambda self: self._values, doc="FRFs, shape (n_outputs, n_freq).")

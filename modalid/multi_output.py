@@ -106,7 +106,7 @@ class MultiOutputModalModel:
             raise TypeError(f"outputs must be str labels, got {outputs!r}")
         if len(set(outputs)) != n_out:
             raise ValueError(f"outputs labels must be unique, got {outputs!r}")
-        # The driving row is validated as a ModalModel (Im p > 0, sigma != 0, 1/M >= 0).
+        # The driving row is validated as a ModalModel (Im p > 0, sigma != 0); 1/M >= 0 below.
         ModalModel(poles=poles, residues=residues[driving_point], real_poles=real_poles,
                    real_residues=real_residues[driving_point],
                    inverse_mass=inverse_mass[driving_point],

@@ -214,3 +214,29 @@ def test_read_refuses_files_on_different_grids(tmp_path):
     with pytest.raises(ValueError, match=r"a/r0.uff and .*b/r0.uff are on different frequency "
                                          r"grids: line 0 is at 1.0 Hz in one and 1.5 Hz"):
         read_frf_set([a, b])
+
+
+def test_frf_data_and_sets_pickle_through_their_constructors():
+    """A fitted ModalFit keeps its data: it must pickle (process pools, joblib)."""
+    import pickle
+
+    one = FRFData([1.0, 2.0], [1 + 1j, 2j], quantity="mobility", coherence=[0.9, 1.0])
+    back = pickle.loads(pickle.dumps(one))
+    assert np.array_equal(back.values, one.values) and back.quantity == "mobility"
+    assert np.array_equal(back.coherence, one.coherence)
+    data = FRFSet([1.0, 2.0], [[1 + 1j, 2j], [3.0, 4.0]], outputs=("a", "b"), driving_point=1)
+    again = pickle.loads(pickle.dumps(data))
+    assert again.outputs == ("a", "b") and again.driving_point == 1
+    assert np.array_equal(again.values, data.values)
+
+
+def test_auto_driving_point_refuses_a_record_measured_along_the_opposite_direction(tmp_path):
+    """Response -Z at the reference node +Z holds -H: it must not pass as the driving point."""
+    freq = np.arange(1.0, 101.0, 2.0)
+    frf = FRFData(freq, 1.0 / (1.0 - (freq / 40.0) ** 2 + 0.02j * freq / 40.0))
+    write_frf(tmp_path / "a.uff", frf, response=(1, -3), reference=(1, 3))
+    write_frf(tmp_path / "b.uff", frf, response=(2, 3), reference=(1, 3))
+    with pytest.raises(ValueError, match="opposite direction"):
+        read_frf_set([tmp_path / "a.uff", tmp_path / "b.uff"])
+    data = read_frf_set([tmp_path / "a.uff", tmp_path / "b.uff"], driving_point=0)
+    assert data.driving_point == 0
