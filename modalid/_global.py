@@ -27,15 +27,8 @@ from scipy.signal import find_peaks
 from ._checks import as_count
 from ._lm import bounded_lm, pole_limits
 from ._lscf import lscf_subbands
-from ._lsfd import (
-    Terms,
-    _bounds,
-    _Projection,
-    _realify,
-    _std,
-    design_matrix,
-    noise_level,
-)
+from ._lsfd import (Terms, _bounds, _Projection, _realify, _std, design_matrix, noise_level,
+                    split_coefficients)
 from .frf_set import FRFSet
 from .model import ModalModel
 from .multi_output import MultiOutputModalModel
@@ -45,20 +38,16 @@ __all__ = ["fit_set", "refine_joint"]
 
 
 # ----------------------------------------------------------------- the array kernels
-def _coefficients(x, n_modes, terms: Terms):
-    """``(residues, inverse_mass, flexibility)`` of one row's linear unknowns."""
-    r = x[0:2 * n_modes:2] + 1j * x[1:2 * n_modes:2]
-    k = 2 * n_modes + len(terms.real_poles)
-    u = float(x[k]) if terms.rigid else 0.0
-    d = float(x[k + int(terms.rigid)]) if terms.upper else 0.0
-    return r, u, d
-
-
 def split_rows(xs, n_modes, terms):
-    """Residues (n_outputs, n_modes), inverse masses and flexibilities (n_outputs,)."""
-    parts = [_coefficients(x, n_modes, terms) for x in xs]
+    """Each row's :func:`~modalid._lsfd.split_coefficients`, stacked.
+
+    Returns residues (n_outputs, n_modes), real residues (n_outputs, n_real), inverse
+    masses and flexibilities (n_outputs,).
+    """
+    parts = [split_coefficients(x, n_modes, terms) for x in xs]
     return (np.array([p[0] for p in parts]).reshape(len(xs), n_modes),
-            np.array([p[1] for p in parts]), np.array([p[2] for p in parts]))
+            np.array([p[1] for p in parts]).reshape(len(xs), len(terms.real_poles)),
+            np.array([p[2] for p in parts]), np.array([p[3] for p in parts]))
 
 
 def evaluate_rows(omega, poles, xs, terms):
@@ -252,7 +241,7 @@ def _worst_pole(est, omega, h, w, coh, poles, xs, info, kinds, terms, dp):
     row: no positive modal mass at the driving point (``passive``), out of the band, a
     duplicate of a stronger pole, or not significant (removing it, all rows refitted
     linearly, raises the cost by less than ``(2 + 2 n_outputs) ln(n)`` variances)."""
-    r, _, _ = split_rows(xs, poles.size, terms)
+    r = split_rows(xs, poles.size, terms)[0]
     std = info["residue_std"]
     std = np.ones(r.shape) * np.inf if std is None else np.hypot(std[..., 0], std[..., 1])
     t = np.sqrt(np.sum((np.abs(r) / np.maximum(std, 1e-300)) ** 2, axis=0))
@@ -356,13 +345,14 @@ def fit_set(est, data: FRFSet):
 def _store(est, rec, poles, kinds, xs, terms, info, notes, max_order, dp):
     from .fit import _report  # fit imports this module lazily
 
-    r, u, d = split_rows(xs, poles.size, terms)
+    r, c, u, d = split_rows(xs, poles.size, terms)
     if u[dp] <= 0.0 and np.any(u != 0.0):
         # the rigid-body mode is one mode: without it at the driving point, no row has it
         u[:] = 0.0
         notes.append("no positive rigid-body term at the driving point: the rigid-body "
                      "terms of every output were dropped")
-    model = MultiOutputModalModel(poles=poles, residues=r, inverse_mass=u, flexibility=d,
+    model = MultiOutputModalModel(poles=poles, residues=r, real_poles=terms.real_poles,
+                                  real_residues=c, inverse_mass=u, flexibility=d,
                                   driving_point=dp, outputs=rec.outputs)
     est.model_ = model
     physical = kinds == "mode"
