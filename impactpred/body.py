@@ -284,11 +284,6 @@ def _split_outputs(model, outputs):
         raise TypeError(f"outputs (positions xi along the length) apply to a data_synth Rod or "
                         f"CantileverBeam, got a {type(model).__name__}: for a modal model give "
                         "a modalid.MultiOutputModalModel with one row per output point")
-    missing = [name for name in ("transfer_step_response", "transfer_impulse_response")
-               if not hasattr(model, name)]
-    if missing:
-        raise NotImplementedError(f"this data_synth {type(model).__name__} has no "
-                                  f"{', '.join(missing)}: output points need them")
     xi = as_real_array("outputs", outputs)
     if xi.ndim != 1 or xi.size == 0:
         raise ValueError(f"outputs must be a non-empty 1-D array of positions xi, got shape "

@@ -260,3 +260,18 @@ def test_cantilever_mid_span_exact_continuum_against_a_fine_modal_sum():
         mid = np.interp(fine[1].t, exact.t, exact.points[1].displacement[1])
         errors.append(np.max(np.abs(mid - modal)) / scale)
     assert errors[1] < 0.6 * errors[0] and errors[1] < 3e-3, errors
+
+
+def test_rod_output_points_carry_the_pre_impact_vibration():
+    """Fixed rod vibrating in its first mode (1 mm at the struck end) with points xi = 0, 0.5.
+
+    At t = 0 the mid point is at phi_1(0.5)/phi_1(0) = cos(pi/4) of the struck end's 1 mm;
+    the struck end's output is the contact displacement y2 at every sample.
+    """
+    rod = Rod(1.0, 1.0, support="fixed")
+    res = solve_impact(Body(LumpedMass(1.0), velocity=1.0),
+                       Body(rod, vibration=[[-1e-3, 0.0]], outputs=[0.0, 0.5]),
+                       gap=1e-3, t_end=1.0, dt=1e-3)
+    p = res.points[1]
+    assert p.displacement[1, 0] == pytest.approx(-1e-3 * np.cos(np.pi / 4), rel=1e-12)
+    np.testing.assert_allclose(p.displacement[0], res.y2, rtol=0, atol=1e-12)

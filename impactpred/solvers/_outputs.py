@@ -193,26 +193,20 @@ def free_point_motion(body, t):
 def _vibration_residues(body, poles):
     """Each output's residues at the vibration modes' ``poles`` (matched by value)."""
     multi = body.outputs
-    if not isinstance(multi, MultiOutputModalModel):
-        model = body.model
-        if not hasattr(model, "multi_output_model"):
-            raise NotImplementedError(f"vibration with output points needs "
-                                      f"{type(model).__name__}.multi_output_model")
+    if isinstance(multi, MultiOutputModalModel):
+        residues = multi.residues
+    else:                       # a Rod or CantileverBeam with positions xi
         xi = np.asarray(body.outputs)
         rows = np.arange(xi.size)
         if not np.any(xi == 0.0):  # the model wants the driving point among its outputs
             xi, rows = np.concatenate([[0.0], xi]), rows + 1
-        multi = model.multi_output_model(xi, poles.size)
-        multi = multi.replace(residues=multi.residues[rows], driving_point=0,
-                              real_residues=multi.real_residues[rows],
-                              inverse_mass=multi.inverse_mass[rows],
-                              flexibility=multi.flexibility[rows],
-                              outputs=tuple(multi.outputs[r] for r in rows))
+        multi = body.model.multi_output_model(xi, poles.size)
+        residues = multi.residues[rows]
     distance = np.abs(multi.poles[None, :] - poles[:, None])
     index = np.argmin(distance, axis=1)
     if np.any(distance[np.arange(poles.size), index] > 1e-9 * np.abs(poles)):
         raise ValueError("the output model's poles do not match the vibration modes")
-    return multi.residues[:, index]
+    return residues[:, index]
 
 
 def _transfer_responses(body, t, dt):
