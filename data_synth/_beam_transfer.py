@@ -109,7 +109,7 @@ def _transfer(x: np.ndarray, xi: np.ndarray, flex: float) -> np.ndarray:
     ulps of ``|H(0, s)|``; the relative accuracy degrades only next to the clamp, where
     ``H`` vanishes.
     """
-    from .beam import _DEN_SERIES, _horner
+    from .beam import _DEN_SERIES, _folded_branch, _horner
 
     pad = (1,) * x.ndim
     xi_b = xi.reshape(xi.shape + pad)
@@ -121,20 +121,13 @@ def _transfer(x: np.ndarray, xi: np.ndarray, flex: float) -> np.ndarray:
         num = num * z + np.polynomial.polynomial.polyval(u, row)
     series = flex * num / _horner(_DEN_SERIES, z)
 
-    e = np.sqrt(1j * np.where(small, 1.0, x))
-    angle = np.angle(e)
-    e = np.where(angle > 0.25 * np.pi, -1j * e, np.where(angle < -0.25 * np.pi, 1j * e, e))
-    lower = e.imag < 0.0
-    e = np.where(lower, e.conj(), e)
+    e, lower, _, _, denominator = _folded_branch(x, small)
     with np.errstate(under="ignore", over="ignore", invalid="ignore"):
-        p = np.exp(-2.0 * e)
-        q = np.exp(2j * e)
-        g = 4.0 * np.exp(-(1.0 - 1j) * e)
         numerator = np.zeros(xi.shape + x.shape, dtype=complex)
         for a0, a1, b0, b1, c in _EXP_TERMS:
             numerator = numerator + c * np.exp(e * (a0 + a1 * xi_b) + 1j * e * (b0 + b1 * xi_b))
         r3 = (1.0 / e) ** 3  # |e| >= 1; underflows (to 0) where e**3 would overflow
-        direct = _safe_ratio(0.5 * flex * numerator * r3, g + (1.0 + p) * (1.0 + q))
+        direct = _safe_ratio(0.5 * flex * numerator * r3, denominator)
     direct = np.where(lower, direct.conj(), direct)
     return np.where(small, series, direct)
 

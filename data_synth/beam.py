@@ -65,6 +65,24 @@ def _dimensionless_receptance(x: np.ndarray) -> np.ndarray:
     z = -np.where(small, x, 0.0) ** 2
     series = _horner(_NUM_SERIES, z) / _horner(_DEN_SERIES, z)
 
+    e, lower, p, q, denominator = _folded_branch(x, small)
+    with np.errstate(under="ignore", over="ignore", invalid="ignore"):
+        num = 1j * (1.0 + p) * (1.0 - q) - (1.0 - p) * (1.0 + q)
+        r = 1.0 / e  # |e| >= 1; r**3 underflows (to 0) where e**3 would overflow
+        direct = num * r**3 * _reciprocal(denominator)
+    direct = np.where(lower, direct.conj(), direct)
+    return np.where(small, series, direct)
+
+
+def _folded_branch(x: np.ndarray, small: np.ndarray):
+    """The bounded exponentials of the beam's closed forms at ``|x| >= 1``.
+
+    ``e = sqrt(i x)`` (``x`` replaced by 1 where ``small``) rotated by a power of ``i``
+    into ``Re e >= |Im e|`` and conjugated into ``Im e >= 0`` where ``lower``; returns
+    ``(e, lower, P, Q, G + (1+P)(1+Q))`` with ``P = exp(-2e)``, ``Q = exp(2ie)``,
+    ``G = 4 exp(-(1 - i) e)``, all of modulus <= 4. The caller conjugates its result
+    back where ``lower``.
+    """
     e = np.sqrt(1j * np.where(small, 1.0, x))
     angle = np.angle(e)
     e = np.where(angle > 0.25 * np.pi, -1j * e, np.where(angle < -0.25 * np.pi, 1j * e, e))
@@ -73,12 +91,8 @@ def _dimensionless_receptance(x: np.ndarray) -> np.ndarray:
     with np.errstate(under="ignore", over="ignore", invalid="ignore"):
         p = np.exp(-2.0 * e)
         q = np.exp(2j * e)
-        g = 4.0 * np.exp(-(1.0 - 1j) * e)
-        num = 1j * (1.0 + p) * (1.0 - q) - (1.0 - p) * (1.0 + q)
-        r = 1.0 / e  # |e| >= 1; r**3 underflows (to 0) where e**3 would overflow
-        direct = num * r**3 * _reciprocal(g + (1.0 + p) * (1.0 + q))
-    direct = np.where(lower, direct.conj(), direct)
-    return np.where(small, series, direct)
+        denominator = 4.0 * np.exp(-(1.0 - 1j) * e) + (1.0 + p) * (1.0 + q)
+    return e, lower, p, q, denominator
 
 
 def _as_tolerance(name: str, value) -> float:
