@@ -190,8 +190,8 @@ def _effective_inverse_mass(body):
     if isinstance(model, SampledResponse):
         return 0.0
     modal = body.modal_model(20) if not isinstance(model, ModalModel) else model
-    masses = modal.modes["modal_mass"].to_numpy()
-    return modal.inverse_mass + float(np.sum(1.0 / masses[masses > 0]))
+    inverse_masses = -2.0 * modal.poles.imag * modal.residues.imag   # 1/modal_mass
+    return modal.inverse_mass + float(np.sum(inverse_masses[inverse_masses > 0]))
 
 
 def _contact_time_scale(bodies, contact):

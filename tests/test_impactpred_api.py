@@ -6,6 +6,7 @@ import pytest
 
 from data_synth import CantileverBeam, LumpedMass, Rod, SpringMass
 from impactpred import Body, Hertz, LinearSpring, Rigid, SampledResponse, choose_dt, solve_impact
+from impactpred.solvers.modal import solve_modal
 from modalid import ModalModel
 
 matplotlib.use("Agg")
@@ -134,11 +135,21 @@ def test_modal_model_bodies_with_real_poles_step_exactly():
     model = ModalModel(poles=[-0.2 + 6j], residues=[-0.08j], real_poles=[-5.0],
                        real_residues=[0.01], inverse_mass=0.5)
     body1, body2 = Body(LumpedMass(1.0), velocity=1.0), Body(model)
-    modal = solve_impact(body1, body2, contact=LinearSpring(100.0), t_end=2.0, method="modal",
-                         dt=1e-3)
+    # the zero-order hold shares the convolution solver's discretisation: equal to rounding
+    modal = solve_modal((body1, body2), 0.0, LinearSpring(100.0), 2.0, 1e-3, hold="constant")
     conv = solve_impact(body1, body2, contact=LinearSpring(100.0), t_end=2.0,
                         method="convolution", dt=1e-3)
     np.testing.assert_allclose(modal.force, conv.force, atol=1e-10)
+    # the default (first-order hold) against the exact solver: second order in dt
+    exact = solve_impact(body1, body2, contact=LinearSpring(100.0), t_end=2.0,
+                         method="laplace")
+    errors = []
+    for dt in (2e-3, 1e-3):
+        linear = solve_impact(body1, body2, contact=LinearSpring(100.0), t_end=2.0,
+                              method="modal", dt=dt)
+        assert linear.n_contacts == exact.n_contacts
+        errors.append(abs(linear.restitution - exact.restitution))
+    assert errors[1] < 0.3 * errors[0] and errors[1] < 1e-5
 
 
 def test_vibration_that_makes_the_bodies_overlap_at_the_start_is_refused():

@@ -17,6 +17,8 @@ import math
 
 import numpy as np
 import scipy.linalg
+import scipy.sparse
+import scipy.sparse.csgraph
 
 __all__ = ["SpectralPhase", "DefectiveSpectrum"]
 
@@ -25,53 +27,180 @@ class DefectiveSpectrum(ValueError):
     """The non-zero part of ``M`` is not safely diagonalisable."""
 
 
+def _decoupling(t11, t22, t12):
+    """``X`` with ``T11 X - X T22 = -T12`` for the quasi-triangular Schur blocks (LAPACK trsyl)."""
+    x, scale, info = scipy.linalg.lapack.dtrsyl(t11, t22, -t12, isgn=-1)
+    if info < 0:
+        raise ValueError(f"dtrsyl: argument {-info} is invalid")
+    return x / scale
+
+
+def _split(M, tol, max_cond):
+    """``(nil, lam, s0, s1v, in0, in1)`` of ``M`` (n x n): ordered real Schur form, Sylvester
+    decoupling, eigendecomposition of the part with ``|lambda| > tol``."""
+    n = M.shape[0]
+    t, z, k = scipy.linalg.schur(M, output="real",
+                                 sort=lambda re, im: np.hypot(re, im) <= tol)
+    t11, t12, t22 = t[:k, :k], t[:k, k:], t[k:, k:]
+    x = _decoupling(t11, t22, t12) if 0 < k < n else np.zeros((k, n - k))
+    # x_orig = Z [[I, X], [0, I]] [xi0; xi1];  [[I, X], [0, I]]^-1 = [[I, -X], [0, I]]
+    upper = np.eye(n)
+    upper[:k, k:] = x
+    s = z @ upper
+    upper[:k, k:] = -x
+    s_inv = upper @ z.T
+    if k == n:
+        return t11, np.zeros(0, complex), s, np.zeros((n, 0), complex), s_inv, \
+            np.zeros((0, n), complex)
+    lam, v = np.linalg.eig(t22)
+    lu = scipy.linalg.lu_factor(v, check_finite=False)
+    rcond, _ = scipy.linalg.lapack.zgecon(lu[0], np.linalg.norm(v, 1), norm="1")
+    if not rcond * max_cond > 1.0:      # 1-norm condition number estimate
+        raise DefectiveSpectrum(f"eigenvector condition number {1 / rcond:.3g} "
+                                f"(1-norm estimate) exceeds {max_cond:.3g}")
+    in1 = scipy.linalg.lu_solve(lu, s_inv[k:].astype(complex), check_finite=False)
+    return t11, lam, s[:, :k], s[:, k:] @ v, s_inv[:k], in1
+
+
+def _split_blocks(M, tol, max_cond, labels):
+    """:func:`_split` of a block-diagonal ``M`` (up to a permutation), block by block.
+
+    ``labels``: the component of each state. Blocks of one and two states (free modes,
+    rigid bodies, constants) are decomposed together, in closed form or by one batched
+    2 x 2 eigensolve; larger ones, or 2 x 2 blocks with one zero eigenvalue, by
+    :func:`_split`.
+    """
+    n = M.shape[0]
+    order = np.argsort(labels, kind="stable")
+    sizes = np.bincount(labels)
+    groups = np.split(order, np.cumsum(sizes)[:-1])
+    # (idx, s0, in0, nil) and (idx, lam, v, vinv); idx of shape (N, 2) for a batch of 2 x 2
+    nil_parts, mode_parts = [], []
+    ones = [g[0] for g in groups if g.size == 1]
+    if ones:
+        i1 = np.array(ones)
+        a = M[i1, i1]
+        for i, ai in zip(i1[np.abs(a) <= tol], a[np.abs(a) <= tol]):
+            nil_parts.append((np.array([i]), np.ones((1, 1)), np.ones((1, 1)), np.array([[ai]])))
+        live = np.abs(a) > tol
+        if live.any():
+            mode_parts.append((i1[live], a[live].astype(complex), None, None))
+    general = [g for g in groups if g.size > 2]
+    twos = [g for g in groups if g.size == 2]
+    if twos:
+        i2 = np.array(twos)
+        blocks = M[i2[:, :, None], i2[:, None, :]]
+        lam2, v2 = np.linalg.eig(blocks)
+        small = np.abs(lam2) <= tol
+        for g, blk in zip(i2[small.all(axis=1)], blocks[small.all(axis=1)]):
+            nil_parts.append((g, np.eye(2), np.eye(2), blk))
+        live = ~small.any(axis=1)
+        if live.any():
+            cond = np.linalg.cond(v2[live])
+            if np.any(~(cond <= max_cond)):
+                raise DefectiveSpectrum(f"eigenvector condition number {np.max(cond):.3g} "
+                                        f"of a 2 x 2 block exceeds {max_cond:.3g}")
+            mode_parts.append((i2[live], lam2[live], v2[live], np.linalg.inv(v2[live])))
+        general += [g for g, mixed in zip(twos, small.any(axis=1) & ~small.all(axis=1))
+                    if mixed]
+    for g in general:
+        nil, lam, s0, s1v, in0, in1 = _split(M[np.ix_(g, g)], tol, max_cond)
+        if nil.size:
+            nil_parts.append((g, s0, in0, nil))
+        if lam.size:
+            mode_parts.append((g, lam, s1v, in1))
+    k = sum(p[3].shape[0] for p in nil_parts)
+    m = sum(p[1].size for p in mode_parts)
+    nil, s0, in0 = np.zeros((k, k)), np.zeros((n, k)), np.zeros((k, n))
+    lam = np.zeros(m, complex)
+    s1v, in1 = np.zeros((n, m), complex), np.zeros((m, n), complex)
+    c = 0
+    for g, s0_b, in0_b, nil_b in nil_parts:
+        kb = nil_b.shape[0]
+        nil[c:c + kb, c:c + kb] = nil_b
+        s0[g, c:c + kb] = s0_b
+        in0[c:c + kb, g] = in0_b
+        c += kb
+    c = 0
+    for g, lam_b, v_b, w_b in mode_parts:
+        mb = lam_b.size
+        lam[c:c + mb] = lam_b.ravel()
+        if v_b is None:                 # 1 x 1 blocks: unit eigenvectors
+            s1v[g, np.arange(c, c + mb)] = 1.0
+            in1[np.arange(c, c + mb), g] = 1.0
+        elif g.ndim == 2:               # a batch of 2 x 2 blocks, two columns each
+            cols = c + np.arange(mb).reshape(-1, 2)
+            s1v[g[:, :, None], cols[:, None, :]] = v_b
+            in1[cols[:, :, None], g[:, None, :]] = w_b
+        else:
+            s1v[np.ix_(g, np.arange(c, c + mb))] = v_b
+            in1[np.ix_(np.arange(c, c + mb), g)] = w_b
+        c += mb
+    return nil, lam, s0, s1v, in0, in1
+
+
 class SpectralPhase:
-    """Spectral form of ``x' = M x`` with fast evaluation of outputs over many times."""
+    """Spectral form of ``x' = M x`` with fast evaluation of outputs over many times.
+
+    A block-diagonal ``M`` (up to a permutation of the states: uncoupled modes, the free
+    flight of two bodies) is decomposed block by block, which gives the same form.
+    """
 
     def __init__(self, M, *, zero_tol=1e-9, max_cond=1e8):
         M = np.asarray(M, dtype=float)
         n = M.shape[0]
         norm = np.linalg.norm(M, 1) or 1.0
         tol = zero_tol * norm
-        t, z, k = scipy.linalg.schur(M, output="real",
-                                     sort=lambda re, im: np.hypot(re, im) <= tol)
-        t11, t12, t22 = t[:k, :k], t[:k, k:], t[k:, k:]
-        x = (scipy.linalg.solve_sylvester(t11, -t22, -t12) if 0 < k < n
-             else np.zeros((k, n - k)))
-        # x_orig = Z [[I, X], [0, I]] [xi0; xi1]
-        upper = np.eye(n)
-        upper[:k, k:] = x
-        s = z @ upper
-        s_inv = np.linalg.solve(upper, z.T) if k else z.T
-        lam, v = (np.linalg.eig(t22) if k < n else (np.zeros(0, complex), np.zeros((0, 0))))
-        if lam.size and np.linalg.cond(v) > max_cond:
-            raise DefectiveSpectrum(f"eigenvector condition number {np.linalg.cond(v):.3g}")
+        n_comp, labels = (scipy.sparse.csgraph.connected_components(
+            scipy.sparse.csr_array((M != 0) | (M.T != 0)), directed=False)
+            if n > 2 else (1, None))
+        nil, lam, s0, s1v, in0, in1 = (_split_blocks(M, tol, max_cond, labels) if n_comp > 1
+                                       else _split(M, tol, max_cond))
+        k = nil.shape[0]
         self.n, self.k = n, k
-        self.nil = t11
+        self.nil = nil
         self.lam = lam
-        self.s0 = s[:, :k]
-        self.s1v = s[:, k:] @ v if lam.size else np.zeros((n, 0), complex)
-        self.in0 = s_inv[:k]
-        self.in1 = np.linalg.solve(v, s_inv[k:]) if lam.size else np.zeros((0, n), complex)
+        self.s0 = s0
+        self.s1v = s1v
+        self.in0 = in0
+        self.in1 = in1
         # powers N^j / j! for the polynomial part (N nilpotent: N^k = 0)
         powers = [np.eye(k)]
         for j in range(1, k + 1):
-            powers.append(powers[-1] @ t11 / j)
+            powers.append(powers[-1] @ nil / j)
         self.powers = powers[:k] if k else []
         self.max_rate = float(np.max(np.abs(lam))) if lam.size else 0.0
+        # conjugate pairs folded for real states: Re(v c e^{l t} + conj(...)) = 2 Re(v c e^{l t})
+        # (LAPACK returns the pairs exactly conjugate); the methods below use this form
+        keep = lam.imag >= 0.0
+        weight = np.where(lam.imag > 0.0, 2.0, 1.0)[keep]
+        self.rates = np.ascontiguousarray(lam[keep])
+        self._modes = self.s1v[:, keep] * weight
+        self._proj = self.in1[keep]
+        self._s0_powers = (np.stack([self.s0 @ p for p in self.powers]) if k
+                           else np.zeros((0, n, 0)))
 
     def coordinates(self, x):
-        """``(c0, c1)``: the state in the split coordinates."""
-        return self.in0 @ x, self.in1 @ x
+        """``(c0, c1)``: the state in the split coordinates (``c1`` over :attr:`rates`)."""
+        return self.in0 @ x, self._proj @ x
+
+    def project(self, rows):
+        """The constant part of :meth:`output_coefficients` for ``rows``, computed once."""
+        rows = np.atleast_2d(np.asarray(rows, dtype=float))
+        poly = (np.einsum("rn,jnk->rjk", rows, self._s0_powers) if self.k
+                else np.zeros((rows.shape[0], 0, 0)))
+        return poly, rows @ self._modes
 
     def output_coefficients(self, rows, coords):
-        """Polynomial (rows x k) and exponential (rows x m) coefficients of ``rows @ x(t)``."""
+        """Polynomial (rows x k) and exponential (rows x m) coefficients of ``rows @ x(t)``.
+
+        ``rows`` is an array of rows on the state or a :meth:`project` result. The
+        exponential coefficients go with :attr:`rates` (conjugate pairs folded).
+        """
         c0, c1 = coords
-        rows = np.atleast_2d(rows)
-        poly = np.stack([rows @ (self.s0 @ (p @ c0)) for p in self.powers], axis=1) \
-            if self.k else np.zeros((rows.shape[0], 0))
-        expo = (rows @ self.s1v) * c1[None, :]
-        return poly, expo
+        poly_m, expo_m = rows if isinstance(rows, tuple) else self.project(rows)
+        poly = poly_m @ c0 if self.k else np.zeros((expo_m.shape[0], 0))
+        return poly, expo_m * c1[None, :]
 
     def evaluate(self, coefficients, taus, derivative=0):
         """Outputs (rows x len(taus)) at times ``taus`` from ``output_coefficients``."""
@@ -85,7 +214,8 @@ class SpectralPhase:
         poly, expo = coefficients
         taus = np.asarray(taus, dtype=float)
         k = poly.shape[1]
-        e = np.exp(np.outer(self.lam, taus)) if expo.shape[1] else None
+        lam = self.rates
+        e = np.exp(np.outer(lam, taus)) if expo.shape[1] else None
         powers = taus[None, :] ** np.arange(k)[:, None] if k else None
         out = []
         for d in derivatives:
@@ -94,7 +224,7 @@ class SpectralPhase:
                 factors = np.array([math.perm(j, d) for j in range(d, k)], dtype=float)
                 value += (poly[:, d:] * factors) @ powers[:k - d]
             if e is not None:
-                value += ((expo * self.lam[None, :] ** d) @ e).real
+                value += ((expo * lam[None, :] ** d) @ e).real
             out.append(value)
         return out
 
@@ -105,8 +235,8 @@ class SpectralPhase:
         for j in range(derivative, poly.shape[1]):
             value += poly[0, j] * math.perm(j, derivative) * tau ** (j - derivative)
         if expo.shape[1]:
-            value += float(np.dot(expo[0] * self.lam ** derivative,
-                                  np.exp(self.lam * tau)).real)
+            value += float(np.dot(expo[0] * self.rates ** derivative,
+                                  np.exp(self.rates * tau)).real)
         return value
 
     def state(self, coords, tau):
@@ -115,6 +245,6 @@ class SpectralPhase:
         x = np.zeros(self.n)
         if self.k:
             x += self.s0 @ (sum(p * tau**j for j, p in enumerate(self.powers)) @ c0)
-        if self.lam.size:
-            x += (self.s1v @ (np.exp(self.lam * tau) * c1)).real
+        if self.rates.size:
+            x += (self._modes @ (np.exp(self.rates * tau) * c1)).real
         return x

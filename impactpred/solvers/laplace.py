@@ -35,6 +35,7 @@ from modalid._statespace import pole_residue_to_statespace
 
 from ..contact import LinearSpring, Rigid
 from ..result import BodyEnergy, ImpactResult
+from ._exp_kernels import phase_run
 from ._outputs import LaplaceOutputs
 from ._spectral import DefectiveSpectrum, SpectralPhase
 
@@ -132,6 +133,9 @@ class _ExpmForm:
     def coordinates(self, x):
         return x
 
+    def project(self, rows):
+        return np.atleast_2d(rows)
+
     def output_coefficients(self, rows, coords):
         return np.atleast_2d(rows), coords
 
@@ -167,6 +171,8 @@ class _Phase:
         self.rows = rows            # force, y1, y2, gap (4 x n_aug)
         self.event_row = event_row  # event when it turns negative
         self.contact = contact
+        self.rows_proj = self.form.project(rows)
+        self.event_proj = self.form.project(event_row)
 
 
 def solve_laplace(bodies, gap0, contact, t_end, dt, *, notes=()):
@@ -280,10 +286,21 @@ def solve_laplace(bodies, gap0, contact, t_end, dt, *, notes=()):
         closed form.
         """
         form = phase.form
+        if isinstance(form, SpectralPhase):     # compiled: the same rules as below
+            if phase.contact and not phase_log:
+                phase_log.append((phase, t0, form.coordinates(Xa)))
+            (poly_o, expo_o), (poly_e, expo_e) = phase.rows_proj, phase.event_proj
+            tau, x_end, times, values = phase_run(
+                form.rates, form._modes, form._proj, form.in0, form._s0_powers, poly_o,
+                expo_o, poly_e, expo_e, Xa, float(phase.event_row @ Xa), t0, t_end, step,
+                out_step, 0.0 if phase.contact else -tol_g, 1e-12 if phase.contact else tol_g,
+                phase.contact)
+            samples.append((times, values))
+            return (t0 + tau, x_end, True) if tau >= 0.0 else (t_end, x_end, False)
         coords = form.coordinates(Xa)
-        out_coeffs = form.output_coefficients(phase.rows, coords)
-        ev_coeffs = form.output_coefficients(phase.event_row, coords)
-        if phase.contact:
+        out_coeffs = form.output_coefficients(phase.rows_proj, coords)
+        ev_coeffs = form.output_coefficients(phase.event_proj, coords)
+        if phase.contact and not phase_log:
             phase_log.append((phase, t0, coords))
         samples.append((np.array([t0]), form.evaluate(out_coeffs, [0.0])))
         threshold = 0.0 if phase.contact else -tol_g

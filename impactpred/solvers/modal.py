@@ -1,24 +1,65 @@
-"""Time stepping with the exact discretisation of every mode (zero-order hold).
+"""Time stepping with the exact discretisation of every mode.
 
-For a force constant over the step ``[t_n, t_n + dt)``, each complex mode
-(``z' = p z + u``, contribution ``2 Re(r z)``) and real pole advances exactly:
+Each complex mode (``z' = p z + u``, contribution ``Re(w z)`` to the displacement, ``w =
+2 r``) and real pole advances exactly for a force ``u`` that is linear over the step
+``[t_n, t_n + dt]`` (first-order hold, the default):
 
-    z_{n+1} = exp(p dt) z_n + (exp(p dt) - 1)/p u_n,
+    z_{n+1} = exp(p dt) z_n + A u_n + C (u_{n+1} - u_n)/dt,
+    A = (exp(p dt) - 1)/p,   C = (exp(p dt) - 1 - p dt)/p^2,
 
-the rigid body as ``d += v dt + u dt^2/(2M)``, ``v += u dt/M``. The contact force of each
-step solves the same scalar complementarity problem as the convolution solver, so the
-two agree to rounding on the same model; this one carries the history in O(modes)
-state per step instead of an FFT convolution. Cost: O(steps x modes).
+the rigid body as ``d += v dt + (u_n/3 + u_{n+1}/6) dt^2/M``, ``v += (u_n + u_{n+1}) dt/(2M)``,
+the residual flexibility as ``D u``. The contact force ``f_{n+1}`` at each step's end is
+the one for which the contact law holds there (collocation): the gap at the step's end
+is affine in it, ``g_{n+1} = G + K f_{n+1}``, so rigid contact gives ``f = max(0, -G/K)``,
+a spring-dashpot ``f = k d + c d'`` (exact ``d'``) one linear equation, Hertz contact a
+scalar Newton solve. Contact events are located inside the step: a contact starts at
+the root of the exact force-free gap in the step (found by regula falsi on the closed
+form, to rounding), the force then rising linearly from 0 over the rest of the step; a
+contact ends where the force, linear between ``f_n`` and the law's unclipped end value
+(for Hertz contact: the gap, between its values at the step's ends), crosses 0, the
+step then splitting into the exact motion under a ramp down to 0 and the free motion.
+
+Accuracy: exact for any force that is piecewise linear with these knots (the modes'
+truncation is the model's, not the solver's); for the true force, smooth between events,
+second order in ``dt``, contact start and end times and restitution included (on the
+benchmark's 50-mode rod, errors ~300 dt^2 s in the event times: the contact dynamics'
+dispersion, not the event location). First-order exceptions: a dashpot's force jump at
+contact start is spread over the rest of that step, and a load is held linear between
+its samples at the grid times (a jump in the load costs O(dt)). The work of the forces
+on each body is integrated exactly over every (sub)step, so the energy balance of the
+stepped solution holds to rounding. ``force`` holds the force at the grid times (linear
+in between, except in steps with an event). Cost: O(steps x modes) in a compiled (numba)
+kernel (~0.2 us a step for 50 modes), O(modes) exponentials per event, and a one-time
+compilation (~10 s, cached on disk).
+
+Stability of the first-order hold: in contact, the force at a step's end answers the
+one at its start with the ratio ``-K_a/(K + c_law)`` (``K_a``: the end gap's coefficient
+of ``f_n``, ``c_law`` the contact's compliance); with rigid contact and no flexibility
+(``D = 0``: a Dirac-force problem) ``K_a = 2 K`` and the hold oscillates. The solver uses
+the first-order hold when ``K_a <= K + c_law`` (for rigid contact on a 50-mode rod with
+its residual flexibility, any ``dt`` below ~2.4 times the contact time scale
+``sqrt(m_eff D)``), else the zero-order hold.
+
+Zero-order hold (``hold="constant"``: unstable first-order hold, output points, or a
+contact law other than ``Rigid``, ``LinearSpring``, ``Hertz``): the force is constant on
+every step, the same modal maps with ``C = 0`` and ``d += v dt + u dt^2/(2M)``; the
+force of each step solves the same scalar complementarity problem as the convolution
+solver, so the two agree to rounding on the same model. First order in ``dt`` at
+contact events; a Python loop, O(steps x modes).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from ..contact import Hertz, LinearSpring, Rigid
+from ..result import BodyEnergy, ImpactResult
 from ._outputs import ModalOutputs, _require_multi
-from ._stepping import Grid, assemble_result
+from ._stepping import Grid, assemble_result, micro_separation_tolerance
 
 __all__ = ["solve_modal"]
+
+HOLDS = ("auto", "linear", "constant")
 
 
 class _ModalStepper:
@@ -27,6 +68,7 @@ class _ModalStepper:
     def __init__(self, model, dt):
         p = np.concatenate([model.poles, model.real_poles.astype(complex)])
         weight = np.concatenate([2.0 * model.residues, model.real_residues.astype(complex)])
+        self.p = p
         self.E = np.exp(p * dt)
         self.G = np.expm1(p * dt) / p
         self.weight = weight
@@ -38,9 +80,202 @@ class _ModalStepper:
         return float(np.dot(self.weight, z).real) + d
 
 
-def solve_modal(bodies, gap0, contact, t_end, dt, *, notes=()):
-    """Modal time-stepping solve of two bodies with rational (or truncated) models."""
+def _initial_states(bodies, models):
+    """Initial complex modal states of the vibration, in each model's own mode order."""
+    z = []
+    for body, model in zip(bodies, models):
+        zi = np.zeros(model.n_modes + model.real_poles.size, dtype=complex)
+        states = body.initial_modal_states()
+        if states is not None:
+            order = np.argsort(np.abs(model.poles), kind="stable")[:body.vibration.shape[0]]
+            zi[order] = states[2]
+        z.append(zi)
+    return z
+
+
+def _law_code(contact):
+    """(code, k, c, exponent) of the laws the compiled kernel knows, else None."""
+    from ._modal_kernel import HERTZ, RIGID, SPRING
+
+    kind = type(contact)
+    if kind is Rigid:
+        return RIGID, 0.0, 0.0, 1.0
+    if kind is LinearSpring:
+        return SPRING, contact.stiffness, contact.damping, 1.0
+    if kind is Hertz:
+        return HERTZ, contact.stiffness, 0.0, contact.exponent
+    return None
+
+
+def _hold_ratio(steppers, contact, bodies, dt):
+    """``K_a / (K + c_law)``: the first-order hold's force ratio in contact (see module doc)."""
+    h = dt
+    k_a = k_b = inv_eff = 0.0
+    for s in steppers:
+        x = s.p * h
+        a = s.G
+        c = np.where(np.abs(x) < 1e-3, h * h * (0.5 + x / 6.0), (s.E - 1.0 - x) / s.p**2)
+        k_a += float(np.sum(s.weight * (a - c / h)).real) + s.inverse_mass * h * h / 3.0
+        k_b += (float(np.sum(s.weight * c / h).real) + s.inverse_mass * h * h / 6.0
+                + s.flexibility)
+        inv_eff += float(np.sum(s.weight * s.p).real) + s.inverse_mass
+    if not k_b > 0.0:
+        raise ValueError(f"the bodies' response at a step's end to a unit force ramp is "
+                         f"{k_b!r} m/N, not positive: not driving points")
+    if isinstance(contact, LinearSpring):
+        compliance = 1.0 / contact.stiffness
+    elif isinstance(contact, Hertz):
+        # tangent stiffness at the peak of an impact at the approach speed
+        v = abs(bodies[0].velocity - bodies[1].velocity) or 1.0
+        n, k = contact.exponent, contact.stiffness
+        m_eff = 1.0 / inv_eff if inv_eff > 0 else np.inf
+        depth = ((n + 1) * m_eff * v**2 / (2 * k)) ** (1 / (n + 1)) if np.isfinite(m_eff) \
+            else 1.0
+        compliance = 1.0 / (k * n * depth ** (n - 1))
+    else:
+        compliance = 0.0
+    return k_a / (k_b + compliance)
+
+
+def solve_modal(bodies, gap0, contact, t_end, dt, *, notes=(), hold="auto"):
+    """Modal time-stepping solve of two bodies with rational (or truncated) models.
+
+    Parameters
+    ----------
+    bodies : pair of Body
+    gap0 : float
+        Initial gap (m).
+    contact : ContactLaw
+    t_end, dt : float
+        End time and step (s).
+    notes : tuple of str
+        Notes to pass on to the result.
+    hold : {"auto", "linear", "constant"}
+        Force interpolation over a step. ``"auto"``: the first-order hold with located
+        events where it applies and is stable (see the module docstring), else the
+        zero-order hold; ``"constant"``: the zero-order hold (agrees with the convolution
+        solver to rounding); ``"linear"``: the first-order hold, or ``ValueError`` where it
+        does not apply.
+    """
+    if hold not in HOLDS:
+        raise ValueError(f"hold must be one of {HOLDS}, got {hold!r}")
     _require_multi(bodies, "modal")
+    notes = list(notes)
+    if hold != "constant":
+        models = [b.modal_model() for b in bodies]
+        steppers = [_ModalStepper(m, dt) for m in models]
+        why = None
+        if any(b.outputs is not None for b in bodies):
+            why = "output points"
+        elif _law_code(contact) is None:
+            why = f"contact law {type(contact).__name__}"
+        else:
+            ratio = _hold_ratio(steppers, contact, bodies, dt)
+            if not ratio <= 1.0:
+                why = (f"the first-order hold is unstable at this dt (force ratio {ratio:.3g} "
+                       "> 1: rigid contact without flexibility, or dt too coarse for the "
+                       "contact stiffness)")
+        if why is None:
+            return _solve_linear_hold(bodies, models, steppers, gap0, contact, t_end, dt,
+                                      notes)
+        if hold == "linear":
+            raise ValueError(f"the first-order hold does not apply: {why}")
+        notes.append(f"modal: zero-order hold (first order in dt) because of {why}")
+    return _solve_constant_hold(bodies, gap0, contact, t_end, dt, notes=tuple(notes))
+
+
+# ------------------------------------------------------------------ first-order hold
+def _solve_linear_hold(bodies, models, steppers, gap0, contact, t_end, dt, notes):
+    from ._modal_kernel import foh_stepping
+
+    grid = Grid(t_end, dt)
+    loads = [b.load_samples(grid.t) for b in bodies]
+    has_load = any(b.load is not None for b in bodies)
+    z = _initial_states(bodies, models)
+    d = [b.displacement if b.inverse_mass else 0.0 for b in bodies]
+    v = [float(b.velocity) for b in bodies]
+    code, k, c, n = _law_code(contact)
+    s1, s2 = steppers
+    out = foh_stepping(s1.p, s1.weight, float(s1.inverse_mass), float(s1.flexibility), z[0],
+                       float(d[0]), v[0],
+                       s2.p, s2.weight, float(s2.inverse_mass), float(s2.flexibility), z[1],
+                       float(d[1]), v[1],
+                       loads[0], loads[1], has_load, float(gap0), float(dt), grid.n_steps,
+                       code, float(k), float(c), float(n))
+    force, y1, y2, events, impulse, work1, work2 = out[:7]
+    notes.append("modal: first-order hold, contact events located inside the steps "
+                 "(second order in dt); force samples are its values at the grid times")
+    gap = y2 - y1 + gap0
+    tol = micro_separation_tolerance(y1, y2)
+    runs = _contact_runs(events, force, gap, tol, grid)
+    intervals = tuple((a, b) for a, b, _, _ in runs)
+    total_impulse = float(np.sum(impulse))
+    first_impulse = float(np.sum(impulse[runs[0][2]:runs[0][3] + 1])) if runs else 0.0
+
+    b1, b2 = bodies
+    inv = (b1.inverse_mass, b2.inverse_mass)
+    u_before = (b1.velocity, b2.velocity)
+    load_impulse = [float(np.sum(load[1:] + load[:-1]) * 0.5 * dt) for load in loads]
+    u_after = (u_before[0] + inv[0] * (load_impulse[0] - total_impulse),
+               u_before[1] + inv[1] * (load_impulse[1] + total_impulse))
+    energies = []
+    for i, (body, work) in enumerate(((b1, work1), (b2, work2))):
+        rigid_before = 0.5 * u_before[i] ** 2 / inv[i] if inv[i] > 0 else 0.0
+        rigid_after = 0.5 * u_after[i] ** 2 / inv[i] if inv[i] > 0 else 0.0
+        vib_before = body.vibration_energy()
+        energies.append(BodyEnergy(rigid_before, vib_before, rigid_after,
+                                   vib_before + work - (rigid_after - rigid_before)))
+    return ImpactResult(t=grid.t, force=force, y1=y1, y2=y2, gap=gap,
+                        contact_intervals=intervals, dirac_impulses=(),
+                        velocities_before=u_before, velocities_after=u_after,
+                        energy_by_body=tuple(energies), method="modal", dt=dt,
+                        first_contact_impulse=first_impulse, total_impulse=total_impulse,
+                        inverse_masses=inv, notes=tuple(notes), points=(None, None))
+
+
+def _contact_runs(events, force, gap, tol, grid):
+    """Contact intervals ``(start, end, first step, last step)`` from the kernel's events.
+
+    Like the zero-order-hold runs: a contact whose force never exceeds ``1e-10`` of the
+    peak is rounding, not contact, and two contacts separated by an opening whose gap at
+    the grid times never exceeds ``tol`` are one.
+    """
+    raw = []
+    start = None
+    for time, kind, step in events:
+        if kind > 0:
+            start = (float(time), int(step))
+        elif start is not None:
+            raw.append([start[0], float(time), start[1], int(step)])
+            start = None
+    if start is not None:
+        raw.append([start[0], float(grid.t[-1]), start[1], grid.n_steps - 1])
+    if not raw:
+        return []
+    peak = float(np.max(force))
+    t = grid.t
+    runs = np.array([r[:2] for r in raw])
+    first = np.searchsorted(t, runs[:, 0], "right")       # grid times inside each run
+    last = np.searchsorted(t, runs[:, 1], "left")
+    padded = np.append(force, 0.0)
+    bounds = np.minimum(np.column_stack([first, last]).ravel(), force.size)
+    top = np.where(last > first, np.maximum.reduceat(padded, bounds)[::2], 0.0)
+    kept = [run for run, m in zip(raw, top) if m > 1e-10 * peak]
+    merged = []
+    for run in kept:
+        if merged:
+            prev = merged[-1]
+            i0, i1 = np.searchsorted(t, prev[1], "right"), np.searchsorted(t, run[0], "left")
+            if i1 <= i0 or np.all(gap[i0:i1] <= tol):
+                prev[1], prev[3] = run[1], run[3]
+                continue
+        merged.append(run)
+    return [tuple(r) for r in merged]
+
+
+# ------------------------------------------------------------------- zero-order hold
+def _solve_constant_hold(bodies, gap0, contact, t_end, dt, *, notes=()):
+    """The zero-order-hold stepping (Python loop): agrees with the convolution solver."""
     grid = Grid(t_end, dt)
     models = [b.modal_model() for b in bodies]
     steppers = [_ModalStepper(m, dt) for m in models]
@@ -52,15 +287,7 @@ def solve_modal(bodies, gap0, contact, t_end, dt, *, notes=()):
     k0 = first[0] + first[1]
     loads = [b.load_samples(grid.midpoints) for b in bodies]
 
-    # initial modal states of the vibration, in each model's own mode order
-    z = []
-    for body, model in zip(bodies, models):
-        zi = np.zeros(model.n_modes + model.real_poles.size, dtype=complex)
-        states = body.initial_modal_states()
-        if states is not None:
-            order = np.argsort(np.abs(model.poles), kind="stable")[:body.vibration.shape[0]]
-            zi[order] = states[2]
-        z.append(zi)
+    z = _initial_states(bodies, models)
     d = [b.displacement if b.inverse_mass else 0.0 for b in bodies]
     v = [b.velocity for b in bodies]
 

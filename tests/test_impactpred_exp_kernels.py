@@ -1,0 +1,133 @@
+"""The compiled exponential-sum kernels against closed forms and matrix exponentials."""
+
+import math
+
+import numpy as np
+import pytest
+import scipy.linalg
+
+from data_synth import LumpedMass, Rod
+from impactpred import Body, LinearSpring, solve_impact
+from impactpred.solvers import laplace
+from impactpred.solvers._exp_kernels import (
+    first_crossing,
+    phase_run,
+    row_value,
+    sample_rows,
+)
+from impactpred.solvers._spectral import SpectralPhase
+
+
+def _direct(lam, B, P, taus):
+    e = np.exp(np.outer(lam, taus))
+    return (B @ e).real + P @ (taus[None, :] ** np.arange(P.shape[1])[:, None])
+
+
+def test_sample_rows_matches_direct_evaluation_on_long_grids():
+    rng = np.random.default_rng(0)
+    m = 40
+    lam = -rng.uniform(0.0, 0.5, m) + 1j * rng.uniform(0.0, 300.0, m)
+    B = rng.normal(size=(3, m)) + 1j * rng.normal(size=(3, m))
+    P = rng.normal(size=(3, 3))
+    h = 1e-3
+    taus = np.concatenate([[0.0], 0.0007 + h * np.arange(1, 5000), [5.01]])
+    got = sample_rows(lam, B, P, taus, h)
+    want = _direct(lam, B, P, taus)
+    scale = np.abs(B).sum(axis=1)[:, None] + np.abs(P).sum(axis=1)[:, None] * 5.01**2
+    assert np.max(np.abs(got - want) / scale) < 1e-13
+
+
+def test_first_crossing_finds_the_root_to_rounding():
+    # cos(w tau) - 0.5: first root pi / (3 w)
+    w = 7.0
+    lam, b, poly = np.array([1j * w]), np.array([1.0 + 0j]), np.array([-0.5])
+    tau = first_crossing(lam, b, poly, 0.5, 0.0, 0.05, 0.0, 10.0, 0.0, 1e-12, False)
+    assert tau == pytest.approx(math.pi / (3 * w), rel=4e-16)
+
+
+def test_first_crossing_sees_a_dip_between_samples():
+    # cos(w tau) + 0.999 is negative only on |w tau - pi| < 0.0447; no sample lands there
+    w = 1.0
+    lam, b, poly = np.array([1j * w]), np.array([1.0 + 0j]), np.array([0.999])
+    step = 0.37
+    assert not np.any(np.abs(step * np.arange(30) - math.pi) < 0.0448)
+    tau = first_crossing(lam, b, poly, 1.999, 0.0, step, 0.0, 10.0, 0.0, 1e-12, True)
+    assert tau == pytest.approx(math.acos(-0.999), rel=1e-14)
+    # and the threshold only detects: the same dip not reaching -0.01 is no event
+    tau = first_crossing(lam, b, poly, 1.999, 0.0, step, 0.0, 10.0, -0.01, 1e-12, True)
+    assert tau == -1.0
+
+
+def test_first_crossing_looks_for_a_short_lobe_at_the_start():
+    # a row starting at 0 that opens a lobe much shorter than the step, then falls:
+    # tau - 100 tau^2 (root 0.01), searched with step 1
+    lam, b = np.zeros(0, complex), np.zeros(0, complex)
+    poly = np.array([0.0, 1.0, -100.0])
+    tau = first_crossing(lam, b, poly, 0.0, 1.0, 1.0, 0.0, 5.0, 0.0, 1e-12, True)
+    assert tau == pytest.approx(0.01, rel=1e-14)
+    # a row at rounding level that does not open: the event is at once
+    poly = np.array([-1e-20, -1.0])
+    assert first_crossing(lam, b, poly, -1e-20, -1.0, 1.0, 0.0, 5.0, 0.0, 1e-12,
+                          True) == 0.0
+
+
+def test_first_crossing_reports_no_event_before_the_end():
+    lam, b, poly = np.array([-1.0 + 3j]), np.array([0.2 + 0j]), np.array([1.0])
+    assert first_crossing(lam, b, poly, 1.2, -0.2, 0.1, 2.0, 7.0, 0.0, 1e-12, False) == -1.0
+
+
+def test_row_value_derivatives_match_finite_differences():
+    rng = np.random.default_rng(1)
+    lam = -rng.uniform(0, 1, 5) + 1j * rng.uniform(0, 10, 5)
+    b = rng.normal(size=5) + 1j * rng.normal(size=5)
+    poly = rng.normal(size=4)
+    h = 1e-5
+    for d in (0, 1):
+        fd = (row_value(lam, b, poly, 0.3 + h, d) - row_value(lam, b, poly, 0.3 - h, d)) / (2 * h)
+        assert fd == pytest.approx(row_value(lam, b, poly, 0.3, d + 1), rel=1e-7)
+
+
+def test_phase_run_matches_the_matrix_exponential():
+    # a rigid mass (nilpotent block) and two damped modes, coupled
+    rng = np.random.default_rng(2)
+    M = np.zeros((6, 6))
+    M[0, 1] = 1.0
+    M[2:4, 2:4] = [[0.0, 1.0], [-400.0, -0.4]]
+    M[4:6, 4:6] = [[0.0, 1.0], [-2500.0, -1.0]]
+    M[1, 2] = 30.0
+    M[3, 0] = 5.0
+    sp = SpectralPhase(M)
+    rows = rng.normal(size=(3, 6))
+    event_row = np.array([1.0, 0.0, 0.0, 0.0, 0.0, 0.0]) + 0.0  # the mass's displacement
+    x = rng.normal(size=6)
+    x[0] = 2.0
+    (po, eo), (pe, ee) = sp.project(rows), sp.project(event_row)
+    e0 = float(event_row @ x)
+    tau, x_end, times, values = phase_run(sp.rates, sp._modes, sp._proj, sp.in0,
+                                          sp._s0_powers, po, eo, pe, ee, x, e0, 0.3, 2.3,
+                                          1e-3, 0.01, 0.0, 1e-12, True)
+    t_stop = tau if tau >= 0 else 2.0
+    assert x_end == pytest.approx(scipy.linalg.expm(M * t_stop) @ x, rel=1e-11, abs=1e-11)
+    assert times[0] == 0.3 and times[-1] == pytest.approx(0.3 + t_stop, rel=1e-15)
+    assert np.all(np.diff(times[1:-1]) == pytest.approx(0.01))
+    want = np.array([rows @ (scipy.linalg.expm(M * (t - 0.3)) @ x) for t in times]).T
+    assert np.max(np.abs(values - want)) < 1e-10 * np.max(np.abs(want))
+    if tau >= 0:
+        assert event_row @ x_end == pytest.approx(0.0, abs=1e-12 * abs(e0))
+
+
+@pytest.mark.parametrize("contact", ["rigid", "spring"])
+def test_compiled_and_matrix_exponential_paths_agree(monkeypatch, contact):
+    """The compiled search and the matrix-exponential fallback apply the same rules."""
+    bodies = (Body(LumpedMass(0.5), velocity=1.0),
+              Body(Rod(1.0, 1.0, support="fixed").modal_model(12, residual=True)))
+    law = laplace.Rigid() if contact == "rigid" else LinearSpring(2e4)
+    # events do not depend on the output step: a coarse one keeps the expm path quick
+    fast = solve_impact(*bodies, contact=law, t_end=6.0, dt=0.05, method="laplace")
+    monkeypatch.setattr(laplace, "_phase_form", laplace._ExpmForm)
+    slow = solve_impact(*bodies, contact=law, t_end=6.0, dt=0.05, method="laplace")
+    assert "matrix-exponential" in slow.notes[-1]
+    assert len(fast.contact_intervals) == len(slow.contact_intervals) > 1
+    assert np.allclose(fast.contact_intervals, slow.contact_intervals, rtol=0, atol=1e-11)
+    assert fast.restitution == pytest.approx(slow.restitution, rel=1e-10)
+

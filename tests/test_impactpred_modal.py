@@ -1,0 +1,129 @@
+"""The modal solver's first-order hold (the default) against exact answers."""
+
+import math
+
+import numpy as np
+import pytest
+
+from data_synth import LumpedMass, Rod, SpringMass
+from impactpred import Body, Hertz, LinearSpring, Rigid, solve_impact
+from impactpred.solvers.modal import solve_modal
+from modalid import ModalModel, MultiOutputModalModel
+
+
+def _errors(res, exact):
+    assert res.n_contacts == exact.n_contacts
+    ends = np.abs(np.array(res.contact_intervals) - np.array(exact.contact_intervals))
+    return abs(res.restitution - exact.restitution), float(np.max(ends))
+
+
+def test_mass_on_truncated_rod_converges_at_second_order_to_the_exact_solution():
+    """The benchmark's case, smaller: rigid contact on a 10-mode rod with its residual."""
+    striker = Body(LumpedMass(1.0), velocity=1.0)
+    rod = Body(Rod(1.0, 1.0, support="fixed").modal_model(10, residual=True))
+    exact = solve_impact(striker, rod, t_end=3.0, method="laplace")
+    assert exact.n_contacts > 3          # the truncated model chatters
+    errors = []
+    for n in (1000, 2000):
+        res = solve_impact(striker, rod, t_end=3.0, method="modal", dt=1.0 / n)
+        assert any("first-order hold" in note for note in res.notes)
+        errors.append(_errors(res, exact))
+    (de0, ep0), (de1, ep1) = errors
+    assert de1 < 0.3 * de0 and ep1 < 0.3 * ep0        # order ~2 (ratio 1/4)
+    assert de1 < 2e-5 and ep1 < 2e-5
+    # momentum to rounding
+    m = (1.0, None)
+    assert res.velocities_after[0] == pytest.approx(1.0 - res.total_impulse * m[0], abs=1e-14)
+
+
+def test_constant_load_and_spring_contact_against_the_closed_form():
+    """Mass with a constant load closing a gap onto a mass, linear spring contact.
+
+    Free approach: ``g(t) = g0 - v0 t - F t^2/(2 m1)``, exact under the (linear) held load,
+    so the contact start is exact to rounding. In contact the penetration obeys
+    ``d'' = F/m1 - (k/mu) d``: ``d = d_s (1 - cos wt) + (v/w) sin wt`` ends at
+    ``w t = 2 (pi - atan(v/(w d_s)))``.
+    """
+    m1, m2, k, F, v0, g0 = 1.0, 2.0, 1e4, 3.0, 0.5, 2e-3
+    mu = m1 * m2 / (m1 + m2)
+    w = math.sqrt(k / mu)
+    t_c = (-v0 + math.sqrt(v0**2 + 2 * F / m1 * g0)) / (F / m1)
+    v = v0 + F / m1 * t_c
+    d_s = F * mu / (m1 * k)
+    t_e = t_c + 2 * (math.pi - math.atan(v / (w * d_s))) / w
+    body1 = Body(LumpedMass(m1), velocity=v0, load=lambda t: F * np.ones_like(t))
+    body2 = Body(LumpedMass(m2))
+    errs = []
+    for dt in (4e-4, 2e-4):
+        res = solve_impact(body1, body2, gap=g0, contact=LinearSpring(k), t_end=0.04,
+                           method="modal", dt=dt)
+        start, end = res.contact_intervals[0]
+        assert start == pytest.approx(t_c, abs=1e-13)
+        errs.append(abs(end - t_e))
+        # the work on rigid bodies is their kinetic-energy change: exact integration
+        for energy in res.energy_by_body:
+            assert abs(energy.vibration_after) < 1e-12
+    assert errs[1] < 0.3 * errs[0] and errs[1] < 1e-6
+
+
+def test_energy_left_in_a_struck_spring_mass_is_the_exact_one_of_the_stepped_motion():
+    """The work is integrated exactly: the grounded oscillator's energy from the balance
+    equals ``k X^2/2`` of its free oscillation after the contact, to rounding."""
+    m2, k2 = 2.0, 400.0
+    res = solve_impact(Body(LumpedMass(1.0), velocity=1.0), Body(SpringMass(m2, k2)),
+                       contact=LinearSpring(2e4), t_end=0.3, method="modal", dt=2e-4)
+    assert res.n_contacts == 1 and res.contact_intervals[0][1] < 0.2
+    omega = math.sqrt(k2 / m2)
+    i, j = np.searchsorted(res.t, 0.22), np.searchsorted(res.t, 0.25)
+    ya, yb, c = res.y2[i], res.y2[j], math.cos(omega * (res.t[j] - res.t[i]))
+    amplitude2 = (ya**2 + yb**2 - 2 * ya * yb * c) / (1 - c**2)
+    stored = res.energy.loc["body2", "vibration_after"]
+    assert stored == pytest.approx(0.5 * k2 * amplitude2, rel=1e-10)
+
+
+def test_hertz_between_masses_converges_to_the_classical_duration():
+    from scipy.integrate import quad
+
+    m1, m2, k, v = 1.0, 3.0, 1e7, 1.5
+    mu = m1 * m2 / (m1 + m2)
+    depth = (5 * mu * v**2 / (4 * k)) ** 0.4
+    duration = 2 * depth / v * quad(lambda x: 1 / np.sqrt(1 - x**2.5), 0, 1)[0]
+    errors = []
+    for n in (100, 200):
+        r = solve_impact(Body(LumpedMass(m1), velocity=v), Body(LumpedMass(m2)),
+                         contact=Hertz(k), t_end=1.2 * duration, dt=duration / n,
+                         method="modal")
+        errors.append((abs(r.contact_duration - duration), abs(r.restitution - 1.0)))
+    assert errors[1][0] < 0.4 * errors[0][0] and errors[1][0] < 2e-5 * duration
+    assert errors[1][1] < 1e-6
+
+
+def test_zero_order_hold_where_the_first_order_hold_does_not_apply():
+    # rigid contact without flexibility: the first-order hold would oscillate
+    bodies = (Body(LumpedMass(1.0), velocity=1.0), Body(SpringMass(1.0, 100.0)))
+    with pytest.raises(ValueError, match="unstable"):
+        solve_modal(bodies, 0.0, Rigid(), 0.5, 1e-3, hold="linear")
+    res = solve_modal(bodies, 0.0, Rigid(), 0.5, 1e-3)
+    assert any("zero-order hold" in note for note in res.notes)
+    same = solve_modal(bodies, 0.0, Rigid(), 0.5, 1e-3, hold="constant")
+    np.testing.assert_array_equal(res.force, same.force)
+    # output points stay on the zero-order hold
+    multi = MultiOutputModalModel(poles=[-0.3 + 40j], residues=[[-0.05j], [0.02j]],
+                                  inverse_mass=[0.5, 0.5], flexibility=[2e-4, 0.0],
+                                  outputs=["drv", "b"], driving_point=0)
+    res = solve_modal((bodies[0], Body(multi)), 0.0, LinearSpring(1e3), 0.2, 1e-3)
+    assert any("output points" in note for note in res.notes)
+    assert res.points[1] is not None
+    with pytest.raises(ValueError, match="hold"):
+        solve_modal(bodies, 0.0, Rigid(), 0.5, 1e-3, hold="quadratic")
+
+
+def test_first_order_hold_with_damped_modes_and_real_poles_against_the_exact_solver():
+    model = ModalModel(poles=[-0.2 + 6j], residues=[-0.08j], real_poles=[-5.0],
+                       real_residues=[0.01], inverse_mass=0.5)
+    body1, body2 = Body(LumpedMass(1.0), velocity=1.0), Body(model)
+    exact = solve_impact(body1, body2, contact=LinearSpring(100.0), t_end=2.0,
+                         method="laplace")
+    errors = [_errors(solve_impact(body1, body2, contact=LinearSpring(100.0), t_end=2.0,
+                                   method="modal", dt=dt), exact) for dt in (4e-3, 2e-3)]
+    assert errors[1][0] < 0.3 * errors[0][0] and errors[1][1] < 0.3 * errors[0][1]
