@@ -103,9 +103,11 @@ def test_phase_run_matches_the_matrix_exponential():
     x[0] = 2.0
     (po, eo), (pe, ee) = sp.project(rows), sp.project(event_row)
     e0 = float(event_row @ x)
-    tau, x_end, times, values = phase_run(sp.rates, sp._modes, sp._proj, sp.in0,
-                                          sp._s0_powers, po, eo, pe, ee, x, e0, 0.3, 2.3,
-                                          1e-3, 0.01, 0.0, 1e-12, True)
+    tau, x_end, times, values = phase_run(sp.rates, sp._modes.real.copy(),
+                                          sp._modes.imag.copy(), sp._proj.real.copy(),
+                                          sp._proj.imag.copy(), sp.in0, sp._s0_powers, po, eo,
+                                          pe, ee, x, e0, 0.3, 2.3, 1e-3, 0.01, 0.0, 1e-12,
+                                          True)
     t_stop = tau if tau >= 0 else 2.0
     assert x_end == pytest.approx(scipy.linalg.expm(M * t_stop) @ x, rel=1e-11, abs=1e-11)
     assert times[0] == 0.3 and times[-1] == pytest.approx(0.3 + t_stop, rel=1e-15)

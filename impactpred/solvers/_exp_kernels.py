@@ -85,7 +85,7 @@ def sample_rows(lam, B, P, taus, h):
             if not live[r]:
                 continue
             s = 0.0
-            for j in range(m):
+            for j in range(m):      # (a fixed range: it vectorises)
                 s += br[r, j] * zr[j] - bi[r, j] * zi[j]
             acc = 0.0
             for q in range(P.shape[1] - 1, -1, -1):
@@ -283,12 +283,13 @@ def first_crossing(lam, b, poly, e0, de0, step, t0, t_end, threshold, zero_tol, 
 
 
 @njit(cache=True)
-def phase_run(rates, modes, proj, in0, s0_powers, out_poly_m, out_expo_m, ev_poly_m,
-              ev_expo_m, x, e0, t0, t_end, step, out_step, threshold, zero_tol, relative):
+def phase_run(rates, modes_r, modes_i, proj_r, proj_i, in0, s0_powers, out_poly_m,
+              out_expo_m, ev_poly_m, ev_expo_m, x, e0, t0, t_end, step, out_step, threshold,
+              zero_tol, relative):
     """One phase of the exact solver from state ``x`` at ``t0``: its event, samples and end state.
 
     The phase's split form (:class:`._spectral.SpectralPhase`: ``rates`` (m,), ``modes``
-    (n, m), ``proj`` (m, n), ``in0`` (k, n), ``s0_powers`` (k, n, k)) and the projections
+    (n, m) and ``proj`` (m, n) as real and imaginary parts, ``in0`` (k, n), ``s0_powers`` (k, n, k)) and the projections
     of its output rows (``out_poly_m`` (R, k, k), ``out_expo_m`` (R, m)) and event row
     (``ev_*``, one row) give every coefficient; the event is :func:`first_crossing`'s.
 
@@ -308,10 +309,11 @@ def phase_run(rates, modes, proj, in0, s0_powers, out_poly_m, out_expo_m, ev_pol
     k = in0.shape[0]
     c1 = np.zeros(m, np.complex128)
     for j in range(m):
-        acc = 0j
+        acc_re, acc_im = 0.0, 0.0
         for q in range(n):
-            acc += proj[j, q] * x[q]
-        c1[j] = acc
+            acc_re += proj_r[j, q] * x[q]
+            acc_im += proj_i[j, q] * x[q]
+        c1[j] = complex(acc_re, acc_im)
     c0 = np.zeros(k)
     for j in range(k):
         acc_r = 0.0
@@ -362,11 +364,16 @@ def phase_run(rates, modes, proj, in0, s0_powers, out_poly_m, out_expo_m, ev_pol
                 P[r, j] += out_poly_m[r, j, q] * c0[q]
     values = sample_rows(rates, B, P, times - t0, out_step)
     # the state at the end
-    x_end = np.zeros(n)
+    zr, zi = np.empty(m), np.empty(m)
     for j in range(m):
         z = np.exp(rates[j] * tau_end) * c1[j]
-        for q in range(n):
-            x_end[q] += (modes[q, j] * z).real
+        zr[j], zi[j] = z.real, z.imag
+    x_end = np.zeros(n)
+    for q in range(n):
+        acc_r = 0.0
+        for j in range(m):
+            acc_r += modes_r[q, j] * zr[j] - modes_i[q, j] * zi[j]
+        x_end[q] = acc_r
     power = 1.0
     for j in range(k):
         for q in range(n):

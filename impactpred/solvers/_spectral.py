@@ -35,12 +35,33 @@ def _decoupling(t11, t22, t12):
     return x / scale
 
 
+def _ordered_schur(M, tol):
+    """Real Schur form ``M = Z T Z^T`` with the eigenvalues ``|lambda| <= tol`` first.
+
+    LAPACK ``dgees`` then ``dtrsen`` on a selection computed at once (the same result as
+    ``scipy.linalg.schur(..., sort=...)`` without a Python callback per eigenvalue).
+    Returns ``(T, Z, k)``, ``k`` the number of selected eigenvalues.
+    """
+    t, _, wr, wi, z, _, info = scipy.linalg.lapack.dgees(lambda re, im: None, M,
+                                                          compute_v=1, sort_t=0)
+    if info != 0:
+        raise np.linalg.LinAlgError(f"the Schur decomposition failed (dgees info {info})")
+    select = np.hypot(wr, wi) <= tol
+    k = int(np.count_nonzero(select))
+    if 0 < k < M.shape[0]:
+        t, z, _, _, k, _, _, info = scipy.linalg.lapack.dtrsen(select.astype(np.int32), t, z,
+                                                               job="N")
+        if info != 0:
+            raise np.linalg.LinAlgError(f"reordering the Schur form failed (dtrsen info "
+                                        f"{info}): eigenvalues too close to separate")
+    return t, z, k
+
+
 def _split(M, tol, max_cond):
     """``(nil, lam, s0, s1v, in0, in1)`` of ``M`` (n x n): ordered real Schur form, Sylvester
     decoupling, eigendecomposition of the part with ``|lambda| > tol``."""
     n = M.shape[0]
-    t, z, k = scipy.linalg.schur(M, output="real",
-                                 sort=lambda re, im: np.hypot(re, im) <= tol)
+    t, z, k = _ordered_schur(M, tol)
     t11, t12, t22 = t[:k, :k], t[:k, k:], t[k:, k:]
     x = _decoupling(t11, t22, t12) if 0 < k < n else np.zeros((k, n - k))
     # x_orig = Z [[I, X], [0, I]] [xi0; xi1];  [[I, X], [0, I]]^-1 = [[I, -X], [0, I]]

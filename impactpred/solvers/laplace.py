@@ -35,7 +35,7 @@ from modalid._statespace import pole_residue_to_statespace
 
 from ..contact import LinearSpring, Rigid
 from ..result import BodyEnergy, ImpactResult
-from ._exp_kernels import phase_run
+from ._event_loop import MAX_STALLS, contact_start, event_loop
 from ._outputs import LaplaceOutputs
 from ._spectral import DefectiveSpectrum, SpectralPhase
 
@@ -174,6 +174,19 @@ class _Phase:
         self.rows_proj = self.form.project(rows)
         self.event_proj = self.form.project(event_row)
 
+    def kernel_data(self):
+        """The phase as :func:`._event_loop.event_loop` takes it (spectral form only).
+
+        Its output rows leave out the gap (row 3): it is ``y2 - y1 + gap0`` by definition
+        (the flexibility terms included), so the caller forms it from the samples.
+        """
+        f = self.form
+        poly_o, expo_o = f.project(np.delete(self.rows, 3, axis=0))
+        poly_e, expo_e = self.event_proj
+        return (f.rates, f._modes.real.copy(), f._modes.imag.copy(), f._proj.real.copy(),
+                f._proj.imag.copy(), f.in0, f._s0_powers, poly_o, expo_o, poly_e, expo_e,
+                np.asarray(self.event_row, dtype=float))
+
 
 def solve_laplace(bodies, gap0, contact, t_end, dt, *, notes=()):
     """Exact event-driven solve of two rational bodies; see the module docstring."""
@@ -245,26 +258,23 @@ def solve_laplace(bodies, gap0, contact, t_end, dt, *, notes=()):
     def gap_rate(X):
         return float(Cg @ (A @ X[:n])) if n else 0.0
 
+    # the contact rules (Dirac impulse, hold or release), shared with the compiled loop
+    rho_code, coef_value = (-1, 1.0) if rho is None else (rho, float(coef))
+    force_rate_row = force_row @ M_con
+    cg_powers = np.zeros((3, n))
+    if n:
+        cg_powers[0] = Cg @ A
+        cg_powers[1] = cg_powers[0] @ A
+        cg_powers[2] = cg_powers[1] @ A
+
     def start_contact(t, Xa):
         """Apply any Dirac impulse; return (Xa, holds) with holds False if f < 0 at once."""
-        if rho == 2:
-            v_rel = gap_rate(Xa)
-            if v_rel < 0:
-                p = -v_rel / coef
-                Xa = Xa.copy()
-                Xa[:n] += Bf * p
-                Xa[jdx] += p
-                diracs.append((t, p))
-        f0 = float(force_row @ Xa)
-        df0 = float(force_row @ (M_con @ Xa))
-        # rounding in the located gap shows up in f0 (as -g/Dg where rho = 0)
-        f_tol = 1e-9 * (abs(f0) + abs(df0) * step) + (tol_g / abs(coef) if rho == 0 else 0.0)
-        holds = f0 > f_tol or (f0 > -f_tol and df0 > 0)
-        if not holds and df0 > 0 and _free_lobe_height(Xa[:n], A, Cg) <= tol_g:
-            # releasing would open the gap by less than rounding before it closes again:
-            # a separation is real only if the gap then opens (method.md, section 5)
-            holds = True
-        return Xa, holds
+        Xa = Xa.copy()
+        impulse, holds = contact_start(Xa, rho_code, coef_value, Bf, jdx, force_row,
+                                       force_rate_row, cg_powers, step, tol_g)
+        if impulse != 0.0:
+            diracs.append((t, impulse))
+        return Xa, bool(holds)
 
     def emit(phase, coeffs, t0, t_from, t_to, inclusive_end):
         """Output samples of ``phase`` on the output grid in (t_from, t_to)."""
@@ -286,17 +296,6 @@ def solve_laplace(bodies, gap0, contact, t_end, dt, *, notes=()):
         closed form.
         """
         form = phase.form
-        if isinstance(form, SpectralPhase):     # compiled: the same rules as below
-            if phase.contact and not phase_log:
-                phase_log.append((phase, t0, form.coordinates(Xa)))
-            (poly_o, expo_o), (poly_e, expo_e) = phase.rows_proj, phase.event_proj
-            tau, x_end, times, values = phase_run(
-                form.rates, form._modes, form._proj, form.in0, form._s0_powers, poly_o,
-                expo_o, poly_e, expo_e, Xa, float(phase.event_row @ Xa), t0, t_end, step,
-                out_step, 0.0 if phase.contact else -tol_g, 1e-12 if phase.contact else tol_g,
-                phase.contact)
-            samples.append((times, values))
-            return (t0 + tau, x_end, True) if tau >= 0.0 else (t_end, x_end, False)
         coords = form.coordinates(Xa)
         out_coeffs = form.output_coefficients(phase.rows_proj, coords)
         ev_coeffs = form.output_coefficients(phase.event_proj, coords)
@@ -361,7 +360,23 @@ def solve_laplace(bodies, gap0, contact, t_end, dt, *, notes=()):
     t = 0.0
     # touching at t = 0 and approaching: the first contact starts at once
     in_contact = bool(n) and gap0 <= tol_g and gap_rate(Xa) < 0
-    contact_start = 0.0
+    if all(isinstance(p.form, SpectralPhase) for p in (free, stuck)):
+        (status, t_stall, T, V, iv, dv, Xa, first_impulse, first_t0,
+         first_x) = event_loop(free.kernel_data(), stuck.kernel_data(), Xa, in_contact, t_end,
+                               step, out_step, tol_g, rho_code, coef_value, Bf, jdx,
+                               force_row, force_rate_row, cg_powers)
+        if status:
+            raise _grazing(t_stall)
+        V = np.vstack([V[:3], V[2] - V[1] + gap0, V[3:]])
+        intervals = [tuple(r) for r in iv.tolist()]
+        diracs = [tuple(r) for r in dv.tolist()]
+        first_impulse = float(first_impulse)
+        if first_t0 >= 0.0:
+            phase_log.append((stuck, first_t0, stuck.form.coordinates(first_x)))
+        return _result(bodies, sysm, points, T, V, intervals, diracs, phase_log, Xa,
+                       first_impulse, force_row, jdx, t_end, out_step, step, "spectral",
+                       notes)
+    contact_at = 0.0
     first_impulse = None
     if in_contact:
         Xa, in_contact = start_contact(0.0, Xa)
@@ -371,33 +386,44 @@ def solve_laplace(bodies, gap0, contact, t_end, dt, *, notes=()):
     while t < t_end * (1 - 1e-15):
         t_ev, Xa, happened = run_phase(stuck if in_contact else free, t, Xa)
         stalled = stalled + 1 if t_ev == t else 0
-        if stalled > 50:
-            raise RuntimeError(f"contact events repeat without time advancing at t = {t!r} s: "
-                               "the contact state cannot be decided (grazing); use "
-                               "method='modal'")
+        if stalled > MAX_STALLS:
+            raise _grazing(t)
         t = t_ev
         if not happened:
             break
         if in_contact:  # separation
-            intervals.append((contact_start, t))
+            intervals.append((contact_at, t))
             in_contact = False
         else:  # contact
-            contact_start = t
+            contact_at = t
             Xa, in_contact = start_contact(t, Xa)
             if not in_contact:
                 intervals.append((t, t))
         if first_impulse is None and intervals:
             first_impulse = float(Xa[jdx])
     if in_contact:
-        intervals.append((contact_start, t_end))
+        intervals.append((contact_at, t_end))
     if first_impulse is None:
         first_impulse = float(Xa[jdx])
 
     T = np.concatenate([blk[0] for blk in samples])
     V = np.concatenate([blk[1] for blk in samples], axis=1)
+    return _result(bodies, sysm, points, T, V, intervals, diracs, phase_log, Xa,
+                   first_impulse, force_row, jdx, t_end, out_step, step,
+                   "matrix-exponential", notes)
+
+
+def _grazing(t):
+    return RuntimeError(f"contact events repeat without time advancing at t = {t!r} s: the "
+                        "contact state cannot be decided (grazing); use method='modal'")
+
+
+def _result(bodies, sysm, points, T, V, intervals, diracs, phase_log, X_end, first_impulse,
+            force_row, jdx, t_end, out_step, step, kind, notes):
+    """The :class:`ImpactResult` of the samples and events of either event loop."""
+    n = sysm.n
     T, V = _insert_exact_peak(T, V, intervals, phase_log)
     F = np.maximum(V[0], 0.0)
-    X_end = Xa
     in_contact_end = bool(intervals) and intervals[-1][1] == t_end and intervals[-1][0] < t_end
     f_end = float(force_row @ X_end) if in_contact_end else 0.0
     u_before = (bodies[0].velocity, bodies[1].velocity)
@@ -406,8 +432,6 @@ def solve_laplace(bodies, gap0, contact, t_end, dt, *, notes=()):
     after = sysm.energies(X_end[:n], f_end)
     energy = tuple(BodyEnergy(b[0], b[1], a[0], a[1]) for b, a in zip(before, after))
     inv = (bodies[0].inverse_mass, bodies[1].inverse_mass)
-    kind = "spectral" if all(isinstance(p.form, SpectralPhase) for p in (free, stuck)) \
-        else "matrix-exponential"
     note = (f"exact (Laplace/state-space, {kind}) solution; output step {out_step:.4g} s, "
             f"event search step {step:.4g} s",)
     return ImpactResult(t=T, force=F, y1=V[1], y2=V[2], gap=V[3],
@@ -418,21 +442,6 @@ def solve_laplace(bodies, gap0, contact, t_end, dt, *, notes=()):
                         total_impulse=float(X_end[jdx]), inverse_masses=inv,
                         notes=tuple(notes) + note,
                         points=points.responses(bodies, T, V[4:]))
-
-
-def _free_lobe_height(X, A, Cg):
-    """Largest gap (m) a free flight from ``X`` opens before closing, by its cubic Taylor form."""
-    g1 = float(Cg @ (A @ X))
-    g2 = float(Cg @ (A @ (A @ X)))
-    g3 = float(Cg @ (A @ (A @ (A @ X))))
-    if g3 >= 0:
-        return np.inf  # the cubic does not close again: a real opening
-    roots = np.roots([0.5 * g3, g2, g1])          # g'(tau) = 0
-    roots = roots[np.isreal(roots) & (roots.real > 0)].real
-    if roots.size == 0:
-        return 0.0
-    tau = float(np.max(roots))
-    return g1 * tau + 0.5 * g2 * tau**2 + g3 * tau**3 / 6.0
 
 
 def _insert_exact_peak(T, V, intervals, phase_log):

@@ -1,0 +1,217 @@
+"""The exact solver's event loop, compiled (numba): free flight and contact until ``t_end``.
+
+:func:`event_loop` alternates the two phases of :mod:`.laplace` (each propagated in closed
+form by :func:`._exp_kernels.phase_run`) and applies the contact rules between them with
+:func:`contact_start`, which the matrix-exponential fallback in :mod:`.laplace` calls too,
+so both paths decide contacts identically. Cost: one compiled call per solve; per event
+O(terms x search points) plus O(states^2) for the contact decision.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from ._exp_kernels import phase_run
+
+__all__ = ["contact_start", "free_lobe_height", "event_loop"]
+
+#: an event loop that does not advance this many times in a row is stalled (grazing)
+MAX_STALLS = 50
+
+
+@njit(cache=True)
+def free_lobe_height(x, cg_powers):
+    """Largest gap (m) a free flight from ``x`` opens before closing (cubic Taylor form).
+
+    ``cg_powers`` (3, n): the rows ``Cg A``, ``Cg A^2``, ``Cg A^3`` of the gap's first three
+    time derivatives.
+    """
+    g1 = np.dot(cg_powers[0], x)
+    g2 = np.dot(cg_powers[1], x)
+    g3 = np.dot(cg_powers[2], x)
+    if g3 >= 0.0:
+        return np.inf            # the cubic does not close again: a real opening
+    disc = g2 * g2 - 2.0 * g3 * g1   # g'(tau) = g1 + g2 tau + g3 tau^2 / 2 = 0
+    if disc < 0.0:
+        return 0.0
+    sq = np.sqrt(disc)
+    tau = max((-g2 + sq) / g3, (-g2 - sq) / g3)
+    if not tau > 0.0:
+        return 0.0
+    return g1 * tau + 0.5 * g2 * tau * tau + g3 * tau ** 3 / 6.0
+
+
+@njit(cache=True)
+def contact_start(xa, rho, coef, bf, jdx, force_row, force_rate_row, cg_powers, step, tol_g):
+    """Start a contact from the augmented state ``xa`` (modified in place by any impulse).
+
+    Where ``H1 + H2 ~ 1/s^2`` (``rho == 2``) and the bodies approach, a Dirac impulse
+    ``P = -g'/coef`` is applied first. The contact then holds if the force starts
+    positive, or at zero (within rounding) and rising; or if releasing it would open
+    the gap by less than rounding before it closes again (method.md, section 5).
+
+    Returns
+    -------
+    (impulse, holds) : (float, bool)
+        The Dirac impulse (N s, 0 if none) and whether the contact holds.
+    """
+    n = bf.size
+    impulse = 0.0
+    if rho == 2:
+        v_rel = np.dot(cg_powers[0], xa[:n])
+        if v_rel < 0.0:
+            impulse = -v_rel / coef
+            for q in range(n):
+                xa[q] += bf[q] * impulse
+            xa[jdx] += impulse
+    f0 = np.dot(force_row, xa)
+    df0 = np.dot(force_rate_row, xa)
+    # rounding in the located gap shows up in f0 (as -g/Dg where rho = 0)
+    f_tol = 1e-9 * (abs(f0) + abs(df0) * step) + (tol_g / abs(coef) if rho == 0 else 0.0)
+    holds = f0 > f_tol or (f0 > -f_tol and df0 > 0.0)
+    if not holds and df0 > 0.0 and free_lobe_height(xa[:n], cg_powers) <= tol_g:
+        holds = True
+    return impulse, holds
+
+
+@njit(cache=True)
+def _grow_rows(a, need):
+    out = np.empty((a.shape[0], max(need, 2 * a.shape[1])))
+    out[:, :a.shape[1]] = a
+    return out
+
+
+@njit(cache=True)
+def _grow_pairs(a, need):
+    out = np.empty((max(need, 2 * a.shape[0]), 2))
+    out[:a.shape[0]] = a
+    return out
+
+
+@njit(cache=True)
+def event_loop(free, stuck, xa0, in_contact, t_end, step, out_step, tol_g, rho, coef, bf,
+               jdx, force_row, force_rate_row, cg_powers):
+    """Run free flight and contact phases from ``xa0`` at ``t = 0`` to ``t_end``.
+
+    Parameters
+    ----------
+    free, stuck : tuple
+        Each phase as ``(rates, modes_r, modes_i, proj_r, proj_i, in0, s0_powers,
+        out_poly_m, out_expo_m, ev_poly_m, ev_expo_m, event_row)`` (see
+        :func:`._exp_kernels.phase_run`).
+    xa0 : ndarray, shape (n + 2,)
+        Augmented initial state ``[X, 1, J]``.
+    in_contact : bool
+        The bodies touch and approach at ``t = 0``.
+    t_end, step, out_step, tol_g : float
+        End time, event-search step, output step (s) and the gap's rounding level (m).
+    rho, coef : int, float
+        Relative degree of the gap in the force and its coefficient (``rho = -1``: a
+        spring contact, no Dirac impulse).
+    bf, jdx, force_row, force_rate_row, cg_powers
+        Force input of the states (n,), index of ``J``, the contact force and its rate as
+        rows on ``xa``, and the gap's derivative rows (see :func:`contact_start`).
+
+    Returns
+    -------
+    status : int
+        0, or 1 if events repeated without time advancing (grazing).
+    t_stall : float
+        Where it stalled.
+    times, values : ndarray, shapes (N,), (R, N)
+        Output samples (every phase's start, grid points and end).
+    intervals, diracs : ndarray, shape (K, 2)
+        Contact intervals (start, end) and Dirac impulses (time, size).
+    xa_end : ndarray
+        The augmented state at ``t_end``.
+    first_impulse : float
+        ``J`` after the first contact (or at the end if none).
+    first_t0 : float
+        Start of the first contact phase (``-1`` if none); ``first_x`` its state there.
+    """
+    n_rows = free[8].shape[0]
+    cap = int(t_end / out_step) + 64
+    times = np.empty(cap)
+    values = np.empty((n_rows, cap))
+    used = 0
+    intervals = np.empty((8, 2))
+    n_iv = 0
+    diracs = np.empty((8, 2))
+    n_d = 0
+    xa = xa0.copy()
+    first_t0, first_x = -1.0, xa0.copy()
+    first_impulse, have_first = 0.0, False
+    t = 0.0
+    contact_at = 0.0
+    if in_contact:
+        impulse, in_contact = contact_start(xa, rho, coef, bf, jdx, force_row,
+                                            force_rate_row, cg_powers, step, tol_g)
+        if impulse != 0.0:
+            diracs[n_d, 0], diracs[n_d, 1] = 0.0, impulse
+            n_d += 1
+        if not in_contact:
+            intervals[n_iv, 0], intervals[n_iv, 1] = 0.0, 0.0
+            n_iv += 1
+    stalled = 0
+    while t < t_end * (1 - 1e-15):
+        ph = stuck if in_contact else free
+        if in_contact and first_t0 < 0.0:
+            first_t0, first_x = t, xa.copy()
+        e0 = np.dot(ph[11], xa)
+        tau, x_end, ts, vs = phase_run(ph[0], ph[1], ph[2], ph[3], ph[4], ph[5], ph[6],
+                                       ph[7], ph[8], ph[9], ph[10], xa, e0, t, t_end, step,
+                                       out_step,
+                                       0.0 if in_contact else -tol_g,
+                                       1e-12 if in_contact else tol_g, in_contact)
+        if used + ts.size > times.size:
+            need = used + ts.size
+            grown = np.empty(max(need, 2 * times.size))
+            grown[:used] = times[:used]
+            times = grown
+            values = _grow_rows(values, need)
+        for i in range(ts.size):        # explicit loops: numba's 2-D slice copy is slow
+            times[used + i] = ts[i]
+        for r in range(n_rows):
+            for i in range(ts.size):
+                values[r, used + i] = vs[r, i]
+        used += ts.size
+        xa = x_end
+        happened = tau >= 0.0
+        t_ev = t + tau if happened else t_end
+        stalled = stalled + 1 if t_ev == t else 0
+        if stalled > MAX_STALLS:
+            return (1, t, times[:used], values[:, :used], intervals[:n_iv], diracs[:n_d],
+                    xa, first_impulse, first_t0, first_x)
+        t = t_ev
+        if not happened:
+            break
+        if n_iv + 1 > intervals.shape[0]:
+            intervals = _grow_pairs(intervals, n_iv + 1)
+        if in_contact:                  # separation
+            intervals[n_iv, 0], intervals[n_iv, 1] = contact_at, t
+            n_iv += 1
+            in_contact = False
+        else:                           # contact
+            contact_at = t
+            impulse, in_contact = contact_start(xa, rho, coef, bf, jdx, force_row,
+                                                force_rate_row, cg_powers, step, tol_g)
+            if impulse != 0.0:
+                if n_d + 1 > diracs.shape[0]:
+                    diracs = _grow_pairs(diracs, n_d + 1)
+                diracs[n_d, 0], diracs[n_d, 1] = t, impulse
+                n_d += 1
+            if not in_contact:
+                intervals[n_iv, 0], intervals[n_iv, 1] = t, t
+                n_iv += 1
+        if not have_first and n_iv > 0:
+            first_impulse, have_first = xa[jdx], True
+    if in_contact:
+        if n_iv + 1 > intervals.shape[0]:
+            intervals = _grow_pairs(intervals, n_iv + 1)
+        intervals[n_iv, 0], intervals[n_iv, 1] = contact_at, t_end
+        n_iv += 1
+    if not have_first:
+        first_impulse = xa[jdx]
+    return (0, t, times[:used], values[:, :used], intervals[:n_iv], diracs[:n_d], xa,
+            first_impulse, first_t0, first_x)
