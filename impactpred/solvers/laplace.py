@@ -16,11 +16,15 @@ contact force ``f`` acting as ``-f`` on body 1 and ``+f`` on body 2:
   contact's start, returned as such.
 * Linear-spring contact (no damping): ``f = -k g`` while ``g < 0``: again linear.
 
-Events (separation where ``f`` crosses 0, contact where ``g`` crosses 0) are located on a
-grid of exact propagators ``expm(M dt)`` and refined to rounding on the Taylor series of
-the event function (entire in ``t``). No time-step error anywhere; the grid step only
-sets the output sampling and the event search, which can miss an event whose sign change
-lasts less than a grid step (the step resolves the fastest pole: ``pi/(8 |lambda|max)``).
+Each phase is split once into its spectral form (:class:`._spectral.SpectralPhase`), so any
+output is a closed-form sum of exponentials plus a polynomial. Events (separation where
+``f`` crosses 0, contact where ``g`` crosses 0) are searched on that closed form every
+``pi/(8 |lambda|max)`` (the fastest pole), with the dips between samples bounded by the
+cubic Hermite interpolant and its error bound, and polished to rounding by safeguarded
+Newton steps; the loop over phases runs compiled (:mod:`._event_loop`). No time-step
+error anywhere: the output step only sets where the result is sampled. A phase matrix too
+close to defective for an eigendecomposition falls back to matrix exponentials with the
+same rules, in Python.
 """
 
 from __future__ import annotations
