@@ -98,14 +98,15 @@ def event_loop(free, stuck, xa0, in_contact, t_end, step, out_step, tol_g, rho, 
     ----------
     free, stuck : tuple
         Each phase as ``(rates, modes_r, modes_i, proj_r, proj_i, in0, s0_powers,
-        out_poly_m, out_expo_m, ev_poly_m, ev_expo_m, event_row)`` (see
+        out_poly_m, out_expo_m, ev_poly_m, ev_expo_m, event_row, search_step)`` (see
         :func:`._exp_kernels.phase_run`).
     xa0 : ndarray, shape (n + 2,)
         Augmented initial state ``[X, 1, J]``.
     in_contact : bool
         The bodies touch and approach at ``t = 0``.
     t_end, step, out_step, tol_g : float
-        End time, event-search step, output step (s) and the gap's rounding level (m).
+        End time, the search step of the contact decision's rounding level, the output
+        step (s) and the gap's rounding level (m).
     rho, coef : int, float
         Relative degree of the gap in the force and its coefficient (``rho = -1``: a
         spring contact, no Dirac impulse).
@@ -160,7 +161,7 @@ def event_loop(free, stuck, xa0, in_contact, t_end, step, out_step, tol_g, rho, 
             first_t0, first_x = t, xa.copy()
         e0 = np.dot(ph[11], xa)
         tau, x_end, ts, vs = phase_run(ph[0], ph[1], ph[2], ph[3], ph[4], ph[5], ph[6],
-                                       ph[7], ph[8], ph[9], ph[10], xa, e0, t, t_end, step,
+                                       ph[7], ph[8], ph[9], ph[10], xa, e0, t, t_end, ph[12],
                                        out_step,
                                        0.0 if in_contact else -tol_g,
                                        1e-12 if in_contact else tol_g, in_contact)

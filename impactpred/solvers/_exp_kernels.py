@@ -61,14 +61,13 @@ def sample_rows(lam, B, P, taus, h):
     w = np.exp(lam * h)
     wr, wi = w.real.copy(), w.imag.copy()
     br, bi = np.ascontiguousarray(B.real), np.ascontiguousarray(B.imag)
-    live = np.zeros(n_rows, np.bool_)          # rows identically zero stay zero
+    # rows without exponential terms (a rigid body's displacement, the force in free
+    # flight) skip the sum; rows identically zero stay zero
+    has_exp = np.zeros(n_rows, np.bool_)
     for r in range(n_rows):
         for j in range(m):
             if B[r, j] != 0:
-                live[r] = True
-        for q in range(P.shape[1]):
-            if P[r, q] != 0:
-                live[r] = True
+                has_exp[r] = True
     for i in range(n):
         off_grid = i > 0 and abs(taus[i] - taus[i - 1] - h) > 1e-9 * h
         if i % _ANCHOR == 0 or off_grid:
@@ -82,11 +81,10 @@ def sample_rows(lam, B, P, taus, h):
                 zr[j] = a
         tau = taus[i]
         for r in range(n_rows):
-            if not live[r]:
-                continue
             s = 0.0
-            for j in range(m):      # (a fixed range: it vectorises)
-                s += br[r, j] * zr[j] - bi[r, j] * zi[j]
+            if has_exp[r]:
+                for j in range(m):      # (a fixed range: it vectorises)
+                    s += br[r, j] * zr[j] - bi[r, j] * zi[j]
             acc = 0.0
             for q in range(P.shape[1] - 1, -1, -1):
                 acc = acc * tau + P[r, q]

@@ -110,7 +110,9 @@ def _initial_state(body, model, n):
 
 def _relative_degree(sysm: CoupledSystem):
     """(rho, coefficient) of the first derivative of the gap in which ``f`` appears."""
-    scale = max(1.0, float(np.max(np.abs(np.linalg.eigvals(sysm.A))))) if sysm.n else 1.0
+    # the fastest rate of the free bodies: their poles (A is their modal realisation)
+    rates = [np.abs(np.concatenate([m.poles, m.real_poles])) for m in sysm.models]
+    scale = max([1.0] + [float(r.max()) for r in rates if r.size])
     c0 = sysm.Dg
     c1 = float(sysm.Cg @ sysm.Bf) if sysm.n else 0.0
     c2 = float(sysm.Cg @ sysm.A @ sysm.Bf) if sysm.n else 0.0
@@ -178,8 +180,10 @@ class _Phase:
         self.rows_proj = self.form.project(rows)
         self.event_proj = self.form.project(event_row)
 
-    def kernel_data(self):
+    def kernel_data(self, t_end):
         """The phase as :func:`._event_loop.event_loop` takes it (spectral form only).
+
+        Its event search step resolves its own fastest pole: ``pi/(8 |lambda|max)``.
 
         Its output rows leave out the gap (row 3): it is ``y2 - y1 + gap0`` by definition
         (the flexibility terms included), so the caller forms it from the samples.
@@ -189,7 +193,7 @@ class _Phase:
         poly_e, expo_e = self.event_proj
         return (f.rates, f._modes.real.copy(), f._modes.imag.copy(), f._proj.real.copy(),
                 f._proj.imag.copy(), f.in0, f._s0_powers, poly_o, expo_o, poly_e, expo_e,
-                np.asarray(self.event_row, dtype=float))
+                np.asarray(self.event_row, dtype=float), _search_step(f.max_rate, t_end))
 
 
 def solve_laplace(bodies, gap0, contact, t_end, dt, *, notes=()):
@@ -245,9 +249,7 @@ def solve_laplace(bodies, gap0, contact, t_end, dt, *, notes=()):
                                      gap_row + sysm.Dg * force_row,
                                      points.rows(M_con, force_row)]), force_row, True)
 
-    rate = max(free.form.max_rate, stuck.form.max_rate)
-    step = np.pi / (8 * rate) if rate > 0 else t_end / 1000
-    step = min(step, t_end / 20)
+    step = _search_step(max(free.form.max_rate, stuck.form.max_rate), t_end)
     out_step = dt if dt is not None else t_end / 4000
 
     Xa = np.concatenate([sysm.X0, [1.0, 0.0]])
@@ -366,9 +368,9 @@ def solve_laplace(bodies, gap0, contact, t_end, dt, *, notes=()):
     in_contact = bool(n) and gap0 <= tol_g and gap_rate(Xa) < 0
     if all(isinstance(p.form, SpectralPhase) for p in (free, stuck)):
         (status, t_stall, T, V, iv, dv, Xa, first_impulse, first_t0,
-         first_x) = event_loop(free.kernel_data(), stuck.kernel_data(), Xa, in_contact, t_end,
-                               step, out_step, tol_g, rho_code, coef_value, Bf, jdx,
-                               force_row, force_rate_row, cg_powers)
+         first_x) = event_loop(free.kernel_data(t_end), stuck.kernel_data(t_end), Xa,
+                               in_contact, t_end, step, out_step, tol_g, rho_code,
+                               coef_value, Bf, jdx, force_row, force_rate_row, cg_powers)
         if status:
             raise _grazing(t_stall)
         V = np.vstack([V[:3], V[2] - V[1] + gap0, V[3:]])
@@ -415,6 +417,11 @@ def solve_laplace(bodies, gap0, contact, t_end, dt, *, notes=()):
     return _result(bodies, sysm, points, T, V, intervals, diracs, phase_log, Xa,
                    first_impulse, force_row, jdx, t_end, out_step, step,
                    "matrix-exponential", notes)
+
+
+def _search_step(rate, t_end):
+    """Event-search step (s) resolving the fastest pole ``rate`` (rad/s): ``pi/(8 rate)``."""
+    return min(np.pi / (8 * rate) if rate > 0 else t_end / 1000, t_end / 20)
 
 
 def _grazing(t):
@@ -471,5 +478,7 @@ def _insert_exact_peak(T, V, intervals, phase_log):
             t_peak = brentq(rate, a, b, xtol=1e-15 * max(b, 1e-300))
             values = form.evaluate(form.output_coefficients(phase.rows, coords), [t_peak - t0])
             k = int(np.searchsorted(T, t_peak))
-            return np.insert(T, k, t_peak), np.insert(V, k, values[:, 0], axis=1)
+            TV = np.insert(np.vstack([T, V]), k, np.concatenate([[t_peak], values[:, 0]]),
+                           axis=1)
+            return TV[0], TV[1:]
     return T, V
