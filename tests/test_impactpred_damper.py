@@ -285,3 +285,64 @@ def test_rigid_damper_on_a_beam_tip_never_stalls(residual, force):
     assert len(r.impacts) > 10
     assert np.all(np.diff(r.impacts["time"]) > 0)
     assert np.all(np.isfinite(r.primary))
+
+
+def test_damped_linear_spring_grazing_does_not_stall_and_matches_solve_ivp():
+    # found in a sweep: with a spring-dashpot contact the force f = k d + c d' is
+    # continuous across f = 0 (d > 0), and the spring and penetrating-flight phases each
+    # rounded that boundary differently, so each ended the other at once ("contact events
+    # repeat without time advancing", t = 1.776 s). One decision per boundary now.
+    from scipy.integrate import solve_ivp
+
+    m, md, c, f0, fr, kc, cd = 2.0033, 0.20033, 1.2e-4, 2.0, 8.5, 1.797e6, 206.0
+    sm = SpringMass(m, m * (2 * np.pi * 10) ** 2, damping_ratio=0.005)
+    d = ImpactDamper(sm, damper_mass=md, clearance=c, contact=LinearSpring(kc, damping=cd),
+                     excitation=HarmonicForce(f0, fr))
+    r = d.simulate(17, samples_per_cycle=32)
+    assert len(r.impacts) > 100
+    assert np.all(np.diff(r.impacts["time"]) > 0)
+    om, k, cc = 2 * np.pi * fr, sm.stiffness, 2 * 0.005 * math.sqrt(sm.stiffness * m)
+
+    def rhs(t, y):
+        rel, vrel = y[2] - y[0], y[3] - y[1]
+        pen_u, pen_l = rel - c, -rel - c
+        lam = (max(kc * pen_u + cd * vrel, 0.0) if pen_u > 0 else 0.0) \
+            - (max(kc * pen_l - cd * vrel, 0.0) if pen_l > 0 else 0.0)
+        return [y[1], (f0 * np.cos(om * t) - k * y[0] - cc * y[1] + lam) / m, y[3], -lam / md]
+    # fine-step reference over the stretch that stalled, from the engine's exact state
+    g = np.flatnonzero((r.grid_index >= 0) & (r.t >= 1.70))
+    y0 = [r.primary[g[0]], r.primary_velocity[g[0]], r.damper[g[0]], r.damper_velocity[g[0]]]
+    sol = solve_ivp(rhs, (r.t[g[0]], r.t[g[-1]]), y0, t_eval=r.t[g], rtol=1e-11,
+                    atol=1e-15, method="DOP853", max_step=5e-5)
+    scale = np.max(np.abs(sol.y[0]))
+    assert np.max(np.abs(sol.y[0] - r.primary[g])) < 1e-8 * scale
+    assert np.max(np.abs(sol.y[2] - r.damper[g])) < 1e-8 * scale
+    # the stretch has contacts (the grazing one among them)
+    assert np.any((r.impacts["time"] > 1.70) & (r.impacts["time"] < 1.80))
+
+
+def test_compiled_cubic_min_matches_the_vectorised_one():
+    from impactpred.damper._engine_form import _cubic_min
+    from impactpred.damper._kernels import cubic_min
+
+    rng = np.random.default_rng(3)
+    fa, fb, da, db = rng.normal(size=(4, 500))
+    h = rng.uniform(0.1, 2.0, 500)
+    da[:50] = db[:50] = 0.0            # degenerate cubics (c3 = 0, c2 = 0)
+    ref = _cubic_min(fa, fb, da, db, h)
+    got = np.array([cubic_min(*args) for args in zip(fa, fb, da, db, h)])
+    np.testing.assert_allclose(got, ref, rtol=1e-14, atol=1e-15)
+
+
+def test_event_search_is_the_same_with_and_without_the_compiled_grids(monkeypatch):
+    # the recurrence's rounding (1e-15 of the terms) is far under the search's zero
+    # tolerance: the contact history is the same as with e^{lam tau} on every point
+    import impactpred.damper._engine_form as form
+
+    _, d = _beam_tip_damper(damping_ratio=0.01, force=1.0, ratio=1.0)
+    a = d.simulate(6)
+    monkeypatch.setattr(form, "_MIN_KERNEL", 10 ** 9)
+    b = d.simulate(6)
+    assert len(a.impacts) > 10 and len(a.impacts) == len(b.impacts)
+    np.testing.assert_allclose(a.impacts["time"], b.impacts["time"], rtol=1e-13)
+    np.testing.assert_allclose(a.impacts["impulse"], b.impacts["impulse"], rtol=1e-9)

@@ -173,6 +173,7 @@ class Engine:
             lam = s * f
             M = self.A + np.outer(self.Bl, lam)
             self._spring[s] = self._kind(M, lam, [f], f"spring-contact({s:+d})")
+            self._spring[s].event_row = f
             q = k * pen + cd * pen @ self.A
             self._pen[s] = self._kind(self.A, np.zeros(self.n + 2), [-q, pen],
                                       f"penetrating-flight({s:+d})")

@@ -26,6 +26,15 @@ steps not cleared are searched at the next level (``_RATIO`` times finer), so th
 modes cost work only right at an event. At the last level (every term) a sign change
 brackets the root and a dip (slope from negative to positive) has its minimum located;
 the root is polished by safeguarded Newton steps on the closed form, to rounding.
+
+The uniform grids are evaluated by the exact solver's compiled
+:func:`impactpred.solvers._exp_kernels.sample_rows`: the exponentials advance by
+``e^{lambda h}`` from point to point and are recomputed exactly every 32 points and at
+the last one (values to ``~1e-15`` of the terms' moduli, far under the zero tolerance);
+the certification and crossing tests run per step in :mod:`._kernels`.
+A last-level span is evaluated in pieces, stopping at the first piece with an event.
+Roots and dip minima are still located on the closed form itself (``e^{lambda tau}``
+evaluated directly).
 """
 
 from __future__ import annotations
@@ -36,6 +45,8 @@ import numpy as np
 from scipy.optimize import brentq
 
 from ..solvers._spectral import DefectiveSpectrum, SpectralPhase
+from ..solvers._exp_kernels import sample_rows
+from ._kernels import crossing_steps, uncertified_steps
 
 __all__ = ["PhaseKind", "first_event"]
 
@@ -49,6 +60,10 @@ _RATIO = 64.0
 _GEO = np.geomspace(1e-9, 1.0, 16)
 #: max of the Hermite basis functions u(1-u)^2 and u^2(1-u) on [0, 1]
 _H1 = 4.0 / 27.0
+#: uniform grids of at least this many points are evaluated by the compiled kernel
+_MIN_KERNEL = 8
+#: steps of the first piece of a last-level span evaluated at once (then doubling)
+_PIECE = 64
 
 
 class PhaseKind:
@@ -255,7 +270,8 @@ def first_event(kind, b, poly, tau_max, *, scale, zero_tol, on_boundary, open_ro
     on_boundary : bool
         The phase starts at an event: a row (not in ``open_rows``) starting at
         ``<= zero_tol`` that does not turn positive on a geometric grid of the first
-        fine step ends the phase at once (``tau = 0``).
+        fine step ends the phase at once (``tau = 0``). On that grid, crossings and
+        dips between its points are searched as at the last level.
     open_rows : sequence of int
         Rows that start at 0 and were decided to open (the contact decision of
         :mod:`._engine_run`): never an event at ``tau = 0``; if rounding keeps them
@@ -277,13 +293,27 @@ def first_event(kind, b, poly, tau_max, *, scale, zero_tol, on_boundary, open_ro
     PP = np.vstack([poly, dpoly]) if k else None
     ar = np.arange(k)
     BB = np.vstack([b, bl])
+    PP_k = PP if k else np.zeros((2 * K, 0))
     opened = np.zeros(K, bool)
     opened[list(open_rows)] = True
     n_lev = len(levels)
     level_b = {}
 
-    def ev(taus, lv=None):
-        """Values and slopes (2K x len(taus)) of all terms, or of level ``lv``'s."""
+    def ev(taus, lv=None, h=None):
+        """Values and slopes (2K x len(taus)) of all terms, or of level ``lv``'s.
+
+        ``h``: ``taus`` is uniform with that step (but its last point): compiled
+        recurrence (:func:`impactpred.solvers._exp_kernels.sample_rows`).
+        """
+        if h is not None and taus.size >= _MIN_KERNEL:
+            if lv is None or lv == n_lev - 1:
+                lam_l, B = lam, BB
+            else:
+                if lv not in level_b:
+                    c = levels[lv][0]
+                    level_b[lv] = (lam[c], BB[:, c])
+                lam_l, B = level_b[lv]
+            return sample_rows(lam_l, B, PP_k, taus, h)
         if lv is None or lv == n_lev - 1:
             out = (BB @ np.exp(np.outer(lam, taus))).real
         else:
@@ -292,6 +322,7 @@ def first_event(kind, b, poly, tau_max, *, scale, zero_tol, on_boundary, open_ro
                 level_b[lv] = (lam[c], BB[:, c])
             lam_l, B = level_b[lv]
             out = (B @ np.exp(np.outer(lam_l, taus))).real
+        out = np.ascontiguousarray(out)
         if k:
             out += PP @ (taus[None, :] ** ar[:, None])
         return out
@@ -370,22 +401,22 @@ def first_event(kind, b, poly, tau_max, *, scale, zero_tol, on_boundary, open_ro
             x = x_new
         return x
 
-    def crossings(t_all, e_all, de_all, g4):
-        """First event among steps ``t_all[j] -> t_all[j+1]`` with full values, or None."""
-        below = e_all[:, 1:] < -zero_tol[:, None]
-        dips = (de_all[:, :-1] < 0) & (de_all[:, 1:] > 0) & ~below
-        if dips.any():
-            h = np.diff(t_all)[None, :]
-            cm = _cubic_min(e_all[:, :-1], e_all[:, 1:], de_all[:, :-1], de_all[:, 1:], h)
-            dips &= cm - h ** 4 / 384 * g4[:, None] < zero_tol[:, None]
-        flagged = np.flatnonzero((below | dips).any(axis=0))
-        for j in flagged:
+    def crossings(t_all, v, g4):
+        """First event among steps ``t_all[j] -> t_all[j+1]`` with full values, or None.
+
+        ``v`` (2K x len(t_all)): values and slopes. The steps flagged by
+        :func:`._kernels.crossing_steps` (a row below ``-zero_tol`` at the step's end,
+        or a dip whose interpolated minimum may reach it) are examined in order.
+        """
+        steps, code = crossing_steps(t_all, v, K, g4, zero_tol)
+        for idx, j in enumerate(steps.tolist()):
             best = None
             for i in range(K):
+                c = code[i, idx]
+                if c == 0:
+                    continue
                 lo, hi = t_all[j], t_all[j + 1]
-                if not below[i, j]:
-                    if not dips[i, j]:
-                        continue
+                if c == 2:
                     rate = row_fun(i, 1)
                     d_lo, d_hi = rate(lo), rate(hi)
                     t_min = (lo if d_lo >= 0.0 else hi if d_hi <= 0.0
@@ -403,36 +434,37 @@ def first_event(kind, b, poly, tau_max, *, scale, zero_tol, on_boundary, open_ro
     g4_full = amp @ kind.abs_lam4
 
     def fine(a, b_end):
-        """Search ``[a, b_end]`` with every term, every ``h_f`` at most."""
+        """Search ``[a, b_end]`` with every term, every ``h_f`` at most.
+
+        The grid is evaluated in pieces (``_PIECE`` steps, doubling), stopping at the
+        first piece with an event: a span is often uncertified only because a row is
+        negative after its first crossing, up to the span's end.
+        """
         n = max(1, int(math.ceil((b_end - a) / h_f - 1e-9)))
         t_all = a + (b_end - a) * np.arange(n + 1) / n
         t_all[-1] = b_end
-        v = ev(t_all)
-        return crossings(t_all, v[:K], v[K:], g4_full)
+        h = (b_end - a) / n
+        i0, piece = 0, _PIECE
+        while i0 < n:
+            i1 = min(n, i0 + piece)
+            tt = t_all[i0:i1 + 1]
+            found = crossings(tt, ev(tt, h=h), g4_full)
+            if found is not None:
+                return found
+            i0, piece = i1, min(2 * piece, 16 * _PIECE)
+        return None
 
     def uncertified(lv, t_all, v):
         """Indices of the steps of ``t_all`` that level ``lv`` cannot certify.
 
         Lower bound of the cubic Hermite interpolant ``H00 s_a + H01 s_b + h H10 s'_a +
         h H11 s'_b`` (``H00 + H01 = 1``, both >= 0; ``0 <= H10 <= 4/27``,
-        ``-4/27 <= H11 <= 0``), less its error bound, less the terms left out.
+        ``-4/27 <= H11 <= 0``), less its error bound, less the terms left out; the exact
+        minimum of the interpolant where that cheap bound fails
+        (:func:`._kernels.uncertified_steps`).
         """
         _, tail, g4, _ = levels[lv]
-        h = t_all[1:] - t_all[:-1]
-        s, ds = v[:K], v[K:]
-        bound = (np.minimum(s[:, :-1], s[:, 1:])
-                 - _H1 * h * (np.maximum(-ds[:, :-1], 0.0) + np.maximum(ds[:, 1:], 0.0))
-                 - (h ** 4 / 384.0) * g4[:, None] - tail[:, None] - zero_tol[:, None])
-        bad = np.flatnonzero((bound <= 0.0).any(axis=0)) if K > 1 \
-            else np.flatnonzero(bound[0] <= 0.0)
-        if bad.size == 0:
-            return bad
-        # the exact minimum of the interpolant, on the few steps the cheap bound flags
-        sa, sb, da, db = s[:, bad], s[:, bad + 1], ds[:, bad], ds[:, bad + 1]
-        hb = h[bad]
-        cm = _cubic_min(sa, sb, da, db, hb)
-        cm -= (hb ** 4 / 384.0) * g4[:, None] + tail[:, None] + zero_tol[:, None]
-        return bad[(cm <= 0.0).any(axis=0)]
+        return uncertified_steps(t_all, v, K, g4, tail, zero_tol, _H1)
 
     def refine(lv, a, b_end):
         """First event in ``[a, b_end]``, searching level ``lv`` and deeper."""
@@ -442,7 +474,7 @@ def first_event(kind, b, poly, tau_max, *, scale, zero_tol, on_boundary, open_ro
         n = max(1, int(math.ceil((b_end - a) / h - 1e-9)))
         t_all = a + (b_end - a) * np.arange(n + 1) / n
         t_all[-1] = b_end
-        for j0, j1 in _runs(uncertified(lv, t_all, ev(t_all, lv))):
+        for j0, j1 in _runs(uncertified(lv, t_all, ev(t_all, lv, (b_end - a) / n))):
             found = refine(lv + 1, t_all[j0], t_all[j1 + 1])
             if found is not None:
                 return found
@@ -452,18 +484,19 @@ def first_event(kind, b, poly, tau_max, *, scale, zero_tol, on_boundary, open_ro
     if on_boundary:     # a start lobe shorter than a fine step is seen on this grid
         geo = min(h_f, tau_max) * _GEO
         taus = np.concatenate([[0.0], geo])
-        e = ev(taus)[:K]
+        e_all = ev(taus)
+        e = e_all[:K]
         eg = e[:, 1:]
         for i in np.flatnonzero((e[:, 0] <= zero_tol) & ~opened):  # rows at an event
             pos = np.flatnonzero(eg[i] > zero_tol[i])
             if pos.size == 0 or e[i, 0] < -zero_tol[i] or np.any(eg[i, :pos[0]] < -zero_tol[i]):
                 return 0.0, int(i)     # the row does not open: the event is now
             eg[i, :pos[0]] = zero_tol[i]   # rounding-level start: not an event
-        below = eg < -zero_tol[:, None]
-        if below.any():
-            j = int(np.argmax(below.any(axis=0)))
-            lo = geo[j - 1] if j else 0.0
-            return min((locate(i, lo, geo[j]), int(i)) for i in np.flatnonzero(below[:, j]))
+        # sign changes on the grid, and dips between its points (a row that starts
+        # positive may cross and return inside one geometric step)
+        found = crossings(taus, e_all, g4_full)
+        if found is not None:
+            return found
         if geo[-1] >= tau_max:
             return None, -1
         # the rows opened: search on from the end of the geometric grid
@@ -477,7 +510,7 @@ def first_event(kind, b, poly, tau_max, *, scale, zero_tol, on_boundary, open_ro
         grid = tau + h0 * np.arange(0, chunk + 1)
         if grid[-1] >= tau_max:
             grid = np.append(grid[grid < tau_max], tau_max)
-        for j0, j1 in _runs(uncertified(0, grid, ev(grid, 0))):
+        for j0, j1 in _runs(uncertified(0, grid, ev(grid, 0, h0))):
             # consecutive uncertified steps are searched as one span (same first event)
             found = (refine(1, grid[j0], grid[j1 + 1]) if n_lev > 1
                      else fine(grid[j0], grid[j1 + 1]))
@@ -490,9 +523,10 @@ def first_event(kind, b, poly, tau_max, *, scale, zero_tol, on_boundary, open_ro
 
 def _runs(indices):
     """Runs of consecutive step indices as ``(first, last)`` pairs, in order."""
-    if len(indices) == 0:
-        return []
-    breaks = np.flatnonzero(np.diff(indices) != 1)
-    starts = np.concatenate([[indices[0]], indices[breaks + 1]])
-    ends = np.concatenate([indices[breaks], [indices[-1]]])
-    return list(zip(starts.tolist(), ends.tolist()))
+    out = []
+    for i in indices.tolist():
+        if out and i == out[-1][1] + 1:
+            out[-1][1] = i
+        else:
+            out.append([i, i])
+    return [(a, b) for a, b in out]

@@ -14,6 +14,19 @@ event row "open" (never an event at its start), so an event never repeats at the
 time: grazing returns and accumulations of micro-impacts resolve into sticking or into
 separations that advance time. A stuck phase ends where its force crosses zero; the
 free flight then starts open from the stop.
+
+Linear spring(-dashpot) contacts (``f = max(0, k d + c d')`` while the penetration
+``d > 0``): the force law is continuous across ``q = k d + c d' = 0`` (the vector field
+does not jump there), and jumps by ``c d'`` across ``d = 0`` only where ``d' != 0``. The
+phases are free flight (``d < 0``), spring contact (``d > 0``, ``q > 0``) and
+penetrating flight (``d > 0``, ``q <= 0``: the dashpot would pull, the force is 0). At
+every boundary between them (a gap or penetration reaching 0, ``q`` reaching 0) the
+state is put exactly on that boundary (:func:`run`'s ``spring_boundary``: ``d = 0``, or
+``q = 0`` through a rounding-level shift of ``y_d``) and :func:`decide_row` is applied once
+to the force the spring phase would have: positive, the spring phase; negative, the
+free or penetrating flight. The phase chosen starts with its event row open, so the
+decision cannot flip back at the same instant (two phases' closed forms round the same
+``q`` differently, at levels above each other's zero tolerance).
 """
 
 from __future__ import annotations
@@ -97,6 +110,27 @@ def decide(lam, b, poly, orders=4):
     return True
 
 
+def decide_row(row, M, xa, *, first=0, orders=4):
+    """:func:`decide` from the state: the sign of ``row`` along ``xa' = M xa``.
+
+    The Taylor coefficients ``f^(j)(0) = row M^j xa`` (``j = first .. orders - 1``) are
+    computed in the state space, each with its rounding scale ``|row| |M|^j |xa|``
+    (a closed form's coefficients round relative to its own terms, which may be far
+    smaller than what they cancel down from). The first one above ``_DECIDE_RTOL`` of
+    its scale decides: positive, True. All zero to rounding: True. ``first = 1`` when
+    the value itself is zero by construction (the state was put on ``row xa = 0``).
+    """
+    r, ra = np.asarray(row, float), np.abs(row)
+    aM, ax = np.abs(M), np.abs(xa)
+    for j in range(orders):
+        if j >= first:
+            d, mag = float(r @ xa), float(ra @ ax)
+            if abs(d) > _DECIDE_RTOL * mag:
+                return d > 0.0
+        r, ra = r @ M, ra @ aM
+    return True
+
+
 class _Progress:
     def __init__(self, enabled, n_cycles, t_start, period):
         self.enabled, self.n, self.t0, self.T = enabled, n_cycles, t_start, period
@@ -136,6 +170,7 @@ def run(eng, *, start: EngineState, n_cycles, samples_per_cycle, progress):
     v_max = eng.c * eng.omega
     on_boundary = mode != "free"
     open_row = None           # event row decided to open at the phase's start
+    zero_open = False         # ... and 0 there by construction (spring contact)
     stall = crawl = 0
     bar = _Progress(progress, n_cycles, t0_run, T)
     bar.update(t)
@@ -191,6 +226,41 @@ def run(eng, *, start: EngineState, n_cycles, samples_per_cycle, progress):
         i = 0 if s == 1 else 1
         return decide(kind.lam, b[i], poly[i])
 
+    def spring_boundary(s, x, t, q_zero):
+        """Next phase at a boundary of the linear-spring contact at side ``s``.
+
+        ``q_zero``: the event located ``q = k d + c d' = 0`` (else ``d = 0``). The state is
+        put exactly on the boundary (a rounding-level correction: ``d = 0`` and, with
+        ``q = 0`` too, ``d' = 0``; or ``q = 0`` through ``y_d`` when ``d > 0``), then
+        :func:`decide_row` on the spring phase's force chooses, once. Returns
+        ``(x, mode, open_row, zero_start)``; ``zero_start``: the open row is 0 at the
+        start by the correction (its closed form's rounding there is removed).
+        """
+        k, cd = contact.stiffness, contact.damping
+        xa = eng.augmented(x, t)
+        rel = float(eng.r0 @ xa)
+        d = s * rel - eng.c
+        # a gap / penetration event located d = 0; q = 0 is on the stop too when d
+        # is 0 to rounding there (then d' = 0 as well) or without a dashpot (q = k d)
+        on_stop = not q_zero or cd == 0.0 or d <= 1e-12 * max(eng.c, abs(rel))
+        if on_stop:
+            x = pin(x, t, s, q_zero and cd > 0.0)
+        else:           # d > 0 at q = 0 (cd > 0, so no flexibility term: d_p = 0)
+            q = k * d + cd * s * float(r0A @ xa)
+            x = x.copy()
+            x[eng.iy] -= s * q / k
+        kind = eng.spring(s)
+        xa = eng.augmented(x, t)
+        # at d = 0 the value is c d' (nonzero unless grazing); at q = 0 it is 0
+        if decide_row(kind.event_row, kind.M_aug, xa, first=1 if q_zero else 0):
+            f0 = float(kind.event_row @ xa)
+            zero_start = q_zero or abs(f0) <= _DECIDE_RTOL * float(
+                np.abs(kind.event_row) @ np.abs(xa))
+            return x, "spring", 0, zero_start
+        if on_stop:
+            return x, "free", (0 if s == 1 else 1), True
+        return x, "pen", 0, True
+
     def open_impact(s, t, v_rel):
         phase = (eng.omega * t + eng.phi) % (2 * math.pi)
         rec = dict(time=t, side=s, impulse=0.0, duration=0.0, relative_velocity=v_rel,
@@ -233,7 +303,7 @@ def run(eng, *, start: EngineState, n_cycles, samples_per_cycle, progress):
         coords = kind.start(x, t)
         b, poly = kind.coefficients(kind.event, coords)
         b, poly = b[sel], poly[sel]
-        if mode == "free" and open_row is not None and poly.shape[1]:
+        if open_row is not None and poly.shape[1] and (mode == "free" or zero_open):
             # the damper mass was put exactly on the stop: the open gap row is 0 at the
             # start; remove the closed form's rounding there (it scales with the
             # eigenvector conditioning and may exceed the rows' zero tolerance)
@@ -245,7 +315,7 @@ def run(eng, *, start: EngineState, n_cycles, samples_per_cycle, progress):
         tau, row = first_event(kind, b, poly, t_end - t, scale=scale, zero_tol=zero_tol,
                                on_boundary=on_boundary,
                                open_rows=() if open_row is None else (open_row,))
-        open_row = None
+        open_row, zero_open = None, False
         happened = tau is not None
         if not happened:
             tau = t_end - t
@@ -269,6 +339,12 @@ def run(eng, *, start: EngineState, n_cycles, samples_per_cycle, progress):
             xa = eng.augmented(x, t)
             v_rel = -eng.gap_rate(xa, s)
             v_max = max(v_max, v_rel)
+            if isinstance(contact, LinearSpring):
+                x, mode, open_row, zero_open = spring_boundary(s, x, t, False)
+                side = s
+                if mode == "spring":        # a grazing touch without force is no impact
+                    cur = open_impact(s, t, v_rel)
+                continue
             cur = open_impact(s, t, v_rel)
             if isinstance(contact, (Rigid, InstantaneousImpact)):
                 x = pin(x, t, s, False)
@@ -301,8 +377,6 @@ def run(eng, *, start: EngineState, n_cycles, samples_per_cycle, progress):
                     mode, side, open_row = "stuck", s, 0
                 else:
                     mode, open_row = "free", (0 if s == 1 else 1)
-            elif isinstance(contact, LinearSpring):
-                mode, side = "spring", s
             else:
                 mode, side = "hertz", s
         elif mode == "stuck":
@@ -310,12 +384,11 @@ def run(eng, *, start: EngineState, n_cycles, samples_per_cycle, progress):
             x = pin(x, t, side, eng.rho == 2)
             mode, open_row = "free", (0 if side == 1 else 1)
         elif mode == "spring":
-            cur["duration"] = t - cur["time"]
-            xa = eng.augmented(x, t)
-            pen = side * float(eng.r0 @ xa) - eng.c
-            mode = "pen" if pen > 1e-12 * max(eng.c, abs(float(eng.r0 @ xa))) else "free"
-        else:  # pen
-            mode = "spring" if row == 0 else "free"
+            if cur is not None:
+                cur["duration"] = t - cur["time"]
+            x, mode, open_row, zero_open = spring_boundary(side, x, t, True)
+        else:  # pen: row 0 is -q, row 1 the penetration
+            x, mode, open_row, zero_open = spring_boundary(side, x, t, row == 0)
     if mode == "free" or cur is None or mode == "pen":
         open_rec = None
     else:

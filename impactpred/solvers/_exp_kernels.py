@@ -21,7 +21,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["sample_rows", "first_crossing", "row_value", "phase_run"]
+__all__ = ["sample_rows", "first_crossing", "row_value", "phase_run", "hermite_min"]
 
 #: exponentials recomputed exactly every this many grid points
 _ANCHOR = 32
@@ -51,7 +51,8 @@ def sample_rows(lam, B, P, taus, h):
     """Rows ``Re(B e^{lambda tau}) + P tau^j`` at ``taus`` (R x len(taus)).
 
     Where ``taus`` advances by ``h`` (s) the exponentials advance by ``e^{lambda h}``;
-    elsewhere (the first and last points of a phase) they are evaluated directly.
+    every ``_ANCHOR`` points, where it does not (a phase's first point) and at the last
+    point they are evaluated directly: an absolute error of order ``_ANCHOR eps sum |B|``.
     Real and imaginary parts are kept in separate arrays so the term loops vectorise.
     """
     n_rows, m = B.shape
@@ -70,7 +71,7 @@ def sample_rows(lam, B, P, taus, h):
                 has_exp[r] = True
     for i in range(n):
         off_grid = i > 0 and abs(taus[i] - taus[i - 1] - h) > 1e-9 * h
-        if i % _ANCHOR == 0 or off_grid:
+        if i % _ANCHOR == 0 or off_grid or i == n - 1:
             for j in range(m):
                 z = np.exp(lam[j] * taus[i])
                 zr[j], zi[j] = z.real, z.imag
@@ -93,26 +94,25 @@ def sample_rows(lam, B, P, taus, h):
 
 
 @njit(cache=True)
-def _hermite_min(fa, fb, da, db, h):
-    """Minimum over ``[0, h]`` of the cubic Hermite interpolant of values and slopes."""
+def hermite_min(fa, fb, da, db, h):
+    """Minimum over a step ``h`` (s) of the cubic Hermite interpolant of values ``fa, fb``
+    and slopes ``da, db`` at its ends: the ends, the roots of its derivative in the step
+    and the stationary point of its quadratic part (exact up to rounding)."""
     delta = fb - fa
-    dah, dbh = da * h, db * h
-    c2 = 3.0 * delta - 2.0 * dah - dbh
-    c3 = dah + dbh - 2.0 * delta
-    best = min(fa, fb)
-    # p'(u) = dah + 2 c2 u + 3 c3 u^2 on [0, 1]
+    dah = da * h
+    c2 = 3.0 * delta - (2.0 * dah + db * h)
+    c3 = (dah + db * h) - 2.0 * delta
+    out = min(fa, fb)
+    sq = np.sqrt(max(c2 * c2 - 3.0 * c3 * dah, 0.0))
     if c3 != 0.0:
-        disc = c2 * c2 - 3.0 * c3 * dah
-        if disc >= 0.0:
-            sq = np.sqrt(disc)
-            for u in ((-c2 + sq) / (3.0 * c3), (-c2 - sq) / (3.0 * c3)):
-                if 0.0 < u < 1.0:
-                    best = min(best, fa + u * (dah + u * (c2 + u * c3)))
-    elif c2 != 0.0:
-        u = -dah / (2.0 * c2)
-        if 0.0 < u < 1.0:
-            best = min(best, fa + u * (dah + u * c2))
-    return best
+        d3 = 3.0 * c3
+        for u in ((-c2 + sq) / d3, (-c2 - sq) / d3):
+            u = min(max(u, 0.0), 1.0)
+            out = min(out, fa + u * (dah + u * (c2 + u * c3)))
+    if c2 != 0.0:
+        u = min(max(-dah / (2.0 * c2), 0.0), 1.0)
+        out = min(out, fa + u * (dah + u * (c2 + u * c3)))
+    return out
 
 
 @njit(cache=True)
@@ -248,7 +248,7 @@ def first_crossing(lam, b, poly, e0, de0, step, t0, t_end, threshold, zero_tol, 
         a, b_end, e_a = tau_prev, tau, e_prev
         crossed = e < threshold
         if (not crossed and de_prev < 0 and de > 0 and e_prev >= threshold
-                and _hermite_min(e_prev, e, de_prev, de, tau - tau_prev)
+                and hermite_min(e_prev, e, de_prev, de, tau - tau_prev)
                 - (tau - tau_prev) ** 4 / 384.0 * g4 <= threshold):
             # a dip between the samples that the interpolation bound cannot clear:
             # its minimum, where the slope vanishes
