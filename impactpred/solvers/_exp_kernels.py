@@ -46,6 +46,21 @@ def row_value(lam, b, poly, tau, d):
     return s
 
 
+@njit(cache=True, fastmath=True, inline="always")
+def advance_exponentials(lam, tau, exact, zr, zi, wr, wi):
+    """``z = e^{lambda tau}`` (as ``zr + i zi``, in place): directly if ``exact``, else one
+    step of the recurrence ``z <- z w`` with ``w = wr + i wi = e^{lambda h}``."""
+    if exact:
+        for j in range(lam.size):
+            z = np.exp(lam[j] * tau)
+            zr[j], zi[j] = z.real, z.imag
+    else:
+        for j in range(lam.size):
+            a = zr[j] * wr[j] - zi[j] * wi[j]
+            zi[j] = zr[j] * wi[j] + zi[j] * wr[j]
+            zr[j] = a
+
+
 @njit(cache=True, fastmath=True)
 def sample_rows(lam, B, P, taus, h):
     """Rows ``Re(B e^{lambda tau}) + P tau^j`` at ``taus`` (R x len(taus)).
@@ -71,15 +86,8 @@ def sample_rows(lam, B, P, taus, h):
                 has_exp[r] = True
     for i in range(n):
         off_grid = i > 0 and abs(taus[i] - taus[i - 1] - h) > 1e-9 * h
-        if i % _ANCHOR == 0 or off_grid or i == n - 1:
-            for j in range(m):
-                z = np.exp(lam[j] * taus[i])
-                zr[j], zi[j] = z.real, z.imag
-        else:
-            for j in range(m):
-                a = zr[j] * wr[j] - zi[j] * wi[j]
-                zi[j] = zr[j] * wi[j] + zi[j] * wr[j]
-                zr[j] = a
+        exact = i % _ANCHOR == 0 or off_grid or i == n - 1
+        advance_exponentials(lam, taus[i], exact, zr, zi, wr, wi)
         tau = taus[i]
         for r in range(n_rows):
             s = 0.0
@@ -224,15 +232,7 @@ def first_crossing(lam, b, poly, e0, de0, step, t0, t_end, threshold, zero_tol, 
         if t0 + tau >= t_end:
             tau = t_end - t0
             exact = True
-        if exact:
-            for j in range(m):
-                z = np.exp(lam[j] * tau)
-                zr[j], zi[j] = z.real, z.imag
-        else:
-            for j in range(m):
-                a = zr[j] * wr[j] - zi[j] * wi[j]
-                zi[j] = zr[j] * wi[j] + zi[j] * wr[j]
-                zr[j] = a
+        advance_exponentials(lam, tau, exact, zr, zi, wr, wi)
         e, de = 0.0, 0.0
         for j in range(m):
             e += br[j] * zr[j] - bi[j] * zi[j]
@@ -287,7 +287,8 @@ def phase_run(rates, modes_r, modes_i, proj_r, proj_i, in0, s0_powers, out_poly_
     """One phase of the exact solver from state ``x`` at ``t0``: its event, samples and end state.
 
     The phase's split form (:class:`._spectral.SpectralPhase`: ``rates`` (m,), ``modes``
-    (n, m) and ``proj`` (m, n) as real and imaginary parts, ``in0`` (k, n), ``s0_powers`` (k, n, k)) and the projections
+    (n, m) and ``proj`` (m, n) as real and imaginary parts, ``in0`` (k, n), ``s0_powers``
+    (k, n, k)) and the projections
     of its output rows (``out_poly_m`` (R, k, k), ``out_expo_m`` (R, m)) and event row
     (``ev_*``, one row) give every coefficient; the event is :func:`first_crossing`'s.
 

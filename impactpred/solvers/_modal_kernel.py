@@ -187,6 +187,22 @@ def _free_gap(s, z1, d1, v1, p1, w1, inv1, D1, z2, d2, v2, p2, w2, inv2, D2, gap
 
 
 @njit(cache=True)
+def _ramp_response(inv, D, h, w, p, C, Q):
+    """One body's displacement ``Rb``, velocity ``Kv`` and displacement integral ``Qb`` at
+    a step's end per unit end-of-step force of a ramp from 0 (rigid body, flexibility and
+    modes with weights ``w``, poles ``p`` and hold coefficients ``C``, ``Q``)."""
+    h2 = h * h
+    Rb = inv * h2 / 6.0 + D
+    Kv = inv * h / 2.0 + D / h
+    Qb = inv * h2 * h / 24.0 + D * h / 2.0
+    for j in range(p.size):
+        Rb += (w[j] * C[j]).real / h
+        Kv += (w[j] * (p[j] * C[j] / h + 1.0)).real
+        Qb += (w[j] * Q[j]).real / h
+    return Rb, Kv, Qb
+
+
+@njit(cache=True)
 def foh_stepping(p1, w1, inv1, D1, z1_0, d1_0, v1_0,
                  p2, w2, inv2, D2, z2_0, d2_0, v2_0,
                  load1, load2, has_load, gap0, h, n_steps, code, k, c, n):
@@ -225,20 +241,8 @@ def foh_stepping(p1, w1, inv1, D1, z1_0, d1_0, v1_0,
     zt2 = np.empty(m2, np.complex128)
     # coefficients of the end-of-step force f in y (Rb), y' (Kv) and int y (Qb)
     h2 = h * h
-    Rb1 = inv1 * h2 / 6.0 + D1
-    Kv1 = inv1 * h / 2.0 + D1 / h
-    Qb1 = inv1 * h2 * h / 24.0 + D1 * h / 2.0
-    for j in range(m1):
-        Rb1 += (w1[j] * C1[j]).real / h
-        Kv1 += (w1[j] * (p1[j] * C1[j] / h + 1.0)).real
-        Qb1 += (w1[j] * Q1[j]).real / h
-    Rb2 = inv2 * h2 / 6.0 + D2
-    Kv2 = inv2 * h / 2.0 + D2 / h
-    Qb2 = inv2 * h2 * h / 24.0 + D2 * h / 2.0
-    for j in range(m2):
-        Rb2 += (w2[j] * C2[j]).real / h
-        Kv2 += (w2[j] * (p2[j] * C2[j] / h + 1.0)).real
-        Qb2 += (w2[j] * Q2[j]).real / h
+    Rb1, Kv1, Qb1 = _ramp_response(inv1, D1, h, w1, p1, C1, Q1)
+    Rb2, Kv2, Qb2 = _ramp_response(inv2, D2, h, w2, p2, C2, Q2)
     K = Rb1 + Rb2
     Kv = Kv1 + Kv2
     wA1 = w1 * A1
