@@ -269,7 +269,7 @@ def measure_body(body, n_modes, noise, *, seed, measurement=Measurement()) -> Id
     test = synthetic_hammer_test(truth, fs, duration, n_hits=ms.n_hits, pulse_width=0.5 / top,
                                  noise=noise, response=ms.response, seed=seed, anti_alias=True)
     t1 = time.perf_counter()
-    with warnings.catch_warnings():     # at 5 % noise, noise peaks pass for double hits
+    with warnings.catch_warnings():     # pulses of ~2.5 samples: noise may pass for a 2nd hit
         warnings.simplefilter("ignore")
         est = frf_from_hammer(test.force, test.response, fs, response_type=ms.response,
                               exponential_decay=-math.log(ms.window_end) / duration)

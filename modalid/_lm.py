@@ -14,7 +14,7 @@ import numpy as np
 __all__ = ["pole_limits", "bounded_lm"]
 
 
-def pole_limits(lo, hi):
+def pole_limits(lo, hi, max_real=None):
     """``limits(x)``: effective bounds at ``x``, ``Im p`` in ``[lo, hi]`` and then
     ``Re p`` in ``[-Im p, -1e-9 Im p]`` (stable, damping ratio below about 0.7).
 
@@ -22,6 +22,12 @@ def pole_limits(lo, hi):
     ----------
     lo, hi : ndarray of float, shape (n,)
         Bounds on each pole's imaginary part (rad/s).
+    max_real : float, optional
+        A further upper bound on every ``Re p`` (rad/s, < 0), e.g. minus the decay rate
+        of an exponential window, so that the poles stay stable once it is removed; the
+        bound used is ``min(-1e-9 Im p, max_real)`` (and ``-Im p`` stays the lower one,
+        lowered to ``max_real`` when that is below it). ``None`` (default): no further
+        bound.
     """
     n = lo.size
 
@@ -29,6 +35,9 @@ def pole_limits(lo, hi):
         im = np.clip(x[1::2], np.maximum(lo, 1e-9), hi)
         low, high = np.empty(2 * n), np.empty(2 * n)
         low[0::2], high[0::2] = -im, -1e-9 * im
+        if max_real is not None:
+            high[0::2] = np.minimum(high[0::2], max_real)
+            low[0::2] = np.minimum(low[0::2], max_real)
         low[1::2], high[1::2] = np.maximum(lo, 1e-9), hi
         return low, high
 

@@ -270,7 +270,7 @@ class _Projection:
 
 def refine_varpro(omega, values, weights, poles, terms: Terms, *, imag_lo=None, imag_hi=None,
                   hold=None, passive=False, max_iter=50, xtol=1e-12, stat_tol=1e-4,
-                  stall_tol=1e-3, with_std=True, buffers=None):
+                  stall_tol=1e-3, with_std=True, buffers=None, max_real=None):
     """Weighted nonlinear least squares of poles and residues by variable projection.
 
     Parameters
@@ -289,6 +289,10 @@ def refine_varpro(omega, values, weights, poles, terms: Terms, *, imag_lo=None, 
     buffers : dict, optional
         Work arrays kept between calls (pass the same empty dict to a series of calls on
         one data set: a fresh large array costs page faults on first use).
+    max_real : float, optional
+        Upper bound on every ``Re p`` (rad/s, < 0), besides ``Re p < 0`` (see
+        :func:`modalid._lm.pole_limits`): e.g. ``-decay_rate`` of an exponential window,
+        so that the poles stay stable once the window is undone. ``None`` (default): none.
 
     Returns
     -------
@@ -314,7 +318,7 @@ def refine_varpro(omega, values, weights, poles, terms: Terms, *, imag_lo=None, 
     first, spare, g_buffer = buffers[key]
     lo = np.zeros(n) if imag_lo is None else np.asarray(imag_lo, dtype=float)
     hi = np.full(n, np.inf) if imag_hi is None else np.asarray(imag_hi, dtype=float)
-    limits = pole_limits(lo, hi)
+    limits = pole_limits(lo, hi, max_real)
     free_workspaces = [spare, first]   # two projections alive at once: recycle their arrays
 
     def project(v):

@@ -35,6 +35,7 @@ from ._vf import vector_fit_poles
 from .frf import FRFData
 from .frf_set import FRFSet
 from .model import ModalModel
+from .quantities import receptance_to
 from .stabilization import (cluster_poles, plot_fit, plot_stabilization,
                             select_by_information, select_poles, stabilization_table)
 
@@ -83,6 +84,17 @@ class ModalFit(BaseEstimator):
         FRF. ``"noise"``: one over the noise level estimated from the data's own scatter
         (a running median of second differences), for measured FRFs whose noise is not
         proportional (a noise floor). ``"uniform"``: equal weights.
+    weights : array_like of float, optional
+        Weights of the data's lines (one per line of the ``FRFData`` given to ``fit``, all
+        lines, >= 0), for the error in the data's own quantity; they replace
+        ``weighting`` (no reweighting by the model). For example the error of a predicted
+        response spectrum: ``sqrt(S_ff * coherence)`` for an H1 estimate. ``None``
+        (default): ``weighting`` decides. FRFData and ``method`` "lscf" or "vf" only.
+    max_real : float, optional
+        Upper bound (rad/s, < 0) on the real part of every pole in the refinement, e.g.
+        ``-(decay_rate + margin)`` for an FRF with an exponential window, so that the
+        poles stay stable once :func:`correct_exponential_window` has removed it.
+        ``None`` (default): only ``Re p < 0``. FRFData and "lscf" or "vf" only.
 
     Attributes
     ----------
@@ -129,7 +141,7 @@ class ModalFit(BaseEstimator):
 
     def __init__(self, *, method="lscf", n_modes=None, max_order=None, freq_range=None,
                  rigid_body="auto", residuals=("lower", "upper"), passive=True, refine=True,
-                 weighting="relative"):
+                 weighting="relative", weights=None, max_real=None):
         self.method = method
         self.n_modes = n_modes
         self.max_order = max_order
@@ -139,6 +151,8 @@ class ModalFit(BaseEstimator):
         self.passive = passive
         self.refine = refine
         self.weighting = weighting
+        self.weights = weights
+        self.max_real = max_real
 
     # ------------------------------------------------------------------ fitting
     def fit(self, data):
@@ -168,6 +182,13 @@ class ModalFit(BaseEstimator):
         for name in ("model_", "poles_", "stabilization_", "clusters_", "report_", "frf_",
                      "impulse_", "mode_shapes_"):
             self.__dict__.pop(name, None)         # a second fit starts afresh
+        if isinstance(data, FRFSet) and (self.weights is not None
+                                         or self.max_real is not None):
+            raise ValueError("weights and max_real apply to an FRFData fit only")
+        if self.method == "era" and (self.weights is not None or self.max_real is not None):
+            raise ValueError("weights and max_real apply to method 'lscf' or 'vf' only")
+        if self.max_real is not None and not float(self.max_real) < 0:
+            raise ValueError(f"max_real must be negative, got {self.max_real!r}")
         if isinstance(data, FRFSet):              # common poles: see modalid._global
             from ._global import fit_set
             with threadpool_limits(limits=1, user_api="blas"):
@@ -189,10 +210,23 @@ class ModalFit(BaseEstimator):
             raise ValueError(f"n_modes as frequencies must be positive Hz, got {freqs!r}")
         return {"frequencies_hz": freqs}
 
+    def _relative(self):
+        return self.weighting == "relative" and self.weights is None
+
     def _prepare(self, data: FRFData):
+        given = None
+        if self.weights is not None:
+            given = as_real_array("weights", self.weights, ndim=1)
+            if given.shape != data.freq_hz.shape or np.any(given < 0):
+                raise ValueError(f"weights must be {data.freq_hz.size} values >= 0 (one per "
+                                 f"line of the data), got shape {given.shape}")
+            given = given[data.freq_hz > 0]
         data = data.select(data.freq_hz > 0)
         first = data.freq_hz[0]
         if self.freq_range is not None:
+            if given is not None:
+                lo, hi = self.freq_range
+                given = given[(data.freq_hz >= lo) & (data.freq_hz <= hi)]
             data = data.band(self.freq_range)
         cut = bool(data.freq_hz[0] > first)          # lines below the band were dropped
         self._data_band = data                        # in the data's own quantity
@@ -206,6 +240,11 @@ class ModalFit(BaseEstimator):
             w = np.full(mag.size, 1.0 / np.sqrt(np.mean(mag**2)))
         self._coherence_weight = (1.0 if frf.coherence is None
                                   else np.sqrt(np.clip(frf.coherence, 1e-3, 1.0)))
+        if given is not None:      # error in the data's quantity -> in receptance
+            w = given * np.abs(receptance_to(data.quantity, np.ones(frf.omega.size),
+                                             frf.omega))
+            scale = np.sqrt(np.mean((w * mag) ** 2))
+            return frf, w / (scale if scale > 0 else 1.0), cut
         return frf, w * self._coherence_weight, cut
 
     def _fit_frf(self, data: FRFData):
@@ -388,7 +427,7 @@ class ModalFit(BaseEstimator):
                 kinds = kinds[~idle]
         else:
             poles, x, info = refine_varpro(omega, h, w, poles, terms, passive=self.passive,
-                                           max_iter=0)
+                                           max_iter=0, max_real=self.max_real)
             info.update(converged=True, message="linear least squares (refine=False)")
         residues, _, u, d = split_coefficients(x, poles.size, terms)
         info["n_iter_total"] = self._iterations
@@ -420,7 +459,7 @@ class ModalFit(BaseEstimator):
         return lo, hi
 
     def _model_weights(self, omega, poles, x, terms, w0):
-        if self.weighting != "relative":
+        if not self._relative():
             return w0
         r, _, u, d = split_coefficients(x, poles.size, terms)
         mag = np.abs(evaluate(omega, poles, r, (), (), u, d))
@@ -435,7 +474,9 @@ class ModalFit(BaseEstimator):
         lo, hi = self._imag_bounds(kinds, omega, poles)
         kw = dict(imag_lo=lo, imag_hi=hi, passive=self.passive, hold=kinds == "far",
                   buffers=self._buffers)
-        relative = self.weighting == "relative"
+        if self.max_real is not None:
+            kw["max_real"] = self.max_real
+        relative = self._relative()
         poles, x, info = refine_varpro(omega, h, w, poles, terms, with_std=not relative,
                                        stat_tol=0.1 if relative else 1e-4,
                                        max_iter=15 if quick else 50, **kw)

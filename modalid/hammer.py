@@ -20,6 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.fft
+import scipy.ndimage
 import scipy.signal
 
 from ._checks import (as_choice, as_complex_array, as_count, as_nonnegative_scalar,
@@ -124,22 +125,39 @@ def _main_pulse(f: np.ndarray):
 
 
 def _double_hits_in(forces: np.ndarray, fs: float, threshold: float):
+    """Second pulses, found on the record averaged over the main pulse's width.
+
+    A hammer pulse lasts about as long as the main one; noise spikes last a sample. The
+    search runs on the moving average over the main pulse's width at half maximum
+    (``fwhm`` samples), where white noise is ``sqrt(fwhm)`` times smaller and a pulse as
+    wide as the main one keeps its relative height; a second pulse must also stand six
+    robust standard deviations (median absolute deviation) above the averaged record
+    after the main pulse, so that noise never passes for one. The time and height
+    reported are those of the raw record's largest sample within that width of the
+    averaged peak.
+    """
     found = []
     for i, record in enumerate(forces):
         f, k0, peak, fwhm = _main_pulse(record)
         if peak == 0.0:
             raise ValueError(f"force of hit {i} is identically zero: no hammer pulse")
-        below = np.flatnonzero(f[k0:] < threshold * peak)
+        avg = scipy.ndimage.uniform_filter1d(f, size=fwhm, mode="constant")
+        a0 = int(np.argmax(avg[max(k0 - fwhm, 0):k0 + fwhm + 1])) + max(k0 - fwhm, 0)
+        level = threshold * float(avg[a0])
+        below = np.flatnonzero(avg[a0:] < level)
         if below.size == 0:
             continue
-        end = k0 + int(below[0])
-        peaks, props = scipy.signal.find_peaks(f, height=threshold * peak)
-        later = (peaks > end) & (peaks - k0 > fwhm)
-        if np.any(later):
-            heights = props["peak_heights"][later]
-            j = int(np.argmax(heights))
-            k = int(peaks[later][j])
-            found.append((i, k / fs, float(heights[j] / peak), k0 / fs))
+        end = a0 + int(below[0])
+        # and above the averaged noise: 6 robust standard deviations of the rest
+        rest = avg[end:]
+        noise = 1.4826 * float(np.median(np.abs(rest - np.median(rest)))) if rest.size else 0.0
+        peaks, _ = scipy.signal.find_peaks(avg, height=max(level, 6.0 * noise))
+        later = peaks[(peaks > end) & (peaks - k0 > fwhm)]
+        if later.size:
+            k_avg = int(later[np.argmax(avg[later])])
+            lo, hi = max(k_avg - fwhm, 0), min(k_avg + fwhm + 1, f.size)
+            k = lo + int(np.argmax(f[lo:hi]))
+            found.append((i, k / fs, float(f[k] / peak), k0 / fs))
     return found
 
 
@@ -148,9 +166,13 @@ def find_double_hits(force, fs, *, threshold=0.1):
     """Second hammer pulses after the main one, in each force record.
 
     The main pulse is the sample of largest ``|force|`` (the record's sign is taken from
-    it). A double hit is a local maximum above ``threshold`` times the main peak that
-    comes after the force has first fallen below that level and more than one pulse
-    width (the main pulse's width at half maximum) after the main peak.
+    it). The record is averaged over the main pulse's width at half maximum, so that
+    noise spikes (one sample wide) do not count while a pulse as wide as the main one
+    does. A double hit is a local maximum of that average above ``threshold`` times the
+    average's main peak and above six robust standard deviations of the average's noise
+    after the pulse, coming after the average has first fallen below that level and more
+    than one pulse width after the main peak; its time and height are those of the raw
+    record's largest sample within one pulse width.
 
     Parameters
     ----------

@@ -394,3 +394,44 @@ def test_frequency_list_keeps_one_pole_per_frequency():
                    refine=True).fit(data)
     assert fit.report_["n_modes"] == 3
     np.testing.assert_allclose(np.abs(fit.poles_) / (2 * np.pi), freqs, rtol=1e-4)
+
+
+# ------------------------------------------------------------ given weights, pole bound
+def test_given_weights_fit_clean_data_exactly():
+    """Weights change which lines count, not the answer: on exact data any positive
+    weights give the truth (here weights that favour the upper half of the band)."""
+    truth, data, _ = frf_case("fixed rod")
+    w = np.linspace(0.2, 5.0, data.freq_hz.size)
+    fit = ModalFit(weights=w).fit(data)
+    df, dz, dr = relative_errors(*paired(truth, fit.report_["modes"]))
+    assert df.max() < 1e-5 and dz.max() < 1e-3 and dr.max() < 1e-3
+
+
+def test_pole_bound_holds_for_every_refined_pole():
+    # e.g. an exponential window added 2x the lightest mode's decay to every pole: the
+    # refined poles must keep at least that much, so they stay stable once it is removed.
+    # Here the bound is active (the true lightest poles decay slower than it).
+    truth, data, _ = frf_case("fixed rod")
+    lightest = float(np.min(-truth.poles.real))
+    bound = -2.0 * lightest
+    free = ModalFit(method="vf").fit(data)
+    assert np.any(free.model_.poles.real > bound)          # without it, it is crossed
+    fit = ModalFit(method="vf", max_real=bound).fit(data)
+    assert np.all(fit.model_.poles.real <= bound * (1 - 1e-12))
+    # the modes are still all found, at their frequencies
+    true, ident = paired(truth, fit.report_["modes"])
+    df = np.abs(ident["omega_n"].to_numpy() / true["omega_n"].to_numpy() - 1)
+    assert df.max() < 1e-3
+
+
+@pytest.mark.parametrize("settings, match", [
+    (dict(weights=np.ones(3)), "weights must be"),
+    (dict(weights=-np.ones(4000)), "weights must be"),
+    (dict(max_real=0.0), "max_real must be negative"),
+    (dict(max_real=1.0), "max_real must be negative"),
+    (dict(method="era", max_real=-1.0), "lscf' or 'vf' only"),
+])
+def test_bad_weights_and_pole_bound_raise(settings, match):
+    _, data, _ = frf_case("fixed rod")
+    with pytest.raises(ValueError, match=match):
+        ModalFit(**settings).fit(data)

@@ -197,6 +197,23 @@ def test_double_hit_warns_with_hit_index_and_time(truth):
     assert find_double_hits(merged.force, FS, threshold=0.5) == []
 
 
+def test_noise_spikes_are_not_double_hits(truth):
+    # white noise of 5 % of the peak on the force: single samples pass 10 % of the peak
+    # after the pulse (a raw-sample test would flag every hit), a pulse never does
+    test = synthetic_hammer_test(truth, FS, 1.0, n_hits=5, pulse_width=PULSE, noise=0.05,
+                                 seed=4, hit_times=0.01)
+    force = test.force
+    k0 = np.argmax(np.abs(force), axis=1)
+    spikes = [np.sum(np.abs(f[k + 3 * int(PULSE * FS):]) > 0.1 * np.abs(f[k]))
+              for f, k in zip(force, k0)]
+    assert min(spikes) > 0
+    assert find_double_hits(force, FS) == []
+    # a real second pulse in the same noise is still found
+    double = synthetic_hammer_test(truth, FS, 1.0, n_hits=5, pulse_width=PULSE, noise=0.05,
+                                   seed=4, hit_times=0.01, double_hit=[3])
+    assert [hit for hit, _, _ in find_double_hits(double.force, FS)] == [3]
+
+
 # ------------------------------------------------------------------- bad input
 def test_bad_inputs_raise_naming_the_value(clean):
     f, x = clean.force, clean.response
