@@ -25,6 +25,7 @@ from scipy.linalg import cholesky, solve_triangular
 from scipy.signal import find_peaks
 
 from ._checks import as_count
+from ._frf_pipeline import ModalFitWarning, fit_report
 from ._lm import bounded_lm, pole_limits
 from ._lscf import lscf_subbands
 from ._lsfd import (Terms, _bounds, _Projection, _realify, _std, design_matrix, noise_level,
@@ -189,7 +190,6 @@ def select_joint(omega, values, weights, candidates, terms, fixed, *, driving_po
 
 # ----------------------------------------------------------------- the pipeline
 def _fit_warning():
-    from .fit import ModalFitWarning  # fit imports this module lazily
 
     return ModalFitWarning
 
@@ -343,7 +343,6 @@ def fit_set(est, data: FRFSet):
 
 
 def _store(est, rec, poles, kinds, xs, terms, info, notes, max_order, dp):
-    from .fit import _report  # fit imports this module lazily
 
     r, c, u, d = split_rows(xs, poles.size, terms)
     if u[dp] <= 0.0 and np.any(u != 0.0):
@@ -380,7 +379,7 @@ def _store(est, rec, poles, kinds, xs, terms, info, notes, max_order, dp):
         modes["damping_ratio_std"] = np.hypot(nu**2 * s2[:, 0], sig * nu * s2[:, 1]) / wn**3
         rs = info["residue_std"][dp][physical][order]
         modes["residue_std"] = np.hypot(rs[:, 0], rs[:, 1])
-    est.report_ = _report(
+    est.report_ = fit_report(
         model.driving, kinds, info, notes, method=est.method, max_order=max_order,
         outputs=list(rec.outputs), driving_point=dp,
         frf_nrmse=nrmse(fitted, rec.values).tolist(),

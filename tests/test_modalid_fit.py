@@ -283,7 +283,7 @@ def test_band_without_resonance_warns_and_reports_it():
 
 
 def test_non_convergence_warns_and_reports_it(monkeypatch):
-    import modalid.fit as fit_module
+    import modalid._frf_pipeline as fit_module
 
     original = fit_module.refine_varpro
 

@@ -1,0 +1,411 @@
+"""The FRF identification pipeline behind :class:`modalid.fit.ModalFit` (a mixin).
+
+Steps 2-4 of :mod:`modalid.fit`'s pipeline for one FRF: poles from the stabilization
+diagram or vector fitting, the low end (mass line or static flexibility), residual
+terms above the band, and the variable-projection refinement with its checks (missed
+modes added where the residual peaks; insignificant, non-passive or duplicated poles
+dropped one at a time); then the stored model and report. The methods read the
+estimator's settings (``self.method``, ``self.passive``, ...), which
+:class:`modalid.fit.ModalFit` validates.
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+from scipy.signal import find_peaks
+
+from ._checks import as_count
+from ._lscf import lscf_subbands
+from ._lsfd import (Terms, evaluate, mass_line_significant, place_upper_modes,
+                    refine_varpro, release_gain, removal_cost, split_coefficients)
+from ._vf import vector_fit_poles
+from .frf import FRFData
+from .model import ModalModel
+from .stabilization import (cluster_poles, select_by_information, select_poles,
+                            stabilization_table)
+
+__all__ = ["FRFPipeline", "ModalFitWarning", "fit_report"]
+
+_FAR = 2.0          # the held upper pseudo-mode sits at twice the top of the band
+
+
+class ModalFitWarning(UserWarning):
+    """The identification did not converge or found nothing; ``report_`` says what."""
+
+
+class FRFPipeline:
+    """The FRF steps of :class:`modalid.fit.ModalFit` (see the module docstring)."""
+
+    def _fit_frf(self, data: FRFData):
+        frf, w, cut = self._prepare(data)
+        self.frf_ = frf
+        omega, h = frf.omega, frf.values
+        peaks, _ = find_peaks(np.log10(np.abs(h)), prominence=0.3)
+        max_order = (as_count("max_order", self.max_order, minimum=2) if self.max_order
+                     else int(min(120, 4 * max(peaks.size, 2) + 16)))
+        bands = lscf_subbands(omega, h, w, max_order, peaks=omega[peaks])
+        f0 = frf.freq_hz[0]
+        # a sub-band's top edge is where its basis wraps (z = -1): its poles there are not
+        tops = [(1.0 if k == 0 else 0.9) * top / (2 * np.pi) for k, (top, _) in enumerate(bands)]
+        self.stabilization_ = stabilization_table([p for _, p in bands],
+                                                  [(f0, top) for top in tops])
+        clusters = cluster_poles(self.stabilization_)
+        if self._selection():
+            poles, selected = select_poles(clusters, **self._selection())
+        else:
+            poles, selected = self._select_by_information(omega, h, w, clusters, cut)
+        self.clusters_ = clusters.assign(selected=selected)
+        iterations = None
+        if self.method == "vf":
+            n_pairs = max(poles.size, 1)
+            mass_line = any(self._low_end(omega, h, w, poles, cut))
+            poles, iterations = vector_fit_poles(omega, h, w, n_pairs + 2, start=omega[peaks],
+                                                 rigid=mass_line)
+            poles = poles[(np.abs(poles) >= omega[0]) & (np.abs(poles) <= omega[-1])]
+            poles = self._screen(omega, h, w, poles, cut)
+        return self._identify(frf, w, poles, cut, max_order, iterations)
+
+    def _select_by_information(self, omega, h, w, clusters, cut, min_share=0.5):
+        """Clusters in ``min_share`` of their band's orders, ranked by persistence; the
+        information criterion decides how many are physical. (Noise and antiresonance
+        poles persist over at most two fifths of the orders, physical ones two thirds; a
+        less persistent mode is left to :meth:`_missed_mode`.)"""
+        share = clusters["share"].to_numpy(float)
+        cand = clusters["pole"].to_numpy(complex)[share >= min_share]
+        selected = np.zeros(len(clusters), bool)
+        if cand.size:
+            keep, _, negative = select_by_information(
+                omega, h, w, cand, *self._linear_terms(omega, h, w, cand, cut),
+                passive=self.passive)
+            self._warn_negative(cand[negative])
+            selected[np.flatnonzero(share >= min_share)[keep]] = True
+            cand = cand[keep]
+        return cand[np.argsort(np.abs(cand))], selected
+
+    def _warn_negative(self, poles):
+        """Resonances the data support but with a negative modal mass: not a passive
+        driving point (a transfer FRF, or the response sign reversed)."""
+        if self.passive and poles.size:
+            freqs = ", ".join(f"{abs(p) / (2 * np.pi):.4g}" for p in np.sort(np.abs(poles)))
+            warnings.warn(f"resonances at {freqs} Hz have a negative modal mass and are left "
+                          "out (passive=True): is this a transfer FRF, or is the sign "
+                          "reversed? Fit with passive=False", ModalFitWarning, stacklevel=5)
+
+    def _screen(self, omega, h, w, poles, cut):
+        """Vector-fitting poles the data support (greedy forward selection, BIC)."""
+        keep, _, negative = select_by_information(
+            omega, h, w, poles, *self._linear_terms(omega, h, w, poles, cut), greedy=True,
+            passive=self.passive)
+        self._warn_negative(poles[negative])
+        return poles[keep][np.argsort(np.abs(poles[keep]))]
+
+    def _linear_terms(self, omega, h, w, poles, cut):
+        """Terms and fixed pseudo-modes of the linear fits that select the poles."""
+        terms = Terms(np.zeros(0), any(self._low_end(omega, h, w, poles, cut)),
+                      "upper" in self.residuals)
+        fixed = np.zeros(0, complex)
+        if "upper" in self.residuals:
+            fixed = omega[-1] * np.array([1.1, 1.6]) * (-0.02 + 1j * np.sqrt(1 - 4e-4))
+        return terms, fixed
+
+    # ----------------------------------------------------------- low end, residuals
+    def _low_end(self, omega, h, w, poles, cut):
+        """``(rigid, lower)``: is there a mass line, and is it a rigid body or the lower
+        residual of modes below the band?
+
+        With lines well below the first pole, their phase and slope decide (a free body's
+        receptance there is ``-1/(M omega^2)``, a grounded one's a positive static
+        flexibility); otherwise a ``1/s^2`` term must lower the weighted residual by more
+        than its information cost, with a positive mass. A mass line is a rigid body when
+        the data reach well below the first pole and ``freq_range`` did not cut them;
+        else (and with ``rigid_body=False``) it is the lower residual.
+        """
+        if self.rigid_body is True:
+            return True, False
+        first = np.min(np.abs(poles)) if poles.size else omega[-1]
+        below = np.flatnonzero(omega < 0.5 * first)[:20]
+        if below.size >= 3:
+            slope = np.polyfit(np.log(omega[below]), np.log(np.abs(h[below])), 1)[0]
+            mass_line = bool(np.median(h[below].real) < 0 and slope < -1.0)
+            if not self.passive and slope < -1.5 and np.median(h[below].real) > 0:
+                return False, "lower" in self.residuals    # negative mass line: transfer
+        else:
+            mass_line = mass_line_significant(omega, h, w, poles)
+        if not mass_line:
+            return False, False
+        lower = "lower" in self.residuals
+        if self.rigid_body is False:
+            return False, lower
+        if below.size >= 3 and not cut:
+            return True, False
+        return not lower, lower
+
+    def _start(self, omega, h, w, poles, cut):
+        """Starting poles with their kinds and the linear terms."""
+        rigid, lower = self._low_end(omega, h, w, poles, cut)
+        upper = "upper" in self.residuals
+        terms = Terms(np.zeros(0), rigid, upper)
+        kinds = ["mode"] * poles.size
+        if lower:
+            wl = 0.5 * omega[0]
+            poles = np.concatenate([[complex(-0.01 * wl, wl)], poles])
+            kinds = ["lower"] + kinds
+        if upper:
+            ups, _, _ = place_upper_modes(omega, h, w, poles, terms, n_upper=1)
+            far = _FAR * omega[-1] * complex(-0.05, np.sqrt(1 - 0.05**2))
+            poles = np.concatenate([poles, ups, [far]])
+            kinds = kinds + ["upper"] * ups.size + ["far"]
+        return poles, np.array(kinds), terms
+
+    def _release_far(self, omega, h, w, poles, kinds, x, info, terms):
+        """Free the held far pseudo-mode when the data support moving it: its two
+        parameters must lower the cost by more than ``2 ln(n)`` residual variances
+        (Gauss-Newton prediction). Clean data do; at a few percent noise it stays put
+        (a fixed shape for the distant modes costs less variance than a free one)."""
+        hold = kinds == "far"
+        wm = self._model_weights(omega, poles, x, terms, w)
+        gain = release_gain(omega, h, wm, poles, terms, hold, passive=self.passive)
+        if gain < 2 * np.log(2 * omega.size):
+            return poles, kinds, x, info
+        kinds = np.where(hold, "upper", kinds)
+        poles, x, info = self._refine(omega, h, w, poles, kinds, terms)
+        return poles, kinds, x, info
+
+    # -------------------------------------------------------------- identification
+    def _identify(self, frf, w, poles, cut, max_order, vf_iterations):
+        omega, h = frf.omega, frf.values
+        poles = poles[np.argsort(np.abs(poles))]
+        poles, kinds, terms = self._start(omega, h, w, poles, cut)
+        notes = []
+        self._iterations, self._buffers = 0, {}
+        if self.refine:
+            start = poles
+            # a quick first pass (a mode missing makes the refinement crawl), then modes
+            # the estimator missed, where the residual peaks
+            poles, x, info = self._refine(omega, h, w, start, kinds, terms, quick=True)
+            tried = []
+            for stage in range(2):
+                for _ in range(0 if self._selection() else 4):
+                    poles, kinds, x, info, found = self._missed_mode(
+                        omega, h, w, poles, kinds, x, info, terms, tried)
+                    if not found:
+                        break
+                    notes += found
+                    start = poles
+                if stage == 0 and info.get("quick"):
+                    poles, x, info = self._refine(omega, h, w, poles, kinds, terms)
+                else:
+                    break
+            # drop the worst non-physical pole, refine again from the start without it
+            for _ in range(0 if self._selection() else 4):
+                k, why = self._worst_pole(omega, h, w, poles, x, info, kinds, terms)
+                if k is None:
+                    break
+                notes.append(why)
+                start, kinds = np.delete(start, k), np.delete(kinds, k)
+                poles, x, info = self._refine(omega, h, w, start, kinds, terms)
+            if np.any(kinds == "far"):
+                poles, kinds, x, info = self._release_far(omega, h, w, poles, kinds, x,
+                                                          info, terms)
+            # a pseudo-mode held at zero modal mass by passivity carries nothing physical
+            for _ in range(2 if self.passive else 0):
+                idle = (kinds != "mode") & (split_coefficients(x, poles.size, terms)[0].imag >= 0)
+                if not idle.any():
+                    break
+                poles, x, info = self._refine(omega, h, w, poles[~idle], kinds[~idle], terms)
+                kinds = kinds[~idle]
+        else:
+            poles, x, info = refine_varpro(omega, h, w, poles, terms, passive=self.passive,
+                                           max_iter=0, max_real=self.max_real)
+            info.update(converged=True, message="linear least squares (refine=False)")
+        residues, _, u, d = split_coefficients(x, poles.size, terms)
+        info["n_iter_total"] = self._iterations
+        if not info["converged"]:
+            warnings.warn(f"the refinement did not converge: {info['message']}",
+                          ModalFitWarning, stacklevel=4)
+        if not np.any(kinds == "mode"):
+            warnings.warn("no resonance found in the band: the model holds only residual "
+                          "terms; see stabilization_", ModalFitWarning, stacklevel=4)
+        self._store(frf, poles, kinds, residues, u, d, info, notes, max_order, vf_iterations)
+        del self._buffers
+        return self
+
+    def _imag_bounds(self, kinds, omega, poles):
+        """Bounds on ``Im p``: pseudo-modes stay outside the band, a physical pole within
+        10 % of where it started; with ``n_modes`` as frequencies, within 5 % of its own
+        and short of half-way to the next (one pole per requested frequency)."""
+        upper = (kinds == "upper") | (kinds == "far")
+        lo = np.where(upper, omega[-1], np.where(kinds == "mode", 0.9 * poles.imag, 0.0))
+        hi = np.where(upper, 4.0 * omega[-1],
+                      np.where(kinds == "lower", omega[0],
+                               np.where(kinds == "mode", 1.1 * poles.imag, np.inf)))
+        freqs, mode = self._selection().get("frequencies_hz"), kinds == "mode"
+        if freqs is not None and mode.sum() == freqs.size:
+            wf = 2 * np.pi * np.sort(freqs)
+            mid = 0.5 * (wf[1:] + wf[:-1])
+            lo[mode], hi[mode] = (np.maximum(wf / 1.05, np.insert(mid, 0, 0.0)),
+                                  np.minimum(wf * 1.05, np.append(mid, np.inf)))
+        return lo, hi
+
+    def _model_weights(self, omega, poles, x, terms, w0):
+        if not self._relative():
+            return w0
+        r, _, u, d = split_coefficients(x, poles.size, terms)
+        mag = np.abs(evaluate(omega, poles, r, (), (), u, d))
+        if not np.all(np.isfinite(mag)) or mag.max() <= 0:
+            return w0                                     # no model to weigh by
+        return self._coherence_weight / np.maximum(mag, 1e-12 * mag.max())
+
+    def _refine(self, omega, h, w, poles, kinds, terms, quick=False):
+        """Variable projection with the data's weights (to within about a standard
+        deviation), then reweighted by the model ``1/|H_model|`` and converged; once more
+        if that moved the poles much. ``quick``: the first stage only, 15 steps at most."""
+        lo, hi = self._imag_bounds(kinds, omega, poles)
+        kw = dict(imag_lo=lo, imag_hi=hi, passive=self.passive, hold=kinds == "far",
+                  buffers=self._buffers)
+        if self.max_real is not None:
+            kw["max_real"] = self.max_real
+        relative = self._relative()
+        poles, x, info = refine_varpro(omega, h, w, poles, terms, with_std=not relative,
+                                       stat_tol=0.1 if relative else 1e-4,
+                                       max_iter=15 if quick else 50, **kw)
+        n_iter = info["n_iter"]
+        for _ in range(0 if quick or not relative else 2):
+            wm = self._model_weights(omega, poles, x, terms, w)
+            poles, x, info = refine_varpro(omega, h, wm, poles, terms, **kw)
+            n_iter += info["n_iter"]
+            if info["n_iter"] <= 3:
+                break
+        info["n_iter"] = n_iter
+        info["quick"] = quick and relative
+        self._iterations += n_iter
+        return poles, x, info
+
+    def _missed_mode(self, omega, h, w, poles, kinds, x, info, terms, tried):
+        """Add a mode the pole estimator missed, where the weighted residual has a peak.
+
+        The residual power, averaged over 3 lines, must exceed 14 times its median (for
+        noise alone a 1e-9 event) at a frequency not ``tried`` before; a pole of 1 %
+        damping is placed there and kept when a quick refinement halves the cost (the
+        data's weights) and the new pole passes :meth:`_worst_pole`.
+        """
+        r, _, u, d = split_coefficients(x, poles.size, terms)
+        resid = h - evaluate(omega, poles, r, (), (), u, d)
+        wm = self._model_weights(omega, poles, x, terms, w)
+        e2 = np.convolve(np.abs(resid * wm) ** 2, np.ones(3) / 3, mode="same")
+        e2 /= np.median(e2)
+        e2[int(0.98 * e2.size):] = 0.0
+        for wt in tried:
+            e2[np.abs(omega - wt) < 0.02 * wt] = 0.0
+        k = int(np.argmax(e2))
+        if e2[k] < 14.0:
+            return poles, kinds, x, info, []
+        wk = omega[k]
+        tried.append(wk)
+        trial = np.append(poles, complex(-0.01 * wk, wk))
+        kinds_t = np.append(kinds, "mode")
+        order = np.argsort(np.where(kinds_t == "mode", np.abs(trial), np.inf), kind="stable")
+        trial, kinds_t = trial[order], kinds_t[order]
+        poles_t, x_t, info_t = self._refine(omega, h, w, trial, kinds_t, terms, quick=True)
+        new = int(np.flatnonzero(order == trial.size - 1)[0])
+        worst, _ = self._worst_pole(omega, h, w, poles_t, x_t, info_t, kinds_t, terms, only=new)
+        if info_t["cost"] > 0.5 * np.sum(np.abs(resid * w) ** 2) or worst is not None:
+            return poles, kinds, x, info, []
+        note = f"added a mode the pole estimator missed, at {wk / (2 * np.pi):.6g} Hz"
+        return poles_t, kinds_t, x_t, info_t, [note]
+
+    def _worst_pole(self, omega, h, w, poles, x, info, kinds, terms, only=None):
+        """The physical pole to drop first, and why (``(None, None)``: all are fine).
+
+        A physical pole must have a positive modal mass, stay in the band, not duplicate a
+        stronger one (half-power bands overlapping) and be significant, checked in that
+        order; the weakest offender goes. Significant: damping < 0.3 and ``|r| > 6 std``,
+        or else removing the mode (the rest refitted linearly) raises the cost by more
+        than ``4 ln(n)`` residual variances (a sharp resonance on few lines has a poorly
+        determined residue but is plainly there).
+        """
+        r, *_ = split_coefficients(x, poles.size, terms)
+        std = info["std"]["modes"] if info["std"] is not None else np.zeros((poles.size, 4))
+        t = np.abs(r) / np.maximum(np.hypot(std[:, 2], std[:, 3]), 1e-300)
+        wn, zeta = np.abs(poles), -poles.real / np.abs(poles)
+        mode = kinds == "mode"
+        if only is not None:
+            mode = mode & (np.arange(poles.size) == only)
+        overlap = np.abs(wn[:, None] - wn[None, :]) < zeta[:, None] * wn[:, None] + zeta * wn
+        weaker = overlap & mode[None, :] & (t[None, :] > t[:, None])
+        weak = mode & (t < 6.0) & (zeta <= 0.3)
+        if weak.any():
+            gain = removal_cost(omega, h, self._model_weights(omega, poles, x, terms, w),
+                                poles, terms, np.flatnonzero(weak), passive=self.passive,
+                                buffers=self._buffers)
+            weak[weak] = gain < 4 * np.log(2 * omega.size)
+        tests = [(self.passive & (r.imag >= 0), "no positive modal mass"),
+                 ((wn < omega[0]) | (wn > omega[-1]), "it left the band"),
+                 (weaker.any(axis=1), "it duplicates a stronger pole"),
+                 (weak | (zeta > 0.3), "not significant")]
+        for bad, reason in tests:
+            bad = bad & mode
+            if bad.any():
+                k = int(np.flatnonzero(bad)[np.argmin(t[bad])])
+                detail = f" (|r|/std = {t[k]:.3g}, damping {zeta[k]:.3g})"
+                return k, f"dropped the pole at {wn[k] / (2 * np.pi):.6g} Hz: {reason}{detail}"
+        return None, None
+
+    # ------------------------------------------------------------------ results
+    def _store(self, frf, poles, kinds, residues, u, d, info, notes, max_order,
+               vf_iterations):
+        omega, h = frf.omega, frf.values
+        self.model_ = ModalModel(poles=poles, residues=residues, inverse_mass=max(u, 0.0),
+                                 flexibility=d)
+        physical = kinds == "mode"
+        self.poles_ = poles[physical][np.argsort(np.abs(poles[physical]))]
+        fitted, band = self.model_.frf(omega), self._data_band
+        own = self.model_.frf(band.omega, quantity=band.quantity) - band.values
+        modes = ModalModel(poles=poles[physical], residues=residues[physical]).modes
+        std = info.get("std")
+        for name in ("frequency_hz_std", "damping_ratio_std", "residue_std"):
+            modes[name] = np.nan
+        if std is not None:
+            # first-order propagation from (Re p, Im p) to |p| and -Re p/|p|
+            order = np.argsort(np.abs(poles[physical]), kind="stable")
+            s4, p = std["modes"][physical][order], poles[physical][order]
+            wn, sig, nu = np.abs(p), p.real, p.imag
+            modes["frequency_hz_std"] = np.hypot(sig * s4[:, 0], nu * s4[:, 1]) / wn / (2 * np.pi)
+            modes["damping_ratio_std"] = np.hypot(nu**2 * s4[:, 0], sig * nu * s4[:, 1]) / wn**3
+            modes["residue_std"] = np.hypot(s4[:, 2], s4[:, 3])
+        self.report_ = fit_report(
+            self.model_, kinds, info, notes, method=self.method, max_order=max_order,
+            frf_nrmse=float(np.linalg.norm(fitted - h) / np.linalg.norm(h)),
+            frf_nrmse_data=float(np.linalg.norm(own) / np.linalg.norm(band.values)),
+            data_quantity=band.quantity,
+            band_hz=(float(frf.freq_hz[0]), float(frf.freq_hz[-1])),
+            vf_iterations=vf_iterations, modes=modes)
+
+
+def _high_frequency(model, physical):
+    """Effective mass ``1/(sum 1/m_k + 1/M)`` and residual flexibility of a model."""
+    masses = model.modes["modal_mass"].to_numpy()
+    inv_all = model.inverse_mass + float(np.sum(1.0 / masses[masses > 0]))
+    order = np.argsort(np.abs(model.poles), kind="stable")
+    phys = masses[physical[order]]
+    inv_band = model.inverse_mass + float(np.sum(1.0 / phys[phys > 0]))
+    return {"effective_mass": 1.0 / inv_all if inv_all > 0 else np.inf,
+            "effective_mass_physical": 1.0 / inv_band if inv_band > 0 else np.inf,
+            "residual_flexibility": model.flexibility}
+
+
+def fit_report(model, kinds, info, notes, *, method, max_order, **extra):
+    """The report common to every method, plus ``extra`` entries."""
+    n_modes = int(np.sum(kinds == "mode"))
+    if n_modes == 0:
+        notes = notes + ["no resonance in the band: the model holds only residual terms"]
+    return {"method": method, "converged": bool(info["converged"]),
+            "message": str(info["message"]), "n_iterations": int(info.get("n_iter_total", 0)),
+            "max_order": int(max_order), "n_modes": n_modes,
+            "lower_residual_mode": bool(np.any(kinds == "lower")),
+            "upper_residual_modes": int(np.sum((kinds == "upper") | (kinds == "far"))),
+            "rigid_body": model.inverse_mass > 0, "inverse_mass": model.inverse_mass,
+            "rigid_mass": 1.0 / model.inverse_mass if model.inverse_mass > 0 else np.inf,
+            **_high_frequency(model, kinds == "mode"), "notes": notes, **extra}
