@@ -127,3 +127,36 @@ def test_first_order_hold_with_damped_modes_and_real_poles_against_the_exact_sol
     errors = [_errors(solve_impact(body1, body2, contact=LinearSpring(100.0), t_end=2.0,
                                    method="modal", dt=dt), exact) for dt in (4e-3, 2e-3)]
     assert errors[1][0] < 0.3 * errors[0][0] and errors[1][1] < 0.3 * errors[0][1]
+
+
+def test_spring_dashpot_between_masses_against_the_kelvin_voigt_closed_form():
+    """Two masses, contact f = k d + c d' (d the overlap): during contact the overlap is a
+    damped oscillator from d = 0, d' = v0; the contact ends where f turns to 0 (the
+    dashpot pulls before the spring is relaxed), at tan(wd t) = -2 zeta sqrt(1-zeta^2) /
+    (1 - 2 zeta^2) in (pi/2, pi) / wd; e = -d'(t_end)/v0."""
+    m1, m2, k, c, v0 = 1.0, 3.0, 4.0e4, 60.0, 1.5
+    mr = m1 * m2 / (m1 + m2)
+    wn = math.sqrt(k / mr)
+    zeta = c / (2 * math.sqrt(k * mr))
+    wd = wn * math.sqrt(1 - zeta**2)
+    t_end = (math.pi - math.atan(2 * zeta * math.sqrt(1 - zeta**2) / (1 - 2 * zeta**2))) / wd
+    d_rate = v0 * math.exp(-zeta * wn * t_end) * (
+        math.cos(wd * t_end) - zeta * wn / wd * math.sin(wd * t_end))
+    e_exact = -d_rate / v0
+    bodies = (Body(LumpedMass(m1), velocity=v0), Body(LumpedMass(m2)))
+    errors = []
+    for n in (400, 800):
+        dt = t_end / n
+        res = solve_impact(*bodies, contact=LinearSpring(k, damping=c), t_end=3 * t_end,
+                           method="modal", dt=dt)
+        assert any("first-order hold" in note for note in res.notes)
+        assert res.n_contacts == 1
+        (start, end), = res.contact_intervals
+        errors.append((abs(end - start - t_end), abs(res.restitution - e_exact)))
+        # momentum to rounding
+        p_after = m1 * res.velocities_after[0] + m2 * res.velocities_after[1]
+        assert p_after == pytest.approx(m1 * v0, rel=1e-13)
+    (dt0, de0), (dt1, de1) = errors
+    # the dashpot's force jump at contact start is spread over a step: first order there
+    assert dt1 < 0.6 * dt0 and de1 < 0.6 * de0
+    assert dt1 < 2e-3 * t_end and de1 < 2e-3
