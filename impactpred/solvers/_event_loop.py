@@ -91,7 +91,7 @@ def _grow_pairs(a, need):
 
 @njit(cache=True)
 def event_loop(free, stuck, xa0, in_contact, t_end, step, out_step, tol_g, rho, coef, bf,
-               jdx, force_row, force_rate_row, cg_powers):
+               jdx, force_row, force_rate_row, cg_powers, gap0):
     """Run free flight and contact phases from ``xa0`` at ``t = 0`` to ``t_end``.
 
     Parameters
@@ -113,6 +113,9 @@ def event_loop(free, stuck, xa0, in_contact, t_end, step, out_step, tol_g, rho, 
     bf, jdx, force_row, force_rate_row, cg_powers
         Force input of the states (n,), index of ``J``, the contact force and its rate as
         rows on ``xa``, and the gap's derivative rows (see :func:`contact_start`).
+    gap0 : float
+        Initial gap (m): the samples' gap row is ``y2 - y1 + gap0`` (rows 1 and 2 of the
+        phases' output rows are ``y1`` and ``y2``; it is inserted as row 3).
 
     Returns
     -------
@@ -120,8 +123,9 @@ def event_loop(free, stuck, xa0, in_contact, t_end, step, out_step, tol_g, rho, 
         0, or 1 if events repeated without time advancing (grazing).
     t_stall : float
         Where it stalled.
-    times, values : ndarray, shapes (N,), (R, N)
-        Output samples (every phase's start, grid points and end).
+    times, values : ndarray, shapes (N,), (R + 1, N)
+        Output samples (every phase's start, grid points and end): the phases' rows with
+        the gap inserted as row 3.
     intervals, diracs : ndarray, shape (K, 2)
         Contact intervals (start, end) and Dirac impulses (time, size).
     xa_end : ndarray
@@ -134,7 +138,7 @@ def event_loop(free, stuck, xa0, in_contact, t_end, step, out_step, tol_g, rho, 
     n_rows = free[8].shape[0]
     cap = int(t_end / out_step) + 64
     times = np.empty(cap)
-    values = np.empty((n_rows, cap))
+    values = np.empty((n_rows + 1, cap))
     used = 0
     intervals = np.empty((8, 2))
     n_iv = 0
@@ -173,9 +177,12 @@ def event_loop(free, stuck, xa0, in_contact, t_end, step, out_step, tol_g, rho, 
             values = _grow_rows(values, need)
         for i in range(ts.size):        # explicit loops: numba's 2-D slice copy is slow
             times[used + i] = ts[i]
-        for r in range(n_rows):
+        for r in range(n_rows):         # rows 0-2, the gap, then the rest
+            rr = r if r < 3 else r + 1
             for i in range(ts.size):
-                values[r, used + i] = vs[r, i]
+                values[rr, used + i] = vs[r, i]
+        for i in range(ts.size):
+            values[3, used + i] = vs[2, i] - vs[1, i] + gap0
         used += ts.size
         xa = x_end
         happened = tau >= 0.0

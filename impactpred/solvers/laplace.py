@@ -370,10 +370,10 @@ def solve_laplace(bodies, gap0, contact, t_end, dt, *, notes=()):
         (status, t_stall, T, V, iv, dv, Xa, first_impulse, first_t0,
          first_x) = event_loop(free.kernel_data(t_end), stuck.kernel_data(t_end), Xa,
                                in_contact, t_end, step, out_step, tol_g, rho_code,
-                               coef_value, Bf, jdx, force_row, force_rate_row, cg_powers)
+                               coef_value, Bf, jdx, force_row, force_rate_row, cg_powers,
+                               float(gap0))
         if status:
             raise _grazing(t_stall)
-        V = np.vstack([V[:3], V[2] - V[1] + gap0, V[3:]])
         intervals = [tuple(r) for r in iv.tolist()]
         diracs = [tuple(r) for r in dv.tolist()]
         first_impulse = float(first_impulse)
