@@ -478,7 +478,8 @@ def _insert_exact_peak(T, V, intervals, phase_log):
             t_peak = brentq(rate, a, b, xtol=1e-15 * max(b, 1e-300))
             values = form.evaluate(form.output_coefficients(phase.rows, coords), [t_peak - t0])
             k = int(np.searchsorted(T, t_peak))
-            TV = np.insert(np.vstack([T, V]), k, np.concatenate([[t_peak], values[:, 0]]),
-                           axis=1)
-            return TV[0], TV[1:]
+            T_out, V_out = np.empty(T.size + 1), np.empty((V.shape[0], T.size + 1))
+            T_out[:k], T_out[k], T_out[k + 1:] = T[:k], t_peak, T[k:]
+            V_out[:, :k], V_out[:, k], V_out[:, k + 1:] = V[:, :k], values[:, 0], V[:, k:]
+            return T_out, V_out
     return T, V
