@@ -215,11 +215,10 @@ class SpectralPhase:
     def output_coefficients(self, rows, coords):
         """Polynomial (rows x k) and exponential (rows x m) coefficients of ``rows @ x(t)``.
 
-        ``rows`` is an array of rows on the state or a :meth:`project` result. The
-        exponential coefficients go with :attr:`rates` (conjugate pairs folded).
+        The exponential coefficients go with :attr:`rates` (conjugate pairs folded).
         """
         c0, c1 = coords
-        poly_m, expo_m = rows if isinstance(rows, tuple) else self.project(rows)
+        poly_m, expo_m = self.project(rows)
         poly = poly_m @ c0 if self.k else np.zeros((expo_m.shape[0], 0))
         return poly, expo_m * c1[None, :]
 
@@ -248,24 +247,3 @@ class SpectralPhase:
                 value += ((expo * lam[None, :] ** d) @ e).real
             out.append(value)
         return out
-
-    def scalar(self, coefficients, tau, derivative=0):
-        """One output row's value (or derivative) at one time: the root finders' kernel."""
-        poly, expo = coefficients
-        value = 0.0
-        for j in range(derivative, poly.shape[1]):
-            value += poly[0, j] * math.perm(j, derivative) * tau ** (j - derivative)
-        if expo.shape[1]:
-            value += float(np.dot(expo[0] * self.rates ** derivative,
-                                  np.exp(self.rates * tau)).real)
-        return value
-
-    def state(self, coords, tau):
-        """The full state at one time ``tau``."""
-        c0, c1 = coords
-        x = np.zeros(self.n)
-        if self.k:
-            x += self.s0 @ (sum(p * tau**j for j, p in enumerate(self.powers)) @ c0)
-        if self.rates.size:
-            x += (self._modes @ (np.exp(self.rates * tau) * c1)).real
-        return x

@@ -139,9 +139,6 @@ class _ExpmForm:
     def coordinates(self, x):
         return x
 
-    def project(self, rows):
-        return np.atleast_2d(rows)
-
     def output_coefficients(self, rows, coords):
         return np.atleast_2d(rows), coords
 
@@ -177,8 +174,6 @@ class _Phase:
         self.rows = rows            # force, y1, y2, gap (4 x n_aug)
         self.event_row = event_row  # event when it turns negative
         self.contact = contact
-        self.rows_proj = self.form.project(rows)
-        self.event_proj = self.form.project(event_row)
 
     def kernel_data(self, t_end):
         """The phase as :func:`._event_loop.event_loop` takes it (spectral form only).
@@ -190,7 +185,7 @@ class _Phase:
         """
         f = self.form
         poly_o, expo_o = f.project(np.delete(self.rows, 3, axis=0))
-        poly_e, expo_e = self.event_proj
+        poly_e, expo_e = f.project(self.event_row)
         return (f.rates, f._modes.real.copy(), f._modes.imag.copy(), f._proj.real.copy(),
                 f._proj.imag.copy(), f.in0, f._s0_powers, poly_o, expo_o, poly_e, expo_e,
                 np.asarray(self.event_row, dtype=float), _search_step(f.max_rate, t_end))
@@ -303,8 +298,8 @@ def solve_laplace(bodies, gap0, contact, t_end, dt, *, notes=()):
         """
         form = phase.form
         coords = form.coordinates(Xa)
-        out_coeffs = form.output_coefficients(phase.rows_proj, coords)
-        ev_coeffs = form.output_coefficients(phase.event_proj, coords)
+        out_coeffs = form.output_coefficients(phase.rows, coords)
+        ev_coeffs = form.output_coefficients(phase.event_row, coords)
         if phase.contact and not phase_log:
             phase_log.append((phase, t0, coords))
         samples.append((np.array([t0]), form.evaluate(out_coeffs, [0.0])))

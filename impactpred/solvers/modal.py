@@ -109,12 +109,13 @@ def _law_code(contact):
 
 def _hold_ratio(steppers, contact, bodies, dt):
     """``K_a / (K + c_law)``: the first-order hold's force ratio in contact (see module doc)."""
+    from ._modal_kernel import hold_coefficients
+
     h = dt
     k_a = k_b = inv_eff = 0.0
     for s in steppers:
-        x = s.p * h
-        a = s.G
-        c = np.where(np.abs(x) < 1e-3, h * h * (0.5 + x / 6.0), (s.E - 1.0 - x) / s.p**2)
+        e, a, c, q = (np.empty(s.p.size, complex) for _ in range(4))
+        hold_coefficients(s.p, h, e, a, c, q)      # the kernel's own A and C
         k_a += float(np.sum(s.weight * (a - c / h)).real) + s.inverse_mass * h * h / 3.0
         k_b += (float(np.sum(s.weight * c / h).real) + s.inverse_mass * h * h / 6.0
                 + s.flexibility)
