@@ -38,6 +38,7 @@ import numpy as np
 
 from ..contact import LinearSpring, Rigid
 from ._engine import OUT_BV, OUT_FEQ, OUT_LAM, OUT_VP, EngineState
+from ._engine_compiled import run_compiled
 from ._engine_form import evaluate, first_event
 from ._engine_hertz import hertz_contact
 from .contact import InstantaneousImpact
@@ -45,6 +46,9 @@ from .contact import InstantaneousImpact
 __all__ = ["run"]
 
 _STALL = 50
+#: rigid and instantaneous contacts run in the compiled loop (:mod:`._loop_kernels`); False:
+#: this module's Python loop (the reference the compiled one is tested against)
+_COMPILED = True
 
 
 def _integral(lam, b, poly, tau):
@@ -152,6 +156,12 @@ class _Progress:
 
 def run(eng, *, start: EngineState, n_cycles, samples_per_cycle, progress):
     """Simulate ``n_cycles`` forcing periods from ``start``; returns a dict of raw outputs."""
+    if (_COMPILED and isinstance(eng.contact, (Rigid, InstantaneousImpact))
+            and start.mode in ("free", "stuck")):
+        return run_compiled(eng, start=start, n_cycles=n_cycles,
+                            samples_per_cycle=samples_per_cycle,
+                            bar=_Progress(progress, n_cycles, start.time, eng.period),
+                            decide_rtol=_DECIDE_RTOL)
     T = eng.period
     dt_out = T / samples_per_cycle
     t0_run = start.time

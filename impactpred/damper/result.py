@@ -245,8 +245,12 @@ def build_result(damper, raw, *, n_cycles, samples_per_cycle):
     if eng.base_damping:
         cb, vb = eng.base_damping, eng.base_velocity_amplitude
         power = (dw[0] - 2 * cb * dw[1]) / dt + 0.5 * cb * vb ** 2
-    imp = pd.DataFrame([{k: r[k] for k in _IMPACT_COLUMNS} for r in raw["impacts"]],
-                       columns=_IMPACT_COLUMNS)
+    rows = raw["impacts"]
+    if isinstance(rows, dict):      # the compiled loop's columns
+        imp = pd.DataFrame({k: rows[k] for k in _IMPACT_COLUMNS}, columns=_IMPACT_COLUMNS)
+    else:
+        imp = pd.DataFrame([{k: r[k] for k in _IMPACT_COLUMNS} for r in rows],
+                           columns=_IMPACT_COLUMNS)
     imp["side"] = imp["side"].astype(int)
     n_imp = int(np.count_nonzero((imp["time"] >= t_a - 1e-12 * T)
                                  & (imp["time"] < t_b - 1e-12 * T)))

@@ -1,0 +1,127 @@
+"""Driver of the compiled event loop (:mod:`._loop_kernels`) for rigid and instantaneous
+contacts: packs the engine's phase kinds into arrays, calls the loop on chunks of cycles
+(the progress bar is updated between chunks, and the samples of one chunk are all that is
+held in compiled arrays at once) and returns :func:`._engine_run.run`'s dict.
+
+A chunk boundary does not cut a phase: every event search looks up to the run's end and
+the loop stops at the first event after the chunk's end, so the chunks give exactly the
+run itself.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._engine import EngineState
+from ._loop_kernels import N_IMPACT_COLS, STALLED, rigid_loop
+
+__all__ = ["kind_arrays", "run_compiled"]
+
+#: forcing cycles per call of the compiled loop
+CHUNK_CYCLES = 50
+
+
+def kind_arrays(kind):
+    """The arrays of a :class:`._engine_form.PhaseKind` as :func:`rigid_loop` takes them
+    (built once per kind): ``(lam, abs_lam, abs_lam4, order, V, Vinv, in0, S0P, X, ev_rv,
+    ev_rp, ev_rx, out_rv, out_rp, out_rx)``."""
+    arrays = getattr(kind, "_compiled_arrays", None)
+    if arrays is None:
+        n, k = kind.n, kind.k
+        c = np.ascontiguousarray
+
+        def rows(r):
+            rv, rp, rx = r
+            return (c(rv, dtype=complex), c(np.reshape(rp, (rv.shape[0], k, k)), dtype=float),
+                    c(rx, dtype=complex))
+
+        s0p = np.array(kind.S0P, dtype=float).reshape(k, n, k)
+        arrays = (c(kind.lam, dtype=complex), c(kind.abs_lam, dtype=float),
+                  c(kind.abs_lam4, dtype=float), c(kind.order_desc, dtype=np.int64),
+                  c(kind.V, dtype=complex), c(kind.Vinv, dtype=complex),
+                  c(np.reshape(kind.in0, (k, n)), dtype=float), c(s0p), c(kind.X, dtype=complex),
+                  *rows(kind.event), *rows(kind.output))
+        kind._compiled_arrays = arrays
+    return arrays
+
+
+def run_compiled(eng, *, start, n_cycles, samples_per_cycle, bar, decide_rtol):
+    """:func:`._engine_run.run` for ``Rigid`` / ``InstantaneousImpact`` contacts, compiled.
+
+    ``bar``: the run's progress bar (``update(t)``); ``decide_rtol``: the contact
+    decision's tolerance. Raises ``RuntimeError`` where contact events repeat without time
+    advancing (as the Python loop).
+    """
+    from .contact import InstantaneousImpact
+
+    T = eng.period
+    dt_out = T / samples_per_cycle
+    t0_run = start.time
+    t_end = t0_run + n_cycles * T
+    t = start.time
+    x = np.array(start.state, dtype=float)
+    if start.mode not in ("free", "stuck"):
+        raise ValueError(f"a {start.mode!r} state cannot continue with a rigid contact")
+    mode, side = (0 if start.mode == "free" else 1), int(start.side)
+    imp = np.zeros((max(64, 40 * n_cycles), N_IMPACT_COLS))
+    n_imp, cur, continued = 0, -1, None
+    if start.open_impact is not None:
+        o = start.open_impact
+        imp[0] = (o["time"], o["side"], o["impulse"], o["duration"], o["relative_velocity"],
+                  o["phase"])
+        n_imp, cur, continued = 1, 0, 0
+    free = kind_arrays(eng.free)
+    stuck_p, stuck_m = kind_arrays(eng.stuck(1)), kind_arrays(eng.stuck(-1))
+    e = eng.contact.restitution if isinstance(eng.contact, InstantaneousImpact) else 0.0
+    n = eng.n
+    r0A = eng.r0 @ eng.A
+    consts = (t0_run, dt_out, T, eng.iy, eng.iv, float(eng.c), eng.omega, eng.phi,
+              np.ascontiguousarray(eng.r0), np.ascontiguousarray(r0A),
+              np.ascontiguousarray(r0A @ eng.A), np.ascontiguousarray(eng.A),
+              np.ascontiguousarray(eng.Bl[:n]), float(eng.inv_mu), int(eng.rho), float(e),
+              float(decide_rtol))
+    work = np.zeros(2)
+    on_boundary, open_row, first_sample = mode != 0, -1, True
+    stall = crawl = 0
+    v_max = eng.c * eng.omega
+    chunks_t, chunks_v, chunks_w, chunks_g = [], [], [], []
+    done = False
+    i_chunk = 0
+    bar.update(t)
+    while not done:
+        i_chunk += 1
+        t_stop = min(t0_run + i_chunk * CHUNK_CYCLES * T, t_end)
+        (status, t, x, mode, side, on_boundary, open_row, first_sample, stall, crawl, v_max,
+         cur, imp, n_imp, ts, vs, ws, gs, done) = rigid_loop(
+            free, stuck_p, stuck_m, x, t, mode, side, on_boundary, open_row, first_sample,
+            stall, crawl, v_max, work, cur, imp, n_imp, t_end, t_stop, *consts)
+        chunks_t.append(ts)
+        chunks_v.append(vs)
+        chunks_w.append(ws)
+        chunks_g.append(gs)
+        if status == STALLED:
+            name = "free" if mode == 0 else "stuck"
+            raise RuntimeError(f"contact events repeat without time advancing at t = {t!r} s "
+                               f"({name} phase): the contact state cannot be decided (grazing)")
+        bar.update(t)
+        if t_stop >= t_end:
+            done = True
+    tab = imp[:n_imp]
+    cont = np.zeros(n_imp, bool)
+    if continued is not None:
+        cont[continued] = True
+    impacts = dict(time=tab[:, 0].copy(), side=tab[:, 1].astype(int), impulse=tab[:, 2].copy(),
+                   duration=tab[:, 3].copy(), relative_velocity=tab[:, 4].copy(),
+                   phase=tab[:, 5].copy(), continued=cont)
+    mode_name = "free" if mode == 0 else "stuck"
+    open_rec = None
+    if mode_name == "stuck" and cur >= 0:
+        open_rec = {k: (int(v[cur]) if k == "side" else float(v[cur]))
+                    for k, v in impacts.items() if k != "continued"}
+        impacts["duration"][cur] = t - impacts["time"][cur]
+    bar.update(t_end)
+    return dict(
+        t=np.concatenate(chunks_t), values=np.concatenate(chunks_v, axis=1),
+        work=np.concatenate(chunks_w, axis=1), grid=np.concatenate(chunks_g),
+        impacts=impacts, final=EngineState(t, x, mode_name, side, open_rec),
+        t_start=t0_run, t_end=t_end)

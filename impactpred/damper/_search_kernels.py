@@ -1,0 +1,460 @@
+"""The impact-damper engine's certified event search, compiled (numba).
+
+:func:`first_event` is :func:`._engine_form.first_event` as one compiled call: the same
+levels, the same certified multilevel search, the same last-level pieces, crossings (dips
+included), root location and geometric grid at a phase that starts on an event. Rows are
+
+    r_i(tau) = Re(sum_j b_ij e^{lambda_j tau}) + sum_c poly_ic tau^c      (tau in s)
+
+given by their coefficients: ``b`` (K, m) complex, ``poly`` (K, k); values are in the rows'
+own units (m for the gaps, N for the contact force). The uniform grids are evaluated by
+:func:`impactpred.solvers._exp_kernels.sample_rows` (recurrence ``e^{lambda h}``,
+recomputed exactly every 32 points and at the last one), grids of fewer than
+``_MIN_KERNEL`` points and the geometric grid by direct exponentials, as the Python
+search does; roots are polished by safeguarded Newton steps on the closed form.
+
+Cost: per phase O(K m) per grid point searched; no Python, no allocation beyond the grids.
+Compiled on first use (``cache=True``: loaded from numba's cache afterwards).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from ..solvers._exp_kernels import _polish, _value_slope, row_value, sample_rows
+from ._kernels import crossing_steps, uncertified_steps
+
+__all__ = ["cabs", "first_event"]
+
+# the constants of the Python search (:mod:`._engine_form`), repeated as literals so the
+# compiled code can freeze them
+_ETA = 0.05
+_STEP = math.pi / 8.0
+_RATIO = 64.0
+_GEO = np.geomspace(1e-9, 1.0, 16)
+_H1 = 4.0 / 27.0
+_MIN_KERNEL = 8
+_PIECE = 64
+#: the geometric grid's rows are summed as Taylor series of this many terms where
+#: ``|lambda| tau`` stays within ``_TAYLOR_RADIUS`` (see :func:`_taylor_rows`)
+_TAYLOR_TERMS = 16
+_TAYLOR_RADIUS = math.pi / 8.0 + 1e-12
+
+
+@njit(cache=True)
+def _levels(abs_lam, abs_lam4, order, amp, scale):  # pragma: no cover - compiled
+    """Levels of the search (see ``_engine_form._levels``).
+
+    Returns ``(cuts, tails, g4s, hs)``: level ``l`` resolves the terms ``order[cuts[l]:]``
+    (the slowest), bounds the others by ``tails[l]`` (per row, row units), has the
+    Hermite error coefficient ``g4s[l]`` (row units / s^4) and the step ``hs[l]`` (s).
+    """
+    K, m = amp.shape
+    cum = np.zeros((K, m))
+    ok_all = True
+    n_cut = -1
+    for c in range(m):
+        ok = True
+        for r in range(K):
+            prev = cum[r, c - 1] if c else 0.0
+            cum[r, c] = prev + amp[r, order[c]]
+            if not cum[r, c] <= _ETA * scale[r]:
+                ok = False
+        if not ok and ok_all:
+            ok_all = False
+            n_cut = c
+    if ok_all:
+        n_cut = m - 1
+    cuts = np.empty(m + 1, np.int64)
+    cuts[0] = n_cut
+    n_lev = 1
+    while cuts[n_lev - 1] > 0:
+        ref = _RATIO * abs_lam[order[cuts[n_lev - 1]]]
+        nxt = 0
+        for c in range(m):
+            if abs_lam[order[c]] > ref:
+                nxt += 1
+        cuts[n_lev] = min(nxt, cuts[n_lev - 1] - 1)
+        n_lev += 1
+    cuts = cuts[:n_lev]
+    c4 = np.zeros((K, m + 1))               # c4[:, c]: sum over order[c:] of |b| |lam|^4
+    for c in range(m - 1, -1, -1):
+        for r in range(K):
+            c4[r, c] = c4[r, c + 1] + amp[r, order[c]] * abs_lam4[order[c]]
+    tails = np.zeros((n_lev, K))
+    g4s = np.zeros((n_lev, K))
+    hs = np.empty(n_lev)
+    for lv in range(n_lev):
+        n_c = cuts[lv]
+        for r in range(K):
+            tails[lv, r] = cum[r, n_c - 1] if n_c else 0.0
+            g4s[lv, r] = c4[r, n_c]
+        a = abs_lam[order[n_c]]
+        hs[lv] = _STEP / a if a > 0 else np.inf
+    return cuts, tails, g4s, hs
+
+
+@njit(cache=True)
+def _direct_rows(lam, B, P, taus):  # pragma: no cover - compiled
+    """Rows ``Re(B e^{lambda tau}) + P tau^c`` at ``taus``, exponentials evaluated directly."""
+    R, m = B.shape
+    out = np.zeros((R, taus.size))
+    for i in range(taus.size):
+        tau = taus[i]
+        for j in range(m):
+            z = np.exp(lam[j] * tau)
+            for r in range(R):
+                out[r, i] += (B[r, j] * z).real
+        for r in range(R):
+            p = 1.0
+            for c in range(P.shape[1]):
+                out[r, i] += P[r, c] * p
+                p *= tau
+    return out
+
+
+@njit(cache=True, inline="always")
+def cabs(z):  # pragma: no cover - compiled
+    """``|z|`` without ``hypot``'s overflow guard (the moduli here are far from overflow)."""
+    return math.sqrt(z.real * z.real + z.imag * z.imag)
+
+
+@njit(cache=True)
+def _taylor_rows(lam, b, poly, taus):  # pragma: no cover - compiled
+    """Values and slopes (2K x len(taus)) of the rows from their Taylor series at 0.
+
+    For ``|lambda| tau <= _TAYLOR_RADIUS`` (``pi / 8``, the geometric grid of a phase
+    starting on an event) the ``_TAYLOR_TERMS``-term series is exact to ``~1e-17`` of
+    ``sum |b|`` (truncation ``0.39^16 / 16!``, the terms' moduli summing to at most
+    ``e^0.39 sum |b|``): the same values as the direct exponentials to rounding, for
+    ``~m N`` multiplications per row instead of ``m`` complex exponentials per point.
+    """
+    K, m = b.shape
+    N = _TAYLOR_TERMS
+    coef = np.zeros((K, N + 1))            # value coefficients tau^q, q = 0 .. N
+    p = np.empty(m, np.complex128)
+    for r in range(K):
+        for j in range(m):
+            p[j] = b[r, j]
+        for q in range(N + 1):
+            acc = 0.0
+            for j in range(m):
+                acc += p[j].real
+                p[j] = p[j] * lam[j] / (q + 1)
+            coef[r, q] = acc
+        for c in range(min(poly.shape[1], N + 1)):
+            coef[r, c] += poly[r, c]
+    out = np.empty((2 * K, taus.size))
+    for i in range(taus.size):
+        tau = taus[i]
+        for r in range(K):
+            v = coef[r, N]
+            d = N * coef[r, N]
+            for q in range(N - 1, -1, -1):
+                v = v * tau + coef[r, q]
+                if q:
+                    d = d * tau + q * coef[r, q]
+            out[r, i] = v
+            out[K + r, i] = d
+    return out
+
+
+@njit(cache=True)
+def _ev(lam, BB, PP, order, n_c, taus, h, uniform):  # pragma: no cover - compiled
+    """Values and slopes (2K x len(taus)) of the terms ``order[n_c:]`` (all if ``n_c == 0``)
+    and the polynomial; ``uniform``: ``taus`` advances by ``h`` (s), but its last point."""
+    if n_c == 0:
+        lam_l, B = lam, BB
+    else:
+        cols = order[n_c:]
+        lam_l = lam[cols]
+        B = np.empty((BB.shape[0], cols.size), np.complex128)
+        for r in range(BB.shape[0]):
+            for j in range(cols.size):
+                B[r, j] = BB[r, cols[j]]
+    if uniform and taus.size >= _MIN_KERNEL:
+        return sample_rows(lam_l, B, PP, taus, h)
+    return _direct_rows(lam_l, B, PP, taus)
+
+
+@njit(cache=True)
+def _locate(lam, bi, pi, lo, hi, zero_tol_i, total_i, opened_i):  # pragma: no cover
+    """Root of a row in ``[lo, hi]`` (``>= -zero_tol`` at ``lo``, below at ``hi``), in s.
+
+    Safeguarded Newton steps on the closed form; an open row still at rounding level at
+    ``lo`` has its event where it leaves ``[-zero_tol, 0]``, or at its own root after a
+    low positive lobe found on a geometric grid of ``[0, hi]`` (``_engine_form``).
+    """
+    shift = 0.0
+    noise = 4e-16 * total_i
+    f_lo = row_value(lam, bi, pi, lo, 0)
+    if f_lo <= 0.0:
+        if not (opened_i and f_lo >= -zero_tol_i):
+            return lo
+        n_g = _GEO.size
+        vals = np.empty(n_g)
+        first_pos = -1
+        first_neg = -1
+        for j in range(n_g):
+            vals[j] = row_value(lam, bi, pi, hi * _GEO[j], 0)
+        for j in range(n_g):
+            if first_pos < 0 and vals[j] > noise:
+                first_pos = j
+            elif first_pos >= 0 and j > first_pos and vals[j] <= 0.0:
+                first_neg = j
+                break
+        if first_neg >= 0:
+            lo, hi = hi * _GEO[first_neg - 1], hi * _GEO[first_neg]
+            f_lo = vals[first_neg - 1]
+        else:
+            shift = zero_tol_i
+            f_lo += shift
+            if f_lo <= 0.0:
+                return lo
+    f_hi = row_value(lam, bi, pi, hi, 0) + shift
+    x = lo + (hi - lo) * f_lo / (f_lo - f_hi)
+    for _ in range(100):
+        fx, dx = _value_slope(lam, bi, pi, x, 0)
+        fx += shift
+        if abs(fx) <= noise:
+            return x
+        if fx > 0.0:
+            lo = x
+        elif fx < 0.0:
+            hi = x
+        else:
+            return x
+        x_new = x - fx / dx if dx != 0.0 else 0.5 * (lo + hi)
+        if not lo < x_new < hi:
+            x_new = 0.5 * (lo + hi)
+        if abs(x_new - x) <= 4e-16 * max(abs(x), 1e-300) or hi - lo <= 4e-16 * hi:
+            return x_new
+        x = x_new
+    return x
+
+
+@njit(cache=True)
+def _crossings(lam, b, poly, total, zero_tol, opened, t_all, v, g4):  # pragma: no cover
+    """First event among the steps of ``t_all`` with every term: ``(tau, row)`` or
+    ``(-1.0, -1)``. ``v`` (2K x len(t_all)): values and slopes."""
+    K = b.shape[0]
+    steps, code = crossing_steps(t_all, v, K, g4, zero_tol)
+    for idx in range(steps.size):
+        j = steps[idx]
+        best_t, best_i = np.inf, -1
+        for i in range(K):
+            c = code[i, idx]
+            if c == 0:
+                continue
+            lo, hi = t_all[j], t_all[j + 1]
+            if c == 2:
+                d_lo = row_value(lam, b[i], poly[i], lo, 1)
+                d_hi = row_value(lam, b[i], poly[i], hi, 1)
+                if d_lo >= 0.0:
+                    t_min = lo
+                elif d_hi <= 0.0:
+                    t_min = hi
+                else:
+                    t_min = _polish(lam, b[i], poly[i], 1, lo, hi, d_lo, d_hi)
+                if row_value(lam, b[i], poly[i], t_min, 0) >= -zero_tol[i]:
+                    continue
+                hi = t_min
+            root = _locate(lam, b[i], poly[i], lo, hi, zero_tol[i], total[i], opened[i])
+            if best_i < 0 or root < best_t:
+                best_t, best_i = root, i
+        if best_i >= 0:
+            return best_t, best_i
+    return -1.0, -1
+
+
+@njit(cache=True)
+def _before_negative(steps, v, K, tail, zero_tol):  # pragma: no cover - compiled
+    """The uncertified ``steps`` up to the first one whose end is certainly below
+    ``-zero_tol`` for some row (level value plus the bound ``tail`` of the terms left out):
+    the first event is no later than that end, so the steps after it need no search."""
+    for q in range(steps.size):
+        j = steps[q]
+        for r in range(K):
+            if v[r, j + 1] + tail[r] < -zero_tol[r]:
+                return steps[:q + 1]
+    return steps
+
+
+@njit(cache=True)
+def _uniform(a, b_end, h):  # pragma: no cover - compiled
+    """``n + 1`` points from ``a`` to ``b_end`` (s), ``n = ceil((b_end - a) / h)``; step."""
+    n = max(1, int(math.ceil((b_end - a) / h - 1e-9)))
+    t_all = np.empty(n + 1)
+    for j in range(n + 1):
+        t_all[j] = a + (b_end - a) * j / n
+    t_all[n] = b_end
+    return t_all, (b_end - a) / n
+
+
+@njit(cache=True)
+def _fine(lam, b, poly, BB, PP, order, total, zero_tol, opened, g4_full, h_f, a,
+          b_end):  # pragma: no cover - compiled
+    """First event in ``[a, b_end]`` with every term, in pieces of ``_PIECE`` steps
+    (doubling up to ``16 _PIECE``), stopping at the first piece with an event."""
+    t_all, h = _uniform(a, b_end, h_f)
+    n = t_all.size - 1
+    i0, piece = 0, _PIECE
+    while i0 < n:
+        i1 = min(n, i0 + piece)
+        tt = t_all[i0:i1 + 1]
+        tau, row = _crossings(lam, b, poly, total, zero_tol, opened, tt,
+                              _ev(lam, BB, PP, order, 0, tt, h, True), g4_full)
+        if row >= 0:
+            return tau, row
+        i0, piece = i1, min(2 * piece, 16 * _PIECE)
+    return -1.0, -1
+
+
+@njit(cache=True)
+def first_event(lam, abs_lam, abs_lam4, order, b, poly, tau_max, scale, zero_tol,
+                on_boundary, open_row):  # pragma: no cover - compiled
+    """First ``tau`` in ``(0, tau_max]`` (s) where a row falls below ``-zero_tol``.
+
+    :func:`._engine_form.first_event` compiled (see there): ``lam`` (m,) complex,
+    ``abs_lam``, ``abs_lam4`` its moduli and their fourth powers, ``order`` the terms
+    fastest first (``PhaseKind.order_desc``); ``b`` (K, m), ``poly`` (K, k); ``scale``,
+    ``zero_tol`` (K,) in row units; ``open_row``: the row decided to open (-1: none).
+
+    Returns ``(tau, row)``, or ``(-1.0, -1)`` when no row crosses before ``tau_max``.
+    """
+    K, m = b.shape
+    k = poly.shape[1]
+    amp = np.empty((K, m))
+    total = np.empty(K)
+    for r in range(K):
+        acc = 0.0
+        for j in range(m):
+            amp[r, j] = cabs(b[r, j])
+            acc += amp[r, j]
+        for c in range(k):
+            acc += abs(poly[r, c])
+        total[r] = acc
+    opened = np.zeros(K, np.bool_)
+    if open_row >= 0:
+        opened[open_row] = True
+    BB = np.empty((2 * K, m), np.complex128)
+    PP = np.zeros((2 * K, k))
+    for r in range(K):
+        for j in range(m):
+            BB[r, j] = b[r, j]
+            BB[K + r, j] = b[r, j] * lam[j]
+        for c in range(k):
+            PP[r, c] = poly[r, c]
+            if c + 1 < k:
+                PP[K + r, c] = poly[r, c + 1] * (c + 1)
+    g4_full = amp @ abs_lam4
+    cuts, tails, g4s, hs = _levels(abs_lam, abs_lam4, order, amp, scale)
+    n_lev = cuts.size
+    h_f = hs[n_lev - 1]
+    tau = 0.0
+    if on_boundary:     # a start lobe shorter than a fine step is seen on this grid
+        g_end = min(h_f, tau_max)
+        taus = np.empty(_GEO.size + 1)
+        taus[0] = 0.0
+        for j in range(_GEO.size):
+            taus[j + 1] = g_end * _GEO[j]
+        if abs_lam.max() * g_end <= _TAYLOR_RADIUS:
+            e_all = _taylor_rows(lam, b, poly, taus)
+        else:
+            e_all = _ev(lam, BB, PP, order, 0, taus, 0.0, False)
+        for i in range(K):
+            if not (e_all[i, 0] <= zero_tol[i]) or opened[i]:
+                continue
+            pos = -1
+            for j in range(1, taus.size):
+                if e_all[i, j] > zero_tol[i]:
+                    pos = j
+                    break
+            bad = pos < 0 or e_all[i, 0] < -zero_tol[i]
+            if not bad:
+                for j in range(1, pos):
+                    if e_all[i, j] < -zero_tol[i]:
+                        bad = True
+            if bad:
+                return 0.0, i          # the row does not open: the event is now
+            for j in range(1, pos):
+                e_all[i, j] = zero_tol[i]   # rounding-level start: not an event
+        t_ev, row = _crossings(lam, b, poly, total, zero_tol, opened, taus, e_all, g4_full)
+        if row >= 0:
+            return t_ev, row
+        if taus[-1] >= tau_max:
+            return -1.0, -1
+        tau = taus[-1]
+    h0 = hs[0]
+    chunk = 16
+    # spans still to search, depth first in time order: (level, start, end)
+    st_lv = np.empty(64, np.int64)
+    st_a = np.empty(64)
+    st_b = np.empty(64)
+    while tau < tau_max:
+        n_pts = 0
+        for j in range(chunk + 1):
+            if tau + h0 * j < tau_max:
+                n_pts += 1
+        if tau + h0 * chunk >= tau_max:
+            grid = np.empty(n_pts + 1)
+            for j in range(n_pts):
+                grid[j] = tau + h0 * j
+            grid[n_pts] = tau_max
+        else:
+            grid = np.empty(chunk + 1)
+            for j in range(chunk + 1):
+                grid[j] = tau + h0 * j
+        v = _ev(lam, BB, PP, order, cuts[0], grid, h0, True)
+        unc = _before_negative(uncertified_steps(grid, v, K, g4s[0], tails[0], zero_tol, _H1),
+                               v, K, tails[0], zero_tol)
+        q = 0
+        while q < unc.size:
+            q1 = q
+            while q1 + 1 < unc.size and unc[q1 + 1] == unc[q1] + 1:
+                q1 += 1
+            a, b_end = grid[unc[q]], grid[unc[q1] + 1]
+            q = q1 + 1
+            if n_lev == 1:
+                t_ev, row = _fine(lam, b, poly, BB, PP, order, total, zero_tol, opened,
+                                  g4_full, h_f, a, b_end)
+                if row >= 0:
+                    return t_ev, row
+                continue
+            n_st = 1
+            st_lv[0], st_a[0], st_b[0] = 1, a, b_end
+            while n_st:
+                n_st -= 1
+                lv, sa, sb = st_lv[n_st], st_a[n_st], st_b[n_st]
+                if lv >= n_lev - 1:
+                    t_ev, row = _fine(lam, b, poly, BB, PP, order, total, zero_tol, opened,
+                                      g4_full, h_f, sa, sb)
+                    if row >= 0:
+                        return t_ev, row
+                    continue
+                t_all, h = _uniform(sa, sb, hs[lv])
+                v_l = _ev(lam, BB, PP, order, cuts[lv], t_all, h, True)
+                u_l = _before_negative(
+                    uncertified_steps(t_all, v_l, K, g4s[lv], tails[lv], zero_tol, _H1),
+                    v_l, K, tails[lv], zero_tol)
+                # runs of consecutive steps, pushed last first (popped in time order)
+                runs_end = u_l.size
+                while runs_end > 0:
+                    r1 = runs_end - 1
+                    r0 = r1
+                    while r0 > 0 and u_l[r0 - 1] == u_l[r0] - 1:
+                        r0 -= 1
+                    if n_st == st_lv.size:
+                        st_lv = np.concatenate((st_lv, np.empty(n_st, np.int64)))
+                        st_a = np.concatenate((st_a, np.empty(n_st)))
+                        st_b = np.concatenate((st_b, np.empty(n_st)))
+                    st_lv[n_st] = lv + 1
+                    st_a[n_st], st_b[n_st] = t_all[u_l[r0]], t_all[u_l[r1] + 1]
+                    n_st += 1
+                    runs_end = r0
+        tau = grid[-1]
+        chunk = min(2 * chunk, 512)
+    return -1.0, -1
