@@ -25,6 +25,8 @@ METHODS = ("auto", "laplace", "modal", "convolution", "closed_form")
 #: steps per fastest time scale that resolve duration and restitution to about 0.1 %
 _STEPS_PER_SCALE = 1000
 _MAX_STEPS = 4_000_000
+#: output samples of the exact (laplace) solver per 1/omega of the fastest time scale
+_LAPLACE_SAMPLES_PER_SCALE = 8
 
 
 def solve_impact(body1: Body, body2: Body, *, gap: float = 0.0, contact=Rigid(),
@@ -154,6 +156,10 @@ def choose_dt(bodies, contact, *, t_end, method="convolution") -> float:
     of a compliant contact or of a residual flexibility against the bodies' masses, one
     per sample of a measured response. With rods, the step divides every transit time
     when it can, so that wave reflections fall on grid points.
+
+    ``method="laplace"`` is exact at any step: its step only places the output samples,
+    ``_LAPLACE_SAMPLES_PER_SCALE`` (8) per ``1/omega`` of the fastest time scale (about 50
+    per period) and at least 200 over ``t_end``; the first contact's exact peak is added.
     """
     pairs = [p for b in bodies for p in _time_scales(b)]
     contact_scale = _contact_time_scale(bodies, contact)
@@ -163,7 +169,8 @@ def choose_dt(bodies, contact, *, t_end, method="convolution") -> float:
     if not pairs:
         return t_end / 1000
     if method == "laplace":
-        return max(min(min(s for s, _ in pairs) / 20, t_end / 200), t_end / _MAX_STEPS)
+        return max(min(min(s for s, _ in pairs) / _LAPLACE_SAMPLES_PER_SCALE, t_end / 200),
+                   t_end / _MAX_STEPS)
     sampled = [float(np.min(np.diff(b.model.t))) for b in bodies
                if isinstance(b.model, SampledResponse)]
     dt = min(sampled) if sampled else min(s / n for s, n in pairs)

@@ -17,14 +17,41 @@ import math
 
 import numpy as np
 import scipy.linalg
-import scipy.sparse
-import scipy.sparse.csgraph
+from numba import njit
+
+from ._rank_one import rank_one_split
 
 __all__ = ["SpectralPhase", "DefectiveSpectrum"]
 
 
 class DefectiveSpectrum(ValueError):
     """The non-zero part of ``M`` is not safely diagonalisable."""
+
+
+@njit(cache=True)
+def _components(adjacency):  # pragma: no cover - compiled
+    """``(count, labels)`` of the connected components of a symmetric boolean matrix
+    (depth-first search, O(n^2))."""
+    n = adjacency.shape[0]
+    labels = np.full(n, -1, np.int64)
+    stack = np.empty(n, np.int64)
+    count = 0
+    for start in range(n):
+        if labels[start] >= 0:
+            continue
+        labels[start] = count
+        top = 0
+        stack[0] = start
+        while top >= 0:
+            i = stack[top]
+            top -= 1
+            for j in range(n):
+                if adjacency[i, j] and labels[j] < 0:
+                    labels[j] = count
+                    top += 1
+                    stack[top] = j
+        count += 1
+    return count, labels
 
 
 def _decoupling(t11, t22, t12):
@@ -165,18 +192,28 @@ class SpectralPhase:
 
     A block-diagonal ``M`` (up to a permutation of the states: uncoupled modes, the free
     flight of two bodies) is decomposed block by block, which gives the same form.
+    ``update_of=(free, b, r)``: ``M = free's matrix + outer(b, r)`` (a contact phase), split
+    through ``free``'s form in O(n^2 m) (:mod:`._rank_one`) when its checks pass, else by
+    the general route. :attr:`route` says which was taken.
     """
 
-    def __init__(self, M, *, zero_tol=1e-9, max_cond=1e8):
+    def __init__(self, M, *, zero_tol=1e-9, max_cond=1e8, update_of=None):
         M = np.asarray(M, dtype=float)
         n = M.shape[0]
         norm = np.linalg.norm(M, 1) or 1.0
         tol = zero_tol * norm
-        n_comp, labels = (scipy.sparse.csgraph.connected_components(
-            scipy.sparse.csr_array((M != 0) | (M.T != 0)), directed=False)
-            if n > 2 else (1, None))
-        nil, lam, s0, s1v, in0, in1 = (_split_blocks(M, tol, max_cond, labels) if n_comp > 1
-                                       else _split(M, tol, max_cond))
+        split = None
+        if update_of is not None:
+            free, b, r = update_of
+            split = rank_one_split(M, free, np.asarray(b, float), np.asarray(r, float),
+                                   tol=tol, max_cond=max_cond)
+            self.route = "rank-one update"
+        if split is None:
+            n_comp, labels = _components((M != 0) | (M.T != 0)) if n > 2 else (1, None)
+            split = (_split_blocks(M, tol, max_cond, labels) if n_comp > 1
+                     else _split(M, tol, max_cond))
+            self.route = "blocks" if n_comp > 1 else "schur"
+        nil, lam, s0, s1v, in0, in1 = split
         k = nil.shape[0]
         self.n, self.k = n, k
         self.nil = nil

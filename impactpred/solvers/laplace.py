@@ -158,18 +158,24 @@ class _ExpmForm:
         return scipy.linalg.expm(self.M * tau) @ coords
 
 
-def _phase_form(M):
+def _phase_form(M, update_of=None):
+    if update_of is not None and not isinstance(update_of[0], SpectralPhase):
+        update_of = None
     try:
-        return SpectralPhase(M)
+        return SpectralPhase(M, update_of=update_of)
     except DefectiveSpectrum:
         return _ExpmForm(M)
 
 
 class _Phase:
-    """One kind of phase (free flight or stuck contact): its propagator and its rows."""
+    """One kind of phase (free flight or stuck contact): its propagator and its rows.
 
-    def __init__(self, M, rows, event_row, contact):
-        self.form = _phase_form(M)
+    ``update_of=(free_form, b, r)``: ``M`` is the free flight's matrix plus ``outer(b, r)``
+    (the contact force fed back), split through the free flight's form.
+    """
+
+    def __init__(self, M, rows, event_row, contact, *, update_of=None):
+        self.form = _phase_form(M, update_of)
         self.M = M
         self.rows = rows            # force, y1, y2, gap (4 x n_aug)
         self.event_row = event_row  # event when it turns negative
@@ -235,14 +241,14 @@ def solve_laplace(bodies, gap0, contact, t_end, dt, *, notes=()):
         raise ValueError(f"the laplace solver takes Rigid() or an undamped LinearSpring, got "
                          f"{contact!r}: use method='modal' or 'convolution'")
     force_row = aug(kf, k0)
-    M_con = np.zeros((n_aug, n_aug))
-    M_con[:n, :n] = A + np.outer(Bf, kf)
-    M_con[:n, one] = Bf * k0
-    M_con[jdx] = force_row
+    # the force enters the states through Bf and its integral J: a rank-one update
+    force_in = np.concatenate([Bf, [0.0, 1.0]])
+    M_con = M_free + np.outer(force_in, force_row)
     stuck = _Phase(M_con, np.vstack([force_row, y1_row - D1 * force_row,
                                      y2_row + D2 * force_row,
                                      gap_row + sysm.Dg * force_row,
-                                     points.rows(M_con, force_row)]), force_row, True)
+                                     points.rows(M_con, force_row)]), force_row, True,
+                   update_of=(free.form, force_in, force_row))
 
     step = _search_step(max(free.form.max_rate, stuck.form.max_rate), t_end)
     out_step = dt if dt is not None else t_end / 4000

@@ -1,0 +1,102 @@
+"""The contact phase split as a rank-one update of the free flight (``_rank_one``).
+
+Checked against the general route (ordered Schur form) and against matrix exponentials:
+the same eigenvalues, and the same state at any time, on the exact solver's own phase
+matrices (mass on a rod, two free bodies, damped beams, rigid and spring contact).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import scipy.linalg
+
+from data_synth import CantileverBeam, LumpedMass, Rod
+from impactpred import Body, LinearSpring, Rigid, solve_impact
+from impactpred.solvers import _spectral, laplace
+from impactpred.solvers._rank_one import rank_one_split
+from impactpred.solvers._spectral import SpectralPhase
+
+
+def _phase_matrices(monkeypatch, bodies, contact):
+    """The free and contact phase matrices and the update ``(b, r)`` the solver builds."""
+    seen = []
+    real = laplace._phase_form
+
+    def spy(M, update_of=None):
+        seen.append((M.copy(), update_of))
+        return real(M, update_of)
+
+    monkeypatch.setattr(laplace, "_phase_form", spy)
+    solve_impact(*bodies, contact=contact, t_end=0.5, dt=0.1, method="laplace")
+    (M_free, _), (M_con, (_, b, r)) = seen
+    return M_free, M_con, b, r
+
+
+def _state(form, x0, tau):
+    c0, c1 = form.coordinates(x0)
+    x = (form._modes @ (np.exp(form.rates * tau) * c1)).real
+    for j, power in enumerate(form.powers):
+        x = x + tau ** j * (form.s0 @ power @ c0)
+    return x
+
+
+CASES = {
+    "mass on a fixed rod, 50 modes": (
+        (Body(LumpedMass(1.0), velocity=1.0),
+         Body(Rod(1.0, 1.0, support="fixed").modal_model(50, residual=True))), Rigid()),
+    "mass on a rod without flexibility (Dirac)": (
+        (Body(LumpedMass(1.0), velocity=1.0),
+         Body(Rod(1.0, 1.0, support="fixed").modal_model(12))), Rigid()),
+    "two free bodies (common rigid motion)": (
+        (Body(LumpedMass(0.3), velocity=1.0),
+         Body(Rod(1.0, 0.8, support="free").modal_model(10, residual=True), velocity=-0.5)),
+        Rigid()),
+    "damped beam, spring contact": (
+        (Body(LumpedMass(0.1), velocity=1.0),
+         Body(CantileverBeam(1.0, 1.0).modal_model(20, damping_ratio=0.02))),
+        LinearSpring(1e6)),
+}
+
+
+@pytest.mark.parametrize("name", list(CASES))
+def test_rank_one_route_matches_schur_and_expm(monkeypatch, name):
+    bodies, contact = CASES[name]
+    M_free, M_con, b, r = _phase_matrices(monkeypatch, bodies, contact)
+    assert np.array_equal(M_con, M_free + np.outer(b, r))
+    free = SpectralPhase(M_free)
+    fast = SpectralPhase(M_con, update_of=(free, b, r))
+    general = SpectralPhase(M_con)
+    assert fast.route == "rank-one update" and general.route in ("schur", "blocks")
+    assert fast.k == general.k and fast.lam.size == general.lam.size
+    # the same spectrum: every eigenvalue of one has its match in the other
+    gap = np.abs(fast.lam[:, None] - general.lam[None, :]).min(axis=1)
+    assert np.all(gap <= 1e-9 * np.maximum(np.abs(fast.lam), 1.0))
+    x0 = np.random.default_rng(3).normal(size=M_con.shape[0])
+    scale = np.abs(M_con).sum(axis=1).max()
+    for tau in (0.0, 0.3 / scale ** 0.5, 0.01, 0.4):
+        exact = scipy.linalg.expm(M_con * tau) @ x0
+        err = np.max(np.abs(_state(fast, x0, tau) - exact))
+        ref = np.max(np.abs(_state(general, x0, tau) - exact))
+        assert err <= max(10.0 * ref, 1e-11 * np.max(np.abs(exact)))
+
+
+def test_equal_bodies_fall_back_to_the_general_route(monkeypatch):
+    """Two equal rods: every free pole is double, the update leaves one of each pair."""
+    rod = Rod(1.0, 1.0, support="free").modal_model(6)
+    M_free, M_con, b, r = _phase_matrices(
+        monkeypatch, (Body(rod, velocity=1.0), Body(rod, velocity=-1.0)), Rigid())
+    free = SpectralPhase(M_free)
+    assert rank_one_split(M_con, free, b, r, tol=1e-9, max_cond=1e8) is None
+    assert SpectralPhase(M_con, update_of=(free, b, r)).route in ("schur", "blocks")
+
+
+def test_solutions_agree_with_the_general_route(monkeypatch):
+    """Whole solves: contact intervals and restitution of both routes, to rounding."""
+    bodies = CASES["mass on a fixed rod, 50 modes"][0]
+    fast = solve_impact(*bodies, t_end=4.0, method="laplace")
+    monkeypatch.setattr(_spectral, "rank_one_split", lambda *args, **kwargs: None)
+    slow = solve_impact(*bodies, t_end=4.0, method="laplace")
+    assert len(fast.contact_intervals) == len(slow.contact_intervals) > 10
+    assert np.allclose(fast.contact_intervals, slow.contact_intervals, rtol=0, atol=1e-10)
+    assert fast.restitution == pytest.approx(slow.restitution, rel=1e-10)
