@@ -338,7 +338,9 @@ def test_event_search_is_the_same_with_and_without_the_compiled_grids(monkeypatc
     # the recurrence's rounding (1e-15 of the terms) is far under the search's zero
     # tolerance: the contact history is the same as with e^{lam tau} on every point
     import impactpred.damper._engine_form as form
+    import impactpred.damper._engine_run as engine_run
 
+    monkeypatch.setattr(engine_run, "_COMPILED", False)     # the Python loop's search
     _, d = _beam_tip_damper(damping_ratio=0.01, force=1.0, ratio=1.0)
     a = d.simulate(6)
     monkeypatch.setattr(form, "_MIN_KERNEL", 10 ** 9)

@@ -90,7 +90,11 @@ def run_compiled(eng, *, start, n_cycles, samples_per_cycle, bar, decide_rtol):
     bar.update(t)
     while not done:
         i_chunk += 1
-        t_stop = min(t0_run + i_chunk * CHUNK_CYCLES * T, t_end)
+        t_stop = t0_run + i_chunk * CHUNK_CYCLES * T
+        if t_stop <= t:         # the last call's phase ran past this chunk's end
+            i_chunk = int((t - t0_run) / (CHUNK_CYCLES * T)) + 1
+            t_stop = t0_run + i_chunk * CHUNK_CYCLES * T
+        t_stop = min(t_stop, t_end)
         (status, t, x, mode, side, on_boundary, open_row, first_sample, stall, crawl, v_max,
          cur, imp, n_imp, ts, vs, ws, gs, done) = rigid_loop(
             free, stuck_p, stuck_m, x, t, mode, side, on_boundary, open_row, first_sample,

@@ -324,7 +324,7 @@ def rigid_loop(free, stuck_p, stuck_m, x, t, mode, side, on_boundary, open_row,
         where); the samples of this call (``values``: the first six output rows);
         ``done``: the run reached ``t_end``.
     """
-    cap = int((min(t_stop, t_end) - t) / dt_out) * 2 + 256
+    cap = max(int((min(t_stop, t_end) - t) / dt_out), 0) * 2 + 256
     times = np.empty(cap)
     vals = np.empty((6, cap))
     wk = np.empty((2, cap))
