@@ -259,7 +259,8 @@ def rank_one_split(M, free, b, r, *, tol, max_cond):
     if aberth(lam_f, beta, gamma, q, z, _MAX_SWEEPS, 1e-13) < 0:
         return None
     res = polish(z, lam_f, beta, gamma, 1)
-    if not (np.all(np.isfinite(z)) and np.all(res <= _RESIDUAL_RTOL)) or np.any(np.abs(z) <= tol):
+    if (not (np.all(np.isfinite(z)) and np.all(res <= _RESIDUAL_RTOL))
+            or np.any(np.abs(z) <= tol)):
         return None
     mu = _conjugate_pairs(z, 1e-12)
     if mu is None:
@@ -293,15 +294,15 @@ def rank_one_split(M, free, b, r, *, tol, max_cond):
     if k == 0:
         return np.zeros((0, 0)), mu, np.zeros((n, 0)), V, np.zeros((0, n)), W
     # the generalised null space: the range of the spectral projector P0 = I - V W,
-    # spanned by its image of the free flight's null space (checked by the rank)
-    P0 = np.eye(n) - (V @ W).real
+    # spanned by its image of the free flight's null space (checked by the rank);
+    # P0 is applied as I - V (W x), O(n m k), never formed
     if k_f < k:
         return None
-    u, sv, _ = np.linalg.svd(P0 @ free.s0, full_matrices=False)
+    u, sv, _ = np.linalg.svd(free.s0 - (V @ (W @ free.s0)).real, full_matrices=False)
     if not (sv[k - 1] > 1e-8 * sv[0] and (sv.size == k or sv[k] <= 1e-10 * sv[0])):
         return None
     s0 = u[:, :k]
-    in0 = s0.T @ P0
+    in0 = s0.T - ((s0.T @ V) @ W).real
     nil = in0 @ M @ s0
     if np.any(np.abs(np.linalg.eigvals(nil)) > tol):
         return None                      # not nilpotent: the split is not trustworthy

@@ -17,7 +17,11 @@ contact force ``f`` acting as ``-f`` on body 1 and ``+f`` on body 2:
 * Linear-spring contact (no damping): ``f = -k g`` while ``g < 0``: again linear.
 
 Each phase is split once into its spectral form (:class:`._spectral.SpectralPhase`), so any
-output is a closed-form sum of exponentials plus a polynomial. Events (separation where
+output is a closed-form sum of exponentials plus a polynomial. The free flight is split
+block by block (the bodies are uncoupled); the contact phase is the free flight plus the
+rank-one feedback ``Bf Kf``, so its poles are found as the zeros of the secular function
+``1 - Kf (s - A)^-1 Bf`` (those of ``H1 + H2``) and its eigenvectors in closed form
+(:mod:`._rank_one`, O(n^2) per pole set), with the general Schur route as the fallback. Events (separation where
 ``f`` crosses 0, contact where ``g`` crosses 0) are searched on that closed form every
 ``pi/(8 |lambda|max)`` (the fastest pole), with the dips between samples bounded by the
 cubic Hermite interpolant and its error bound, and polished to rounding by safeguarded
