@@ -46,6 +46,23 @@ def _cexpm1(z):  # pragma: no cover - compiled
     return complex(math.expm1(x) * math.cos(y) - 2.0 * s * s, math.exp(x) * math.sin(y))
 
 
+@njit(cache=True, inline="always")
+def _expm1_from(e, em1):  # pragma: no cover - compiled
+    """``e^z - 1`` from ``e = e^z`` (as computed) and ``em1 = expm1(Re z)``, without
+    cancellation: with ``e = e^x (c + i s)``, ``Re(e^z - 1) = expm1(x) c - s^2 / (1 + c)``
+    (two terms of one sign where ``c > 0``; else, or where ``e^x < 1/2``, ``Re e - 1`` has
+    no cancellation). The rounding of
+    ``e`` (a few eps relative) passes to the result relatively: no transcendental call.
+    """
+    ex = 1.0 + em1
+    if ex > 0.5:            # else |e| <= 0.5: no cancellation in Re e - 1
+        c = e.real / ex
+        if c > 0.0:
+            sn = e.imag / ex
+            return complex(em1 * c - sn * sn / (1.0 + c), e.imag)
+    return complex(e.real - 1.0, e.imag)
+
+
 @njit(cache=True)
 def _start(kd, x, t0, omega):  # pragma: no cover - compiled
     """Coordinates ``(c1, c0, rot)`` of the state ``x`` at ``t0`` (``PhaseKind.start``)."""
@@ -227,24 +244,14 @@ def _emit(lam, ob, op, t_a, tau, t0_run, dt_out, first_sample, work, times, vals
             z = np.exp(lam[j] * s) if j < m - 1 else w
             for r in range(6):
                 vals[r, col] += (ob[r, j] * z).real
-            # int_0^s e^{mu u} du for mu = i w + lam_j and i w + conj(lam_j): (e^{mu s} - 1)
-            # / mu from the exponentials at hand where |mu s| >= 0.5 (relative rounding
-            # <= 4 eps), the cancellation-free e^{mu s} - 1 below
+            # int_0^s e^{mu u} du for mu = i w + lam_j and i w + conj(lam_j), from the
+            # exponentials at hand (see _expm1_from)
             vb = ob[1, j]
+            em1 = math.expm1(lam[j].real * s)
             mu1 = iw + lam[j]
             mu2 = iw + np.conj(lam[j])
-            if mu1 == 0:
-                e1 = complex(s)
-            elif abs(mu1) * s >= 0.5:
-                e1 = (w * z - 1.0) / mu1
-            else:
-                e1 = _cexpm1(mu1 * s) / mu1
-            if mu2 == 0:
-                e2 = complex(s)
-            elif abs(mu2) * s >= 0.5:
-                e2 = (w * np.conj(z) - 1.0) / mu2
-            else:
-                e2 = _cexpm1(mu2 * s) / mu2
+            e1 = complex(s) if mu1 == 0 else _expm1_from(w * z, em1) / mu1
+            e2 = complex(s) if mu2 == 0 else _expm1_from(w * np.conj(z), em1) / mu2
             c1 = vb * e1
             c2 = np.conj(vb) * e2
             w0 += 0.5 * ((a0 * c1).real + (a0 * c2).real)

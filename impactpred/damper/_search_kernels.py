@@ -7,11 +7,15 @@ included), root location and geometric grid at a phase that starts on an event. 
     r_i(tau) = Re(sum_j b_ij e^{lambda_j tau}) + sum_c poly_ic tau^c      (tau in s)
 
 given by their coefficients: ``b`` (K, m) complex, ``poly`` (K, k); values are in the rows'
-own units (m for the gaps, N for the contact force). The uniform grids are evaluated by
-:func:`impactpred.solvers._exp_kernels.sample_rows` (recurrence ``e^{lambda h}``,
-recomputed exactly every 32 points and at the last one), grids of fewer than
-``_MIN_KERNEL`` points and the geometric grid by direct exponentials, as the Python
-search does; roots are polished by safeguarded Newton steps on the closed form.
+own units (m for the gaps, N for the contact force). The uniform grids are evaluated as
+by :func:`impactpred.solvers._exp_kernels.sample_rows` (recurrence ``e^{lambda h}``,
+recomputed exactly every 32 points and at the first and last ones; here with the terms
+kept fastest first, so that a level's terms are a contiguous tail, and no per-call
+copies), grids of fewer than ``_MIN_KERNEL`` points by direct exponentials, the
+geometric grid at a phase's start by Taylor sums (:func:`_taylor_rows`); roots are
+polished by safeguarded Newton steps on the closed form. Only rounding differs from the
+Python search (the order of the sums, the recurrence on the grids): all its decisions
+compare values with a zero tolerance ``1e-12`` of the rows' terms, far above it.
 
 Cost: per phase O(K m) per grid point searched; no Python, no allocation beyond the grids.
 Compiled on first use (``cache=True``: loaded from numba's cache afterwards).
@@ -24,7 +28,7 @@ import math
 import numpy as np
 from numba import njit
 
-from ..solvers._exp_kernels import _polish, _value_slope, row_value, sample_rows
+from ..solvers._exp_kernels import _polish, _value_slope, row_value
 from ._kernels import crossing_steps, uncertified_steps
 
 __all__ = ["cabs", "first_event"]
@@ -37,7 +41,9 @@ _RATIO = 64.0
 _GEO = np.geomspace(1e-9, 1.0, 16)
 _H1 = 4.0 / 27.0
 _MIN_KERNEL = 8
-_PIECE = 64
+_PIECE = 16
+#: exponentials of a uniform grid evaluated directly every this many points
+_ANCHOR = 32
 #: the geometric grid's rows are summed as Taylor series of this many terms where
 #: ``|lambda| tau`` stays within ``_TAYLOR_RADIUS`` (see :func:`_taylor_rows`)
 _TAYLOR_TERMS = 16
@@ -97,25 +103,6 @@ def _levels(abs_lam, abs_lam4, order, amp, scale):  # pragma: no cover - compile
     return cuts, tails, g4s, hs
 
 
-@njit(cache=True)
-def _direct_rows(lam, B, P, taus):  # pragma: no cover - compiled
-    """Rows ``Re(B e^{lambda tau}) + P tau^c`` at ``taus``, exponentials evaluated directly."""
-    R, m = B.shape
-    out = np.zeros((R, taus.size))
-    for i in range(taus.size):
-        tau = taus[i]
-        for j in range(m):
-            z = np.exp(lam[j] * tau)
-            for r in range(R):
-                out[r, i] += (B[r, j] * z).real
-        for r in range(R):
-            p = 1.0
-            for c in range(P.shape[1]):
-                out[r, i] += P[r, c] * p
-                p *= tau
-    return out
-
-
 @njit(cache=True, inline="always")
 def cabs(z):  # pragma: no cover - compiled
     """``|z|`` without ``hypot``'s overflow guard (the moduli here are far from overflow)."""
@@ -135,15 +122,19 @@ def _taylor_rows(lam, b, poly, taus):  # pragma: no cover - compiled
     K, m = b.shape
     N = _TAYLOR_TERMS
     coef = np.zeros((K, N + 1))            # value coefficients tau^q, q = 0 .. N
-    p = np.empty(m, np.complex128)
+    pr, pi = np.empty(m), np.empty(m)       # b lam^q / q!
+    lr, li = lam.real.copy(), lam.imag.copy()
     for r in range(K):
         for j in range(m):
-            p[j] = b[r, j]
+            pr[j], pi[j] = b[r, j].real, b[r, j].imag
         for q in range(N + 1):
+            inv = 1.0 / (q + 1)
             acc = 0.0
             for j in range(m):
-                acc += p[j].real
-                p[j] = p[j] * lam[j] / (q + 1)
+                acc += pr[j]
+                a = (pr[j] * lr[j] - pi[j] * li[j]) * inv
+                pi[j] = (pr[j] * li[j] + pi[j] * lr[j]) * inv
+                pr[j] = a
             coef[r, q] = acc
         for c in range(min(poly.shape[1], N + 1)):
             coef[r, c] += poly[r, c]
@@ -162,22 +153,46 @@ def _taylor_rows(lam, b, poly, taus):  # pragma: no cover - compiled
     return out
 
 
-@njit(cache=True)
-def _ev(lam, BB, PP, order, n_c, taus, h, uniform):  # pragma: no cover - compiled
-    """Values and slopes (2K x len(taus)) of the terms ``order[n_c:]`` (all if ``n_c == 0``)
-    and the polynomial; ``uniform``: ``taus`` advances by ``h`` (s), but its last point."""
-    if n_c == 0:
-        lam_l, B = lam, BB
-    else:
-        cols = order[n_c:]
-        lam_l = lam[cols]
-        B = np.empty((BB.shape[0], cols.size), np.complex128)
-        for r in range(BB.shape[0]):
-            for j in range(cols.size):
-                B[r, j] = BB[r, cols[j]]
-    if uniform and taus.size >= _MIN_KERNEL:
-        return sample_rows(lam_l, B, PP, taus, h)
-    return _direct_rows(lam_l, B, PP, taus)
+@njit(cache=True, fastmath=True)
+def _ev(G, P, c0, taus, h, uniform):  # pragma: no cover - compiled
+    """Values and slopes (2K x len(taus)) of the terms ``c0:`` (fastest first: those of a
+    level) and the polynomial ``P``. ``G = (lam, Br, Bi, zr, zi, wr, wi)``: the exponents
+    and the value and slope rows' coefficients in the search's term order, and work
+    space. ``uniform``: ``taus`` advances by ``h`` (s) but at its last point; the
+    exponentials then advance by ``e^{lambda h}`` and are evaluated directly every
+    ``_ANCHOR`` points, at the first and last points and off the step (as
+    :func:`impactpred.solvers._exp_kernels.sample_rows`), else directly everywhere.
+    """
+    lam, Br, Bi, zr, zi, wr, wi = G
+    R, m = Br.shape
+    n = taus.size
+    out = np.empty((R, n))
+    rec = uniform and n >= _MIN_KERNEL
+    if rec:
+        for j in range(c0, m):
+            w = np.exp(lam[j] * h)
+            wr[j], wi[j] = w.real, w.imag
+    for i in range(n):
+        tau = taus[i]
+        if (not rec or i % _ANCHOR == 0 or i == n - 1
+                or abs(taus[i] - taus[i - 1] - h) > 1e-9 * h):
+            for j in range(c0, m):
+                z = np.exp(lam[j] * tau)
+                zr[j], zi[j] = z.real, z.imag
+        else:
+            for j in range(c0, m):
+                a = zr[j] * wr[j] - zi[j] * wi[j]
+                zi[j] = zr[j] * wi[j] + zi[j] * wr[j]
+                zr[j] = a
+        for r in range(R):
+            acc = 0.0
+            for j in range(c0, m):
+                acc += Br[r, j] * zr[j] - Bi[r, j] * zi[j]
+            p = 0.0
+            for q in range(P.shape[1] - 1, -1, -1):
+                p = p * tau + P[r, q]
+            out[r, i] = acc + p
+    return out
 
 
 @njit(cache=True)
@@ -295,7 +310,7 @@ def _uniform(a, b_end, h):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
-def _fine(lam, b, poly, BB, PP, order, total, zero_tol, opened, g4_full, h_f, a,
+def _fine(lam, b, poly, G, PP, total, zero_tol, opened, g4_full, h_f, a,
           b_end):  # pragma: no cover - compiled
     """First event in ``[a, b_end]`` with every term, in pieces of ``_PIECE`` steps
     (doubling up to ``16 _PIECE``), stopping at the first piece with an event."""
@@ -306,7 +321,7 @@ def _fine(lam, b, poly, BB, PP, order, total, zero_tol, opened, g4_full, h_f, a,
         i1 = min(n, i0 + piece)
         tt = t_all[i0:i1 + 1]
         tau, row = _crossings(lam, b, poly, total, zero_tol, opened, tt,
-                              _ev(lam, BB, PP, order, 0, tt, h, True), g4_full)
+                              _ev(G, PP, 0, tt, h, True), g4_full)
         if row >= 0:
             return tau, row
         i0, piece = i1, min(2 * piece, 16 * _PIECE)
@@ -340,12 +355,20 @@ def first_event(lam, abs_lam, abs_lam4, order, b, poly, tau_max, scale, zero_tol
     opened = np.zeros(K, np.bool_)
     if open_row >= 0:
         opened[open_row] = True
-    BB = np.empty((2 * K, m), np.complex128)
+    # the grids' terms, fastest first (a level's terms are then a tail ``c0:``)
+    lam_o = np.empty(m, np.complex128)
+    Br = np.empty((2 * K, m))
+    Bi = np.empty((2 * K, m))
+    for c in range(m):
+        j = order[c]
+        lam_o[c] = lam[j]
+        for r in range(K):
+            bj, blj = b[r, j], b[r, j] * lam[j]
+            Br[r, c], Bi[r, c] = bj.real, bj.imag
+            Br[K + r, c], Bi[K + r, c] = blj.real, blj.imag
+    G = (lam_o, Br, Bi, np.empty(m), np.empty(m), np.empty(m), np.empty(m))
     PP = np.zeros((2 * K, k))
     for r in range(K):
-        for j in range(m):
-            BB[r, j] = b[r, j]
-            BB[K + r, j] = b[r, j] * lam[j]
         for c in range(k):
             PP[r, c] = poly[r, c]
             if c + 1 < k:
@@ -364,7 +387,7 @@ def first_event(lam, abs_lam, abs_lam4, order, b, poly, tau_max, scale, zero_tol
         if abs_lam.max() * g_end <= _TAYLOR_RADIUS:
             e_all = _taylor_rows(lam, b, poly, taus)
         else:
-            e_all = _ev(lam, BB, PP, order, 0, taus, 0.0, False)
+            e_all = _ev(G, PP, 0, taus, 0.0, False)
         for i in range(K):
             if not (e_all[i, 0] <= zero_tol[i]) or opened[i]:
                 continue
@@ -390,8 +413,9 @@ def first_event(lam, abs_lam, abs_lam4, order, b, poly, tau_max, scale, zero_tol
         tau = taus[-1]
     h0 = hs[0]
     chunk = 16
-    # spans still to search, depth first in time order: (level, start, end)
+    # spans still to search, depth first in time order: (level, start, end, piece)
     st_lv = np.empty(64, np.int64)
+    st_p = np.empty(64, np.int64)
     st_a = np.empty(64)
     st_b = np.empty(64)
     while tau < tau_max:
@@ -408,7 +432,7 @@ def first_event(lam, abs_lam, abs_lam4, order, b, poly, tau_max, scale, zero_tol
             grid = np.empty(chunk + 1)
             for j in range(chunk + 1):
                 grid[j] = tau + h0 * j
-        v = _ev(lam, BB, PP, order, cuts[0], grid, h0, True)
+        v = _ev(G, PP, cuts[0], grid, h0, True)
         unc = _before_negative(uncertified_steps(grid, v, K, g4s[0], tails[0], zero_tol, _H1),
                                v, K, tails[0], zero_tol)
         q = 0
@@ -419,27 +443,40 @@ def first_event(lam, abs_lam, abs_lam4, order, b, poly, tau_max, scale, zero_tol
             a, b_end = grid[unc[q]], grid[unc[q1] + 1]
             q = q1 + 1
             if n_lev == 1:
-                t_ev, row = _fine(lam, b, poly, BB, PP, order, total, zero_tol, opened,
+                t_ev, row = _fine(lam, b, poly, G, PP, total, zero_tol, opened,
                                   g4_full, h_f, a, b_end)
                 if row >= 0:
                     return t_ev, row
                 continue
             n_st = 1
-            st_lv[0], st_a[0], st_b[0] = 1, a, b_end
+            st_lv[0], st_a[0], st_b[0], st_p[0] = 1, a, b_end, _PIECE
             while n_st:
                 n_st -= 1
-                lv, sa, sb = st_lv[n_st], st_a[n_st], st_b[n_st]
+                lv, sa, sb, piece = st_lv[n_st], st_a[n_st], st_b[n_st], st_p[n_st]
                 if lv >= n_lev - 1:
-                    t_ev, row = _fine(lam, b, poly, BB, PP, order, total, zero_tol, opened,
+                    t_ev, row = _fine(lam, b, poly, G, PP, total, zero_tol, opened,
                                       g4_full, h_f, sa, sb)
                     if row >= 0:
                         return t_ev, row
                     continue
+                # the span's grid, evaluated a piece at a time: its first ``piece`` steps
+                # now, the rest (pushed below this piece's runs) only if no event is there
                 t_all, h = _uniform(sa, sb, hs[lv])
-                v_l = _ev(lam, BB, PP, order, cuts[lv], t_all, h, True)
-                u_l = _before_negative(
-                    uncertified_steps(t_all, v_l, K, g4s[lv], tails[lv], zero_tol, _H1),
-                    v_l, K, tails[lv], zero_tol)
+                n_steps = t_all.size - 1
+                tt = t_all[:min(n_steps, piece) + 1]
+                v_l = _ev(G, PP, cuts[lv], tt, h, True)
+                u_all = uncertified_steps(tt, v_l, K, g4s[lv], tails[lv], zero_tol, _H1)
+                u_l = _before_negative(u_all, v_l, K, tails[lv], zero_tol)
+                if n_st + u_l.size + 1 > st_lv.size:
+                    grow = n_st + u_l.size + 1
+                    st_lv = np.concatenate((st_lv, np.empty(grow, np.int64)))
+                    st_p = np.concatenate((st_p, np.empty(grow, np.int64)))
+                    st_a = np.concatenate((st_a, np.empty(grow)))
+                    st_b = np.concatenate((st_b, np.empty(grow)))
+                if tt.size < t_all.size and u_l.size == u_all.size:
+                    st_lv[n_st], st_p[n_st] = lv, min(2 * piece, 16 * _PIECE)
+                    st_a[n_st], st_b[n_st] = tt[-1], sb
+                    n_st += 1
                 # runs of consecutive steps, pushed last first (popped in time order)
                 runs_end = u_l.size
                 while runs_end > 0:
@@ -447,12 +484,8 @@ def first_event(lam, abs_lam, abs_lam4, order, b, poly, tau_max, scale, zero_tol
                     r0 = r1
                     while r0 > 0 and u_l[r0 - 1] == u_l[r0] - 1:
                         r0 -= 1
-                    if n_st == st_lv.size:
-                        st_lv = np.concatenate((st_lv, np.empty(n_st, np.int64)))
-                        st_a = np.concatenate((st_a, np.empty(n_st)))
-                        st_b = np.concatenate((st_b, np.empty(n_st)))
-                    st_lv[n_st] = lv + 1
-                    st_a[n_st], st_b[n_st] = t_all[u_l[r0]], t_all[u_l[r1] + 1]
+                    st_lv[n_st], st_p[n_st] = lv + 1, _PIECE
+                    st_a[n_st], st_b[n_st] = tt[u_l[r0]], tt[u_l[r1] + 1]
                     n_st += 1
                     runs_end = r0
         tau = grid[-1]
