@@ -9,7 +9,7 @@ included), root location and geometric grid at a phase that starts on an event. 
 given by their coefficients: ``b`` (K, m) complex, ``poly`` (K, k); values are in the rows'
 own units (m for the gaps, N for the contact force). The uniform grids are evaluated as
 by :func:`impactpred.solvers._exp_kernels.sample_rows` (recurrence ``e^{lambda h}``,
-recomputed exactly every 32 points and at the first and last ones; here with the terms
+recomputed exactly every 32 points and at the first one; here with the terms
 kept fastest first, so that a level's terms are a contiguous tail, and no per-call
 copies), grids of fewer than ``_MIN_KERNEL`` points by direct exponentials, the
 geometric grid at a phase's start by Taylor sums (:func:`_taylor_rows`); roots are
@@ -154,27 +154,32 @@ def _taylor_rows(lam, b, poly, taus):  # pragma: no cover - compiled
 
 
 @njit(cache=True, fastmath=True)
-def _ev(G, P, c0, taus, h, uniform):  # pragma: no cover - compiled
+def _ev(G, P, c0, taus, h, uniform, i_base=0):  # pragma: no cover - compiled
     """Values and slopes (2K x len(taus)) of the terms ``c0:`` (fastest first: those of a
     level) and the polynomial ``P``. ``G = (lam, Br, Bi, zr, zi, wr, wi)``: the exponents
     and the value and slope rows' coefficients in the search's term order, and work
     space. ``uniform``: ``taus`` advances by ``h`` (s) but at its last point; the
     exponentials then advance by ``e^{lambda h}`` and are evaluated directly every
-    ``_ANCHOR`` points, at the first and last points and off the step (as
-    :func:`impactpred.solvers._exp_kernels.sample_rows`), else directly everywhere.
+    ``_ANCHOR`` points, at the first point and off the step (as
+    :func:`impactpred.solvers._exp_kernels.sample_rows`, which also recomputes the last
+    point), else directly everywhere.
+    ``i_base > 0``: ``taus`` continues the previous call's grid from its last point, at
+    index ``i_base`` of it (the exponentials there and ``e^{lambda h}`` are reused).
     """
     lam, Br, Bi, zr, zi, wr, wi = G
     R, m = Br.shape
     n = taus.size
     out = np.empty((R, n))
     rec = uniform and n >= _MIN_KERNEL
-    if rec:
+    if rec and i_base == 0:
         for j in range(c0, m):
             w = np.exp(lam[j] * h)
             wr[j], wi[j] = w.real, w.imag
     for i in range(n):
         tau = taus[i]
-        if (not rec or i % _ANCHOR == 0 or i == n - 1
+        if i == 0 and i_base > 0:
+            pass                # the previous call's last point
+        elif (not rec or i == 0 or (i_base + i) % _ANCHOR == 0
                 or abs(taus[i] - taus[i - 1] - h) > 1e-9 * h):
             for j in range(c0, m):
                 z = np.exp(lam[j] * tau)
@@ -321,7 +326,7 @@ def _fine(lam, b, poly, G, PP, total, zero_tol, opened, g4_full, h_f, a,
         i1 = min(n, i0 + piece)
         tt = t_all[i0:i1 + 1]
         tau, row = _crossings(lam, b, poly, total, zero_tol, opened, tt,
-                              _ev(G, PP, 0, tt, h, True), g4_full)
+                              _ev(G, PP, 0, tt, h, True, i0), g4_full)
         if row >= 0:
             return tau, row
         i0, piece = i1, min(2 * piece, 16 * _PIECE)
