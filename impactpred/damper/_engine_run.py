@@ -3,7 +3,9 @@
 One pass of the loop is one phase: start its closed form at the current state, find
 its first event (:func:`._engine_form.first_event`), sample the outputs on the output
 grid inside it, and apply the event (impulse, contact start, separation). Hertz
-contacts are time-stepped by :mod:`._engine_hertz`.
+contacts are time-stepped by :mod:`._engine_hertz`. Rigid and instantaneous contacts run
+the same loop compiled (:mod:`._loop_kernels`, driven by :mod:`._engine_compiled`) unless
+``_COMPILED`` is False; this Python loop is the reference it is tested against.
 
 Rigid (and low-restitution instantaneous) contacts: at a contact instant the damper
 mass is put exactly on the stop (a rounding-level correction), a plastic Dirac impulse
