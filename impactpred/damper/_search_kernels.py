@@ -29,7 +29,7 @@ import numpy as np
 from numba import njit
 
 from ..solvers._exp_kernels import _polish, _value_slope, row_value
-from ._kernels import crossing_steps, uncertified_steps
+from ._kernels import crossing_steps, cubic_min, uncertified_steps
 
 __all__ = ["cabs", "first_event"]
 
@@ -271,6 +271,13 @@ def _crossings(lam, b, poly, total, zero_tol, opened, t_all, v, g4):  # pragma: 
                 continue
             lo, hi = t_all[j], t_all[j + 1]
             if c == 2:
+                # a dip: its interpolated minimum less the interpolation error bounds the
+                # row's minimum in the step; at or above -zero_tol (rounding-level dips of
+                # a row at 0) it cannot be an event, without locating the minimum
+                hs = hi - lo
+                if (cubic_min(v[i, j], v[i, j + 1], v[K + i, j], v[K + i, j + 1], hs)
+                        - hs ** 4 / 384.0 * g4[i] >= -zero_tol[i]):
+                    continue
                 d_lo = row_value(lam, b[i], poly[i], lo, 1)
                 d_hi = row_value(lam, b[i], poly[i], hi, 1)
                 if d_lo >= 0.0:
