@@ -1,12 +1,17 @@
-"""continue_above_band: exact answers on the uniform fixed rod (G = T/m, e = 0.6989)."""
+"""continue_above_band: exact answers on uniform rods (G = T/m; fixed rod e = 0.6989; two
+equal free rods: a rectangular force Z v high and 2T long, e = 1)."""
 
 import numpy as np
 import pytest
 
-from data_synth import LumpedMass, Rod
+from data_synth import CantileverBeam, LumpedMass, Rod, lightly_damped
 from impactpred import Body, solve_impact
-from impactpred.truncation import (continue_above_band, high_frequency_conductance,
-                                   impact_figures)
+from impactpred.truncation import (
+    continue_above_band,
+    high_frequency_conductance,
+    impact_figures,
+    smooth_tail_design,
+)
 
 EXACT_E = 0.698876  # mass M = m on a fixed rod, all contacts (reference_impacts)
 
@@ -20,7 +25,7 @@ def _band_top(n, T=1.0):
 @pytest.mark.parametrize("mass, T", [(1.0, 1.0), (2.5, 0.3)])
 def test_conductance_is_the_rod_admittance(n, mass, T):
     model = Rod(mass, T, support="fixed").modal_model(n, residual=True)
-    G, omega_top, dw, mk = high_frequency_conductance(model, _band_top(n, T))
+    G, _omega_top, dw, mk = high_frequency_conductance(model, _band_top(n, T))
     assert G == pytest.approx(T / mass, rel=1e-12)
     assert dw == pytest.approx(np.pi / T) and mk == pytest.approx(mass / 2)
     out = continue_above_band(model, _band_top(n, T))
@@ -76,3 +81,76 @@ def test_no_upper_flexibility_warns_and_stays_passive():
 def test_rejects_non_modal_models():
     with pytest.raises(TypeError):
         continue_above_band(Rod(1.0, 1.0), 5.0)
+
+
+# ------------------------------------------------------------------ the smooth tail
+def _free_rod_truth(n=10, mass=1.0, T=1.0):
+    """The benchmark's damped truth of a free rod: first n modes + residual, band top (Hz)."""
+    truth = lightly_damped(Rod(mass, T), n + 10, 0.001)
+    w = np.sort(truth.modes["omega_n"].to_numpy())
+    w = w[w > 0]
+    return truth.truncate(n, residual=True), 0.5 * (w[n - 1] + w[n]) / (2 * np.pi)
+
+
+def test_smooth_tail_design_is_passive_and_exact_in_h0_and_compliance():
+    d = smooth_tail_design(4.0)
+    assert d.error < 0.015                     # max |h/G - (1 - (2/pi) Si(x))|
+    assert min(d.weights) >= 0 and all(c > 0 for _, _, c in d.modes)
+    assert all(c > 0 and s > 0 for s, c in d.poles)
+    assert sum(c for _, c in d.poles) == pytest.approx(1.0, rel=1e-12)     # h(0+) = G
+    assert d.compliance() == pytest.approx(2 / np.pi, rel=1e-6)           # 2G/(pi w_a)
+    # the solver's cost: nothing above about 9 omega_a
+    assert max(max(s for s, _ in d.poles), max(u for u, _, _ in d.modes)) < 9.0
+
+
+def test_smooth_tail_keeps_h_flat_after_the_jump():
+    """Free rod, 10 modes: h = T/m on (0, 2T); the single pole dips to 0.76 T/m."""
+    model, top = _free_rod_truth()
+    t = np.linspace(1e-6, 1.9, 20000)
+    smooth = continue_above_band(model, top)
+    pole = continue_above_band(model, top, tail="pole")
+    assert np.max(np.abs(smooth.impulse_response(t) - 1.0)) < 0.03
+    assert np.max(np.abs(pole.impulse_response(t) - 1.0)) > 0.2
+    assert smooth.is_passive() and np.all(smooth.real_residues > 0)
+    assert smooth.static_flexibility() == pytest.approx(model.static_flexibility(), rel=1e-9)
+    assert smooth.impulse_response(np.array([0.0]))[0] == pytest.approx(1.0, rel=1e-9)
+
+
+def test_equal_rods_peak_within_10_percent_of_Zv():
+    """Paper case a from a truth continued at 10 modes: a rectangle Z v high, 2T long, e = 1.
+
+    The single real pole overshoots the height by 30 %; the smooth tail by 2 %.
+    """
+    model, top = _free_rod_truth()
+    figures = {}
+    for tail in ("smooth", "pole"):
+        cont = continue_above_band(model, top, tail=tail)
+        res = solve_impact(Body(cont, velocity=1.0), Body(cont, velocity=-1.0), t_end=6.0,
+                           method="laplace")
+        figures[tail] = impact_figures(res, resolution=0.5 / top)
+    smooth = figures["smooth"]
+    assert smooth["peak_force"] == pytest.approx(1.0, rel=0.05)       # Z v = (m/T) v = 1 N
+    assert smooth["contact_duration"] == pytest.approx(2.0, rel=0.02)
+    assert smooth["impulse"] == pytest.approx(2.0, rel=0.01)
+    assert smooth["restitution"] == pytest.approx(1.0, rel=0.015)
+    assert smooth["restitution"] >= figures["pole"]["restitution"] - 1e-3
+    assert figures["pole"]["peak_force"] > 1.25
+
+
+def test_thinning_modes_scale_the_tail_and_keep_static_flexibility():
+    """A cantilever's omitted modes hold less compliance than the uniform continuum."""
+    beam = CantileverBeam(10.0, 4.0)
+    model = beam.modal_model(10, residual=True)
+    w = np.sort(model.modes["omega_n"].to_numpy())
+    out, info = continue_above_band(model, w[-1] / (2 * np.pi) * 1.05, return_info=True)
+    assert info.tail == "smooth" and 0.25 < info.scale < 1.0
+    assert out.is_passive() and np.all(out.real_residues > 0)
+    assert out.static_flexibility() == pytest.approx(model.static_flexibility(), rel=1e-9)
+    assert out.impulse_response(np.array([0.0]))[0] == pytest.approx(
+        info.scale * info.conductance, rel=1e-9)
+
+
+def test_unknown_tail_is_rejected():
+    model, top = _free_rod_truth()
+    with pytest.raises(ValueError, match="tail"):
+        continue_above_band(model, top, tail="spline")
