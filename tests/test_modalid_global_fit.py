@@ -18,7 +18,6 @@ from scipy.optimize import least_squares
 
 from data_synth import CantileverBeam, Rod
 from modalid import FRFSet, ModalFit, MultiOutputModalModel, mac, read_frf_set
-from modalid.io import read_complex_lines
 
 DATA = Path(__file__).parent / "data"
 N_BAND, ZETA, XI = 6, 0.01, [0.0, 0.3, 0.6, 0.9]
