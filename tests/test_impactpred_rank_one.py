@@ -81,11 +81,36 @@ def test_rank_one_route_matches_schur_and_expm(monkeypatch, name):
         assert err <= max(10.0 * ref, 1e-11 * np.max(np.abs(exact)))
 
 
-def test_equal_bodies_fall_back_to_the_general_route(monkeypatch):
-    """Two equal rods: every free pole is double, the update leaves one of each pair."""
-    rod = Rod(1.0, 1.0, support="free").modal_model(6)
+@pytest.mark.parametrize("T2, zeta, contact", [
+    (1.0, 0.0, Rigid()),                  # equal rods: every free pole twice
+    (1.0, 0.02, LinearSpring(1e4)),       # damped equal rods, spring contact
+    (0.75, 0.0, Rigid()),                 # one pole shared (4 pi/s: 4th and 3rd modes)
+])
+def test_repeated_free_poles_are_deflated(monkeypatch, T2, zeta, contact):
+    """Two bodies with equal poles: the update keeps one copy of each, split exactly."""
+    rods = [Rod(1.0, T, support="free").modal_model(12, residual=True, damping_ratio=zeta)
+            for T in (1.0, T2)]
     M_free, M_con, b, r = _phase_matrices(
-        monkeypatch, (Body(rod, velocity=1.0), Body(rod, velocity=-1.0)), Rigid())
+        monkeypatch, (Body(rods[0], velocity=1.0), Body(rods[1], velocity=-1.0)), contact)
+    free = SpectralPhase(M_free)
+    fast = SpectralPhase(M_con, update_of=(free, b, r))
+    general = SpectralPhase(M_con)
+    assert fast.route == "rank-one update"
+    assert fast.k == general.k and fast.lam.size == general.lam.size
+    x0 = np.random.default_rng(5).normal(size=M_con.shape[0])
+    for tau in (0.0, 0.01, 0.3, 1.7):
+        exact = scipy.linalg.expm(M_con * tau) @ x0
+        err = np.max(np.abs(_state(fast, x0, tau) - exact))
+        ref = np.max(np.abs(_state(general, x0, tau) - exact))
+        assert err <= max(10.0 * ref, 1e-11 * np.max(np.abs(exact)))
+
+
+def test_close_but_unequal_poles_fall_back_to_the_general_route(monkeypatch):
+    """Poles 1e-10 apart (relative) are neither equal nor safely distinct: Schur route."""
+    rod = Rod(1.0, 1.0, support="free").modal_model(6)
+    other = rod.replace(poles=rod.poles * (1.0 + 1e-10))
+    M_free, M_con, b, r = _phase_matrices(
+        monkeypatch, (Body(rod, velocity=1.0), Body(other, velocity=-1.0)), Rigid())
     free = SpectralPhase(M_free)
     assert rank_one_split(M_con, free, b, r, tol=1e-9, max_cond=1e8) is None
     assert SpectralPhase(M_con, update_of=(free, b, r)).route in ("schur", "blocks")

@@ -22,7 +22,10 @@ on ``g`` itself. Their eigenvectors follow in closed form,
     v(mu) = (mu I - M_free)^-1 b,   w(mu) = r (mu I - M_free)^-1,   w(mu) v(mu) = g'(mu),
 
 and the generalised null space (eigenvalue 0: constants, common rigid-body motion) from
-the spectral projector ``I - V W``. Cost O(n^2 m) against O(n^3) with a large constant
+the spectral projector ``I - V W``. A free pole repeated ``p`` times (two equal bodies)
+enters ``g`` once with the summed ``beta``; the update leaves ``p - 1`` copies of it in
+place, with the combinations of their free eigenvectors that the force neither drives nor
+sees (deflation). Cost O(n^2 m) against O(n^3) with a large constant
 for the general Schur route; every result is checked (residuals of ``g``, conjugate
 pairing, eigenvalue condition numbers, the projector's rank) and ``None`` is returned
 whenever a check fails, so that the caller falls back to the general decomposition.
@@ -202,6 +205,57 @@ def _conjugate_pairs(z, tol):
     return np.concatenate([z[real].real.astype(complex), upper, np.conj(upper)])
 
 
+def _repeated_poles(lam):
+    """Index groups (arrays, size >= 2) of equal poles (to ``1e-12`` relative), or None
+    when two poles are close (within ``1e-8``) but not equal."""
+    if lam.size < 2:
+        return []
+    dist = np.abs(lam[:, None] - lam[None, :]) / np.maximum(np.abs(lam)[:, None], 1e-300)
+    np.fill_diagonal(dist, np.inf)
+    if np.any((dist <= 1e-8) & (dist > 1e-12)):
+        return None
+    groups, seen = [], np.zeros(lam.size, bool)
+    for i in np.flatnonzero(np.any(dist <= 1e-12, axis=1)):
+        if not seen[i]:
+            idx = np.concatenate([[i], np.flatnonzero(dist[i] <= 1e-12)])
+            seen[idx] = True
+            groups.append(idx)
+    return groups
+
+
+def _kept_copies(free, lam, alpha, rho, groups):
+    """``(lam, V, W)`` of the free poles the update leaves in place, or None.
+
+    A pole ``lambda`` repeated ``p`` times keeps ``p - 1`` copies: right eigenvectors
+    ``S1V c`` with ``rho . c = 0`` (the force row does not see them) and left ones ``d In1``
+    with ``d . alpha = 0`` (the force does not drive them), normalised to ``W V = I``.
+    Groups in the lower half-plane take the conjugates of their upper partners.
+    """
+    lams, vs, ws, done = [], [], [], {}
+    for idx in groups:
+        lam0 = lam[idx[0]]
+        partner = done.get(complex(np.conj(lam0)))
+        if partner is not None and lam0.imag < 0:
+            lams.append(np.conj(partner[0]))
+            vs.append(np.conj(partner[1]))
+            ws.append(np.conj(partner[2]))
+            continue
+        p = idx.size
+        right = np.linalg.svd(rho[idx][None, :])[2][1:].conj().T      # (p, p-1)
+        left = np.linalg.svd(alpha[idx][:, None])[0][:, 1:].conj().T  # (p-1, p)
+        gram = left @ right
+        if np.linalg.cond(gram) > 1e8:
+            return None
+        v = free.s1v[:, idx] @ right
+        w = np.linalg.solve(gram, left @ free.in1[idx])
+        entry = (np.full(p - 1, lam0), v, w)
+        done[complex(lam0)] = entry
+        lams.append(entry[0])
+        vs.append(v)
+        ws.append(w)
+    return np.concatenate(lams), np.concatenate(vs, axis=1), np.concatenate(ws, axis=0)
+
+
 def rank_one_split(M, free, b, r, *, tol, max_cond):
     """``(nil, lam, s0, s1v, in0, in1)`` of ``M = M_free + outer(b, r)``, or None.
 
@@ -221,8 +275,8 @@ def rank_one_split(M, free, b, r, *, tol, max_cond):
     Returns
     -------
     The general route's tuple (see ``_spectral._split``), or None when a check fails:
-    a free pole that the update leaves in place (``beta_i`` zero to rounding), no
-    convergence, a root at zero, a residual of ``g`` above rounding, unpaired conjugates,
+    a simple free pole that the update leaves in place (``beta_i`` zero to rounding),
+    repeated poles whose copies cancel, or poles close but not equal; no convergence, a root at zero, a residual of ``g`` above rounding, unpaired conjugates,
     an ill-conditioned eigenvalue, or a null space of the wrong rank.
     """
     n = free.n
@@ -233,11 +287,19 @@ def rank_one_split(M, free, b, r, *, tol, max_cond):
     beta_scale = (np.abs(r) @ np.abs(free.s1v)) * (np.abs(free.in1) @ np.abs(b))
     if lam_f.size and np.any(np.abs(beta) <= _ZERO_RTOL * beta_scale):
         return None                       # an uncoupled mode: general route
-    if lam_f.size > 1:
-        gaps = np.abs(lam_f[:, None] - lam_f[None, :])
-        np.fill_diagonal(gaps, np.inf)
-        if np.any(gaps <= 1e-8 * np.abs(lam_f)[:, None]):
-            return None                   # a repeated free pole (two equal bodies): general
+    groups = _repeated_poles(lam_f)
+    if groups is None:
+        return None                       # poles close but not equal: ill-conditioned
+    # a pole repeated p times (two equal bodies) enters g once, with the summed beta;
+    # p - 1 of its copies are left in place by the update (deflated, see _kept_copies)
+    first = np.ones(lam_f.size, bool)
+    lam_u, beta_u = lam_f.copy(), beta.copy()
+    for idx in groups:
+        first[idx[1:]] = False
+        beta_u[idx[0]] = beta[idx].sum()
+        if abs(beta_u[idx[0]]) <= _ZERO_RTOL * float(beta_scale[idx].sum()):
+            return None                   # the copies cancel: the pole stays p times
+    lam_u, beta_u = lam_u[first], beta_u[first]
     gamma = np.zeros(k_f, complex)
     q = 0
     if k_f:
@@ -253,12 +315,12 @@ def rank_one_split(M, free, b, r, *, tol, max_cond):
         gamma = gamma[:q]
     m = lam_f.size + q
     k = n - m
-    if m == 0:
+    if lam_u.size + q == 0:
         return None
-    z = _starting_points(lam_f, beta, gamma, q)
-    if aberth(lam_f, beta, gamma, q, z, _MAX_SWEEPS, 1e-13) < 0:
+    z = _starting_points(lam_u, beta_u, gamma, q)
+    if aberth(lam_u, beta_u, gamma, q, z, _MAX_SWEEPS, 1e-13) < 0:
         return None
-    res = polish(z, lam_f, beta, gamma, 1)
+    res = polish(z, lam_u, beta_u, gamma, 1)
     if (not (np.all(np.isfinite(z)) and np.all(res <= _RESIDUAL_RTOL))
             or np.any(np.abs(z) <= tol)):
         return None
@@ -273,9 +335,10 @@ def rank_one_split(M, free, b, r, *, tol, max_cond):
     W = (Cw.T @ free.in1)
     if k_f:
         # (mu - N)^-1 = sum_j N^j / mu^(j+1)
-        Z = np.zeros((k_f, m), complex)
-        Zw = np.zeros((m, k_f), complex)
-        vec, row = np.outer(free.in0 @ b, np.ones(m)), np.outer(np.ones(m), r @ free.s0)
+        Z = np.zeros((k_f, mu.size), complex)
+        Zw = np.zeros((mu.size, k_f), complex)
+        ones = np.ones(mu.size)
+        vec, row = np.outer(free.in0 @ b, ones), np.outer(ones, r @ free.s0)
         inv = 1.0 / mu
         p = inv.copy()
         for j in range(k_f):
@@ -288,6 +351,13 @@ def rank_one_split(M, free, b, r, *, tol, max_cond):
         V = V + free.s0 @ Z
         W = W + Zw @ free.in0
     W = W / dg[:, None]
+    if groups:
+        kept = _kept_copies(free, lam_f, alpha, rho, groups)
+        if kept is None:
+            return None
+        mu = np.concatenate([mu, kept[0]])
+        V = np.concatenate([V, kept[1]], axis=1)
+        W = np.concatenate([W, kept[2]], axis=0)
     cond = np.linalg.norm(V, axis=0) * np.linalg.norm(W, axis=1)
     if not np.all(cond <= max_cond):
         return None
