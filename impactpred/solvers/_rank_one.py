@@ -276,8 +276,9 @@ def rank_one_split(M, free, b, r, *, tol, max_cond):
     -------
     The general route's tuple (see ``_spectral._split``), or None when a check fails:
     a simple free pole that the update leaves in place (``beta_i`` zero to rounding),
-    repeated poles whose copies cancel, or poles close but not equal; no convergence, a root at zero, a residual of ``g`` above rounding, unpaired conjugates,
-    an ill-conditioned eigenvalue, or a null space of the wrong rank.
+    repeated poles whose copies cancel, or poles close but not equal; no convergence, a
+    root at zero, a residual of ``g`` above rounding, unpaired conjugates, an
+    ill-conditioned eigenvalue, or a null space of the wrong rank.
     """
     n = free.n
     lam_f, k_f = free.lam, free.k
