@@ -348,3 +348,42 @@ def test_event_search_is_the_same_with_and_without_the_compiled_grids(monkeypatc
     assert len(a.impacts) > 10 and len(a.impacts) == len(b.impacts)
     np.testing.assert_allclose(a.impacts["time"], b.impacts["time"], rtol=1e-13)
     np.testing.assert_allclose(a.impacts["impulse"], b.impacts["impulse"], rtol=1e-9)
+
+
+def _flexible_beam_damper(clearance):
+    """The damper benchmark's beam (20 modes + residual flexibility: relative degree 0)."""
+    from data_synth import CantileverBeam
+
+    model = CantileverBeam(1.0, 0.0559591).modal_model(20, damping_ratio=0.0, residual=True)
+    return model, ImpactDamper(model, damper_mass=0.0125, clearance=clearance, contact=Rigid(),
+                               excitation=HarmonicForce(1.0, 10.0))
+
+
+@pytest.mark.parametrize("clearance", [3e-3, 7e-3, 15e-3])
+@pytest.mark.parametrize("compiled", [True, False])
+def test_rigid_contact_through_a_flexibility_conserves_energy(monkeypatch, clearance, compiled):
+    """Rigid contact on a primary with a flexibility term is a massless spring ``1/D``.
+
+    The stuck force ``-g_free/D`` is 0 at a contact's start by construction: deciding on
+    its closed form's rounding there separated the bodies at once and the run stalled
+    ("events repeat") at these clearances. Undamped, nothing is lost: the input work is
+    the energy stored in the modes, the damper mass and the flexibility, to rounding.
+    """
+    from impactpred.damper import _engine_run
+
+    monkeypatch.setattr(_engine_run, "_COMPILED", compiled)
+    model, d = _flexible_beam_damper(clearance)
+    r = d.simulate(30 if compiled else 10)
+    assert len(r.impacts) > 20 and np.all(np.diff(r.impacts["time"]) > 0)
+    eng = d.engine()
+    end = r.final_state
+    x = end.state
+    z = x[0:2 * model.n_modes:2] + 1j * x[1:2 * model.n_modes:2]
+    stored = float(np.sum(np.abs(z) ** 2 / (2 * model.modes["modal_mass"].to_numpy()))) \
+        + 0.5 * d.damper_mass * x[eng.iv] ** 2
+    if end.mode == "stuck":
+        force = float(eng.stuck(end.side).M_lam @ eng.augmented(x, end.time))
+        stored += 0.5 * model.flexibility * force ** 2
+    w_in = float(r.input_work[-1])
+    assert w_in > 0
+    assert abs(w_in - stored) < 1e-8 * w_in

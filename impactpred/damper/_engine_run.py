@@ -85,7 +85,7 @@ def _work(a, lam, vb, taus):
 _DECIDE_RTOL = 1e-10
 
 
-def decide(lam, b, poly, orders=4):
+def decide(lam, b, poly, orders=4, *, first=0):
     """Stick (True) or separate, at a contact instant with zero relative velocity.
 
     ``f(tau) = Re(sum b e^{lam tau}) + poly(tau)`` is the compressive force the stuck
@@ -99,6 +99,11 @@ def decide(lam, b, poly, orders=4):
     zero to rounding (grazing to order ``orders - 1``): stick; the stuck phase's own
     search then finds where the force turns tensile, at a later time. The decision is
     taken once per contact instant, so no event can repeat at the same time.
+
+    ``first = 1``: ``f(0) = 0`` by construction and is skipped. With a flexibility term
+    (relative degree 0) the stuck force is ``-g_free / D``, zero once the damper mass is
+    pinned on the stop; its closed form's rounding there (the eigenvector conditioning
+    times the terms, ~1e-9 of them) must not decide.
     """
     fact = 1.0
     lam_k = np.ones_like(lam)
@@ -111,7 +116,7 @@ def decide(lam, b, poly, orders=4):
         if k < poly.size:
             d += fact * poly[k]
             mag += fact * abs(poly[k])
-        if abs(d) > _DECIDE_RTOL * mag:
+        if k >= first and abs(d) > _DECIDE_RTOL * mag:
             return d > 0.0
     return True
 
@@ -236,7 +241,7 @@ def run(eng, *, start: EngineState, n_cycles, samples_per_cycle, progress):
         coords = kind.start(x, t)
         b, poly = kind.coefficients(kind.event, coords)
         i = 0 if s == 1 else 1
-        return decide(kind.lam, b[i], poly[i])
+        return decide(kind.lam, b[i], poly[i], first=1 if eng.rho == 0 else 0)
 
     def spring_boundary(s, x, t, q_zero):
         """Next phase at a boundary of the linear-spring contact at side ``s``.
@@ -386,7 +391,8 @@ def run(eng, *, start: EngineState, n_cycles, samples_per_cycle, progress):
                     cur["impulse"] += p
                     stick = False
                 if stick:
-                    mode, side, open_row = "stuck", s, 0
+                    # relative degree 0: the stuck force -g_free/D is 0 at the start
+                    mode, side, open_row, zero_open = "stuck", s, 0, eng.rho == 0
                 else:
                     mode, open_row = "free", (0 if s == 1 else 1)
             else:

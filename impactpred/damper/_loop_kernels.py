@@ -164,8 +164,9 @@ def _integral(lam, b, poly, tau):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
-def _decide(lam, b, poly, rtol):  # pragma: no cover - compiled
-    """Stick (True) or separate: :func:`._engine_run.decide` (four Taylor orders)."""
+def _decide(lam, b, poly, rtol, first):  # pragma: no cover - compiled
+    """Stick (True) or separate: :func:`._engine_run.decide` (four Taylor orders, from
+    order ``first``: 1 where ``f(0) = 0`` by construction, relative degree 0)."""
     fact = 1.0
     lam_k = np.ones(lam.size, np.complex128)
     for k in range(4):
@@ -180,7 +181,7 @@ def _decide(lam, b, poly, rtol):  # pragma: no cover - compiled
         if k < poly.size:
             d += fact * poly[k]
             mag += fact * abs(poly[k])
-        if abs(d) > rtol * mag:
+        if k >= first and abs(d) > rtol * mag:
             return d > 0.0
     return True
 
@@ -358,7 +359,7 @@ def rigid_loop(free, stuck_p, stuck_m, x, t, mode, side, on_boundary, open_row,
         c1, c0, rot = _start(kd, x, t, omega)
         b, poly = _coefficients(kd[9], kd[10], kd[11], c1, c0, rot, r_lo, r_hi)
         K = r_hi - r_lo
-        if open_row >= 0 and c0.size and mode == 0:
+        if open_row >= 0 and c0.size and (mode == 0 or rho == 0):
             # the damper mass was put exactly on the stop: the open gap row is 0 at the
             # start; remove the closed form's rounding there
             s0 = 0.0
@@ -429,7 +430,7 @@ def rigid_loop(free, stuck_p, stuck_m, x, t, mode, side, on_boundary, open_row,
                 kc1, kc0, krot = _start(ks, x, t, omega)
                 i = 0 if s == 1 else 1
                 sb, sp = _coefficients(ks[9], ks[10], ks[11], kc1, kc0, krot, i, i + 1)
-                stick = _decide(ks[0], sb[0], sp[0], decide_rtol)
+                stick = _decide(ks[0], sb[0], sp[0], decide_rtol, 1 if rho == 0 else 0)
             else:
                 p = (1.0 + e) * v_rel / inv_mu
                 x = x + s * p * bl
