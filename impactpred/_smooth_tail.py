@@ -137,6 +137,10 @@ def smooth_tail_design(extend: float = 4.0, *, reach: float = 2.0, n_nodes: int 
     -------
     TailDesign
     """
+    if not (math.isfinite(extend) and extend > 0):
+        raise ValueError(f"extend must be a positive finite number, got {extend!r}")
+    if int(n_nodes) != n_nodes or n_nodes < 2:
+        raise ValueError(f"n_nodes must be an integer >= 2, got {n_nodes!r}")
     extend = max(float(extend), 1.0)
     x = np.unique(np.concatenate([np.linspace(0.0, x_max, 2500),
                                   np.geomspace(1e-3, x_max, 800)]))

@@ -62,6 +62,7 @@ the impact figures.
 from __future__ import annotations
 
 import math
+import numbers
 import warnings
 from dataclasses import dataclass
 
@@ -91,7 +92,7 @@ class ContinuationInfo:
 
     conductance: float          # G (m/(N s) = s/kg)
     sigma: float                # real pole -sigma (1/s)
-    omega_top: float            # highest physical mode kept (rad/s)
+    omega_top: float            # highest mode kept, synthesized ones included (rad/s)
     mode_spacing: float         # dw of the top modes (rad/s)
     modal_mass: float           # mean modal mass of the top modes (kg)
     upper_flexibility: float    # upper residual flexibility before (m/N)
@@ -180,6 +181,8 @@ def continue_above_band(model: ModalModel, band_top_hz: float, *, n_top: int = 3
     """
     if not isinstance(model, ModalModel):
         raise TypeError(f"model must be a ModalModel, got {type(model).__name__}")
+    if not (isinstance(extend, numbers.Real) and math.isfinite(extend) and extend > 0):
+        raise ValueError(f"extend must be a positive finite number, got {extend!r}")
     band_top_hz = float(band_top_hz)
     if not band_top_hz > 0:
         raise ValueError(f"band_top_hz must be positive, got {band_top_hz!r}")

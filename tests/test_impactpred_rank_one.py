@@ -125,3 +125,29 @@ def test_solutions_agree_with_the_general_route(monkeypatch):
     assert len(fast.contact_intervals) == len(slow.contact_intervals) > 10
     assert np.allclose(fast.contact_intervals, slow.contact_intervals, rtol=0, atol=1e-10)
     assert fast.restitution == pytest.approx(slow.restitution, rel=1e-10)
+
+
+def test_update_of_is_checked(monkeypatch):
+    bodies, contact = CASES["mass on a rod without flexibility (Dirac)"]
+    M_free, M_con, b, r = _phase_matrices(monkeypatch, bodies, contact)
+    free = SpectralPhase(M_free)
+    with pytest.raises(ValueError, match="outer"):
+        SpectralPhase(M_con, update_of=(free, b, 2.0 * r))
+    with pytest.raises(ValueError, match="shape"):
+        SpectralPhase(M_con, update_of=(free, b[:-1], r))
+    with pytest.raises(ValueError, match="non-finite"):
+        SpectralPhase(M_con, update_of=(free, np.where(b == b.max(), np.nan, b), r))
+    with pytest.raises(TypeError, match="SpectralPhase"):
+        SpectralPhase(M_con, update_of=("free", b, r))
+
+
+@pytest.mark.parametrize("n_modes", [6, 10, 17, 30, 58])
+@pytest.mark.parametrize("contact", [Rigid(), LinearSpring(1e5)])
+def test_the_rank_one_route_is_taken_on_ordinary_contacts(monkeypatch, n_modes, contact):
+    """A lightly damped mass-on-rod contact over several mode counts: the fast route
+    applies (its checks pass), not a silent fall back to the Schur route."""
+    rod = Rod(1.0, 1.0, support="fixed").modal_model(n_modes, damping_ratio=0.01)
+    M_free, M_con, b, r = _phase_matrices(
+        monkeypatch, (Body(LumpedMass(0.7), velocity=1.0), Body(rod)), contact)
+    fast = SpectralPhase(M_con, update_of=(SpectralPhase(M_free), b, r))
+    assert fast.route == "rank-one update"

@@ -154,3 +154,17 @@ def test_unknown_tail_is_rejected():
     model, top = _free_rod_truth()
     with pytest.raises(ValueError, match="tail"):
         continue_above_band(model, top, tail="spline")
+
+
+@pytest.mark.parametrize("extend", [float("nan"), float("inf"), 0.0, -2.0])
+def test_bad_extend_is_rejected_by_name(extend):
+    model, top = _free_rod_truth()
+    with pytest.raises(ValueError, match="extend"):
+        continue_above_band(model, top, extend=extend)
+    with pytest.raises(ValueError, match="extend"):
+        smooth_tail_design(extend)
+
+
+def test_smooth_tail_design_needs_two_nodes():
+    with pytest.raises(ValueError, match="n_nodes"):
+        smooth_tail_design(4.0, n_nodes=1)

@@ -434,7 +434,8 @@ def masri_caughey(*, primary_mass, damper_mass, stiffness, force_amplitude, freq
         if abs(rho - 1.0) < 1e-4:
             reasons.append(f"a root is marginally stable (largest multiplier {rho:.6f}): "
                            "the stability flag is not reliable")
-        sols.append({"W": W, "phi": phi, "x0": x0, "u": u, "amp": amp, "mult": mult, "stable": stable})
+        sols.append({"W": W, "phi": phi, "x0": x0, "u": u, "amp": amp, "mult": mult,
+                     "stable": stable})
     if not sols:
         return none("; ".join(reasons))
     if len(sols) == 2 and sols[0]["stable"] != sols[1]["stable"]:

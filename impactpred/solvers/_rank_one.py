@@ -97,8 +97,9 @@ def aberth(lam, beta, gamma, q, z, max_sweeps, rtol):  # pragma: no cover - comp
     """Zeros of ``h(s) = s^q prod(s - lambda_i) g(s)`` by the Aberth-Ehrlich iteration.
 
     ``z`` (complex, ``m + q``): starting points, overwritten by the roots (Gauss-Seidel
-    sweeps; a root whose last correction was below ``rtol |z|`` is frozen). Returns the
-    number of sweeps done, or -1 without convergence.
+    sweeps; a root whose last correction was below ``rtol |z|``, or where ``g`` is exactly
+    0, is frozen). Returns the number of sweeps done, or -1 when ``max_sweeps`` did not
+    suffice or a correction was not finite.
     """
     n = z.size
     done = np.zeros(n, np.bool_)
@@ -109,6 +110,9 @@ def aberth(lam, beta, gamma, q, z, max_sweeps, rtol):  # pragma: no cover - comp
                 continue
             s = z[i]
             g, dg, poles = _secular(s, lam, beta, gamma)
+            if g == 0:                  # a root hit exactly (rounding): converged
+                done[i] = True
+                continue
             ratio = q * _inverse(s) + poles + dg * _inverse(g)          # h'/h
             newton = _inverse(ratio)
             rep = 0j
@@ -136,7 +140,7 @@ def polish(z, lam, beta, gamma, steps):  # pragma: no cover - compiled
         s = z[i]
         for _ in range(steps):
             g, dg, _ = _secular(s, lam, beta, gamma)
-            if dg == 0:
+            if g == 0 or dg == 0:
                 break
             s = s - g * _inverse(dg)
         z[i] = s
@@ -189,7 +193,7 @@ def _conjugate_pairs(z, tol):
     """``z`` made exactly closed under conjugation (real roots real), or None.
 
     Each root in the upper half-plane is paired with the nearest conjugate of one in the
-    lower; the pairing must be one-to-one and within ``1e-6`` relative.
+    lower; the pairing must be one-to-one and within ``1e-9`` relative.
     """
     real = np.abs(z.imag) <= tol * np.maximum(np.abs(z), 1e-300)
     upper = z[~real & (z.imag > 0)]
@@ -199,7 +203,7 @@ def _conjugate_pairs(z, tol):
     if upper.size:
         nearest = np.argmin(np.abs(upper[:, None] - lower[None, :]), axis=1)
         if np.unique(nearest).size != upper.size or np.max(
-                np.abs(upper - lower[nearest]) / np.abs(upper)) > 1e-6:
+                np.abs(upper - lower[nearest]) / np.abs(upper)) > 1e-9:
             return None
         upper = 0.5 * (upper + lower[nearest])
     return np.concatenate([z[real].real.astype(complex), upper, np.conj(upper)])
@@ -254,6 +258,20 @@ def _kept_copies(free, lam, alpha, rho, groups):
         vs.append(v)
         ws.append(w)
     return np.concatenate(lams), np.concatenate(vs, axis=1), np.concatenate(ws, axis=0)
+
+
+def _complete(M, mu):
+    """Are ``mu`` all the non-zero eigenvalues of ``M``, each once?
+
+    Their first two power sums must be ``trace(M)`` and ``trace(M^2)`` (the eigenvalues at
+    0 add nothing), to ``1e-8`` of the sums of magnitudes: a missing root, or one found
+    twice, shows there. O(n^2).
+    """
+    prod = M * M.T
+    one = abs(np.sum(mu) - np.trace(M))
+    two = abs(np.sum(mu * mu) - np.sum(prod))
+    return bool(one <= 1e-8 * (np.sum(np.abs(mu)) + np.sum(np.abs(np.diag(M))))
+                and two <= 1e-8 * (np.sum(np.abs(mu) ** 2) + np.sum(np.abs(prod))))
 
 
 def rank_one_split(M, free, b, r, *, tol, max_cond):
@@ -359,6 +377,8 @@ def rank_one_split(M, free, b, r, *, tol, max_cond):
         mu = np.concatenate([mu, kept[0]])
         V = np.concatenate([V, kept[1]], axis=1)
         W = np.concatenate([W, kept[2]], axis=0)
+    if not _complete(M, mu):
+        return None
     cond = np.linalg.norm(V, axis=0) * np.linalg.norm(W, axis=1)
     if not np.all(cond <= max_cond):
         return None

@@ -187,6 +187,30 @@ def _split_blocks(M, tol, max_cond, labels):
     return nil, lam, s0, s1v, in0, in1
 
 
+def _checked_update(M, update_of):
+    """``(free, b, r)`` of ``update_of`` after checking that ``M = free.M + outer(b, r)``."""
+    if not (isinstance(update_of, tuple) and len(update_of) == 3):
+        raise TypeError(f"update_of must be a tuple (free, b, r), got {update_of!r}")
+    free, b, r = update_of
+    if not isinstance(free, SpectralPhase):
+        raise TypeError(f"update_of[0] must be a SpectralPhase, got {type(free).__name__}")
+    b, r = np.asarray(b, dtype=float), np.asarray(r, dtype=float)
+    n = M.shape[0]
+    for name, v in (("b", b), ("r", r)):
+        if v.shape != (n,):
+            raise ValueError(f"update_of's {name} must have shape ({n},), got {v.shape}")
+        if not np.all(np.isfinite(v)):
+            raise ValueError(f"update_of's {name} has non-finite entries")
+    if free.M.shape != M.shape:
+        raise ValueError(f"update_of's phase is {free.M.shape[0]} x {free.M.shape[0]}, M is "
+                         f"{n} x {n}")
+    mismatch = float(np.max(np.abs(M - (free.M + np.outer(b, r))), initial=0.0))
+    if mismatch > 1e-12 * max(float(np.max(np.abs(M), initial=0.0)), 1e-300):
+        raise ValueError(f"M is not update_of's matrix + outer(b, r) (largest difference "
+                         f"{mismatch:.3g})")
+    return free, b, r
+
+
 class SpectralPhase:
     """Spectral form of ``x' = M x`` with fast evaluation of outputs over many times.
 
@@ -204,9 +228,8 @@ class SpectralPhase:
         tol = zero_tol * norm
         split = None
         if update_of is not None:
-            free, b, r = update_of
-            split = rank_one_split(M, free, np.asarray(b, float), np.asarray(r, float),
-                                   tol=tol, max_cond=max_cond)
+            free, b, r = _checked_update(M, update_of)
+            split = rank_one_split(M, free, b, r, tol=tol, max_cond=max_cond)
             self.route = "rank-one update"
         if split is None:
             n_comp, labels = _components((M != 0) | (M.T != 0)) if n > 2 else (1, None)
@@ -214,6 +237,7 @@ class SpectralPhase:
                      else _split(M, tol, max_cond))
             self.route = "blocks" if n_comp > 1 else "schur"
         nil, lam, s0, s1v, in0, in1 = split
+        self.M = M.copy()
         k = nil.shape[0]
         self.n, self.k = n, k
         self.nil = nil

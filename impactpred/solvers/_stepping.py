@@ -71,9 +71,9 @@ def contact_runs(force: np.ndarray, gap_end: np.ndarray, tol: float):
     """Index ranges ``[start, stop)`` of steps in contact, merging rounding-level openings.
 
     A step belongs to a contact when its force exceeds ``1e-10`` of the peak (the rest
-    is rounding in the history sums: touching without pressing is not contact). Two runs separated by steps
-    whose end-of-step gap never exceeds ``tol`` are one contact: such an "opening" is
-    rounding, not a separation (method.md, section 5).
+    is rounding in the history sums: touching without pressing is not contact). Two runs
+    separated by steps whose end-of-step gap never exceeds ``tol`` are one contact: such
+    an "opening" is rounding, not a separation (method.md, section 5).
     """
     active = force > 1e-10 * float(np.max(force, initial=0.0))
     if not np.any(active):

@@ -21,7 +21,8 @@ output is a closed-form sum of exponentials plus a polynomial. The free flight i
 block by block (the bodies are uncoupled); the contact phase is the free flight plus the
 rank-one feedback ``Bf Kf``, so its poles are found as the zeros of the secular function
 ``1 - Kf (s - A)^-1 Bf`` (those of ``H1 + H2``) and its eigenvectors in closed form
-(:mod:`._rank_one`, O(n^2) per pole set), with the general Schur route as the fallback. Events (separation where
+(:mod:`._rank_one`: O(m^2) for the poles, O(n^2 m) for the eigenvectors, against the
+general Schur route's O(n^3), which stays as the fallback). Events (separation where
 ``f`` crosses 0, contact where ``g`` crosses 0) are searched on that closed form every
 ``pi/(8 |lambda|max)`` (the fastest pole), with the dips between samples bounded by the
 cubic Hermite interpolant and its error bound, and polished to rounding by safeguarded
