@@ -151,3 +151,23 @@ def test_the_rank_one_route_is_taken_on_ordinary_contacts(monkeypatch, n_modes, 
         monkeypatch, (Body(LumpedMass(0.7), velocity=1.0), Body(rod)), contact)
     fast = SpectralPhase(M_con, update_of=(SpectralPhase(M_free), b, r))
     assert fast.route == "rank-one update"
+
+
+def test_a_pole_repeated_three_times_keeps_two_copies():
+    """Three equal damped oscillators and a free mass, coupled by a random rank-one update."""
+    w, z = 7.0, 0.03
+    osc = np.array([[0.0, 1.0], [-w * w, -2 * z * w]])
+    mass = np.array([[0.0, 1.0], [0.0, 0.0]])
+    M_free = scipy.linalg.block_diag(osc, osc, osc, mass)
+    rng = np.random.default_rng(11)
+    b, r = rng.normal(size=8), rng.normal(size=8)
+    M = M_free + np.outer(b, r)
+    free = SpectralPhase(M_free)
+    fast = SpectralPhase(M, update_of=(free, b, r))
+    assert fast.route == "rank-one update"
+    assert np.sum(np.abs(fast.lam - free.lam[0]) < 1e-12 * w) >= 2      # two kept copies
+    x0 = rng.normal(size=8)
+    for tau in (0.0, 0.05, 0.7):
+        exact = scipy.linalg.expm(M * tau) @ x0
+        assert np.allclose(_state(fast, x0, tau), exact, rtol=0, atol=1e-10 * np.max(
+            np.abs(exact)))

@@ -215,16 +215,14 @@ def _repeated_poles(lam):
     if lam.size < 2:
         return []
     dist = np.abs(lam[:, None] - lam[None, :]) / np.maximum(np.abs(lam)[:, None], 1e-300)
-    np.fill_diagonal(dist, np.inf)
+    np.fill_diagonal(dist, 0.0)
     if np.any((dist <= 1e-8) & (dist > 1e-12)):
         return None
-    groups, seen = [], np.zeros(lam.size, bool)
-    for i in np.flatnonzero(np.any(dist <= 1e-12, axis=1)):
-        if not seen[i]:
-            idx = np.concatenate([[i], np.flatnonzero(dist[i] <= 1e-12)])
-            seen[idx] = True
-            groups.append(idx)
-    return groups
+    label = np.argmax(dist <= 1e-12, axis=1)           # the first equal pole's index
+    labels, inverse, counts = np.unique(label, return_inverse=True, return_counts=True)
+    order = np.argsort(inverse, kind="stable")
+    bounds = np.cumsum(counts)[:-1]
+    return [g for g in np.split(order, bounds) if g.size >= 2]
 
 
 def _kept_copies(free, lam, alpha, rho, groups):
@@ -232,31 +230,29 @@ def _kept_copies(free, lam, alpha, rho, groups):
 
     A pole ``lambda`` repeated ``p`` times keeps ``p - 1`` copies: right eigenvectors
     ``S1V c`` with ``rho . c = 0`` (the force row does not see them) and left ones ``d In1``
-    with ``d . alpha = 0`` (the force does not drive them), normalised to ``W V = I``.
-    Groups in the lower half-plane take the conjugates of their upper partners.
+    with ``d . alpha = 0`` (the force does not drive them), normalised to ``W V = I``. For
+    pairs (``p = 2``, two equal bodies), all at once: ``c = (rho_2, -rho_1)``,
+    ``d = (alpha_2, -alpha_1)``, ``d . c = beta_1 + beta_2`` (not zero: checked by the
+    caller); larger groups by SVD null spaces.
     """
-    lams, vs, ws, done = [], [], [], {}
-    for idx in groups:
-        lam0 = lam[idx[0]]
-        partner = done.get(complex(np.conj(lam0)))
-        if partner is not None and lam0.imag < 0:
-            lams.append(np.conj(partner[0]))
-            vs.append(np.conj(partner[1]))
-            ws.append(np.conj(partner[2]))
-            continue
-        p = idx.size
+    pairs = np.array([g for g in groups if g.size == 2], dtype=int).reshape(-1, 2)
+    lams, vs, ws = [], [], []
+    if pairs.size:
+        i, j = pairs[:, 0], pairs[:, 1]
+        vs.append(free.s1v[:, i] * rho[j] - free.s1v[:, j] * rho[i])
+        gram = alpha[j] * rho[j] + alpha[i] * rho[i]
+        ws.append((free.in1[i] * alpha[j][:, None] - free.in1[j] * alpha[i][:, None])
+                  / gram[:, None])
+        lams.append(lam[i])
+    for idx in (g for g in groups if g.size > 2):
         right = np.linalg.svd(rho[idx][None, :])[2][1:].conj().T      # (p, p-1)
         left = np.linalg.svd(alpha[idx][:, None])[0][:, 1:].conj().T  # (p-1, p)
         gram = left @ right
         if np.linalg.cond(gram) > 1e8:
             return None
-        v = free.s1v[:, idx] @ right
-        w = np.linalg.solve(gram, left @ free.in1[idx])
-        entry = (np.full(p - 1, lam0), v, w)
-        done[complex(lam0)] = entry
-        lams.append(entry[0])
-        vs.append(v)
-        ws.append(w)
+        vs.append(free.s1v[:, idx] @ right)
+        ws.append(np.linalg.solve(gram, left @ free.in1[idx]))
+        lams.append(np.full(idx.size - 1, lam[idx[0]]))
     return np.concatenate(lams), np.concatenate(vs, axis=1), np.concatenate(ws, axis=0)
 
 
