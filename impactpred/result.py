@@ -33,8 +33,9 @@ class BodyEnergy:
         return self.rigid_after + self.vibration_after
 
 
-def _frozen(a):
-    a = np.array(a, dtype=float, copy=True)
+def _frozen(a, dtype=float):
+    """A read-only copy of ``a`` (result arrays are immutable)."""
+    a = np.array(a, dtype=dtype, copy=True)
     a.setflags(write=False)
     return a
 

@@ -47,21 +47,11 @@ from scipy.optimize import brentq
 from ..solvers._spectral import DefectiveSpectrum, SpectralPhase
 from ..solvers._exp_kernels import sample_rows
 from ._kernels import crossing_steps, uncertified_steps
+# the search's constants are the compiled search's (one definition)
+from ._search_kernels import _ETA, _GEO, _H1, _MIN_KERNEL, _RATIO, _STEP
 
 __all__ = ["PhaseKind", "first_event"]
 
-#: fraction of a row's scale the fast terms may carry (bounded, not sampled)
-_ETA = 0.05
-#: search steps per radian of the fastest resolved term: step = pi / (8 |lambda|)
-_STEP = math.pi / 8.0
-#: ratio of the resolved rates of two successive levels of the search
-_RATIO = 64.0
-#: geometric grid (fractions of the fine step) searched at a phase that starts on an event
-_GEO = np.geomspace(1e-9, 1.0, 16)
-#: max of the Hermite basis functions u(1-u)^2 and u^2(1-u) on [0, 1]
-_H1 = 4.0 / 27.0
-#: uniform grids of at least this many points are evaluated by the compiled kernel
-_MIN_KERNEL = 8
 #: steps of the first piece of a last-level span evaluated at once (then doubling)
 _PIECE = 64
 

@@ -43,6 +43,7 @@ from ._engine import OUT_BV, OUT_FEQ, OUT_LAM, OUT_VP, EngineState
 from ._engine_compiled import run_compiled
 from ._engine_form import evaluate, first_event
 from ._engine_hertz import hertz_contact
+from ._loop_kernels import _decide
 from .contact import InstantaneousImpact
 
 __all__ = ["run"]
@@ -85,7 +86,7 @@ def _work(a, lam, vb, taus):
 _DECIDE_RTOL = 1e-10
 
 
-def decide(lam, b, poly, orders=4, *, first=0):
+def decide(lam, b, poly, *, first=0):
     """Stick (True) or separate, at a contact instant with zero relative velocity.
 
     ``f(tau) = Re(sum b e^{lam tau}) + poly(tau)`` is the compressive force the stuck
@@ -96,7 +97,7 @@ def decide(lam, b, poly, orders=4, *, first=0):
     their own factor), so exactly one of the two phases is consistent (Signorini's
     condition ``g >= 0, f >= 0, f g = 0`` on a right neighbourhood): stick when the free
     flight would penetrate, separate when the stuck phase would pull. Every coefficient
-    zero to rounding (grazing to order ``orders - 1``): stick; the stuck phase's own
+    zero to rounding (grazing to order 3): stick; the stuck phase's own
     search then finds where the force turns tensile, at a later time. The decision is
     taken once per contact instant, so no event can repeat at the same time.
 
@@ -105,20 +106,10 @@ def decide(lam, b, poly, orders=4, *, first=0):
     pinned on the stop; its closed form's rounding there (the eigenvector conditioning
     times the terms, ~1e-9 of them) must not decide.
     """
-    fact = 1.0
-    lam_k = np.ones_like(lam)
-    for k in range(orders):
-        if k:
-            lam_k = lam_k * lam
-            fact *= k
-        d = float(np.dot(b, lam_k).real)
-        mag = float(np.dot(np.abs(b), np.abs(lam_k)))
-        if k < poly.size:
-            d += fact * poly[k]
-            mag += fact * abs(poly[k])
-        if k >= first and abs(d) > _DECIDE_RTOL * mag:
-            return d > 0.0
-    return True
+    # the compiled loop's own rule (one implementation), four Taylor orders
+    return bool(_decide(np.ascontiguousarray(lam, dtype=complex),
+                        np.ascontiguousarray(b, dtype=complex),
+                        np.ascontiguousarray(poly, dtype=float), _DECIDE_RTOL, first))
 
 
 def decide_row(row, M, xa, *, first=0, orders=4):

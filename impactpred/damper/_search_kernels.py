@@ -33,14 +33,22 @@ from ._kernels import crossing_steps, cubic_min, uncertified_steps
 
 __all__ = ["cabs", "first_event"]
 
-# the constants of the Python search (:mod:`._engine_form`), repeated as literals so the
-# compiled code can freeze them
+# the search's constants, shared with the Python search (:mod:`._engine_form` imports
+# them): defined here, beside the compiled code that freezes them, so that numba's cache
+# (which tracks this file only) sees a change
+#: fraction of a row's scale the fast terms may carry (bounded, not sampled)
 _ETA = 0.05
+#: search steps per radian of the fastest resolved term: step = pi / (8 |lambda|)
 _STEP = math.pi / 8.0
+#: ratio of the resolved rates of two successive levels of the search
 _RATIO = 64.0
+#: geometric grid (fractions of the fine step) searched at a phase that starts on an event
 _GEO = np.geomspace(1e-9, 1.0, 16)
+#: max of the Hermite basis functions u(1-u)^2 and u^2(1-u) on [0, 1]
 _H1 = 4.0 / 27.0
+#: uniform grids of at least this many points are evaluated by the recurrence
 _MIN_KERNEL = 8
+#: steps of the first piece of a last-level span (then doubling; the Python search: 64)
 _PIECE = 16
 #: exponentials of a uniform grid evaluated directly every this many points
 _ANCHOR = 32

@@ -9,6 +9,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from ..result import _frozen
 from ._engine_form import _cubic_min
 
 __all__ = ["DamperResult", "DamperState", "build_result"]
@@ -18,12 +19,6 @@ STEADY_RTOL = 1e-6
 #: periods tried for a periodic steady state (period-1 .. period-4 motion)
 MAX_PERIOD = 4
 _IMPACT_COLUMNS = ["time", "side", "impulse", "duration", "relative_velocity", "phase"]
-
-
-def _frozen(a, dtype=float):
-    a = np.array(a, dtype=dtype, copy=True)
-    a.setflags(write=False)
-    return a
 
 
 @dataclass(frozen=True)
