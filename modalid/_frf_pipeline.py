@@ -21,8 +21,10 @@ from ._lscf import lscf_subbands
 from ._lsfd import (Terms, evaluate, mass_line_significant, place_upper_modes,
                     refine_varpro, release_gain, removal_cost, split_coefficients)
 from ._vf import vector_fit_poles
+from ._window import truncation_factors, unwindow
 from .frf import FRFData
 from .model import ModalModel
+from .quantities import receptance_to
 from .stabilization import (cluster_poles, select_by_information, select_poles,
                             stabilization_table)
 
@@ -104,7 +106,7 @@ class FRFPipeline:
     def _linear_terms(self, omega, h, w, poles, cut):
         """Terms and fixed pseudo-modes of the linear fits that select the poles."""
         terms = Terms(np.zeros(0), any(self._low_end(omega, h, w, poles, cut)),
-                      "upper" in self.residuals)
+                      "upper" in self.residuals, self._shift)
         fixed = np.zeros(0, complex)
         if "upper" in self.residuals:
             fixed = omega[-1] * np.array([1.1, 1.6]) * (-0.02 + 1j * np.sqrt(1 - 4e-4))
@@ -132,7 +134,7 @@ class FRFPipeline:
             if not self.passive and slope < -1.5 and np.median(h[below].real) > 0:
                 return False, "lower" in self.residuals    # negative mass line: transfer
         else:
-            mass_line = mass_line_significant(omega, h, w, poles)
+            mass_line = mass_line_significant(omega, h, w, poles, self._shift)
         if not mass_line:
             return False, False
         lower = "lower" in self.residuals
@@ -146,7 +148,7 @@ class FRFPipeline:
         """Starting poles with their kinds and the linear terms."""
         rigid, lower = self._low_end(omega, h, w, poles, cut)
         upper = "upper" in self.residuals
-        terms = Terms(np.zeros(0), rigid, upper)
+        terms = Terms(np.zeros(0), rigid, upper, self._shift)
         kinds = ["mode"] * poles.size
         if lower:
             wl = 0.5 * omega[0]
@@ -253,7 +255,7 @@ class FRFPipeline:
         if not self._relative():
             return w0
         r, _, u, d = split_coefficients(x, poles.size, terms)
-        mag = np.abs(evaluate(omega, poles, r, (), (), u, d))
+        mag = np.abs(evaluate(omega, poles, r, (), (), u, d, terms.rigid_shift))
         if not np.all(np.isfinite(mag)) or mag.max() <= 0:
             return w0                                     # no model to weigh by
         return self._coherence_weight / np.maximum(mag, 1e-12 * mag.max())
@@ -292,7 +294,7 @@ class FRFPipeline:
         data's weights) and the new pole passes :meth:`_worst_pole`.
         """
         r, _, u, d = split_coefficients(x, poles.size, terms)
-        resid = h - evaluate(omega, poles, r, (), (), u, d)
+        resid = h - evaluate(omega, poles, r, (), (), u, d, terms.rigid_shift)
         wm = self._model_weights(omega, poles, x, terms, w)
         e2 = np.convolve(np.abs(resid * wm) ** 2, np.ones(3) / 3, mode="same")
         e2 /= np.median(e2)
@@ -357,12 +359,20 @@ class FRFPipeline:
     def _store(self, frf, poles, kinds, residues, u, d, info, notes, max_order,
                vf_iterations):
         omega, h = frf.omega, frf.values
-        self.model_ = ModalModel(poles=poles, residues=residues, inverse_mass=max(u, 0.0),
-                                 flexibility=d)
+        # the model of the data fitted (the windowed FRF when there is a window), then the
+        # structure's (the window and the record's end undone: modalid._window)
+        fitted_model = ModalModel(poles=poles, residues=residues, inverse_mass=max(u, 0.0),
+                                  flexibility=d)
+        fitted = evaluate(omega, poles, residues, (), (), max(u, 0.0), d, self._shift)
+        band = self._data_band
+        own = receptance_to(band.quantity, fitted, band.omega) - band.values
+        window = {}
+        if self._shift or self.record_length is not None:
+            fitted_model, window = self._unwindow(fitted_model, kinds)
+            poles, residues = fitted_model.poles, fitted_model.residues
+        self.model_ = fitted_model
         physical = kinds == "mode"
         self.poles_ = poles[physical][np.argsort(np.abs(poles[physical]))]
-        fitted, band = self.model_.frf(omega), self._data_band
-        own = self.model_.frf(band.omega, quantity=band.quantity) - band.values
         modes = ModalModel(poles=poles[physical], residues=residues[physical]).modes
         std = info.get("std")
         for name in ("frequency_hz_std", "damping_ratio_std", "residue_std"):
@@ -374,14 +384,33 @@ class FRFPipeline:
             wn, sig, nu = np.abs(p), p.real, p.imag
             modes["frequency_hz_std"] = np.hypot(sig * s4[:, 0], nu * s4[:, 1]) / wn / (2 * np.pi)
             modes["damping_ratio_std"] = np.hypot(nu**2 * s4[:, 0], sig * nu * s4[:, 1]) / wn**3
-            modes["residue_std"] = np.hypot(s4[:, 2], s4[:, 3])
+            scale = window.get("truncation_factors", np.ones(poles.size))[physical][order]
+            modes["residue_std"] = np.hypot(s4[:, 2], s4[:, 3]) / np.abs(scale)
         self.report_ = fit_report(
             self.model_, kinds, info, notes, method=self.method, max_order=max_order,
             frf_nrmse=float(np.linalg.norm(fitted - h) / np.linalg.norm(h)),
             frf_nrmse_data=float(np.linalg.norm(own) / np.linalg.norm(band.values)),
             data_quantity=band.quantity,
             band_hz=(float(frf.freq_hz[0]), float(frf.freq_hz[-1])),
-            vf_iterations=vf_iterations, modes=modes)
+            vf_iterations=vf_iterations, modes=modes,
+            **{k: v for k, v in window.items() if k != "truncation_factors"})
+
+    def _unwindow(self, model, kinds, min_damping=1e-5):
+        """The structure's model from the windowed fit ``model``, and what was done.
+
+        A pole whose damping the window's removal would leave under ``min_damping``
+        (noise in the windowed damping) is held at ``min_damping``: the structure is
+        passive; ``window_clipped`` counts them."""
+        sigma, length = self._shift, self.record_length
+        factors = (np.ones(model.poles.size) if length is None
+                   else truncation_factors(model.poles, length))
+        out = unwindow(model, sigma, length, quantity=self._data_band.quantity)
+        p = out.poles
+        limit = -min_damping * np.abs(p)
+        clipped = (p.real > limit) & (kinds != "far")
+        out = out.replace(poles=np.where(clipped, limit + 1j * p.imag, p))
+        return out, {"window_decay_rate": sigma, "record_length": length,
+                     "window_clipped": int(np.sum(clipped)), "truncation_factors": factors}
 
 
 def _high_frequency(model, physical):

@@ -35,11 +35,16 @@ __all__ = ["Terms", "design_matrix", "refine_varpro", "evaluate", "split_coeffic
 
 @dataclass(frozen=True)
 class Terms:
-    """Which terms the model has besides the complex modes."""
+    """Which terms the model has besides the complex modes.
+
+    ``rigid_shift`` (1/s, >= 0): the rigid-body column is ``1/(s + rigid_shift)**2``, the
+    mass line of data that carry an exponential window of that decay rate (0: ``1/s**2``).
+    """
 
     real_poles: np.ndarray
     rigid: bool
     upper: bool
+    rigid_shift: float = 0.0
 
     @property
     def n_extra(self) -> int:
@@ -61,7 +66,7 @@ def design_matrix(s, poles, terms: Terms):
         out[:, k] = 1.0 / (s - sig)
         k += 1
     if terms.rigid:
-        out[:, k] = 1.0 / s**2
+        out[:, k] = 1.0 / (s + terms.rigid_shift)**2
         k += 1
     if terms.upper:
         out[:, k] = 1.0
@@ -93,8 +98,9 @@ def split_coefficients(x, n_modes, terms: Terms):
     return r, c, u, d
 
 
-def evaluate(omega, poles, residues, real_poles, real_residues, inverse_mass, flexibility):
-    """The receptance model at ``s = i omega``."""
+def evaluate(omega, poles, residues, real_poles, real_residues, inverse_mass, flexibility,
+             rigid_shift=0.0):
+    """The receptance model at ``s = i omega``, mass line ``inverse_mass/(s + rigid_shift)^2``."""
     s = 1j * omega
     out = np.full(s.shape, flexibility, dtype=complex)
     if len(poles):
@@ -103,7 +109,7 @@ def evaluate(omega, poles, residues, real_poles, real_residues, inverse_mass, fl
     if len(real_poles):
         out += np.sum(real_residues / (s[:, None] - real_poles), axis=1)
     if inverse_mass:
-        out += inverse_mass / s**2
+        out += inverse_mass / (s + rigid_shift)**2
     return out
 
 
@@ -434,13 +440,13 @@ def place_upper_modes(omega, values, weights, poles, terms: Terms, *, n_upper=1,
     return cand[list(best)], base.cost, best_cost
 
 
-def mass_line_significant(omega, values, weights, poles):
-    """Does a ``u/s^2`` term with ``u > 0`` lower the weighted residual of the linear fit
-    (``poles``, a constant and two pseudo-modes above the band) by more than ``ln(n)``
-    residual variances (information criterion, one parameter)?"""
+def mass_line_significant(omega, values, weights, poles, rigid_shift=0.0):
+    """Does a ``u/(s + rigid_shift)^2`` term with ``u > 0`` lower the weighted residual of
+    the linear fit (``poles``, a constant and two pseudo-modes above the band) by more
+    than ``ln(n)`` residual variances (information criterion, one parameter)?"""
     upper = omega[-1] * np.array([1.1, 1.6]) * (-0.02 + 1j * np.sqrt(1 - 4e-4))
     cols = design_matrix(1j * omega, np.concatenate([poles, upper]),
-                         Terms(np.zeros(0), True, True)) * weights[:, None]
+                         Terms(np.zeros(0), True, True, rigid_shift)) * weights[:, None]
     mat = _realify(cols)
     y = _realify(values * weights)
     mat /= np.linalg.norm(mat, axis=0)

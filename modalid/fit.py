@@ -25,10 +25,12 @@ import numpy as np
 from sklearn.base import BaseEstimator
 from threadpoolctl import threadpool_limits
 
-from ._checks import as_choice, as_count, as_real_array
+from ._checks import (as_choice, as_count, as_nonnegative_scalar, as_positive_scalar,
+                      as_real_array)
 from ._era import identify_impulse, impulse_samples
 from ._frf_pipeline import FRFPipeline, ModalFitWarning, fit_report
 from ._lsfd import noise_level
+from ._window import windowed_receptance
 from .frf import FRFData
 from .frf_set import FRFSet
 from .model import ModalModel
@@ -85,6 +87,24 @@ class ModalFit(FRFPipeline, BaseEstimator):
         ``-(decay_rate + margin)`` for an FRF with an exponential window, so that the
         poles stay stable once :func:`correct_exponential_window` has removed it.
         ``None`` (default): only ``Re p < 0``. FRFData and "lscf" or "vf" only.
+    window_decay_rate : float
+        Decay rate ``sigma`` (1/s, >= 0) of an exponential window the data carry
+        (:attr:`~modalid.hammer.HammerFRF.window_decay_rate`); 0 (default): none. The fit
+        then models the windowed FRF exactly (poles moved by ``-sigma``, residues kept,
+        the rigid line ``1/(M (s + sigma)^2)``) and ``model_``, ``poles_`` and the modal
+        table of ``report_`` are the structure's, with the window removed (a pole the
+        removal would leave with damping under ``1e-5`` is held there: ``report_
+        ["window_clipped"]``). FRFData and "lscf" or "vf" only.
+    record_length : float, optional
+        Length ``T`` (s) of the records whose DFT gave the data, when it was not
+        zero-padded (:attr:`~modalid.hammer.HammerFRF.record_length`). The record's end
+        cuts each windowed free decay, which on the DFT lines scales mode ``k``'s residue
+        by ``1 - exp((p_k - sigma) T)`` and the rigid line by ``1 - exp(-sigma T)``
+        (exact for a hit at the record's start, :mod:`modalid._window`); the fit divides
+        them out. ``None`` (default): no correction (an untruncated FRF). Needs
+        ``window_decay_rate > 0`` for a rigid body. The rigid line's factor depends on
+        what was recorded (the data's ``quantity``); a displacement record of a free body
+        also adds a term the model lacks: prefer velocity or acceleration there.
 
     Attributes
     ----------
@@ -131,7 +151,8 @@ class ModalFit(FRFPipeline, BaseEstimator):
 
     def __init__(self, *, method="lscf", n_modes=None, max_order=None, freq_range=None,
                  rigid_body="auto", residuals=("lower", "upper"), passive=True, refine=True,
-                 weighting="relative", weights=None, max_real=None):
+                 weighting="relative", weights=None, max_real=None, window_decay_rate=0.0,
+                 record_length=None):
         self.method = method
         self.n_modes = n_modes
         self.max_order = max_order
@@ -143,6 +164,8 @@ class ModalFit(FRFPipeline, BaseEstimator):
         self.weighting = weighting
         self.weights = weights
         self.max_real = max_real
+        self.window_decay_rate = window_decay_rate
+        self.record_length = record_length
 
     # ------------------------------------------------------------------ fitting
     def fit(self, data):
@@ -172,11 +195,16 @@ class ModalFit(FRFPipeline, BaseEstimator):
         for name in ("model_", "poles_", "stabilization_", "clusters_", "report_", "frf_",
                      "impulse_", "mode_shapes_"):
             self.__dict__.pop(name, None)         # a second fit starts afresh
+        self._check_window()
+        windowed = self.window_decay_rate != 0.0 or self.record_length is not None
         if isinstance(data, FRFSet) and (self.weights is not None
-                                         or self.max_real is not None):
-            raise ValueError("weights and max_real apply to an FRFData fit only")
-        if self.method == "era" and (self.weights is not None or self.max_real is not None):
-            raise ValueError("weights and max_real apply to method 'lscf' or 'vf' only")
+                                         or self.max_real is not None or windowed):
+            raise ValueError("weights, max_real, window_decay_rate and record_length apply "
+                             "to an FRFData fit only")
+        if self.method == "era" and (self.weights is not None or self.max_real is not None
+                                     or windowed):
+            raise ValueError("weights, max_real, window_decay_rate and record_length apply "
+                             "to method 'lscf' or 'vf' only")
         if self.max_real is not None and not float(self.max_real) < 0:
             raise ValueError(f"max_real must be negative, got {self.max_real!r}")
         if isinstance(data, FRFSet):              # common poles: see modalid._global
@@ -189,6 +217,16 @@ class ModalFit(FRFPipeline, BaseEstimator):
         # small dense algebra: BLAS threads only add overhead (restored on exit)
         with threadpool_limits(limits=1, user_api="blas"):
             return self._fit_impulse(data) if self.method == "era" else self._fit_frf(data)
+
+    def _check_window(self):
+        as_nonnegative_scalar("window_decay_rate", self.window_decay_rate)
+        if self.record_length is not None:
+            as_positive_scalar("record_length", self.record_length)
+
+    @property
+    def _shift(self) -> float:
+        """The window's decay rate: the rigid line is ``1/(s + _shift)^2``."""
+        return float(self.window_decay_rate)
 
     def _selection(self):
         if self.n_modes is None:
@@ -276,12 +314,21 @@ class ModalFit(FRFPipeline, BaseEstimator):
         FRFSet: the mean over its rows, each against its own mean)."""
         self._check_fitted()
         data = data.select(data.freq_hz > 0)
-        fitted = self.model_.frf(data.omega, quantity=data.quantity)
+        fitted = self._fitted_values(data)
         h = data.values
         mean = h.mean(axis=-1, keepdims=True)
         scores = 1 - np.sum(np.abs(h - fitted) ** 2, axis=-1) / np.sum(np.abs(h - mean) ** 2,
                                                                       axis=-1)
         return float(np.mean(scores))
+
+    def _fitted_values(self, data):
+        """The model on ``data``'s lines in its quantity; windowed like the data fitted
+        when the fit had ``window_decay_rate`` or ``record_length``."""
+        if self.method == "era" or not (self.window_decay_rate or self.record_length):
+            return self.model_.frf(data.omega, quantity=data.quantity)
+        h = windowed_receptance(self.model_, data.omega, float(self.window_decay_rate),
+                                self.record_length, quantity=data.quantity)
+        return receptance_to(data.quantity, h, data.omega)
 
     def plot_stabilization(self, ax=None):
         """Stabilization diagram with the selected poles; returns the Axes."""
@@ -302,7 +349,8 @@ class ModalFit(FRFPipeline, BaseEstimator):
         if isinstance(self.model_, ModalModel):
             if output is not None:
                 raise ValueError(f"output={output!r} applies to a fit of an FRFSet only")
-            return plot_fit(self.model_, frf=data, ax=ax)
+            row = data.select(data.freq_hz > 0)
+            return plot_fit(self.model_, frf=data, ax=ax, fitted=self._fitted_values(row))
         i = self.model_.index(self.model_.driving_point if output is None else output)
         row = data.row(i) if isinstance(data, FRFSet) else data
         return plot_fit(self.model_.row(i), frf=row, ax=ax)

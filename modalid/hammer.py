@@ -71,6 +71,12 @@ class HammerFRF:
         maximum is the band the hammer excited.
     force_window_length : float or None
         Length (s, from the record start) of the force window applied, ``None`` without.
+    record_length : float or None
+        Length ``T = n_samples / fs`` (s) of the records, when their DFT was not
+        zero-padded (``n_fft == n_samples``): the lines are then ``j / T`` and the
+        record's end scales each windowed mode's residue by a known constant
+        (:mod:`modalid._window`), which :meth:`fit_options` lets ``ModalFit`` undo.
+        ``None`` for zero-padded records (the end's effect is then spread over the lines).
     """
 
     frf: FRFData
@@ -79,6 +85,7 @@ class HammerFRF:
     double_hits: tuple
     force_spectrum: np.ndarray
     force_window_length: float | None
+    record_length: float | None = None
 
     @property
     def coherence(self):
@@ -87,8 +94,18 @@ class HammerFRF:
 
     def correct(self, model_or_poles):
         """Undo this estimate's exponential window: :func:`correct_exponential_window`
-        with ``decay_rate = window_decay_rate``."""
+        with ``decay_rate = window_decay_rate`` (poles only: for a model fitted with the
+        rigid line ``1/(M s^2)`` and no truncation correction)."""
         return correct_exponential_window(model_or_poles, self.window_decay_rate)
+
+    def fit_options(self) -> dict:
+        """``window_decay_rate`` and ``record_length`` for :class:`modalid.ModalFit`, which
+        then fits this windowed FRF exactly and returns the structure's model::
+
+            ModalFit(**est.fit_options()).fit(est.frf)
+        """
+        return {"window_decay_rate": self.window_decay_rate,
+                "record_length": self.record_length}
 
     def __repr__(self) -> str:
         return (f"HammerFRF({self.frf!r}, n_hits={self.n_hits}, window_decay_rate="
@@ -264,7 +281,12 @@ def frf_from_hammer(force, response, fs, *, response_type="acceleration",
     the same residues and constant term. A :class:`ModalModel` fitted to it is therefore
     turned into the structure's model exactly by :func:`correct_exponential_window`,
     for any quantity (the factor is 1 for receptance and differs from 1 by about
-    ``k sigma_w / omega`` otherwise).
+    ``k sigma_w / omega`` otherwise), up to the record's end: it cuts each windowed free
+    decay, which on the DFT lines scales mode ``k``'s residue by
+    ``1 - exp((p_k - sigma_w) T)`` (up to 1 % with a window ending at 1 %) and a free
+    body's rigid line by ``1 - exp(-sigma_w T)``, whose windowed form is
+    ``1/(M (s + sigma_w)^2)``. ``ModalFit(**est.fit_options())`` models all of this
+    exactly (:mod:`modalid._window`).
 
     Raises
     ------
@@ -351,7 +373,8 @@ def frf_from_hammer(force, response, fs, *, response_type="acceleration",
     return HammerFRF(frf=FRFData(freq, h1, quantity=quantity, coherence=coherence),
                      window_decay_rate=decay, n_hits=n_hits,
                      double_hits=tuple(i for i, *_ in found), force_spectrum=sff,
-                     force_window_length=window_length)
+                     force_window_length=window_length,
+                     record_length=duration if n_fft == n_samples else None)
 
 
 def correct_exponential_window(model_or_poles, decay_rate):

@@ -315,9 +315,10 @@ def plot_stabilization(table: pd.DataFrame, *, frf=None, selected=None, ax=None)
     return ax
 
 
-def plot_fit(model, *, frf=None, impulse=None, ax=None):
+def plot_fit(model, *, frf=None, impulse=None, ax=None, fitted=None):
     """A model against the FRF (magnitudes, log axis) or impulse response ``(t, h)`` it was
-    fitted to; returns the Axes."""
+    fitted to; returns the Axes. ``fitted``: the model's values on ``frf``'s lines above
+    0 Hz, when they are not ``model.frf`` (a windowed fit)."""
     import matplotlib.pyplot as plt
 
     if ax is None:
@@ -331,7 +332,8 @@ def plot_fit(model, *, frf=None, impulse=None, ax=None):
     else:
         frf = frf.select(frf.freq_hz > 0)
         frf.plot(ax=ax, label="data", color="0.6")
-        fitted = model.frf(frf.omega, quantity=frf.quantity)
+        if fitted is None:
+            fitted = model.frf(frf.omega, quantity=frf.quantity)
         ax.semilogy(frf.freq_hz, np.abs(fitted), "C3", lw=1, label="ModalFit")
     ax.legend(fontsize=8)
     return ax

@@ -242,6 +242,15 @@ def test_hammer_hits_noise_and_double_hit(truth):
     assert np.std(d[0]) == pytest.approx(0.02 * np.abs(clean.response[0]).max(), rel=0.15)
     again = synthetic_hammer_test(truth, FS, 0.1, n_hits=2, noise=(0.01, 0.02), seed=5)
     np.testing.assert_array_equal(again.response, noisy.response)
+    # relative to each record's RMS instead: the same draws, scaled by the RMS
+    rms = synthetic_hammer_test(truth, FS, 0.1, n_hits=2, noise=(0.01, 0.02), seed=5,
+                                noise_reference="rms")
+    assert rms.noise_reference == "rms" and noisy.noise_reference == "max"
+    scale = np.sqrt(np.mean(clean.response[1] ** 2)) / np.abs(clean.response[1]).max()
+    np.testing.assert_allclose(rms.response[1] - clean.response[1], scale * d[1], rtol=1e-9,
+                               atol=1e-12 * np.abs(clean.response).max())
+    with pytest.raises(ValueError, match="noise_reference"):
+        synthetic_hammer_test(truth, FS, 0.1, noise=0.01, noise_reference="peak")
     frf = test.true_frf([10.0, 20.0])
     np.testing.assert_array_equal(frf.values, truth.frf(2 * np.pi * np.array([10.0, 20.0]),
                                                         quantity="accelerance"))
