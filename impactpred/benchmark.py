@@ -13,15 +13,19 @@ Measurement (:class:`Measurement`, the defaults are the benchmark's):
   mode (metal rods and beams: 1e-4..1e-3) and the omitted modes' static flexibility;
 * ``data_synth.synthetic_hammer_test``: velocity response (a laser vibrometer), 5 hits,
   half-sine ``0.5 / f_top`` long, ``fs = 5 f_top``, the analyser's anti-aliasing filter,
-  white noise of ``noise x max|record|`` on both channels; ``f_top`` is midway between
-  elastic modes ``n`` and ``n + 1`` (the band covers ``n`` modes);
+  white noise of ``noise x rms(record)`` on both channels (``noise_reference="rms"``: the
+  H1 estimates then carry about ``noise`` of error per line, the ``frf_noise_%`` column;
+  ``"max"`` gave them 8-9 times that); ``f_top`` is midway between elastic modes ``n``
+  and ``n + 1`` (the band covers ``n`` modes);
 * record ``min(50 / f1, 4000 / f_top)`` long (50 periods of the first elastic mode, at
   most 4000 lines in the band), an exponential window ending at 1 % (``sigma_w = 4.6 /
   duration``) so the record needs not outlast the ``1/(zeta w1)`` decay: the resolution
   needed is then the *windowed* half-power bandwidth ``2 (zeta w + sigma_w)``;
 * ``modalid.frf_from_hammer`` (force window, exponential window), the band from one line
-  spacing to ``f_top``, :class:`WindowCorrectedFit` (``ModalFit(weighting="noise")``, then
-  ``HammerFRF.correct``: every pole moves right by ``sigma_w``).
+  spacing to ``f_top``, ``ModalFit(weighting="noise", **est.fit_options())``: the
+  windowed, truncated FRF modelled exactly (poles moved by ``-sigma_w``, each residue
+  scaled by the record's end, the rigid line ``1/(M (s + sigma_w)^2)``) and the
+  structure's model returned.
 
 Prediction: ``identified_model`` (``continue_above_band``), ``solve_impact(method=
 "laplace")`` (``"modal"`` with ``dt = dt_exact`` for Hertz contact); figures by
@@ -50,7 +54,7 @@ from data_synth import CantileverBeam, LumpedMass, Rod, lightly_damped
 from data_synth.measure import synthetic_hammer_test
 from data_synth.reference_impacts import mass_on_fixed_rod, two_free_rods_equal_transit
 from modalid import ModalFit
-from modalid.hammer import correct_exponential_window, frf_from_hammer
+from modalid.hammer import frf_from_hammer
 
 from .api import solve_impact
 from .body import Body
@@ -64,7 +68,7 @@ from .truncation import (
     uncertainty_band,
 )
 
-__all__ = ["TARGETS", "Case", "Measurement", "Reference", "WindowCorrectedFit",
+__all__ = ["TARGETS", "Case", "Measurement", "Reference",
            "benchmark_cases", "check_targets", "exact_reference", "markdown_table",
            "measure_body", "run_benchmark", "run_case"]
 
@@ -191,52 +195,14 @@ def exact_reference(case: Case) -> Reference:
 
 
 # -------------------------------------------------------------------- measurement
-class WindowCorrectedFit(ModalFit):
-    """``ModalFit`` of an exponentially windowed FRF, returning the structure's model.
-
-    After :meth:`ModalFit.fit`, ``model_`` and ``poles_`` are moved right by
-    ``window_decay_rate`` (:func:`modalid.hammer.correct_exponential_window`). A pole the
-    correction would push to ``zeta < min_damping`` (noise in the windowed damping) is held
-    at ``min_damping``: the structure is passive; ``report_["window_clipped"]`` counts them.
-    Being a ``ModalFit`` with one more parameter, the re-identifications of
-    :func:`impactpred.truncation.uncertainty_band` are corrected too.
-    """
-
-    def __init__(self, *, window_decay_rate=0.0, min_damping=1e-5, method="lscf",
-                 n_modes=None, max_order=None, freq_range=None, rigid_body="auto",
-                 residuals=("lower", "upper"), passive=True, refine=True,
-                 weighting="noise"):
-        super().__init__(method=method, n_modes=n_modes, max_order=max_order,
-                         freq_range=freq_range, rigid_body=rigid_body, residuals=residuals,
-                         passive=passive, refine=refine, weighting=weighting)
-        self.window_decay_rate = window_decay_rate
-        self.min_damping = min_damping
-
-    def fit(self, data):
-        """Fit ``data`` (the windowed FRF), then undo the window; returns ``self``."""
-        super().fit(data)
-        sw = float(self.window_decay_rate)
-        model = correct_exponential_window(self.model_, sw)
-        p = model.poles
-        limit = -self.min_damping * np.abs(p)
-        clipped = p.real > limit
-        poles = np.where(clipped, limit + 1j * p.imag, p)
-        self.model_ = model.replace(poles=poles)
-        q = self.poles_ + sw
-        self.poles_ = np.where(q.real > -self.min_damping * np.abs(q),
-                               -self.min_damping * np.abs(q) + 1j * q.imag, q)
-        self.report_ = dict(self.report_, window_clipped=int(np.sum(clipped)),
-                            window_decay_rate=sw)
-        return self
-
-
 @dataclass(frozen=True)
 class Measurement:
     """How each continuum is measured (see the module docstring)."""
 
-    damping_ratio: float = 0.001
+    damping_ratio: float = 1e-4
     n_hits: int = 5
     response: str = "velocity"
+    noise_reference: str = "rms"
     periods: float = 50.0
     max_lines: int = 4000
     window_end: float = 0.01
@@ -246,14 +212,16 @@ class Measurement:
 
 @dataclass(frozen=True)
 class Identified:
-    """One measured body: the fit, its truth, its band top (Hz) and stage times (s)."""
+    """One measured body: the fit, its truth, its band top (Hz), the H1 estimate's noise
+    (median over the band's lines of ``|H1 / H1_noise-free - 1|``) and stage times (s)."""
 
-    fit: WindowCorrectedFit
+    fit: ModalFit
     truth: object
     band_top_hz: float
     n_lines: int
     duration: float
     seconds: dict
+    frf_noise: float = 0.0
 
 
 def measure_body(body, n_modes, noise, *, seed, measurement=Measurement()) -> Identified:
@@ -266,21 +234,32 @@ def measure_body(body, n_modes, noise, *, seed, measurement=Measurement()) -> Id
     top = 0.5 * (w[n_modes - 1] + w[n_modes]) / (2 * math.pi)
     duration = min(ms.periods * 2 * math.pi / w[0], ms.max_lines / top)
     fs = ms.fs_factor * top
-    test = synthetic_hammer_test(truth, fs, duration, n_hits=ms.n_hits, pulse_width=0.5 / top,
-                                 noise=noise, response=ms.response, seed=seed, anti_alias=True)
+    decay = -math.log(ms.window_end) / duration
+
+    def estimate(level):
+        test = synthetic_hammer_test(truth, fs, duration, n_hits=ms.n_hits,
+                                     pulse_width=0.5 / top, noise=level, response=ms.response,
+                                     seed=seed, anti_alias=True,
+                                     noise_reference=ms.noise_reference)
+        with warnings.catch_warnings():     # pulses of ~2.5 samples: noise may look like a
+            warnings.simplefilter("ignore")     # second hit
+            return frf_from_hammer(test.force, test.response, fs, response_type=ms.response,
+                                   exponential_decay=decay)
+
+    est = estimate(noise)
     t1 = time.perf_counter()
-    with warnings.catch_warnings():     # pulses of ~2.5 samples: noise may pass for a 2nd hit
-        warnings.simplefilter("ignore")
-        est = frf_from_hammer(test.force, test.response, fs, response_type=ms.response,
-                              exponential_decay=-math.log(ms.window_end) / duration)
     frf = est.frf.band((1.0 / duration, top))
+    frf_noise = 0.0
+    if noise:
+        clean = estimate(0.0).frf.band((1.0 / duration, top))
+        frf_noise = float(np.median(np.abs(frf.values / clean.values - 1.0)))
     t2 = time.perf_counter()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        fit = WindowCorrectedFit(window_decay_rate=est.window_decay_rate).fit(frf)
+        fit = ModalFit(weighting="noise", **est.fit_options()).fit(frf)
     t3 = time.perf_counter()
     return Identified(fit, truth, top, frf.freq_hz.size, duration,
-                      {"hammer": t1 - t0, "frf": t2 - t1, "identify": t3 - t2})
+                      {"hammer": t1 - t0, "frf": t2 - t1, "identify": t3 - t2}, frf_noise)
 
 
 # ---------------------------------------------------------------------- pipeline
@@ -332,7 +311,7 @@ def run_case(case, n_modes, noise, *, reference, cache=None, uncertainty=True, n
     """
     cache = {} if cache is None else cache
     seconds = {"hammer": 0.0, "frf": 0.0, "identify": 0.0}
-    fits, models, truths, tops, lines = [], [], [], [], []
+    fits, models, truths, tops, lines, frf_noises = [], [], [], [], [], []
     for i, body in enumerate((case.body1, case.body2)):
         if not _is_measured(body):
             fits.append(None)
@@ -350,6 +329,7 @@ def run_case(case, n_modes, noise, *, reference, cache=None, uncertainty=True, n
         truths.append(ident.truth)
         tops.append(ident.band_top_hz)
         lines.append(ident.n_lines)
+        frf_noises.append(ident.frf_noise)
         t0 = time.perf_counter()
         models.append(identified_model(ident.fit))
         seconds["continue"] = seconds.get("continue", 0.0) + time.perf_counter() - t0
@@ -406,6 +386,7 @@ def run_case(case, n_modes, noise, *, reference, cache=None, uncertainty=True, n
         row[f"in_band_{_SHORT[k]}"] = None if band is None else bool(band.contains(k, exact[k]))
     row["band_hz"] = "/".join(f"{t:.4g}" for t in tops)
     row["lines"] = "/".join(str(n) for n in lines)
+    row["frf_noise_%"] = "/".join(f"{100 * n:.2g}" for n in frf_noises)
     row["clipped_poles"] = sum(f.report_["window_clipped"] for f in fits if f is not None)
     row["n_ident_modes"] = "/".join(str(f.report_["n_modes"]) for f in fits if f is not None)
     for k in ("hammer", "frf", "identify", "continue", "predict", "truth", "band"):
@@ -541,7 +522,8 @@ def run_benchmark(*, cases=None, bands=(5, 10, 20), noises=(0.01, 0.05), quick=F
     bands : sequence of int
         Elastic modes the measured band covers.
     noises : sequence of float
-        Hammer-test noise levels (std of the white noise / max of each record).
+        Hammer-test noise levels (std of the white noise over the RMS, or the max, of each
+        record: ``measurement.noise_reference``).
     quick : bool
         Only 10 modes, 1 % noise, the mass-rod M/m=1 and rod-rod L2/L1=1 cases (the
         ``cases`` argument still wins when given).

@@ -67,6 +67,7 @@ import warnings
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.integrate import trapezoid
 
 from modalid import ModalModel
 
@@ -137,7 +138,7 @@ def high_frequency_conductance(model: ModalModel, band_top_hz: float, *, n_top: 
 
 
 def continue_above_band(model: ModalModel, band_top_hz: float, *, n_top: int = 3,
-                        extend: float = 4.0, fold_pseudo_modes: bool = True,
+                        extend: float = 16.0, fold_pseudo_modes: bool = True,
                         return_info: bool = False, tail: str = "smooth"):
     """``model`` plus a passive high-frequency continuation term above ``band_top_hz``.
 
@@ -325,7 +326,7 @@ def _smooth_continuation(model, poles, residues, upper, G, omega_top, dw, mk, ze
 
 
 # --------------------------------------------------------------------- figures
-def impact_figures(result, *, resolution: float = 0.0) -> dict:
+def impact_figures(result, *, resolution: float = 0.0, ringing_share: float = 0.01) -> dict:
     """Duration and peak of the first contact, total impulse and restitution.
 
     ``resolution`` (s): contact intervals separated by less than this are merged into one
@@ -333,30 +334,44 @@ def impact_figures(result, *, resolution: float = 0.0) -> dict:
     about ``1/(2 f_top)``: its force rings there (Gibbs) and may touch zero for a moment
     where the true force stays positive (the first pitfall of method.md). ``0`` keeps the
     solver's intervals as they are.
+
+    The same ringing lifts the force above zero for a moment just after a separation: an
+    interval that starts within ``resolution`` of the interval before it and carries less
+    than ``ringing_share`` of the contact's impulse is ringing, not contact: it extends
+    the contact only when a larger interval follows within ``resolution`` (a dip of the
+    contact's force), and never counts as a contact of its own (its impulse stays in the
+    total; a true re-contact that close carries a share of the order of the contact's).
+    ``n_contacts_raw`` counts every interval of the solver.
     """
     intervals = list(result.contact_intervals)
     if not intervals:
         return {"contact_duration": 0.0, "peak_force": 0.0, "impulse": result.impulse,
-                "restitution": result.restitution, "n_contacts": 0}
-    start, end = intervals[0]
-    n_merged = 1
+                "restitution": result.restitution, "n_contacts": 0, "n_contacts_raw": 0}
+    t, force = np.asarray(result.t), np.asarray(result.force)
+
+    def impulse(start, end):
+        inside = (t >= start) & (t <= end)
+        return float(trapezoid(force[inside], t[inside])) if inside.sum() > 1 else 0.0
+
+    merged = [[*intervals[0], impulse(*intervals[0])]]    # [start, end, impulse]
+    last_end, pending = intervals[0][1], 0.0     # ringing since the contact's end
     for s, e in intervals[1:]:
-        if s - end < resolution:
-            end, n_merged = e, n_merged + 1
-        else:
-            break
-    inside = (result.t >= start) & (result.t <= end)
-    peak = float(np.max(result.force[inside], initial=0.0))
-    n_contacts = len(intervals)
-    merged = [(start, end)]
-    for s, e in intervals[n_merged:]:
-        if s - merged[-1][1] < resolution:
-            merged[-1] = (merged[-1][0], e)
-        else:
-            merged.append((s, e))
+        j = impulse(s, e)
+        if s - last_end >= resolution:
+            merged.append([s, e, j])
+            pending = 0.0
+        elif j >= ringing_share * merged[-1][2]:          # the contact goes on
+            merged[-1][1:] = [e, merged[-1][2] + pending + j]
+            pending = 0.0
+        else:                                             # ringing, unless contact follows
+            pending += j
+        last_end = e
+    start, end = merged[0][:2]
+    inside = (t >= start) & (t <= end)
+    peak = float(np.max(force[inside], initial=0.0))
     return {"contact_duration": end - start, "peak_force": peak, "impulse": result.impulse,
             "restitution": result.restitution, "n_contacts": len(merged),
-            "n_contacts_raw": n_contacts}
+            "n_contacts_raw": len(intervals)}
 
 
 def band_resolution(fits) -> float:
@@ -429,7 +444,7 @@ def perturb_residues(fit, rng) -> ModalModel:
                       flexibility=model.flexibility)
 
 
-def identified_model(fit, *, continuation: bool = True, n_top: int = 3, extend: float = 4.0,
+def identified_model(fit, *, continuation: bool = True, n_top: int = 3, extend: float = 16.0,
                      model=None) -> ModalModel:
     """The model of ``fit`` (or ``model``), continued above the fit's band when asked."""
     model = fit.model_ if model is None else model
@@ -443,7 +458,7 @@ def identified_model(fit, *, continuation: bool = True, n_top: int = 3, extend: 
 
 def uncertainty_band(models, fits, solve, *, fractions=(0.6, 0.8), n_draws: int = 4,
                      seed: int = 0, continuation: bool = True, n_top: int = 3,
-                     extend: float = 4.0, nominal=None) -> UncertaintyBand:
+                     extend: float = 16.0, nominal=None) -> UncertaintyBand:
     """Spread of duration, peak, impulse and restitution over plausible models.
 
     Parameters

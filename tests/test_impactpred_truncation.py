@@ -3,6 +3,7 @@ equal free rods: a rectangular force Z v high and 2T long, e = 1)."""
 
 import numpy as np
 import pytest
+from scipy.integrate import trapezoid
 
 from data_synth import CantileverBeam, LumpedMass, Rod, lightly_damped
 from impactpred import Body, solve_impact
@@ -168,3 +169,36 @@ def test_bad_extend_is_rejected_by_name(extend):
 def test_smooth_tail_design_needs_two_nodes():
     with pytest.raises(ValueError, match="n_nodes"):
         smooth_tail_design(4.0, n_nodes=1)
+
+
+def _pulses(*spans):
+    """A result-like object whose force is a half-sine of height h on each (a, b, h)."""
+    from types import SimpleNamespace
+
+    t = np.linspace(0.0, 4.0, 40001)
+    force = np.zeros_like(t)
+    for a, b, h in spans:
+        inside = (t >= a) & (t <= b)
+        force[inside] = h * np.sin(np.pi * (t[inside] - a) / (b - a))
+    return SimpleNamespace(t=t, force=force, contact_intervals=tuple((a, b) for a, b, _ in spans),
+                           impulse=float(trapezoid(force, t)), restitution=0.5)
+
+
+def test_impact_figures_ringing_after_separation_is_not_contact():
+    # a contact, then two slivers of ringing within the resolution: the duration stays
+    ringing = _pulses((0.0, 1.0, 1.0), (1.02, 1.03, 0.01), (1.05, 1.08, 0.02))
+    figs = impact_figures(ringing, resolution=0.1)
+    assert figs["contact_duration"] == pytest.approx(1.0)
+    assert (figs["n_contacts"], figs["n_contacts_raw"]) == (1, 3)
+    # a dip of the force: slivers followed by the contact's larger rest are one contact
+    dip = _pulses((0.0, 1.0, 1.0), (1.02, 1.03, 0.01), (1.05, 1.6, 0.8))
+    figs = impact_figures(dip, resolution=0.1)
+    assert figs["contact_duration"] == pytest.approx(1.6)
+    assert figs["n_contacts"] == 1
+    # a re-contact beyond the resolution is a contact of its own, small or not
+    later = _pulses((0.0, 1.0, 1.0), (1.5, 1.51, 0.01))
+    figs = impact_figures(later, resolution=0.1)
+    assert (figs["contact_duration"], figs["n_contacts"]) == (pytest.approx(1.0), 2)
+    # ringing_share = 0 merges every interval within the resolution (the old rule)
+    assert impact_figures(ringing, resolution=0.1,
+                          ringing_share=0.0)["contact_duration"] == pytest.approx(1.08)
