@@ -30,7 +30,9 @@ Measurement (:class:`Measurement`, the defaults are the benchmark's):
 Prediction: ``identified_model`` (``continue_above_band``), ``solve_impact(method=
 "laplace")`` (``"modal"`` with ``dt = dt_exact`` for Hertz contact); figures by
 ``impact_figures`` with contacts closer than ``1/(2 f_top)`` merged. Uncertainty:
-``uncertainty_band`` (re-identification on 60 % and 80 % of each band, 4 residue draws).
+``uncertainty_band`` (re-identification on 60 % and 80 % of each band, 4 draws of the
+fits' residues, rigid masses and residual flexibilities, widened by the truncation error
+the cut bands imply).
 
 Exact references (:func:`exact_reference`): ``mass_on_fixed_rod`` (closed form, every
 contact) and ``two_free_rods_equal_transit`` (closed form); otherwise ``solve_impact(...,
@@ -302,7 +304,7 @@ def run_case(case, n_modes, noise, *, reference, cache=None, uncertainty=True, n
     cache : dict, optional
         Identifications by ``(repr(body), n_modes, noise)``, shared across cases.
     uncertainty, n_draws, measurement
-        Compute the uncertainty band (with ``n_draws`` residue draws); the measurement.
+        Compute the uncertainty band (with ``n_draws`` parameter draws); the measurement.
 
     Returns
     -------
@@ -397,7 +399,8 @@ def run_case(case, n_modes, noise, *, reference, cache=None, uncertainty=True, n
 
 def check_targets(table: pd.DataFrame) -> pd.DataFrame:
     """PASS/MISS per target: accuracy at (10 modes, 1 % noise) for the mass-rod and rod-rod
-    families, the band containing the exact value and ``e <= 1`` for every row."""
+    families, the band containing the exact value at (10 modes, 1 % noise) for every case
+    (at 5 % noise for information), ``e <= 1`` for every row."""
     rows = []
     sel = table[(table.n_modes == 10) & (table.noise == 0.01)
                 & table.family.isin(TARGET_FAMILIES)]
@@ -414,13 +417,16 @@ def check_targets(table: pd.DataFrame) -> pd.DataFrame:
                                          for c, v in zip(sel.case, err) if not v <= tol)})
     cols = [f"in_band_{_SHORT[k]}" for k in FIGURES]
     banded = table.dropna(subset=cols)
-    out = banded[~banded[cols].astype(bool).all(axis=1)]
-    rows.append({"target": "uncertainty band contains the exact value (all 4 figures)",
-                 "worst": f"{len(out)} of {len(banded)} rows miss; contained D/P/J/e: "
-                 + "/".join(str(int(banded[c].astype(bool).sum())) for c in cols),
-                 "result": "PASS" if len(out) == 0 and len(banded) else "MISS",
-                 "misses": ", ".join(f"{r.case} ({r.n_modes}, {r.noise:g})"
-                                     for r in out.itertuples())})
+    for noise, what in ((0.01, "target"), (0.05, "information")):
+        rows_at = banded[(banded.n_modes == 10) & (banded.noise == noise)]
+        out = rows_at[~rows_at[cols].astype(bool).all(axis=1)]
+        ok = len(out) == 0 and len(rows_at) > 0
+        rows.append({"target": f"uncertainty band contains the exact value (all 4 figures; "
+                               f"10 modes, {100 * noise:g} %, every case)",
+                     "worst": f"{len(out)} of {len(rows_at)} rows miss; contained D/P/J/e: "
+                     + "/".join(str(int(rows_at[c].astype(bool).sum())) for c in cols),
+                     "result": ("PASS" if ok else "MISS") if what == "target" else "info",
+                     "misses": ", ".join(r.case for r in out.itertuples())})
     above = table[table.e_above_1.fillna(False).astype(bool)]
     rows.append({"target": "no prediction with e > 1", "worst": f"max e = "
                  f"{table.e_pred.max():.6f}", "result": "PASS" if above.empty else "MISS",
@@ -435,9 +441,9 @@ def markdown_table(table: pd.DataFrame) -> str:
             return f"{v:+.2f} {'PASS' if abs(v) <= TARGETS[k] else 'MISS'}"
         return f"{v:+.2f}"
 
-    head = ("| case | modes | noise | duration % | peak % | impulse % | e % | e pred (exact) | "
-            "damped truth D/P/J/e % | force err % | contacts | band contains D/P/J/e | "
-            "time hammer/ident/predict/band s |")
+    head = ("| case | modes | noise (H1 % per line) | duration % | peak % | impulse % | e % | "
+            "e pred (exact) | damped truth D/P/J/e % | force err % | contacts | "
+            "band contains D/P/J/e | time hammer/ident/predict/band s |")
     lines = [head, "|" + "---|" * (head.count("|") - 1)]
     for d in table.to_dict("records"):
         r = d
@@ -450,7 +456,9 @@ def markdown_table(table: pd.DataFrame) -> str:
         inb = d["in_band_e"]
         contains = "-" if inb is None or (isinstance(inb, float) and math.isnan(inb)) else \
             "/".join("y" if d[f"in_band_{_SHORT[k]}"] else "n" for k in FIGURES)
-        lines.append(f"| {d['case']} | {d['n_modes']} | {100 * d['noise']:g} % | "
+        noise = f"{100 * d['noise']:g} %" + (f" ({d['frf_noise_%']})"
+                                             if d.get("frf_noise_%") else "")
+        lines.append(f"| {d['case']} | {d['n_modes']} | {noise} | "
                      + " | ".join(cells) + f" | {d['e_pred']:.4f} ({d['e_exact']:.4f}) | "
                      f"{truth} | {d['force_err_%']:.1f} | {d['contacts']} | {contains} | "
                      f"{d['t_hammer_s']:.2f}/{d['t_identify_s']:.2f}/{d['t_predict_s']:.2f}/"

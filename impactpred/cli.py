@@ -89,22 +89,25 @@ def _cmd_predict(args) -> int:
               f"FRF NRMSE {report['frf_nrmse']:.3g})")
         with pd.option_context("display.width", 140, "display.float_format", "{:.6g}".format):
             print(report["modes"][["frequency_hz", "damping_ratio", "modal_mass"]].to_string())
-        print(f"  rigid body: {report['rigid_body']}, effective mass {report['effective_mass']:.6g}"
-              f" kg, residual flexibility {report['residual_flexibility']:.6g} m/N; force energy "
-              f"above the band: {100 * pred.band_reach[i - 1]:.2f} %")
+        print(f"  rigid body: {report['rigid_body']}, effective mass "
+              f"{report['effective_mass']:.6g} kg, residual flexibility "
+              f"{report['residual_flexibility']:.6g} m/N; force energy above the band: "
+              f"{100 * pred.band_reach[i - 1]:.2f} %")
     for w in caught:
         print(f"warning: {w.message}", file=sys.stderr)
     summary = res.summary()
     for key, value in summary.items():
         print(f"{key:>26s}: {value}")
-    print(f"{'contact_intervals':>26s}: {[(round(a, 9), round(b, 9)) for a, b in res.contact_intervals]}")
+    intervals = [(round(a, 9), round(b, 9)) for a, b in res.contact_intervals]
+    print(f"{'contact_intervals':>26s}: {intervals}")
     with pd.option_context("display.width", 140, "display.float_format", "{:.6g}".format):
         print(res.energy.to_string())
         if any(p is not None for p in res.points):
             print("peaks at the output points (body, point):")
             print(res.point_peaks().to_string())
         if pred.uncertainty is not None:
-            print("uncertainty band (re-identified on 60 % and 80 % of each band, residue draws):")
+            print("uncertainty band (re-identified on 60 % and 80 % of each band, parameter "
+                  "draws, widened by the truncation error the cut bands imply):")
             print(pred.uncertainty.table())
     if args.out:
         import matplotlib

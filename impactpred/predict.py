@@ -146,7 +146,8 @@ class Prediction:
         identified body (use ``result``'s own figures then).
     uncertainty : UncertaintyBand or None
         With ``predict(..., uncertainty=True)``: the spread of those figures over the
-        bodies re-identified on 60 % and 80 % of their band and over residue draws
+        bodies re-identified on 60 % and 80 % of their band and over draws of the fits'
+        parameters, widened by the truncation error the cut bands imply
         (``uncertainty.low``, ``uncertainty.high``, ``uncertainty.table()``).
     """
 
@@ -204,7 +205,8 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
         against a finite modal sum chatters.
     uncertainty : bool
         Attach an :class:`~impactpred.truncation.UncertaintyBand` (re-identification on
-        60 % and 80 % of each band, ``uncertainty_draws`` residue draws with ``seed``).
+        60 % and 80 % of each band, ``uncertainty_draws`` parameter draws with ``seed``,
+        the truncation error the cut bands imply).
     """
     models, fits = [], []
     for spec in (body1, body2):

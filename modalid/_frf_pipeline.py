@@ -230,7 +230,8 @@ class FRFPipeline:
         if not np.any(kinds == "mode"):
             warnings.warn("no resonance found in the band: the model holds only residual "
                           "terms; see stabilization_", ModalFitWarning, stacklevel=4)
-        self._store(frf, poles, kinds, residues, u, d, info, notes, max_order, vf_iterations)
+        self._store(frf, poles, kinds, residues, u, d, info, notes, max_order, vf_iterations,
+                    terms)
         del self._buffers
         return self
 
@@ -357,7 +358,7 @@ class FRFPipeline:
 
     # ------------------------------------------------------------------ results
     def _store(self, frf, poles, kinds, residues, u, d, info, notes, max_order,
-               vf_iterations):
+               vf_iterations, terms):
         omega, h = frf.omega, frf.values
         # the model of the data fitted (the windowed FRF when there is a window), then the
         # structure's (the window and the record's end undone: modalid._window)
@@ -386,13 +387,21 @@ class FRFPipeline:
             modes["damping_ratio_std"] = np.hypot(nu**2 * s4[:, 0], sig * nu * s4[:, 1]) / wn**3
             scale = window.get("truncation_factors", np.ones(poles.size))[physical][order]
             modes["residue_std"] = np.hypot(s4[:, 2], s4[:, 3]) / np.abs(scale)
+        inverse_mass_std = flexibility_std = np.nan
+        if std is not None:
+            extra = std["extra"][len(terms.real_poles):]
+            if terms.rigid and u > 0:       # the window's factor scales the std alike
+                inverse_mass_std = float(extra[0] * self.model_.inverse_mass / u)
+            if terms.upper:
+                flexibility_std = float(extra[int(terms.rigid)])
         self.report_ = fit_report(
             self.model_, kinds, info, notes, method=self.method, max_order=max_order,
             frf_nrmse=float(np.linalg.norm(fitted - h) / np.linalg.norm(h)),
             frf_nrmse_data=float(np.linalg.norm(own) / np.linalg.norm(band.values)),
             data_quantity=band.quantity,
             band_hz=(float(frf.freq_hz[0]), float(frf.freq_hz[-1])),
-            vf_iterations=vf_iterations, modes=modes,
+            vf_iterations=vf_iterations, modes=modes, inverse_mass_std=inverse_mass_std,
+            flexibility_std=flexibility_std,
             **{k: v for k, v in window.items() if k != "truncation_factors"})
 
     def _unwindow(self, model, kinds, min_damping=1e-5):

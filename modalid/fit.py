@@ -122,7 +122,9 @@ class ModalFit(FRFPipeline, BaseEstimator):
     report_ : dict
         ``converged``, ``message``, ``n_iterations``; ``n_modes`` and ``modes`` (the
         physical modes: frequency, damping, residue, modal mass and their standard
-        deviations); ``rigid_body``, ``rigid_mass``, ``inverse_mass``;
+        deviations); ``rigid_body``, ``rigid_mass``, ``inverse_mass`` and the standard
+        deviations ``inverse_mass_std`` and ``flexibility_std`` (of the constant term;
+        NaN when not estimated);
         ``lower_residual_mode``, ``upper_residual_modes``; the high-frequency behaviour:
         ``effective_mass`` ``1/(sum 1/m_k + 1/M)`` over the model's modes (pseudo-modes
         included), ``effective_mass_physical`` (physical modes only) and

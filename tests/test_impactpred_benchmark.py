@@ -48,10 +48,12 @@ def test_quick_subset_table():
     assert row.failure == ""
     for col in ("duration_err_%", "peak_err_%", "impulse_err_%", "e_err_%", "force_err_%"):
         assert math.isfinite(row[col])
-    assert abs(row["e_err_%"]) < 10 and abs(row["impulse_err_%"]) < 10
+    # the targets at 10 modes and 1 % noise
+    assert abs(row["e_err_%"]) < 1 and abs(row["impulse_err_%"]) < 1
+    assert abs(row["duration_err_%"]) < 2 and abs(row["peak_err_%"]) < 10
     assert row.e_exact == pytest.approx(0.6988755820, abs=1e-9)
     targets = check_targets(table)
-    assert set(targets.result) <= {"PASS", "MISS"} and len(targets) == len(TARGETS) + 2
+    assert set(targets.result) <= {"PASS", "MISS", "info"} and len(targets) == len(TARGETS) + 3
     assert "mass-rod M/m=1" in markdown_table(table)
 
 

@@ -120,7 +120,7 @@ def test_smooth_tail_keeps_h_flat_after_the_jump():
 def test_equal_rods_peak_within_10_percent_of_Zv():
     """Paper case a from a truth continued at 10 modes: a rectangle Z v high, 2T long, e = 1.
 
-    The single real pole overshoots the height by 30 %; the smooth tail by 2 %.
+    The single real pole overshoots the height by 30 %; the smooth tail by 0.2 %.
     """
     model, top = _free_rod_truth()
     figures = {}
@@ -202,3 +202,41 @@ def test_impact_figures_ringing_after_separation_is_not_contact():
     # ringing_share = 0 merges every interval within the resolution (the old rule)
     assert impact_figures(ringing, resolution=0.1,
                           ringing_share=0.0)["contact_duration"] == pytest.approx(1.08)
+
+
+def test_truncation_error_of_a_figure_converging_like_one_over_the_band():
+    from impactpred.truncation import truncation_error
+
+    limit = {"contact_duration": 2.0, "peak_force": 1.0, "impulse": 3.0, "restitution": 0.7}
+    slope = {"contact_duration": 0.05, "peak_force": -0.2, "impulse": 0.01, "restitution": 0.003}
+
+    def at(f):
+        return {k: limit[k] + slope[k] / f for k in limit}
+
+    for fraction in (0.6, 0.8):
+        est = truncation_error(at(1.0), at(fraction), fraction)
+        for k in limit:        # exactly the error left at the full band, |F(1) - F_inf|
+            assert est[k] == pytest.approx(abs(slope[k]), rel=1e-12)
+    with pytest.raises(ValueError, match="fraction"):
+        truncation_error(at(1.0), at(1.0), 1.0)
+
+
+def test_parameter_draws_move_the_rigid_mass_and_flexibility():
+    from modalid import FRFData, ModalFit
+
+    from impactpred.truncation import perturb_residues
+
+    truth = lightly_damped(Rod(1.0, 1.0, support="free"), 14, 0.01)
+    freq = np.linspace(0.02, 4.0, 2000)
+    rng = np.random.default_rng(0)
+    h = truth.frf(2 * np.pi * freq)
+    h = h * (1 + 0.01 * (rng.standard_normal(h.size) + 1j * rng.standard_normal(h.size)))
+    fit = ModalFit().fit(FRFData(freq, h))
+    s_u, s_d = fit.report_["inverse_mass_std"], fit.report_["flexibility_std"]
+    assert 0 < s_u < 0.05 * fit.model_.inverse_mass and np.isfinite(s_d)
+    draws = [perturb_residues(fit, np.random.default_rng(7)) for _ in range(2)]
+    assert draws[0] == draws[1]                                   # reproducible
+    many = [perturb_residues(fit, np.random.default_rng(i)) for i in range(40)]
+    u = np.array([m.inverse_mass for m in many])
+    assert np.std(u) == pytest.approx(s_u, rel=0.35) and np.all(u >= 0)
+    assert np.all([m.flexibility >= 0 for m in many])

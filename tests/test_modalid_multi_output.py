@@ -61,7 +61,7 @@ def test_statespace_has_one_output_per_row_and_round_trips(model):
     assert back.outputs == model.outputs
 
 
-@settings(max_examples=25, deadline=None)
+@settings(max_examples=25, deadline=None, derandomize=True)
 @given(seed=st.integers(0, 2**31 - 1), n_modes=st.integers(1, 6), n_out=st.integers(1, 3))
 def test_statespace_round_trip_property(seed, n_modes, n_out):
     truth, _ = _beam_like(np.random.default_rng(seed), n_modes, n_out, rigid=seed % 2 == 0)
