@@ -344,9 +344,11 @@ def impact_figures(result, *, resolution: float = 0.0, ringing_share: float = 0.
     The same ringing lifts the force above zero for a moment just after a separation: an
     interval that starts within ``resolution`` of the interval before it and carries less
     than ``ringing_share`` of the contact's impulse is ringing, not contact: it extends
-    the contact only when a larger interval follows within ``resolution`` (a dip of the
+    the contact only when a larger interval follows within ``resolution`` and within
+    ``2 resolution`` (one period of the band top) of the contact's end (a dip of the
     contact's force), and never counts as a contact of its own (its impulse stays in the
     total; a true re-contact that close carries a share of the order of the contact's).
+    An interval farther from the contact's end is a contact of its own.
     ``n_contacts_raw`` counts every interval of the solver.
     """
     intervals = list(result.contact_intervals)
@@ -363,7 +365,9 @@ def impact_figures(result, *, resolution: float = 0.0, ringing_share: float = 0.
     last_end, pending = intervals[0][1], 0.0     # ringing since the contact's end
     for s, e in intervals[1:]:
         j = impulse(s, e)
-        if s - last_end >= resolution:
+        # ringing bridges a dip of the force for at most one period of the band top
+        near = s - last_end < resolution and s - merged[-1][1] < 2.0 * resolution
+        if not near:
             merged.append([s, e, j])
             pending = 0.0
         elif j >= ringing_share * merged[-1][2]:          # the contact goes on
@@ -400,16 +404,17 @@ class UncertaintyBand:
         nominal prediction and every variant, widened to ``nominal -+ truncation``.
     variants : tuple of (str, dict)
         Each variant's label (``"body2 band 60%"``, ``"draw 1"``) and figures.
-    truncation : dict
+    truncation : dict or None
         The truncation error left at the full band, per figure, estimated from the cut
-        bands (:func:`truncation_error`); 0 without cut bands.
+        bands (:func:`truncation_error`; 0 where no cut band gave one); None when the
+        band was built without it.
     """
 
     nominal: dict
     low: dict
     high: dict
     variants: tuple
-    truncation: dict = None
+    truncation: dict | None = None
 
     def contains(self, name: str, value: float, *, rel: float = 0.0) -> bool:
         """Whether ``value`` lies in ``[low, high]`` of figure ``name`` (widened by ``rel``)."""
@@ -434,7 +439,8 @@ def refit_on_cut_band(fit, fraction: float):
     estimator = type(fit)(**params)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        estimator.fit(fit.frf_)
+        # the data as measured (a windowed fit's terms depend on what was recorded)
+        estimator.fit(getattr(fit, "data_", fit.frf_))
     return estimator
 
 
@@ -472,10 +478,12 @@ def truncation_error(nominal: dict, cut: dict, fraction: float) -> dict:
     share of the omitted modes' energy, ~1/n, is what the continuation cannot make
     exact) has ``|F(1) - F_inf| = |F(1) - F(f)| f / (1 - f)``: 4 times the change from
     80 %, 1.5 times the change from 60 %. An estimate, like Richardson's, not a bound.
+    A figure missing (None) on either side gives 0.
     """
     if not 0.0 < fraction < 1.0:
         raise ValueError(f"fraction must lie in (0, 1), got {fraction!r}")
-    return {k: abs(nominal[k] - cut[k]) * fraction / (1.0 - fraction) for k in FIGURES}
+    return {k: (0.0 if nominal[k] is None or cut[k] is None
+                else abs(nominal[k] - cut[k]) * fraction / (1.0 - fraction)) for k in FIGURES}
 
 
 def identified_model(fit, *, continuation: bool = True, n_top: int = 3, extend: float = 16.0,
@@ -533,9 +541,11 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.6, 0.8), n_draws: int 
                 res = solve(*trial)
             except (ValueError, MemoryError, np.linalg.LinAlgError):
                 continue                 # a degenerate re-identification: no figure
-            figs = impact_figures(res, resolution=band_resolution(cut_fits))
+            cut_resolution = band_resolution(cut_fits)
+            figs = impact_figures(res, resolution=cut_resolution)
             variants.append((f"body{i + 1} band {100 * fraction:.0f}%", figs))
-            cuts.append((fraction, figs))
+            # compared with the nominal at the same resolution (the same merging)
+            cuts.append((fraction, figs, impact_figures(nominal, resolution=cut_resolution)))
     rng = np.random.default_rng(seed)
     if any(f is not None for f in fits):
         for d in range(n_draws):
@@ -549,10 +559,14 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.6, 0.8), n_draws: int 
     base = impact_figures(nominal, resolution=resolution)
     everything = [base] + [v for _, v in variants]
     trunc = {k: 0.0 for k in FIGURES}
-    for fraction, figs in cuts:
-        for k, r in truncation_error(base, figs, fraction).items():
+    for fraction, figs, same in cuts:
+        for k, r in truncation_error(same, figs, fraction).items():
             trunc[k] = max(trunc[k], r)
-    low = {k: min([f[k] for f in everything] + [base[k] - trunc[k]]) for k in FIGURES}
-    high = {k: max([f[k] for f in everything] + [base[k] + trunc[k]]) for k in FIGURES}
+    low, high = {}, {}
+    for k in FIGURES:
+        values = [f[k] for f in everything if f[k] is not None]
+        if base[k] is not None:
+            values += [base[k] - trunc[k], base[k] + trunc[k]]
+        low[k], high[k] = (min(values), max(values)) if values else (None, None)
     return UncertaintyBand(nominal=base, low=low, high=high, variants=tuple(variants),
                            truncation=trunc)

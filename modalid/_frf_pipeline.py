@@ -21,7 +21,7 @@ from ._lscf import lscf_subbands
 from ._lsfd import (Terms, evaluate, mass_line_significant, place_upper_modes,
                     refine_varpro, release_gain, removal_cost, split_coefficients)
 from ._vf import vector_fit_poles
-from ._window import truncation_factors, unwindow
+from ._window import rigid_factor, truncation_factors, unwindow
 from .frf import FRFData
 from .model import ModalModel
 from .quantities import receptance_to
@@ -387,12 +387,15 @@ class FRFPipeline:
             modes["damping_ratio_std"] = np.hypot(nu**2 * s4[:, 0], sig * nu * s4[:, 1]) / wn**3
             scale = window.get("truncation_factors", np.ones(poles.size))[physical][order]
             modes["residue_std"] = np.hypot(s4[:, 2], s4[:, 3]) / np.abs(scale)
+        # marginal stds of the rigid and constant terms; not where a pseudo-mode next to
+        # them trades against them (a lower one against the mass line, an upper one
+        # against the constant): their marginal std is then no measure of either
         inverse_mass_std = flexibility_std = np.nan
         if std is not None:
             extra = std["extra"][len(terms.real_poles):]
-            if terms.rigid and u > 0:       # the window's factor scales the std alike
-                inverse_mass_std = float(extra[0] * self.model_.inverse_mass / u)
-            if terms.upper:
+            if terms.rigid and u > 0 and not np.any(kinds == "lower"):
+                inverse_mass_std = float(extra[0]) / window.get("rigid_factor", 1.0)
+            if terms.upper and not np.any((kinds == "upper") | (kinds == "far")):
                 flexibility_std = float(extra[int(terms.rigid)])
         self.report_ = fit_report(
             self.model_, kinds, info, notes, method=self.method, max_order=max_order,
@@ -402,7 +405,8 @@ class FRFPipeline:
             band_hz=(float(frf.freq_hz[0]), float(frf.freq_hz[-1])),
             vf_iterations=vf_iterations, modes=modes, inverse_mass_std=inverse_mass_std,
             flexibility_std=flexibility_std,
-            **{k: v for k, v in window.items() if k != "truncation_factors"})
+            **{k: v for k, v in window.items()
+               if k not in ("truncation_factors", "rigid_factor")})
 
     def _unwindow(self, model, kinds, min_damping=1e-5):
         """The structure's model from the windowed fit ``model``, and what was done.
@@ -413,13 +417,19 @@ class FRFPipeline:
         sigma, length = self._shift, self.record_length
         factors = (np.ones(model.poles.size) if length is None
                    else truncation_factors(model.poles, length))
-        out = unwindow(model, sigma, length, quantity=self._data_band.quantity)
+        try:
+            out = unwindow(model, sigma, length, quantity=self._data_band.quantity)
+        except ValueError as exc:        # a rigid line with record_length and no window
+            raise ValueError(f"ModalFit(window_decay_rate={self.window_decay_rate!r}, "
+                             f"record_length={length!r}) found a rigid body: {exc}") from None
         p = out.poles
         limit = -min_damping * np.abs(p)
         clipped = (p.real > limit) & (kinds != "far")
         out = out.replace(poles=np.where(clipped, limit + 1j * p.imag, p))
         return out, {"window_decay_rate": sigma, "record_length": length,
-                     "window_clipped": int(np.sum(clipped)), "truncation_factors": factors}
+                     "window_clipped": int(np.sum(clipped)), "truncation_factors": factors,
+                     "rigid_factor": (rigid_factor(sigma, length, self._data_band.quantity)
+                                      if model.inverse_mass else 1.0)}
 
 
 def _high_frequency(model, physical):

@@ -285,7 +285,7 @@ def fit_set(est, data: FRFSet):
     if est.freq_range is not None:
         data = data.band(est.freq_range)
     cut = bool(data.freq_hz[0] > first)           # lines below the band were dropped
-    est._data_band = data
+    est._data_band = est.data_ = data
     rec = data.to_receptance()
     omega, h = rec.omega, rec.values
     w, coh = _row_weights(est, rec)

@@ -15,25 +15,28 @@ padding, so ``exp(-i omega_j T) = 1``), that receptance form is exactly::
 * the rigid line's cut: ``c_0 = 1 - exp(-sigma T)`` for a velocity (a constant cut at
   ``T``) or displacement record, 1 for an acceleration (zero after the hit); a
   displacement record's cut ramp adds ``-u T exp(-sigma T) / x`` too;
-* ``A_j = sum 2 Re(r_k p_k^(j-1) exp((p_k - sigma) T))`` (real poles alike): what the cut
-  removes from the instantaneous terms of the derivatives, of the order ``exp(-sigma T)``
-  of the first modes' residues.
+* ``A_j = sum_k 2 Re(r_k p_k^(j-1) exp((p_k - sigma) T)) + sum_real a p^(j-1) exp((p -
+  sigma) T)`` (each real pole once): what the cut removes from the instantaneous terms of
+  the derivatives, of the order ``exp(-sigma T)`` of the first modes' residues. ``A_2``
+  and an acceleration's rigid line are both ``1/x^2``: a fit reads ``u + A_2``.
 
 All of it is exact for an impulse at ``t = 0``; a hit at ``t_0`` with a pulse short
 against the modes' periods multiplies the second term of ``c_k`` by
 ``exp(-Re(p_k - sigma) t_0)`` (``1 + 0.035`` for a hit at 1 % of a 1 %-window record:
 ``3.5e-4`` of that mode's residue). :class:`modalid.ModalFit` (``window_decay_rate``,
-``record_length``) fits the poles, ``c_k r_k``, ``c_0 u`` and ``D`` and divides the
-factors out; it neglects the ``A_j`` and the displacement ramp's term.
+``record_length``) fits the poles, ``c_k r_k``, ``c_0 u`` and ``D``, divides the factors
+out and takes ``A_2`` out of an acceleration's mass line; it neglects the other ``A_j``
+and the displacement ramp's term.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from ._checks import as_choice, as_nonnegative_scalar, as_positive_scalar
 from .model import ModalModel
 
-__all__ = ["truncation_factors", "unwindow", "windowed_receptance"]
+__all__ = ["rigid_factor", "truncation_factors", "unwindow", "windowed_receptance"]
 
 
 def truncation_factors(windowed_poles, record_length):
@@ -45,7 +48,24 @@ def truncation_factors(windowed_poles, record_length):
 _POWER = {"receptance": 0, "mobility": 1, "accelerance": 2}
 
 
-def _rigid_factor(decay_rate, record_length, quantity):
+def _checked(decay_rate, record_length, quantity):
+    as_choice("quantity", quantity, tuple(_POWER))
+    decay_rate = as_nonnegative_scalar("decay_rate", decay_rate)
+    if record_length is not None:
+        record_length = as_positive_scalar("record_length", record_length)
+    return decay_rate, record_length
+
+
+def _cut_sums(model: ModalModel, decay_rate, record_length, j):
+    """``A_j`` of the module docstring for the structure ``model``."""
+    cut = np.exp((model.poles - decay_rate) * record_length)
+    cut_real = np.exp((model.real_poles - decay_rate) * record_length)
+    return float(2.0 * np.sum((model.residues * model.poles ** (j - 1) * cut).real)
+                 + np.sum(model.real_residues * model.real_poles ** (j - 1) * cut_real))
+
+
+def rigid_factor(decay_rate, record_length, quantity):
+    """``c_0``: the record's end's factor on the rigid line (module docstring)."""
     if record_length is None or _POWER[quantity] == 2:
         return 1.0
     c0 = float(-np.expm1(-decay_rate * record_length))
@@ -67,16 +87,20 @@ def unwindow(model: ModalModel, decay_rate: float, record_length=None, *,
     docstring). ``flexibility`` is unchanged (an instantaneous term is neither shifted
     nor cut).
     """
+    decay_rate, record_length = _checked(decay_rate, record_length, quantity)
     residues, real_residues = model.residues, model.real_residues
     inverse_mass = model.inverse_mass
     if record_length is not None:
         residues = residues / truncation_factors(model.poles, record_length)
         real_residues = real_residues / truncation_factors(model.real_poles, record_length)
-        if inverse_mass:
-            inverse_mass = inverse_mass / _rigid_factor(decay_rate, record_length, quantity)
-    return ModalModel(poles=model.poles + decay_rate, residues=residues,
-                      real_poles=model.real_poles + decay_rate, real_residues=real_residues,
-                      inverse_mass=inverse_mass, flexibility=model.flexibility)
+    out = ModalModel(poles=model.poles + decay_rate, residues=residues,
+                     real_poles=model.real_poles + decay_rate, real_residues=real_residues,
+                     flexibility=model.flexibility)
+    if record_length is not None and inverse_mass:
+        if _POWER[quantity] == 2:            # the fit read u + A_2 (module docstring)
+            inverse_mass -= _cut_sums(out, decay_rate, record_length, 2)
+        inverse_mass /= rigid_factor(decay_rate, record_length, quantity)
+    return out.replace(inverse_mass=inverse_mass)
 
 
 def windowed_receptance(model: ModalModel, omega, decay_rate: float, record_length=None, *,
@@ -103,21 +127,19 @@ def windowed_receptance(model: ModalModel, omega, decay_rate: float, record_leng
         The FRF :func:`modalid.frf_from_hammer` reports, in receptance form (m/N): the
         module docstring's sum, exact for a hit at ``t = 0``.
     """
+    decay_rate, record_length = _checked(decay_rate, record_length, quantity)
     iw = 1j * np.asarray(omega, dtype=float)
     x = iw + decay_rate
     poles, real_poles = model.poles - decay_rate, model.real_poles - decay_rate
     residues, real_residues = model.residues, model.real_residues
     extra = np.zeros(iw.shape, dtype=complex)
     if record_length is not None:
-        cut, cut_real = (1.0 - truncation_factors(poles, record_length),
-                         1.0 - truncation_factors(real_poles, record_length))
         for j in range(1, _POWER[quantity] + 1):
-            a_j = (2.0 * np.sum((residues * model.poles ** (j - 1) * cut).real)
-                   + np.sum(real_residues * model.real_poles ** (j - 1) * cut_real))
-            extra += a_j / x**j
+            extra += _cut_sums(model, decay_rate, record_length, j) / x**j
         if quantity == "receptance" and model.inverse_mass:
             extra -= model.inverse_mass * record_length * np.exp(-decay_rate * record_length) / x
-        residues, real_residues = residues * (1.0 - cut), real_residues * (1.0 - cut_real)
+        residues = residues * truncation_factors(poles, record_length)
+        real_residues = real_residues * truncation_factors(real_poles, record_length)
     col = iw[..., None]
     out = np.full(iw.shape, model.flexibility, dtype=complex) + extra
     if poles.size:
@@ -126,5 +148,5 @@ def windowed_receptance(model: ModalModel, omega, decay_rate: float, record_leng
     if real_poles.size:
         out += np.sum(real_residues / (col - real_poles), axis=-1)
     if model.inverse_mass:
-        out += model.inverse_mass * _rigid_factor(decay_rate, record_length, quantity) / x**2
+        out += model.inverse_mass * rigid_factor(decay_rate, record_length, quantity) / x**2
     return out

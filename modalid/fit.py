@@ -103,8 +103,12 @@ class ModalFit(FRFPipeline, BaseEstimator):
         (exact for a hit at the record's start, :mod:`modalid._window`); the fit divides
         them out. ``None`` (default): no correction (an untruncated FRF). Needs
         ``window_decay_rate > 0`` for a rigid body. The rigid line's factor depends on
-        what was recorded (the data's ``quantity``); a displacement record of a free body
-        also adds a term the model lacks: prefer velocity or acceleration there.
+        what was recorded (the data's ``quantity``); for an acceleration the record's end
+        also adds ``A_2/(s + sigma)^2`` to the mass line, which is taken out; the smaller
+        ``A_j`` terms are neglected (they are ``exp(-sigma T)`` of the first residues: the
+        correction assumes a window that ends well below 1, e.g. at 1 %), and a
+        displacement record of a free body adds a term the model lacks (prefer velocity
+        or acceleration there).
 
     Attributes
     ----------
@@ -119,12 +123,16 @@ class ModalFit(FRFPipeline, BaseEstimator):
     frf_ : FRFData
         The receptance fitted (the band, lines above 0 Hz); ``impulse_`` ``(t, h)`` for
         ERA.
+    data_ : FRFData
+        The same band in the data's own quantity (what a re-fit with the same settings
+        takes: a windowed fit's terms depend on what was recorded).
     report_ : dict
         ``converged``, ``message``, ``n_iterations``; ``n_modes`` and ``modes`` (the
         physical modes: frequency, damping, residue, modal mass and their standard
         deviations); ``rigid_body``, ``rigid_mass``, ``inverse_mass`` and the standard
         deviations ``inverse_mass_std`` and ``flexibility_std`` (of the constant term;
-        NaN when not estimated);
+        NaN when not estimated, or when a lower or upper pseudo-mode trades against the
+        term: its marginal std is then meaningless);
         ``lower_residual_mode``, ``upper_residual_modes``; the high-frequency behaviour:
         ``effective_mass`` ``1/(sum 1/m_k + 1/M)`` over the model's modes (pseudo-modes
         included), ``effective_mass_physical`` (physical modes only) and
@@ -195,7 +203,7 @@ class ModalFit(FRFPipeline, BaseEstimator):
             raise ValueError(f"residuals must be a subset of ('lower', 'upper'), got {bad}")
         self._selection()                        # validates n_modes
         for name in ("model_", "poles_", "stabilization_", "clusters_", "report_", "frf_",
-                     "impulse_", "mode_shapes_"):
+                     "data_", "impulse_", "mode_shapes_"):
             self.__dict__.pop(name, None)         # a second fit starts afresh
         self._check_window()
         windowed = self.window_decay_rate != 0.0 or self.record_length is not None
@@ -259,7 +267,7 @@ class ModalFit(FRFPipeline, BaseEstimator):
                 given = given[(data.freq_hz >= lo) & (data.freq_hz <= hi)]
             data = data.band(self.freq_range)
         cut = bool(data.freq_hz[0] > first)          # lines below the band were dropped
-        self._data_band = data                        # in the data's own quantity
+        self._data_band = self.data_ = data           # in the data's own quantity
         frf = data.to_receptance()
         mag = np.abs(frf.values)
         if self.weighting == "relative":
@@ -325,11 +333,12 @@ class ModalFit(FRFPipeline, BaseEstimator):
 
     def _fitted_values(self, data):
         """The model on ``data``'s lines in its quantity; windowed like the data fitted
-        when the fit had ``window_decay_rate`` or ``record_length``."""
+        (what was recorded: ``data_.quantity``) when the fit had ``window_decay_rate`` or
+        ``record_length``."""
         if self.method == "era" or not (self.window_decay_rate or self.record_length):
             return self.model_.frf(data.omega, quantity=data.quantity)
         h = windowed_receptance(self.model_, data.omega, float(self.window_decay_rate),
-                                self.record_length, quantity=data.quantity)
+                                self.record_length, quantity=self.data_.quantity)
         return receptance_to(data.quantity, h, data.omega)
 
     def plot_stabilization(self, ax=None):

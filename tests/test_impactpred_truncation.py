@@ -199,6 +199,12 @@ def test_impact_figures_ringing_after_separation_is_not_contact():
     later = _pulses((0.0, 1.0, 1.0), (1.5, 1.51, 0.01))
     figs = impact_figures(later, resolution=0.1)
     assert (figs["contact_duration"], figs["n_contacts"]) == (pytest.approx(1.0), 2)
+    # slivers bridge a dip for one period of the band top (2 resolutions), no longer
+    chain = _pulses((0.0, 1.0, 1.0), (1.08, 1.09, 0.01), (1.16, 1.17, 0.01),
+                    (1.24, 1.25, 0.01), (1.32, 1.33, 0.01), (1.40, 1.8, 0.8))
+    figs = impact_figures(chain, resolution=0.1)
+    assert figs["contact_duration"] == pytest.approx(1.0)
+    assert (figs["n_contacts"], figs["n_contacts_raw"]) == (2, 6)
     # ringing_share = 0 merges every interval within the resolution (the old rule)
     assert impact_figures(ringing, resolution=0.1,
                           ringing_share=0.0)["contact_duration"] == pytest.approx(1.08)
@@ -221,22 +227,31 @@ def test_truncation_error_of_a_figure_converging_like_one_over_the_band():
         truncation_error(at(1.0), at(1.0), 1.0)
 
 
-def test_parameter_draws_move_the_rigid_mass_and_flexibility():
+def test_parameter_draws_move_the_rigid_mass_by_its_reported_std():
     from modalid import FRFData, ModalFit
 
     from impactpred.truncation import perturb_residues
 
     truth = lightly_damped(Rod(1.0, 1.0, support="free"), 14, 0.01)
     freq = np.linspace(0.02, 4.0, 2000)
-    rng = np.random.default_rng(0)
-    h = truth.frf(2 * np.pi * freq)
-    h = h * (1 + 0.01 * (rng.standard_normal(h.size) + 1j * rng.standard_normal(h.size)))
-    fit = ModalFit().fit(FRFData(freq, h))
-    s_u, s_d = fit.report_["inverse_mass_std"], fit.report_["flexibility_std"]
-    assert 0 < s_u < 0.05 * fit.model_.inverse_mass and np.isfinite(s_d)
+    fits = []
+    for seed in range(10):
+        rng = np.random.default_rng(seed)
+        h = truth.frf(2 * np.pi * freq)
+        h = h * (1 + 0.01 * (rng.standard_normal(h.size) + 1j * rng.standard_normal(h.size)))
+        fits.append(ModalFit().fit(FRFData(freq, h)))
+    # the reported std of the inverse mass is the scatter over noise draws (within 2x)
+    u = np.array([f.model_.inverse_mass for f in fits])
+    s_u = np.median([f.report_["inverse_mass_std"] for f in fits])
+    assert 0.5 < np.std(u, ddof=1) / s_u < 2.0
+    fit = fits[0]
+    # with upper pseudo-modes trading against the constant its std is not reported
+    assert fit.report_["upper_residual_modes"] > 0
+    assert np.isnan(fit.report_["flexibility_std"])
     draws = [perturb_residues(fit, np.random.default_rng(7)) for _ in range(2)]
     assert draws[0] == draws[1]                                   # reproducible
     many = [perturb_residues(fit, np.random.default_rng(i)) for i in range(40)]
-    u = np.array([m.inverse_mass for m in many])
-    assert np.std(u) == pytest.approx(s_u, rel=0.35) and np.all(u >= 0)
-    assert np.all([m.flexibility >= 0 for m in many])
+    drawn = np.array([m.inverse_mass for m in many])
+    assert np.std(drawn) == pytest.approx(fit.report_["inverse_mass_std"], rel=0.35)
+    assert np.all(drawn >= 0)
+    assert all(m.flexibility == fit.model_.flexibility for m in many)   # NaN std: kept

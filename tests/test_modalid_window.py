@@ -138,3 +138,44 @@ def test_window_options_need_an_frf(free_body):
     t = np.linspace(0, 10, 1000)
     with pytest.raises(ValueError, match="'lscf' or 'vf'"):
         ModalFit(method="era", record_length=10.0).fit((t, free_body.impulse_response(t)))
+
+
+def test_acceleration_mass_line_and_refits_keep_the_measured_quantity(free_body):
+    """An acceleration's record end adds A_2/(s + sigma)^2 to the mass line (taken out);
+    score, plot and a re-fit on a cut band use the quantity recorded, not frf_'s."""
+    from impactpred.truncation import refit_on_cut_band
+
+    freq = np.arange(1, 140) / T
+    w = 2 * np.pi * freq
+    accel = -w**2 * windowed_receptance(free_body, w, SIGMA, T, quantity="accelerance")
+    data = FRFData(freq, accel, quantity="accelerance")
+    fit = ModalFit(window_decay_rate=SIGMA, record_length=T).fit(data)
+    assert fit.model_.inverse_mass == pytest.approx(free_body.inverse_mass, rel=5e-4)
+    assert fit.data_.quantity == "accelerance" and fit.frf_.quantity == "receptance"
+    assert fit.score(fit.frf_) > 1 - 1e-6 and fit.score(data) > 1 - 1e-6
+    cut = refit_on_cut_band(fit, 0.95)
+    assert cut.model_.inverse_mass == pytest.approx(free_body.inverse_mass, rel=5e-4)
+
+
+def test_a_rigid_body_without_a_window_is_named(free_body):
+    freq = np.arange(1, 140) / T
+    data = FRFData(freq, free_body.frf(2 * np.pi * freq, quantity="mobility"),
+                   quantity="mobility")
+    with pytest.raises(ValueError, match=r"window_decay_rate=0\.0, record_length=20\.0"):
+        ModalFit(record_length=T, rigid_body=True).fit(data)
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    ({"quantity": "velocity"}, "quantity"),
+    ({"decay_rate": -1.0}, "decay_rate"),
+    ({"decay_rate": float("nan")}, "decay_rate"),
+    ({"record_length": 0.0}, "record_length"),
+])
+def test_window_functions_name_bad_input(free_body, kwargs, match):
+    args = {"decay_rate": SIGMA, "record_length": T, "quantity": "mobility"} | kwargs
+    with pytest.raises(ValueError, match=match):
+        windowed_receptance(free_body, [1.0], args["decay_rate"], args["record_length"],
+                            quantity=args["quantity"])
+    with pytest.raises(ValueError, match=match):
+        unwindow(free_body, args["decay_rate"], args["record_length"],
+                 quantity=args["quantity"])
