@@ -14,7 +14,8 @@ from .predict import BandWarning, Prediction, predict
 from .result import BodyEnergy, ImpactResult
 
 __all__ = ["Body", "SampledResponse", "solve_impact", "choose_dt", "METHODS", "Rigid",
-           "LinearSpring", "Hertz", "ContactLaw", "ImpactResult", "BodyEnergy", "predict", "Prediction",
+           "LinearSpring", "Hertz", "ContactLaw", "ImpactResult", "BodyEnergy", "predict",
+           "Prediction",
            "BandWarning", "PointResponse"]
 __all__ += ["ImpactDamper", "HarmonicForce", "BaseExcitation", "InstantaneousImpact",
             "DamperResult"]

@@ -69,8 +69,8 @@ from .truncation import (
     continue_above_band,
     identified_model,
     impact_figures,
-    uncertainty_band,
 )
+from .uncertainty import uncertainty_band
 
 __all__ = ["TARGETS", "Case", "Measurement", "Reference",
            "benchmark_cases", "check_targets", "exact_reference", "markdown_table",

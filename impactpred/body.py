@@ -69,7 +69,8 @@ class SampledResponse:
         t = as_real_array("t", t)
         if np.any(t > self.t[-1] * (1 + 1e-12)):
             raise ValueError(f"the sampled response covers 0 to {self.t[-1]:.6g} s, asked for "
-                             f"t = {float(np.max(t)):.6g} s: give a longer record or a shorter t_end")
+                             f"t = {float(np.max(t)):.6g} s: give a longer record or a shorter "
+                             "t_end")
         tc = np.clip(t, 0.0, self.t[-1])
         i = np.clip(np.searchsorted(self.t, tc, side="right") - 1, 0, self.t.size - 2)
         tau = tc - self.t[i]
@@ -180,7 +181,8 @@ class Body:
     @property
     def is_rational(self) -> bool:
         """True when the model is a finite pole-residue receptance (Laplace solver applies)."""
-        return isinstance(self.model, ModalModel) or bool(getattr(self.model, "is_rational", False))
+        return (isinstance(self.model, ModalModel)
+                or bool(getattr(self.model, "is_rational", False)))
 
     def modal_model(self, n_modes: int | None = None) -> ModalModel:
         """The body's model as a ``ModalModel`` (exact for rational models).
@@ -215,7 +217,8 @@ class Body:
         return self.model.modal_model(n).without_rigid_body().replace(flexibility=0.0)
 
     def initial_modal_states(self) -> np.ndarray | None:
-        """Complex modal states ``z_k`` (``z' = p z + u``, ``y = 2 Re(r z)``) of :attr:`vibration`."""
+        """Complex modal states ``z_k`` (``z' = p z + u``, ``y = 2 Re(r z)``) of
+        :attr:`vibration`."""
         modes = self.vibration_modes()
         if modes is None:
             return None

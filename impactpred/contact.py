@@ -42,7 +42,8 @@ class Rigid(ContactLaw):
 
 @dataclass(frozen=True)
 class LinearSpring(ContactLaw):
-    """Linear spring-dashpot contact: ``f = max(0, k d + c d')`` while the penetration ``d = -g > 0``.
+    """Linear spring-dashpot contact: ``f = max(0, k d + c d')`` while the penetration
+    ``d = -g > 0``.
 
     Parameters
     ----------
@@ -114,7 +115,8 @@ class Hertz(ContactLaw):
         return cls(4.0 / 3.0 * e_star * np.sqrt(r_star), 1.5)
 
     def step_force(self, G, K0, g_prev, dt):
-        """Root of ``phi(f) = f - k (-(G + K0 f))**n`` on ``[0, -G/K0]`` (unique, phi increasing)."""
+        """Root of ``phi(f) = f - k (-(G + K0 f))**n`` on ``[0, -G/K0]`` (unique, phi
+        increasing)."""
         if G >= 0.0:
             return 0.0
         k, n = self.stiffness, self.exponent

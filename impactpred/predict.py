@@ -29,7 +29,8 @@ from .api import solve_impact
 from .body import Body, SampledResponse
 from .contact import ContactLaw, Hertz, LinearSpring, Rigid
 from .result import ImpactResult
-from .truncation import band_resolution, identified_model, impact_figures, uncertainty_band
+from .truncation import band_resolution, identified_model, impact_figures
+from .uncertainty import uncertainty_band
 
 __all__ = ["predict", "Prediction", "parse_body", "parse_contact", "BandWarning"]
 
@@ -204,7 +205,7 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
         :func:`impactpred.truncation.continue_above_band`). Without it rigid contact
         against a finite modal sum chatters.
     uncertainty : bool
-        Attach an :class:`~impactpred.truncation.UncertaintyBand` (re-identification on
+        Attach an :class:`~impactpred.uncertainty.UncertaintyBand` (re-identification on
         60 % and 80 % of each band, ``uncertainty_draws`` parameter draws with ``seed``,
         the truncation error the cut bands imply).
     """

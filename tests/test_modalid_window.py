@@ -143,7 +143,7 @@ def test_window_options_need_an_frf(free_body):
 def test_acceleration_mass_line_and_refits_keep_the_measured_quantity(free_body):
     """An acceleration's record end adds A_2/(s + sigma)^2 to the mass line (taken out);
     score, plot and a re-fit on a cut band use the quantity recorded, not frf_'s."""
-    from impactpred.truncation import refit_on_cut_band
+    from impactpred.uncertainty import refit_on_cut_band
 
     freq = np.arange(1, 140) / T
     w = 2 * np.pi * freq

@@ -1,0 +1,57 @@
+"""The uncertainty band (impactpred.uncertainty): the truncation estimate against a figure
+of known convergence, parameter draws against the fits' scatter."""
+
+import numpy as np
+import pytest
+
+import impactpred.truncation
+from data_synth import Rod, lightly_damped
+from impactpred.uncertainty import perturb_residues, truncation_error, uncertainty_band
+from modalid import FRFData, ModalFit
+
+
+def test_moved_names_still_import_from_truncation():
+    assert impactpred.truncation.uncertainty_band is uncertainty_band
+    with pytest.raises(AttributeError, match="no attribute 'nothing'"):
+        impactpred.truncation.nothing  # noqa: B018
+
+
+def test_truncation_error_of_a_figure_converging_like_one_over_the_band():
+    limit = {"contact_duration": 2.0, "peak_force": 1.0, "impulse": 3.0, "restitution": 0.7}
+    slope = {"contact_duration": 0.05, "peak_force": -0.2, "impulse": 0.01, "restitution": 0.003}
+
+    def at(f):
+        return {k: limit[k] + slope[k] / f for k in limit}
+
+    for fraction in (0.6, 0.8):
+        est = truncation_error(at(1.0), at(fraction), fraction)
+        for k in limit:        # exactly the error left at the full band, |F(1) - F_inf|
+            assert est[k] == pytest.approx(abs(slope[k]), rel=1e-12)
+    with pytest.raises(ValueError, match="fraction"):
+        truncation_error(at(1.0), at(1.0), 1.0)
+
+
+def test_parameter_draws_move_the_rigid_mass_by_its_reported_std():
+    truth = lightly_damped(Rod(1.0, 1.0, support="free"), 14, 0.01)
+    freq = np.linspace(0.02, 4.0, 2000)
+    fits = []
+    for seed in range(10):
+        rng = np.random.default_rng(seed)
+        h = truth.frf(2 * np.pi * freq)
+        h = h * (1 + 0.01 * (rng.standard_normal(h.size) + 1j * rng.standard_normal(h.size)))
+        fits.append(ModalFit().fit(FRFData(freq, h)))
+    # the reported std of the inverse mass is the scatter over noise draws (within 2x)
+    u = np.array([f.model_.inverse_mass for f in fits])
+    s_u = np.median([f.report_["inverse_mass_std"] for f in fits])
+    assert 0.5 < np.std(u, ddof=1) / s_u < 2.0
+    fit = fits[0]
+    # with upper pseudo-modes trading against the constant its std is not reported
+    assert fit.report_["upper_residual_modes"] > 0
+    assert np.isnan(fit.report_["flexibility_std"])
+    draws = [perturb_residues(fit, np.random.default_rng(7)) for _ in range(2)]
+    assert draws[0] == draws[1]                                   # reproducible
+    many = [perturb_residues(fit, np.random.default_rng(i)) for i in range(40)]
+    drawn = np.array([m.inverse_mass for m in many])
+    assert np.std(drawn) == pytest.approx(fit.report_["inverse_mass_std"], rel=0.35)
+    assert np.all(drawn >= 0)
+    assert all(m.flexibility == fit.model_.flexibility for m in many)   # NaN std: kept
