@@ -399,9 +399,28 @@ def band_resolution(fits) -> float:
 
 
 def identified_model(fit, *, continuation: bool = True, n_top: int = 3, extend: float = 16.0,
-                     model=None) -> ModalModel:
-    """The model of ``fit`` (or ``model``), continued above the fit's band when asked."""
+                     model=None, normal_modes: bool = True) -> ModalModel:
+    """The model of ``fit`` (or ``model``) for an impact, continued above the fit's band
+    when asked.
+
+    ``normal_modes``: drop the real parts of the residues of the modes inside the band
+    (keep their modal masses).
+    A driving point's displacement starts from 0 after an impulse, ``h(0+) = sum 2 Re r_k
+    = 0``: the real parts an identification leaves (noise; or non-proportional damping,
+    whose sum over all modes is 0) act as a spurious instantaneous compliance that a short
+    contact feels at full strength, while the continuation sets ``h(0+)`` to its ``G``.
+    On the benchmark's cantilever (10 modes, 1 % noise) they summed to 30 % of ``G`` and
+    took the Hertz ball's restitution from +1.4 % to -5.3 %.
+    """
     model = fit.model_ if model is None else model
+    if normal_modes and model.n_modes:
+        # the physical modes only: a pseudo-mode's real part is its share of the residual
+        # terms it stands for (its static compliance -2 Re(r/p) depends on it)
+        low, top = (2 * math.pi * f for f in fit.report_["band_hz"])
+        w = np.abs(model.poles)
+        inside = (w >= low * (1 - 1e-9)) & (w <= top * (1 + 1e-9))
+        model = model.replace(residues=np.where(inside, 1j * model.residues.imag,
+                                                model.residues))
     if not continuation:
         return model
     with warnings.catch_warnings():

@@ -10,6 +10,7 @@ from impactpred import Body, solve_impact
 from impactpred.truncation import (
     continue_above_band,
     high_frequency_conductance,
+    identified_model,
     impact_figures,
     smooth_tail_design,
 )
@@ -208,3 +209,25 @@ def test_impact_figures_ringing_after_separation_is_not_contact():
     # ringing_share = 0 merges every interval within the resolution (the old rule)
     assert impact_figures(ringing, resolution=0.1,
                           ringing_share=0.0)["contact_duration"] == pytest.approx(1.08)
+
+
+def test_identified_model_as_normal_modes_has_no_spurious_h0():
+    """The identified residues' real parts (noise) would give h(0+) != 0: dropped inside
+    the band, kept on pseudo-modes and with normal_modes=False."""
+    from modalid import FRFData, ModalFit
+
+    truth = lightly_damped(Rod(1.0, 1.0, support="fixed"), 14, 0.001)
+    freq = np.linspace(0.02, 4.0, 2000)
+    rng = np.random.default_rng(3)
+    h = truth.frf(2 * np.pi * freq)
+    h = h * (1 + 0.01 * (rng.standard_normal(h.size) + 1j * rng.standard_normal(h.size)))
+    fit = ModalFit().fit(FRFData(freq, h))
+    raw = identified_model(fit, continuation=False, normal_modes=False)
+    normal = identified_model(fit, continuation=False)
+    top = 2 * np.pi * fit.report_["band_hz"][1]
+    inside = np.abs(raw.poles) <= top
+    assert abs(2 * np.sum(raw.residues[inside].real)) > 1e-6     # noise leaves some
+    assert np.all(normal.residues[inside].real == 0.0)
+    np.testing.assert_array_equal(normal.residues[inside].imag, raw.residues[inside].imag)
+    np.testing.assert_array_equal(normal.residues[~inside], raw.residues[~inside])
+    assert raw is fit.model_
