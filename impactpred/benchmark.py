@@ -34,7 +34,7 @@ Prediction: ``identified_model`` (normal modes, ``continue_above_band``),
 contact); figures by ``impact_figures`` with contacts closer than ``1/(2 f_top)`` merged
 (ringing after a separation aside). Uncertainty: ``uncertainty_band`` (re-identification
 on 60 % and 80 % of each band, 4 draws of the fits' residues and rigid masses, widened by
-the truncation error the cut bands imply).
+the truncation error the cut bands imply plus the continuation's).
 
 Exact references (:func:`exact_reference`): ``mass_on_fixed_rod`` (closed form, every
 contact) and ``two_free_rods_equal_transit`` (closed form); otherwise ``solve_impact(...,

@@ -107,7 +107,7 @@ def _cmd_predict(args) -> int:
             print(res.point_peaks().to_string())
         if pred.uncertainty is not None:
             print("uncertainty band (re-identified on 60 % and 80 % of each band, parameter "
-                  "draws, widened by the truncation error the cut bands imply):")
+                  "draws, widened by the truncation and tail errors they imply):")
             print(pred.uncertainty.table())
     if args.out:
         import matplotlib

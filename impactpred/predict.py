@@ -148,7 +148,7 @@ class Prediction:
     uncertainty : UncertaintyBand or None
         With ``predict(..., uncertainty=True)``: the spread of those figures over the
         bodies re-identified on 60 % and 80 % of their band and over draws of the fits'
-        parameters, widened by the truncation error the cut bands imply
+        parameters, widened by the truncation error the cut bands imply and the tail's
         (``uncertainty.low``, ``uncertainty.high``, ``uncertainty.table()``).
     """
 
@@ -207,7 +207,7 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
     uncertainty : bool
         Attach an :class:`~impactpred.uncertainty.UncertaintyBand` (re-identification on
         60 % and 80 % of each band, ``uncertainty_draws`` parameter draws with ``seed``,
-        the truncation error the cut bands imply).
+        the truncation error the cut bands imply and the continuation's).
     """
     models, fits = [], []
     for spec in (body1, body2):

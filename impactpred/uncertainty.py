@@ -3,10 +3,12 @@
 :func:`uncertainty_band` re-identifies each measured body on its band cut to 60 % and
 80 %, draws the fits' parameters (residues, rigid mass, residual flexibility) from their
 reported standard deviations, and reports the spread of the impact figures, widened by
-the truncation error the cut bands imply at the full band (:func:`truncation_error`: a
-figure converging like ``1/band``, four times its change from 80 % to 100 % of the band).
-It spans the identification's scatter and the band's truncation; it does not see a bias
-of the fit (the benchmark's README lists where that leaves the exact value outside).
+two error estimates added together: the truncation error the cut bands imply at the full
+band (:func:`truncation_error`: a figure converging like ``1/band``, four times its change
+from 80 % to 100 % of the band) and the error of the continuation's finite extent (its
+synthesized modes run half as far: an error ~ ``1/extend``, once the change). It spans
+the identification's scatter, the band's truncation and the tail's extent; it does not
+see a bias of the fit.
 """
 
 from __future__ import annotations
@@ -35,13 +37,18 @@ class UncertaintyBand:
         Figures of the nominal prediction (see :func:`impact_figures`).
     low, high : dict
         Bounds of each figure in :data:`FIGURES`: the smallest and largest value over the
-        nominal prediction and every variant, widened to ``nominal -+ truncation``.
+        nominal prediction and every variant, widened to ``nominal -+ (truncation +
+        tail)``.
     variants : tuple of (str, dict)
         Each variant's label (``"body2 band 60%"``, ``"draw 1"``) and figures.
     truncation : dict or None
         The truncation error left at the full band, per figure, estimated from the cut
         bands (:func:`truncation_error`; 0 where no cut band gave one); None when the
         band was built without it.
+    tail : dict or None
+        The error of the continuation's finite extent, per figure: the change when its
+        synthesized modes run half as far (an error ~ ``1/extend``); 0 without
+        continuation. ``low`` and ``high`` reach ``nominal -+ (truncation + tail)``.
     """
 
     nominal: dict
@@ -49,6 +56,7 @@ class UncertaintyBand:
     high: dict
     variants: tuple
     truncation: dict | None = None
+    tail: dict | None = None
 
     def contains(self, name: str, value: float, *, rel: float = 0.0) -> bool:
         """Whether ``value`` lies in ``[low, high]`` of figure ``name`` (widened by ``rel``)."""
@@ -179,6 +187,18 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.6, 0.8), n_draws: int 
             variants.append((f"draw {d + 1}",
                              impact_figures(solve(*trial), resolution=resolution)))
     base = impact_figures(nominal, resolution=resolution)
+    tail = {k: 0.0 for k in FIGURES}
+    if continuation and extend > 1.0 and any(f is not None for f in fits):
+        # the tail's own extent: synthesized modes to half as far (error ~ 1/extend)
+        trial = [m if f is None else identified_model(f, n_top=n_top, extend=0.5 * extend)
+                 for f, m in zip(fits, models)]
+        try:
+            half = impact_figures(solve(*trial), resolution=resolution)
+        except (ValueError, MemoryError, np.linalg.LinAlgError):
+            half = None
+        if half is not None:
+            variants.append((f"tail to {0.5 * extend:g}x the band top", half))
+            tail = truncation_error(base, half, 0.5)
     everything = [base] + [v for _, v in variants]
     trunc = {k: 0.0 for k in FIGURES}
     for fraction, figs, same in cuts:
@@ -188,7 +208,8 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.6, 0.8), n_draws: int 
     for k in FIGURES:
         values = [f[k] for f in everything if f[k] is not None]
         if base[k] is not None:
-            values += [base[k] - trunc[k], base[k] + trunc[k]]
+            error = trunc[k] + tail[k]
+            values += [base[k] - error, base[k] + error]
         low[k], high[k] = (min(values), max(values)) if values else (None, None)
     return UncertaintyBand(nominal=base, low=low, high=high, variants=tuple(variants),
-                           truncation=trunc)
+                           truncation=trunc, tail=tail)
