@@ -91,6 +91,7 @@ def __getattr__(name):
         return getattr(uncertainty, name)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
+
 #: the figures the uncertainty band covers (``ImpactResult`` attributes)
 FIGURES = ("contact_duration", "peak_force", "impulse", "restitution")
 
@@ -117,7 +118,6 @@ class ContinuationInfo:
     tail: str = "pole"          # "pole" or "smooth" (see continue_above_band)
     highest_rate: float = 0.0   # largest |pole| of the continuation (rad/s): solver cost
     scale: float = 1.0          # smooth tail's conductance / G (upper flexibility short)
-
 
 
 def _physical_modes(model: ModalModel, band_top_hz: float):
@@ -373,16 +373,17 @@ def impact_figures(result, *, resolution: float = 0.0, ringing_share: float = 0.
     last_end, pending = intervals[0][1], 0.0     # ringing since the contact's end
     for s, e in intervals[1:]:
         j = impulse(s, e)
-        # ringing bridges a dip of the force for at most one period of the band top
-        near = s - last_end < resolution and s - merged[-1][1] < 2.0 * resolution
-        if not near:
+        if s - last_end >= resolution:                    # a contact of its own
             merged.append([s, e, j])
             pending = 0.0
-        elif j >= ringing_share * merged[-1][2]:          # the contact goes on
-            merged[-1][1:] = [e, merged[-1][2] + pending + j]
-            pending = 0.0
-        else:                                             # ringing, unless contact follows
+        elif j < ringing_share * merged[-1][2]:           # ringing, unless contact follows
             pending += j
+        elif s - merged[-1][1] < 2.0 * resolution:        # the contact goes on (ringing
+            merged[-1][1:] = [e, merged[-1][2] + pending + j]   # bridges a dip for one
+            pending = 0.0                                 # period of the band top at most)
+        else:                                             # too far after its end
+            merged.append([s, e, j])
+            pending = 0.0
         last_end = e
     start, end = merged[0][:2]
     inside = (t >= start) & (t <= end)
@@ -404,7 +405,9 @@ def identified_model(fit, *, continuation: bool = True, n_top: int = 3, extend: 
     when asked.
 
     ``normal_modes``: drop the real parts of the residues of the modes inside the band
-    (keep their modal masses).
+    (keep their modal masses); a mode is inside when ``|p|`` lies in the fit's band, the
+    test :func:`continue_above_band` folds by (a strongly damped pole the fit calls
+    physical above the band keeps its real part and is folded).
     A driving point's displacement starts from 0 after an impulse, ``h(0+) = sum 2 Re r_k
     = 0``: the real parts an identification leaves (noise; or non-proportional damping,
     whose sum over all modes is 0) act as a spurious instantaneous compliance that a short

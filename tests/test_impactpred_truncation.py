@@ -206,6 +206,11 @@ def test_impact_figures_ringing_after_separation_is_not_contact():
     figs = impact_figures(chain, resolution=0.1)
     assert figs["contact_duration"] == pytest.approx(1.0)
     assert (figs["n_contacts"], figs["n_contacts_raw"]) == (2, 6)
+    # a long train of slivers, each close to the one before, stays ringing: one contact
+    train = _pulses((0.0, 1.0, 1.0), *[(1.0 + 0.05 * k, 1.01 + 0.05 * k, 0.002)
+                                       for k in range(1, 11)])
+    figs = impact_figures(train, resolution=0.06)
+    assert (figs["contact_duration"], figs["n_contacts"]) == (pytest.approx(1.0), 1)
     # ringing_share = 0 merges every interval within the resolution (the old rule)
     assert impact_figures(ringing, resolution=0.1,
                           ringing_share=0.0)["contact_duration"] == pytest.approx(1.08)

@@ -79,9 +79,12 @@ def test_band_of_a_mass_on_a_measured_rod_holds_every_component():
     labels = [label for label, _ in band.variants]
     assert labels[:2] == ["body2 band 60%", "body2 band 80%"]
     assert "tail to 8x the band top" in labels and labels.count("draw 1") == 1
+    half = dict(band.variants)["tail to 8x the band top"]
+    assert band.tail["peak_force"] > 0
     for k in FIGURES:
         error = band.truncation[k] + band.tail[k]
-        assert band.tail[k] >= 0 and band.truncation[k] >= 0
+        assert band.tail[k] == abs(band.nominal[k] - half[k])       # the change, once
+        assert band.truncation[k] >= 0
         assert band.low[k] <= band.nominal[k] - error + 1e-12
         assert band.high[k] >= band.nominal[k] + error - 1e-12
         assert all(band.low[k] <= f[k] <= band.high[k] for _, f in band.variants)
@@ -89,3 +92,13 @@ def test_band_of_a_mass_on_a_measured_rod_holds_every_component():
     # the damped structure, sits at its own answer, near but under the continuum's
     assert band.low["restitution"] < 0.698876 < band.high["restitution"] + 0.01
     assert band_resolution([None, fit]) == pytest.approx(0.5 / fit.report_["band_hz"][1])
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    ({"extend": float("nan")}, "extend"), ({"extend": -3.0}, "extend"),
+    ({"n_draws": -2}, "n_draws"), ({"n_draws": 2.5}, "n_draws"),
+    ({"n_top": 0}, "n_top"), ({"fractions": (0.6, 1.2)}, "fractions"),
+])
+def test_band_options_are_checked(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        uncertainty_band([LumpedMass(1.0), LumpedMass(1.0)], [None, None], None, **kwargs)
