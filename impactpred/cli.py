@@ -66,6 +66,16 @@ def _cmd_paper(args) -> int:
     return 0
 
 
+def _window_options(args):
+    """``ModalFit`` options for FRF files measured with an exponential window."""
+    options = {}
+    if args.window_decay is not None:
+        options["window_decay_rate"] = args.window_decay
+    if args.record_length is not None:
+        options["record_length"] = args.record_length
+    return options or None
+
+
 def _cmd_predict(args) -> int:
     import warnings
 
@@ -78,7 +88,8 @@ def _cmd_predict(args) -> int:
         pred = predict(args.body1, args.body2, velocity1=args.v1, velocity2=args.v2,
                        gap=args.gap, contact=args.contact, t_end=args.t_end, dt=args.dt,
                        method=args.method, quantity=args.quantity,
-                       continuation=args.continuation, uncertainty=args.uncertainty)
+                       continuation=args.continuation, uncertainty=args.uncertainty,
+                       fit_options=_window_options(args))
     res = pred.result
     for i, fit in enumerate(pred.fits, start=1):
         if fit is None:
@@ -186,6 +197,12 @@ def build_parser() -> argparse.ArgumentParser:
                            "impedance of their top modes)")
     pred.add_argument("--uncertainty", action="store_true",
                       help="report the spread over cut-band re-identifications")
+    pred.add_argument("--window-decay", type=float, default=None, metavar="RATE",
+                      help="the FRF files carry an exponential window exp(-RATE t) (1/s): "
+                           "the fit models it and removes it")
+    pred.add_argument("--record-length", type=float, default=None, metavar="T",
+                      help="length (s) of the records behind the FRF files (no zero "
+                           "padding): the fit undoes the record's end too")
     pred.add_argument("--out", help="folder for the CSV files and the plot")
     pred.set_defaults(func=_cmd_predict)
     bench = sub.add_parser("benchmark", help="synthetic hammer tests -> identification -> "

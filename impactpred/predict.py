@@ -181,7 +181,7 @@ def force_energy_above(result: ImpactResult, freq_hz: float) -> float:
 def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rigid",
             t_end, dt=None, method="auto", quantity=None, band_tolerance=0.01,
             continuation=False, uncertainty=False, uncertainty_draws=4,
-            seed=0) -> Prediction:
+            seed=0, fit_options=None) -> Prediction:
     """Predict the impact of two bodies given as files, specs or models.
 
     Parameters
@@ -208,10 +208,19 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
         Attach an :class:`~impactpred.uncertainty.UncertaintyBand` (re-identification on
         60 % and 80 % of each band, ``uncertainty_draws`` parameter draws with ``seed``,
         the truncation error the cut bands imply and the continuation's).
+    fit_options : dict, optional
+        Keyword options of the :class:`modalid.ModalFit` each FRF file is identified with,
+        e.g. ``HammerFRF.fit_options()`` (``window_decay_rate``, ``record_length``) for FRFs
+        measured with an exponential window, which the fit then models exactly.
     """
+    if fit_options is not None and not isinstance(fit_options, dict):
+        raise TypeError(f"fit_options must be a dict of ModalFit options, got "
+                        f"{type(fit_options).__name__}")
     models, fits = [], []
     for spec in (body1, body2):
-        model, fit = parse_body(spec, quantity=quantity, continuation=continuation)
+        estimator = ModalFit(**fit_options) if fit_options else None
+        model, fit = parse_body(spec, quantity=quantity, fit=estimator,
+                                continuation=continuation)
         models.append(model)
         fits.append(fit)
     law = parse_contact(contact)
