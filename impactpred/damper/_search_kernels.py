@@ -28,7 +28,7 @@ import math
 import numpy as np
 from numba import njit
 
-from ..solvers._exp_kernels import _polish, _value_slope, row_value
+from ..solvers._exp_kernels import _polish, _value_slope, advance_exponentials, row_value
 from ._kernels import crossing_steps, cubic_min, uncertified_steps
 
 __all__ = ["cabs", "first_event"]
@@ -185,18 +185,11 @@ def _ev(G, P, c0, taus, h, uniform, i_base=0):  # pragma: no cover - compiled
             wr[j], wi[j] = w.real, w.imag
     for i in range(n):
         tau = taus[i]
-        if i == 0 and i_base > 0:
-            pass                # the previous call's last point
-        elif (not rec or i == 0 or (i_base + i) % _ANCHOR == 0
-                or abs(taus[i] - taus[i - 1] - h) > 1e-9 * h):
-            for j in range(c0, m):
-                z = np.exp(lam[j] * tau)
-                zr[j], zi[j] = z.real, z.imag
-        else:
-            for j in range(c0, m):
-                a = zr[j] * wr[j] - zi[j] * wi[j]
-                zi[j] = zr[j] * wi[j] + zi[j] * wr[j]
-                zr[j] = a
+        if not (i == 0 and i_base > 0):     # else: the previous call's last point
+            exact = (not rec or i == 0 or (i_base + i) % _ANCHOR == 0
+                     or abs(taus[i] - taus[i - 1] - h) > 1e-9 * h)
+            advance_exponentials(lam[c0:m], tau, exact, zr[c0:m], zi[c0:m], wr[c0:m],
+                                 wi[c0:m])
         for r in range(R):
             acc = 0.0
             for j in range(c0, m):
