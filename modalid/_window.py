@@ -34,6 +34,7 @@ from __future__ import annotations
 import numpy as np
 
 from ._checks import as_choice, as_nonnegative_scalar, as_positive_scalar
+from ._lsfd import evaluate
 from .model import ModalModel
 
 __all__ = ["rigid_factor", "truncation_factors", "unwindow", "windowed_receptance"]
@@ -128,11 +129,12 @@ def windowed_receptance(model: ModalModel, omega, decay_rate: float, record_leng
         module docstring's sum, exact for a hit at ``t = 0``.
     """
     decay_rate, record_length = _checked(decay_rate, record_length, quantity)
-    iw = 1j * np.asarray(omega, dtype=float)
-    x = iw + decay_rate
+    omega = np.asarray(omega, dtype=float)
+    w = omega.ravel()
+    x = 1j * w + decay_rate
     poles, real_poles = model.poles - decay_rate, model.real_poles - decay_rate
     residues, real_residues = model.residues, model.real_residues
-    extra = np.zeros(iw.shape, dtype=complex)
+    extra = np.zeros(w.shape, dtype=complex)
     if record_length is not None:
         for j in range(1, _POWER[quantity] + 1):
             extra += _cut_sums(model, decay_rate, record_length, j) / x**j
@@ -140,13 +142,7 @@ def windowed_receptance(model: ModalModel, omega, decay_rate: float, record_leng
             extra -= model.inverse_mass * record_length * np.exp(-decay_rate * record_length) / x
         residues = residues * truncation_factors(poles, record_length)
         real_residues = real_residues * truncation_factors(real_poles, record_length)
-    col = iw[..., None]
-    out = np.full(iw.shape, model.flexibility, dtype=complex) + extra
-    if poles.size:
-        out += np.sum(residues / (col - poles) + residues.conj() / (col - poles.conj()),
-                      axis=-1)
-    if real_poles.size:
-        out += np.sum(real_residues / (col - real_poles), axis=-1)
-    if model.inverse_mass:
-        out += model.inverse_mass * rigid_factor(decay_rate, record_length, quantity) / x**2
-    return out
+    rigid = model.inverse_mass * rigid_factor(decay_rate, record_length, quantity)
+    out = evaluate(w, poles, residues, real_poles, real_residues, rigid, model.flexibility,
+                   rigid_shift=decay_rate) + extra
+    return out.reshape(omega.shape)
