@@ -13,7 +13,7 @@ import warnings
 import numpy as np
 
 from ._checks import as_count
-from .io import _finite, _Raw
+from ._io_records import _finite, _Raw
 
 # dataset 58, records 9/10 field 1 (specific data type): numerator codes of our quantities
 _UFF_NUMERATOR = {8: "receptance", 11: "mobility", 12: "accelerance"}

@@ -13,18 +13,9 @@ from __future__ import annotations
 import os
 import re
 
+from ._io_records import _QUANTITY_WORDS, _UNITS, _WORDS, _build
 from .frf_set import FRFSet, grid_difference
-from .io import (
-    _QUANTITY_WORDS,
-    _UNITS,
-    _WORDS,
-    _build,
-    _load_table,
-    _read_raw,
-    _read_table,
-    _resolve,
-    read_complex_lines,
-)
+from .io import _load_table, _read_raw, _read_table, _resolve, read_complex_lines
 
 __all__ = ["read_frf_set"]
 

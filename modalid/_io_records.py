@@ -1,0 +1,191 @@
+"""Raw FRF records, the common ground of the file readers of :mod:`modalid.io`.
+
+One job: from the columns or arrays a file holds to an :class:`FRFData`. Column headers
+and variable names are matched to roles (frequency, real/imag, magnitude/phase, values,
+coherence, quantity); what was read is checked (numeric, finite, vectors); the quantity
+the file states is settled against ``quantity=``; a raw record becomes an :class:`FRFData`.
+
+Private helpers of :mod:`modalid.io` (CSV, NPZ and MAT readers), :mod:`modalid._uff` and
+:mod:`modalid.io_set`; :func:`modalid.io.read_frfs` documents the names accepted.
+"""
+
+from __future__ import annotations
+
+import re
+import warnings
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ._checks import as_choice
+from .frf import FRFData
+from .quantities import QUANTITIES
+
+_QUANTITY_WORDS = {"receptance": "receptance", "compliance": "receptance",
+                   "mobility": "mobility", "accelerance": "accelerance",
+                   "inertance": "accelerance"}
+
+
+# ------------------------------------------------------------------ column names
+_UNITS = {"hz": "hz", "hertz": "hz", "deg": "deg", "degree": "deg", "degrees": "deg",
+          "rad": "rad", "radian": "rad", "radians": "rad", "db": "db"}
+_WORDS = {
+    "freq": {"f", "freq", "frequency", "frequencies"},
+    "omega": {"omega", "w", "angular_frequency", "angular_freq"},
+    "real": {"re", "real", "real_part"},
+    "imag": {"im", "imag", "imaginary", "imag_part", "imaginary_part"},
+    "magnitude": {"mag", "magnitude", "abs", "amplitude", "amp", "modulus"},
+    "phase": {"phase", "arg", "angle", "phi"},
+    "coherence": {"coh", "coherence", "gamma2", "gamma_2"},
+    "values": {"values", "value", "h", "frf", ""},
+    "quantity": {"quantity"},
+}
+_ROLES = {("freq", None): "freq_hz", ("freq", "hz"): "freq_hz", ("", "hz"): "freq_hz",
+          ("freq", "rad_s"): "omega_rad_s", ("omega", None): "omega_rad_s",
+          ("omega", "rad_s"): "omega_rad_s", ("", "rad_s"): "omega_rad_s",
+          ("real", None): "real", ("imag", None): "imag", ("values", None): "values",
+          ("magnitude", None): "magnitude", ("magnitude", "db"): "magnitude_db",
+          ("", "db"): "magnitude_db", ("phase", "deg"): "phase_deg",
+          ("phase", "rad"): "phase_rad", ("phase", None): "phase",
+          ("coherence", None): "coherence", ("quantity", None): "quantity"}
+TABLE_ROLES = ("freq_hz", "omega_rad_s", "real", "imag", "magnitude", "magnitude_db",
+               "phase_deg", "phase_rad", "coherence")
+ARRAY_ROLES = ("freq_hz", "omega_rad_s", "values", "coherence", "quantity")
+
+
+def _column_role(name):
+    """``(role, quantity)`` of a column header or variable name; role None if unknown.
+
+    The name is lower-cased; a trailing ``[unit]``/``(unit)`` counts when it is Hz,
+    rad/s, deg, rad or dB; other characters separate words. Words naming a quantity
+    (``accelerance_real``) give the quantity, and an ``h`` word (``H_real``) is ignored.
+    """
+    text = str(name).strip().lower().replace("°", "deg")
+    match = re.fullmatch(r"(.*?)\s*[\[(]([^\])]*)[\])]\s*", text)
+    if match:
+        text, unit = match.group(1), re.sub(r"[^a-z0-9]+", "_", match.group(2)).strip("_")
+        if unit in _UNITS or unit == "rad_s":
+            text = f"{text}_{unit}"
+    tokens = [t for t in re.sub(r"[^a-z0-9]+", "_", text).split("_") if t]
+    quantities = {_QUANTITY_WORDS[t] for t in tokens if t in _QUANTITY_WORDS}
+    tokens = [t for t in tokens if t not in _QUANTITY_WORDS]
+    unit = None
+    if tokens[-2:] == ["rad", "s"]:
+        unit, tokens = "rad_s", tokens[:-2]
+    elif tokens and tokens[-1] in _UNITS:
+        unit, tokens = _UNITS[tokens[-1]], tokens[:-1]
+    if len(tokens) > 1 or (tokens == ["h"] and unit is not None):
+        tokens = [t for t in tokens if t != "h"]
+    word = "_".join(tokens)
+    kind = next((k for k, words in _WORDS.items() if word in words), None)
+    if kind == "values" and word == "" and unit is not None:
+        kind = ""
+    role = _ROLES.get((kind, unit))
+    if role == "values" and word == "" and not quantities:
+        role = None
+    return role, (quantities.pop() if len(quantities) == 1 else None)
+
+
+def _assign_roles(names, allowed, columns, source):
+    """Map each role in ``allowed`` to one of ``names`` (``columns`` overrides)."""
+    if columns is not None and not isinstance(columns, Mapping):
+        raise TypeError(f"columns must be a dict role -> name, got {columns!r}")
+    found, lower = {}, {str(n).strip().lower(): n for n in names}
+    columns = {} if columns is None else dict(columns)
+    for role, name in columns.items():
+        as_choice("columns key", role, allowed)
+        if str(name).strip().lower() not in lower:
+            raise ValueError(f"columns[{role!r}] = {name!r} is not in {source}; it has "
+                             f"{list(names)}")
+        found[role] = (lower[str(name).strip().lower()], None)
+    claimed = {n for n, _ in found.values()}
+    for name in names:
+        role, quantity = _column_role(name)
+        if role is None or role not in allowed or name in claimed or role in columns:
+            continue
+        if role in found:
+            raise ValueError(f"{source} has two {role} columns, {found[role][0]!r} and "
+                             f"{name!r}: pass columns={{{role!r}: ...}} to pick one")
+        found[role] = (name, quantity)
+    return found
+
+
+_HELP = ("accepted names (case-insensitive, any word separator, optional [unit]): "
+         "frequency f/freq/frequency [Hz] or omega/w [rad/s] (e.g. freq_hz, omega_rad_s); ")
+TABLE_HELP = _HELP + ("real re/real + imag im/imag, or magnitude mag/abs (dB if the name "
+                      "says so, e.g. mag_db) + phase_deg or phase_rad; coherence coh/coherence")
+ARRAY_HELP = _HELP + "values values/H/frf (complex); coherence coh/coherence; quantity"
+
+
+# ------------------------------------------------------------------ raw records
+@dataclass
+class _Raw:
+    """One FRF as read, before the quantity is settled."""
+
+    freq_hz: np.ndarray
+    values: np.ndarray
+    coherence: np.ndarray | None
+    quantity: str | None
+    names: tuple = ("freq_hz", "values", "coherence")
+    meta: dict = field(default_factory=dict)
+
+
+def _finite(source, name, arr):
+    arr = np.asarray(arr)
+    if arr.dtype.kind not in "biufc":
+        raise ValueError(f"{name} of {source} must be numeric, got dtype {arr.dtype}")
+    bad = ~np.isfinite(arr)
+    if np.any(bad):
+        i = int(np.argmax(bad))
+        raise ValueError(f"{name} of {source} holds {arr[i]!r} at index {i} (missing or "
+                         "not finite)")
+    return arr
+
+
+def _vector(source, name, arr):
+    arr = np.asarray(arr)
+    if arr.ndim == 2 and 1 in arr.shape:
+        arr = arr.ravel()
+    if arr.ndim != 1:
+        raise ValueError(f"{name} of {source} must be a vector, got shape {arr.shape}")
+    return _finite(source, name, arr)
+
+
+def _settle_quantity(source, stated, quantity):
+    if quantity is not None:
+        as_choice("quantity", quantity, QUANTITIES)
+    if stated is not None and quantity is not None and stated != quantity:
+        raise ValueError(f"{source} says its FRF is {stated} but quantity={quantity!r} was "
+                         "passed: drop the argument or fix the file")
+    if stated is None and quantity is None:
+        raise ValueError(f"{source} does not say which quantity its FRF is: pass "
+                         f"quantity= one of {list(QUANTITIES)}")
+    return stated or quantity
+
+
+def _build(source, raw, quantity):
+    """FRFData from a raw record; coherence outside [0, 1] is clipped with a warning."""
+    quantity = _settle_quantity(source, raw.quantity, quantity)
+    f_name, v_name, c_name = raw.names
+    if raw.freq_hz.size != raw.values.size:
+        raise ValueError(f"{f_name} and {v_name} of {source} differ in length: "
+                         f"{raw.freq_hz.size} and {raw.values.size}")
+    coherence = raw.coherence
+    if coherence is not None:
+        coherence = np.real(coherence).astype(float)
+        if coherence.size != raw.freq_hz.size:
+            raise ValueError(f"{c_name} of {source} has {coherence.size} lines, "
+                             f"{f_name} has {raw.freq_hz.size}")
+        out = (coherence < 0) | (coherence > 1)
+        if np.any(out):
+            i = int(np.argmax(np.abs(coherence - np.clip(coherence, 0, 1))))
+            warnings.warn(f"{c_name} of {source} lies outside [0, 1] at {np.count_nonzero(out)} "
+                          f"lines (worst {coherence[i]:.6g} at {raw.freq_hz[i]:.6g} Hz); "
+                          "clipped to [0, 1]", UserWarning, stacklevel=4)
+            coherence = np.clip(coherence, 0.0, 1.0)
+    try:
+        return FRFData(raw.freq_hz.astype(float), raw.values.astype(complex),
+                       quantity=quantity, coherence=coherence)
+    except ValueError as exc:
+        raise ValueError(f"{source}: {exc}") from exc
