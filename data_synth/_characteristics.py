@@ -149,8 +149,13 @@ class _FixedRodSolution:
                     separated = r_s is not None
                     r1 = r_s if separated else r_end
                 if r1 > 0.0:
-                    starts.append(t_cur); contact_flags.append(True)
-                    Qs.append(Q); Hs.append(H); V.append(v); X.append(x); W.append(w)
+                    starts.append(t_cur)
+                    contact_flags.append(True)
+                    Qs.append(Q)
+                    Hs.append(H)
+                    V.append(v)
+                    X.append(x)
+                    W.append(w)
                     A.append(acum)
                     vq = npoly.polysub(Q, H)
                     x = x + T * _exp_poly_integral(vq, beta, r1)
@@ -190,8 +195,13 @@ class _FixedRodSolution:
                 r_c = self._first_gap_closure(gap, r_end, scale)
             r1 = r_c if r_c is not None else r_end
             if r1 > 0.0:
-                starts.append(t_cur); contact_flags.append(False)
-                Qs.append(Q); Hs.append(H); V.append(v); X.append(x); W.append(w)
+                starts.append(t_cur)
+                contact_flags.append(False)
+                Qs.append(Q)
+                Hs.append(H)
+                V.append(v)
+                X.append(x)
+                W.append(w)
                 A.append(acum)
                 x = x + v * T * r1
                 w = w - 2.0 * T * _exp_poly_integral(H, beta, r1)
@@ -328,7 +338,8 @@ class _FixedRodSolution:
             j = self._locate(tm)
             r = (tm - self.starts[j]) / T
             y2[after] = self.W[j] - 2.0 * T * self._moments_dot(self.Hc[j], beta, r)
-            energy[after] = Z * (self.a_end - self.cumulative_a2(np.array([self.t_end - 2 * T]))[0])
+            energy[after] = Z * (self.a_end
+                                 - self.cumulative_a2(np.array([self.t_end - 2 * T]))[0])
         return force, vel, y1, y2, energy
 
     def impulse(self, t_from: float, t_to: float) -> float:

@@ -286,12 +286,13 @@ class Rod(ExactModel, _TransferMixin):
         return (T / self.mass) * _rod_waves(t, xi, T, self.support, "impulse")
 
     def transfer_step_response(self, t, xi) -> np.ndarray:
-        """Exact transfer step response ``S(xi, t) = integral_0^t h(xi, .)`` (m/N), 0 for ``t < 0``.
+        """Exact transfer step response ``S(xi, t)`` (m/N), 0 for ``t < 0``.
 
-        ``(1/Z) sum_n (+-)(t - a_n)_+ (+-)(t - b_n)_+`` with the arrivals and signs of
-        :meth:`transfer_impulse_response`, in closed form: with ``N`` arrivals of a
-        sequence so far and ``u`` the age of the last one, ``sum = N u + T N (N - 1)``
-        (free) or ``2T floor(N/2) + u [N odd]`` (fixed, alternating signs).
+        ``S(xi, t) = integral_0^t h(xi, .) = (1/Z) sum_n (+-)(t - a_n)_+ (+-)(t - b_n)_+``
+        with the arrivals and signs of :meth:`transfer_impulse_response`, in closed form:
+        with ``N`` arrivals of a sequence so far and ``u`` the age of the last one,
+        ``sum = N u + T N (N - 1)`` (free) or ``2T floor(N/2) + u [N odd]`` (fixed,
+        alternating signs).
 
         Parameters
         ----------

@@ -16,8 +16,8 @@ from .multi_output import MultiOutputModalModel
 from .quantities import QUANTITIES, receptance_to, to_receptance
 from .shapes import mac
 
-__all__ = ["ModalFit", "ModalFitWarning", "FRFData", "ModalModel", "QUANTITIES", "receptance_to", "to_receptance",
-           "read_frf", "write_frf"]
+__all__ = ["ModalFit", "ModalFitWarning", "FRFData", "ModalModel", "QUANTITIES", "receptance_to",
+           "to_receptance", "read_frf", "write_frf"]
 __all__ += ["HammerFRF", "DoubleHitWarning", "frf_from_hammer", "find_double_hits",
             "correct_exponential_window"]
 __all__ += ["MultiOutputModalModel"]

@@ -84,7 +84,8 @@ def bounded_lm(x, *, project, limits, n_data, hold=None, max_iter=50, stat_tol=1
     variance_dof = max(n_data - 2 * n, 1)
     lam, nu, n_small, it = 1e-3, 2.0, 0, 0
     converged = n == 0
-    message = "linear least squares (no poles)" if n == 0 else "maximum number of iterations reached"
+    message = ("linear least squares (no poles)" if n == 0
+               else "maximum number of iterations reached")
     while not converged and it < max_iter:
         jtj, jtr = cur.normal_equations()
         norms = np.sqrt(np.maximum(np.diag(jtj), 1e-300))

@@ -81,7 +81,8 @@ def pole_residue_from_statespace(a, b, c, d, *, zero_tol=1e-8, defect_cond=1e10)
     b, c = b / scaling, c * scaling
     norm_a = np.linalg.norm(a, 1)
     tol = zero_tol * norm_a if norm_a > 0 else 1.0
-    t, z, n_zero = scipy.linalg.schur(a, output="real", sort=lambda re, im: np.hypot(re, im) <= tol)
+    t, z, n_zero = scipy.linalg.schur(a, output="real",
+                                      sort=lambda re, im: np.hypot(re, im) <= tol)
     bt, ct = z.T @ b, c @ z
     t11, t12, t22 = t[:n_zero, :n_zero], t[:n_zero, n_zero:], t[n_zero:, n_zero:]
     if n_zero and n_zero < n:

@@ -135,7 +135,8 @@ class FRFSet:
     freq_hz = property(lambda self: self._freq_hz, doc="Frequencies (Hz), shape (n_freq,).")
     values = property(lambda self: self._values, doc="FRFs, shape (n_outputs, n_freq).")
     quantity = property(lambda self: self._quantity, doc="receptance, mobility or accelerance.")
-    coherence = property(lambda self: self._coherence, doc="Coherence (n_outputs, n_freq) or None.")
+    coherence = property(lambda self: self._coherence,
+                         doc="Coherence (n_outputs, n_freq) or None.")
     outputs = property(lambda self: self._outputs, doc="Output labels, one per row.")
     driving_point = property(lambda self: self._driving_point,
                              doc="Row index of the driving point, or None.")

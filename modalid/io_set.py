@@ -174,7 +174,8 @@ def _auto_driving_point(metas, uff, sources):
                          "output label of the FRF measured at the excitation point, or "
                          "driving_point=None if there is none")
     same = [i for i, m in enumerate(metas)
-            if (m["response_node"], m["response_dir"]) == (m["reference_node"], m["reference_dir"])]
+            if (m["response_node"], m["response_dir"])
+            == (m["reference_node"], m["reference_dir"])]
     mirrored = [i for i, m in enumerate(metas) if i not in same
                 and (m["response_node"], abs(m["response_dir"]))
                 == (m["reference_node"], abs(m["reference_dir"]))]

@@ -340,8 +340,9 @@ class ModalModel:
         except json.JSONDecodeError as exc:
             raise ValueError(f"not a ModalModel JSON text: {exc}") from exc
         if not isinstance(payload, dict) or payload.get("format") != "modalid.ModalModel":
+            stated = payload.get("format") if isinstance(payload, dict) else None
             raise ValueError("not a ModalModel JSON text: its 'format' field is missing or "
-                             f"wrong ({payload.get('format') if isinstance(payload, dict) else None!r})")
+                             f"wrong ({stated!r})")
 
         def pairs(name):
             values = np.asarray(payload.get(name, []), dtype=float).reshape(-1, 2)

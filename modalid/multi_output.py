@@ -260,11 +260,12 @@ class MultiOutputModalModel:
 
     # ----------------------------------------------------------------- conversions
     def statespace_matrices(self):
-        """Real ``(A, b, C, d)``: ``A`` (n, n), ``b`` (n,), ``C`` (n_outputs, n), ``d`` (n_outputs,).
+        """Real state-space matrices ``(A, b, C, d)`` of all outputs.
 
-        Same blocks as :meth:`ModalModel.to_statespace` (modes, real poles, rigid body), all
-        outputs on the same states; the rigid block's states are the displacement and
-        velocity per unit ``1/M`` (``b = [0, 1]``, ``C[i] = [inverse_mass_i, 0]``).
+        ``A`` (n, n), ``b`` (n,), ``C`` (n_outputs, n), ``d`` (n_outputs,): the same blocks
+        as :meth:`ModalModel.to_statespace` (modes, real poles, rigid body), all outputs on
+        the same states; the rigid block's states are the displacement and velocity per
+        unit ``1/M`` (``b = [0, 1]``, ``C[i] = [inverse_mass_i, 0]``).
         """
         return pole_residue_to_statespace(self._poles, self._residues, self._real_poles,
                                           self._real_residues, self._inverse_mass,
