@@ -38,6 +38,16 @@ upper pseudo-modes, the constant and the rigid term) started from the true value
 the same weighted refinement: what the noise allows. Below the table, per mode at 5 %
 noise: the worst errors and the standard deviations the fit reports.
 
+Information bound
+-----------------
+After the table (full runs), ``information_bound`` prints, at 5 % noise, what *any*
+unbiased fit of the floor's model can reach on these data: the Cramer-Rao bound of
+``identification_bound.py`` (Fisher information of the proportional complex noise,
+linearised), as the median over runs of the worst-of-``--seeds`` errors and the
+probability ``P`` that one run of ``--seeds`` seeds meets each target. Below it, the
+per-seed medians of ``df`` and ``vs true`` over 20 seeds for the bound, the floor fit and
+``ModalFit()``: when the three agree, the linearisation holds and ModalFit is efficient.
+
 Anchors (``--anchors``)
 -----------------------
 With ``--anchors`` the same run also fits every dataset with the third-party anchors of
@@ -99,16 +109,16 @@ DATASETS = {
 }
 
 
-def truth_of(name):
-    return DATASETS[name]().modal_model(N_BAND + N_ABOVE, damping_ratio=ZETA, residual=True)
+def truth_of(name, zeta=ZETA):
+    return DATASETS[name]().modal_model(N_BAND + N_ABOVE, damping_ratio=zeta, residual=True)
 
 
-def frf_case(name, noise, seed):
-    """(truth, noisy FRFData, noise-free values)."""
-    truth = truth_of(name)
+def frf_case(name, noise, seed, *, zeta=ZETA, n_lines=N_LINES):
+    """(truth, noisy FRFData, noise-free values); ``zeta``, ``n_lines`` vary the case."""
+    truth = truth_of(name, zeta)
     wn = truth.modes["omega_n"].to_numpy()
     fmax = 0.5 * (wn[N_BAND - 1] + wn[N_BAND]) / (2 * np.pi)
-    freq = np.linspace(fmax / N_LINES, fmax, N_LINES)
+    freq = np.linspace(fmax / n_lines, fmax, n_lines)
     exact = truth.frf(2 * np.pi * freq)
     rng = np.random.default_rng(seed)
     noisy = exact * (1 + noise * (rng.normal(size=freq.size)
@@ -350,6 +360,50 @@ def worst_modes(seeds, noise=0.05):
                                                    for a, b in zip(e[N_BAND:], sd[N_BAND:])))
 
 
+TARGETS_5 = {"df": 5e-4, "dz": 5e-2, "dr": 1e-2, "dM": 1e-2, "nrmse": 2e-2}
+
+
+def information_bound(n_seeds, noise=0.05, n_check=20, draws=20000):
+    """What the noise allows: the Cramer-Rao bound beside the measured errors.
+
+    For each dataset at ``noise``: from ``identification_bound.bound_draws`` (an efficient
+    fit, linearised), the median over benchmark runs of the worst-of-``n_seeds`` errors and
+    the probability that one run of ``n_seeds`` seeds meets each target and all of them;
+    then, to check the linearisation, the per-seed medians of the worst-mode ``df`` and of
+    ``vs true`` over seeds ``0..n_check-1``: bound, ``floor`` fit, ``ModalFit()``.
+    """
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    import identification_bound as ib
+
+    rng = np.random.default_rng(12345)
+    keys = list(TARGETS_5)
+    print(f"\ninformation bound at {noise:.0%} noise (Cramer-Rao, any unbiased fit of the "
+          f"floor's model; {draws} draws): median of the worst over {n_seeds} seeds, and "
+          f"P = probability that a run of {n_seeds} seeds meets the target")
+    print("| dataset   | " + " | ".join(f"{k} (target {TARGETS_5[k]:g})" for k in keys)
+          + " | P(all) |")
+    print("|---|" + "---|" * (len(keys) + 1))
+    checks = []
+    for name in DATASETS:
+        truth, data, exact = frf_case(name, 0.0, 0)
+        d = ib.bound_draws(truth, data.omega, exact, noise, n_modes=N_BAND + 2,
+                           n_band=N_BAND, draws=draws, rng=rng)
+        worst = {k: ib.worst_of(d[k], n_seeds) for k in keys}
+        met = {k: worst[k] < TARGETS_5[k] for k in keys}
+        cells = [("-" if not np.any(worst[k]) else
+                  f"{np.median(worst[k]):.2g}, P {np.mean(met[k]):.2f}") for k in keys]
+        p_all = np.mean(np.all([met[k] for k in keys], axis=0))
+        print(f"| {name:9s} | " + " | ".join(f"{c:>17s}" for c in cells) + f" | {p_all:6.3f} |")
+        floor = np.array(run_frf(name, noise, range(n_check), floor=True), dtype=float)
+        fit = np.array(run_frf(name, noise, range(n_check)), dtype=float)
+        checks.append((name, np.median(d["df"]), np.median(floor[:, 0]), np.median(fit[:, 0]),
+                       np.median(d["nrmse"]), np.median(floor[:, 5]), np.median(fit[:, 5])))
+    print(f"per-seed medians over seeds 0..{n_check - 1} (bound / floor fit / ModalFit):")
+    for name, *v in checks:
+        print(f"  {name:9s} df {v[0]:.2e} / {v[1]:.2e} / {v[2]:.2e};  "
+              f"vs true {v[3]:.4f} / {v[4]:.4f} / {v[5]:.4f}")
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seeds", type=int, default=5)
@@ -422,6 +476,7 @@ def main(argv=None):
         compare_at_5(results, DATASETS)
     if not args.quick:
         worst_modes(seeds)
+        information_bound(args.seeds)
     print(f"total {time.perf_counter() - t_start:.0f} s; "
           f"load average at the end: {os.getloadavg()[0]:.2f}")
 
