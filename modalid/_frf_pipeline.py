@@ -126,12 +126,15 @@ class FRFPipeline:
         """
         if self.rigid_body is True:
             return True, False
-        first = np.min(np.abs(poles)) if poles.size else omega[-1]
-        below = np.flatnonzero(omega < 0.5 * first)[:20]
+        below, hb = self._below_first(omega, h, poles)
         if below.size >= 3:
-            slope = np.polyfit(np.log(omega[below]), np.log(np.abs(h[below])), 1)[0]
-            mass_line = bool(np.median(h[below].real) < 0 and slope < -1.0)
-            if not self.passive and slope < -1.5 and np.median(h[below].real) > 0:
+            slope = np.polyfit(np.log(omega[below]), np.log(np.abs(hb)), 1)[0]
+            level = np.median(hb.real)
+            # a resonance the poles missed among these lines turns its static side, the
+            # lowest lines, to the other sign: not a mass line
+            steady = bool(np.all(np.sign(hb[:3].real) == np.sign(level)))
+            mass_line = bool(level < 0 and slope < -1.0 and steady)
+            if not self.passive and slope < -1.5 and level > 0 and steady:
                 return False, "lower" in self.residuals    # negative mass line: transfer
         else:
             mass_line = mass_line_significant(omega, h, w, poles, self._shift)
@@ -143,6 +146,40 @@ class FRFPipeline:
         if below.size >= 3 and not cut:
             return True, False
         return not lower, lower
+
+    def _below_first(self, omega, h, poles):
+        """Indices of the (at most 20) lowest lines below half the first pole, and ``h``
+        there with a windowed mass line ``1/(M (s + sigma)^2)`` turned into ``1/(M s^2)``."""
+        first = np.min(np.abs(poles)) if poles.size else omega[-1]
+        below = np.flatnonzero(omega < 0.5 * first)[:20]
+        hb = h[below]
+        if self._shift:
+            sb = 1j * omega[below]
+            hb = hb * ((sb + self._shift) / sb) ** 2
+        return below, hb
+
+    def _low_resonance(self, omega, h, poles):
+        """A resonance the pole estimator missed among the lines below the first pole.
+
+        A receptance's real part is positive below a resonance and negative above it; a
+        mass line's is negative throughout. When the lowest lines' real parts go from
+        positive to negative with ``|h|`` at its largest around the change, a pole is
+        placed at the change (1 % damping plus the window's decay). ``None`` otherwise.
+        """
+        below, _ = self._below_first(omega, h, poles)
+        hb = h[below]               # a windowed resonance is a resonance: no correction
+        if below.size < 3 or hb[0].real <= 0:
+            return None
+        negative = np.flatnonzero(hb.real < 0)
+        if negative.size == 0:
+            return None
+        c = int(negative[0])
+        peak = int(np.argmax(np.abs(hb)))
+        if abs(peak - c) > 1 or np.abs(hb[peak]) < 1.5 * np.abs(hb[0]):
+            return None
+        lo, hi = omega[below[c - 1]], omega[below[c]]
+        wk = lo + (hi - lo) * hb[c - 1].real / (hb[c - 1].real - hb[c].real)
+        return complex(-0.01 * wk - self._shift, wk)
 
     def _start(self, omega, h, w, poles, cut):
         """Starting poles with their kinds and the linear terms."""
@@ -178,9 +215,14 @@ class FRFPipeline:
     # -------------------------------------------------------------- identification
     def _identify(self, frf, w, poles, cut, max_order, vf_iterations):
         omega, h = frf.omega, frf.values
+        notes = []
+        low = None if self._selection() else self._low_resonance(omega, h, poles)
+        if low is not None:
+            poles = np.append(poles, low)
+            notes.append("added a resonance below the first pole, where the real part of "
+                         f"the lowest lines changes sign, at {abs(low) / (2 * np.pi):.6g} Hz")
         poles = poles[np.argsort(np.abs(poles))]
         poles, kinds, terms = self._start(omega, h, w, poles, cut)
-        notes = []
         self._iterations, self._buffers = 0, {}
         if self.refine:
             start = poles
