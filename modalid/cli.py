@@ -25,7 +25,8 @@ def _cmd_fit(args) -> int:
         freq_range = (args.fmin or 0.0, args.fmax or float(data.freq_hz[-1]))
     fit = ModalFit(method=args.method, freq_range=freq_range, n_modes=args.n_modes,
                    rigid_body={"auto": "auto", "yes": True, "no": False}[args.rigid_body],
-                   passive=not args.not_driving_point, weighting=args.weighting)
+                   passive=not args.not_driving_point, weighting=args.weighting,
+                   window_decay_rate=args.window_decay or 0.0, record_length=args.record_length)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         fit.fit(data)
@@ -81,6 +82,12 @@ def build_parser() -> argparse.ArgumentParser:
                           "estimated from the data (analyzer exports)")
     fit.add_argument("--not-driving-point", action="store_true",
                      help="allow negative modal masses (a transfer FRF, or a reversed sign)")
+    fit.add_argument("--window-decay", type=float, default=None, metavar="RATE",
+                     help="the FRF carries an exponential window exp(-RATE t) (1/s): the fit "
+                          "models it and the model written is without it")
+    fit.add_argument("--record-length", type=float, default=None, metavar="T",
+                     help="length (s) of the records behind the FRF (no zero padding): the "
+                          "fit undoes the record's end too")
     fit.add_argument("--out", help="folder for the model JSON and the plots")
     fit.set_defaults(func=_cmd_fit)
     return parser
