@@ -1,7 +1,7 @@
 """Real hammer data: identify from hits 1-4, predict hit 5's acceleration from its force.
 
 Run:  python benchmarks/hammer_hit5.py [--quick] [--output-error]
-      A full run takes about 1.5 min on 2 cores. ``--quick`` leaves out the two
+      A full run takes about 3 min on 2 cores. ``--quick`` leaves out the two
       unweighted ``ModalFit`` rows (about 10 s); ``--output-error`` adds the older, slow
       ``least_squares`` output-error experiment (minutes).
 
@@ -29,7 +29,8 @@ Pipeline
      pseudo-modes, residual flexibility, variable-projection refinement),
      on the windowed H1 (model corrected with ``HammerFRF.correct``, and once NOT
      corrected, to show what that costs) and with ``n_modes=60`` on the unwindowed H1;
-     ``method="vf"`` and ``method="lscf"`` with automatic mode counts (windowed);
+     ``method="vf"`` and ``method="lscf"`` with automatic mode counts (windowed), with
+     the default ``missed_modes="strict"`` and with ``"dense"``;
    * the same idea written out here without ``ModalFit``'s automation
      (:func:`vf_output_error_fit`): 60 pairs of vector-fitting poles, then
      ``refine_varpro`` with a constant flexibility, same weights and bound, windowed H1,
@@ -265,6 +266,9 @@ def main():
         ("ModalFit vf n_modes=60, weights, no exp. window", est, dict(method="vf", n_modes=60)),
         ("ModalFit vf auto, weights, exp. window", est_w, dict(method="vf")),
         ("ModalFit lscf auto, weights, exp. window", est_w, dict()),
+        ("ModalFit vf auto dense, weights, exp. window", est_w,
+         dict(method="vf", missed_modes="dense")),
+        ("ModalFit lscf auto dense, weights, exp. window", est_w, dict(missed_modes="dense")),
     ]
     for label, e, kwargs in weighted_runs:
         t0 = time.perf_counter()

@@ -31,6 +31,10 @@ from .stabilization import (cluster_poles, select_by_information, select_poles,
 __all__ = ["FRFPipeline", "ModalFitWarning", "fit_report"]
 
 _FAR = 2.0          # the held upper pseudo-mode sits at twice the top of the band
+# missed modes: per stage at most this many added, and the search stops after this many
+# residual peaks rejected in a row ("strict": sparse bands; "dense": many weak modes)
+_MAX_ADDED = {"strict": 4, "dense": 60}
+_MAX_MISSES = {"strict": 1, "dense": 3}
 
 
 class ModalFitWarning(UserWarning):
@@ -231,13 +235,20 @@ class FRFPipeline:
             poles, x, info = self._refine(omega, h, w, start, kinds, terms, quick=True)
             tried = []
             for stage in range(2):
-                for _ in range(0 if self._selection() else 4):
+                added = misses = 0
+                while not self._selection() and added < _MAX_ADDED[self.missed_modes]:
                     poles, kinds, x, info, found = self._missed_mode(
                         omega, h, w, poles, kinds, x, info, terms, tried)
-                    if not found:
+                    if found is None:
                         break
+                    if not found:
+                        misses += 1
+                        if misses == _MAX_MISSES[self.missed_modes]:
+                            break
+                        continue
                     notes += found
                     start = poles
+                    added, misses = added + 1, 0
                 if stage == 0 and info.get("quick"):
                     poles, x, info = self._refine(omega, h, w, poles, kinds, terms)
                 else:
@@ -333,8 +344,19 @@ class FRFPipeline:
 
         The residual power, averaged over 3 lines, must exceed 14 times its median (for
         noise alone a 1e-9 event) at a frequency not ``tried`` before; a pole of 1 %
-        damping is placed there and kept when a quick refinement halves the cost (the
-        data's weights) and the new pole passes :meth:`_worst_pole`.
+        damping is placed there, refined quickly, and kept when the new pole passes
+        :meth:`_worst_pole` and, with ``missed_modes="strict"``, the cost (the data's
+        weights) halves; with ``"dense"``, the cost drops by more than ``4 ln(n)``
+        residual variances (``n`` real data, the variance the cost before it over ``n``
+        less four per pole: the information criterion of the pole selection), the pole
+        lies two lines or more from every other mode (closer ones cannot be resolved: a
+        sharp peak's shape, not a mode) and its damping ratio, the window's removed, is
+        under 0.1 (a resonance, not a broad trend of the residual).
+
+        Returns the poles, kinds, coefficients and information with the mode, or as they
+        were, and a list of notes: one note when a mode was added, empty when the peak's
+        mode was rejected (the caller may try the next peak), ``None`` when no peak is
+        left above the threshold.
         """
         r, _, u, d = split_coefficients(x, poles.size, terms)
         resid = h - evaluate(omega, poles, r, (), (), u, d, terms.rigid_shift)
@@ -346,7 +368,7 @@ class FRFPipeline:
             e2[np.abs(omega - wt) < 0.02 * wt] = 0.0
         k = int(np.argmax(e2))
         if e2[k] < 14.0:
-            return poles, kinds, x, info, []
+            return poles, kinds, x, info, None
         wk = omega[k]
         tried.append(wk)
         trial = np.append(poles, complex(-0.01 * wk, wk))
@@ -356,7 +378,18 @@ class FRFPipeline:
         poles_t, x_t, info_t = self._refine(omega, h, w, trial, kinds_t, terms, quick=True)
         new = int(np.flatnonzero(order == trial.size - 1)[0])
         worst, _ = self._worst_pole(omega, h, w, poles_t, x_t, info_t, kinds_t, terms, only=new)
-        if info_t["cost"] > 0.5 * np.sum(np.abs(resid * w) ** 2) or worst is not None:
+        cost = np.sum(np.abs(resid * w) ** 2)
+        if self.missed_modes == "strict":
+            keep = info_t["cost"] <= 0.5 * cost
+        else:
+            n_real = 2 * omega.size
+            variance = cost / max(n_real - 4 * poles.size, 1)
+            added = poles_t[new]
+            others = np.abs(np.delete(poles_t, new)[np.delete(kinds_t, new) == "mode"])
+            keep = (info_t["cost"] <= cost - 4 * np.log(n_real) * variance
+                    and not np.any(np.abs(others - abs(added)) < 2 * np.median(np.diff(omega)))
+                    and (-added.real - self._shift) / abs(added) < 0.1)
+        if not keep or worst is not None:
             return poles, kinds, x, info, []
         note = f"added a mode the pole estimator missed, at {wk / (2 * np.pi):.6g} Hz"
         return poles_t, kinds_t, x_t, info_t, [note]

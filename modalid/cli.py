@@ -26,7 +26,8 @@ def _cmd_fit(args) -> int:
     fit = ModalFit(method=args.method, freq_range=freq_range, n_modes=args.n_modes,
                    rigid_body={"auto": "auto", "yes": True, "no": False}[args.rigid_body],
                    passive=not args.not_driving_point, weighting=args.weighting,
-                   window_decay_rate=args.window_decay or 0.0, record_length=args.record_length)
+                   window_decay_rate=args.window_decay or 0.0, record_length=args.record_length,
+                   missed_modes=args.missed_modes)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         fit.fit(data)
@@ -82,6 +83,9 @@ def build_parser() -> argparse.ArgumentParser:
                           "estimated from the data (analyzer exports)")
     fit.add_argument("--not-driving-point", action="store_true",
                      help="allow negative modal masses (a transfer FRF, or a reversed sign)")
+    fit.add_argument("--missed-modes", choices=("strict", "dense"), default="strict",
+                     help="dense: add every mode the residual and the information criterion "
+                          "support (bands with many weak or close modes)")
     fit.add_argument("--window-decay", type=float, default=None, metavar="RATE",
                      help="the FRF carries an exponential window exp(-RATE t) (1/s): the fit "
                           "models it and the model written is without it")

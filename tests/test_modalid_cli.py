@@ -48,14 +48,18 @@ def test_fit_command_models_an_exponential_window(tmp_path, capsys):
     write_frf(path, est.frf.band((1 / duration, top)))
     options = est.fit_options()
     masses = {}
-    for label, extra in (("window", ["--window-decay", str(options["window_decay_rate"]),
-                                     "--record-length", str(options["record_length"])]),
-                         ("plain", [])):
+    window = ["--window-decay", str(options["window_decay_rate"]),
+              "--record-length", str(options["record_length"])]
+    for label, extra in (("window", window), ("plain", [])):
         out = tmp_path / label
         assert main(["fit", str(path), "--out", str(out)] + extra) == 0
         masses[label] = 1.0 / ModalModel.from_json(out / "free_rod_model.json").inverse_mass
     assert masses["window"] == pytest.approx(1.0, rel=3e-3)
     assert abs(masses["plain"] - 1.0) > 0.05       # the windowed mass line read as 1/(M s^2)
+    out = tmp_path / "dense"
+    assert main(["fit", str(path), "--missed-modes", "dense", "--out", str(out)] + window) == 0
+    dense = ModalModel.from_json(out / "free_rod_model.json")
+    assert 1.0 / dense.inverse_mass == pytest.approx(1.0, rel=3e-3)
     capsys.readouterr()
     assert main(["fit", str(path), "--window-decay", "-1"]) == 2
     assert "window_decay_rate" in capsys.readouterr().err

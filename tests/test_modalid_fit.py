@@ -466,3 +466,30 @@ def test_a_resonance_at_the_lowest_lines_is_not_taken_for_a_mass_line():
     found = fit.model_.modes["frequency_hz"].to_numpy()
     assert np.min(np.abs(found / f1 - 1)) < 0.02
     assert any("below the first pole" in note for note in fit.report_["notes"])
+
+
+def test_dense_missed_modes_find_what_the_pole_estimator_left_out():
+    """A fixed rod with 16 modes in band and a stabilization diagram too small to hold them
+    (max_order=12): "strict" adds a missed mode only when it halves the cost and keeps
+    few; "dense" adds every mode the information criterion supports: all 16, none
+    spurious, at the noise's accuracy."""
+    n_band = 16
+    truth = Rod(1.0, 1.0, support="fixed").modal_model(n_band + 10, damping_ratio=0.005,
+                                                       residual=True)
+    wn = truth.modes["omega_n"].to_numpy()
+    fmax = 0.5 * (wn[n_band - 1] + wn[n_band]) / (2 * np.pi)
+    freq = np.linspace(fmax / 4000, fmax, 4000)
+    rng = np.random.default_rng(0)
+    noise = (rng.normal(size=freq.size) + 1j * rng.normal(size=freq.size)) / np.sqrt(2)
+    data = FRFData(freq, truth.frf(2 * np.pi * freq) * (1 + 0.01 * noise))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        strict = ModalFit(max_order=12).fit(data)
+        dense = ModalFit(max_order=12, missed_modes="dense").fit(data)
+    assert strict.report_["n_modes"] < n_band
+    assert dense.report_["n_modes"] == n_band
+    found = dense.report_["modes"]["omega_n"].to_numpy()
+    np.testing.assert_allclose(np.sort(found), wn[:n_band], rtol=2e-4)
+    assert any("missed" in note for note in dense.report_["notes"])
+    with pytest.raises(ValueError, match="missed_modes"):
+        ModalFit(missed_modes="all").fit(data)
