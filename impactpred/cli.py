@@ -66,9 +66,9 @@ def _cmd_paper(args) -> int:
     return 0
 
 
-def _window_options(args):
-    """``ModalFit`` options for FRF files measured with an exponential window."""
-    options = {}
+def _fit_options(args):
+    """``ModalFit`` options for the FRF files: their exponential window, the mode search."""
+    options = {} if args.missed_modes == "strict" else {"missed_modes": args.missed_modes}
     if args.window_decay is not None:
         options["window_decay_rate"] = args.window_decay
     if args.record_length is not None:
@@ -89,7 +89,7 @@ def _cmd_predict(args) -> int:
                        gap=args.gap, contact=args.contact, t_end=args.t_end, dt=args.dt,
                        method=args.method, quantity=args.quantity,
                        continuation=args.continuation, uncertainty=args.uncertainty,
-                       fit_options=_window_options(args))
+                       fit_options=_fit_options(args))
     res = pred.result
     for i, fit in enumerate(pred.fits, start=1):
         if fit is None:
@@ -197,6 +197,9 @@ def build_parser() -> argparse.ArgumentParser:
                            "impedance of their top modes)")
     pred.add_argument("--uncertainty", action="store_true",
                       help="report the spread over cut-band re-identifications")
+    pred.add_argument("--missed-modes", choices=("strict", "dense"), default="strict",
+                      help="dense: the fit adds every mode the residual and the information "
+                           "criterion support (bands with many weak or close modes)")
     pred.add_argument("--window-decay", type=float, default=None, metavar="RATE",
                       help="the FRF files carry an exponential window exp(-RATE t) (1/s): "
                            "the fit models it and removes it")

@@ -157,5 +157,11 @@ def test_windowed_hammer_frf_file_with_fit_options(tmp_path):
     assert main(["predict", "mass:1.0", str(path), "--v1", "1", "--t-end", "6",
                  "--continuation", "--window-decay", str(options["window_decay_rate"]),
                  "--record-length", str(options["record_length"]), "--out", str(out)]) == 0
+    assert main(["predict", "mass:1.0", str(path), "--v1", "1", "--t-end", "6",
+                 "--continuation", "--missed-modes", "dense", "--window-decay",
+                 str(options["window_decay_rate"]), "--record-length",
+                 str(options["record_length"]), "--out", str(tmp_path / "dense")]) == 0
+    with pytest.raises(SystemExit):              # argparse: not one of the choices
+        main(["predict", "mass:1.0", str(path), "--t-end", "6", "--missed-modes", "all"])
     with pytest.raises(TypeError, match="fit_options must be a dict"):
         predict("mass:1.0", path, velocity1=1.0, t_end=1.0, fit_options=[1.0])
