@@ -6,7 +6,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from modalid._cli import run_command
+from modalid._cli import add_fit_options, fit_options, run_command
 
 __all__ = ["main"]
 
@@ -66,16 +66,6 @@ def _cmd_paper(args) -> int:
     return 0
 
 
-def _fit_options(args):
-    """``ModalFit`` options for the FRF files: their exponential window, the mode search."""
-    options = {} if args.missed_modes == "strict" else {"missed_modes": args.missed_modes}
-    if args.window_decay is not None:
-        options["window_decay_rate"] = args.window_decay
-    if args.record_length is not None:
-        options["record_length"] = args.record_length
-    return options or None
-
-
 def _cmd_predict(args) -> int:
     import warnings
 
@@ -89,7 +79,7 @@ def _cmd_predict(args) -> int:
                        gap=args.gap, contact=args.contact, t_end=args.t_end, dt=args.dt,
                        method=args.method, quantity=args.quantity,
                        continuation=args.continuation, uncertainty=args.uncertainty,
-                       fit_options=_fit_options(args))
+                       fit_options=fit_options(args) or None)
     res = pred.result
     for i, fit in enumerate(pred.fits, start=1):
         if fit is None:
@@ -197,15 +187,7 @@ def build_parser() -> argparse.ArgumentParser:
                            "impedance of their top modes)")
     pred.add_argument("--uncertainty", action="store_true",
                       help="report the spread over cut-band re-identifications")
-    pred.add_argument("--missed-modes", choices=("strict", "dense"), default="strict",
-                      help="dense: the fit adds every mode the residual and the information "
-                           "criterion support (bands with many weak or close modes)")
-    pred.add_argument("--window-decay", type=float, default=None, metavar="RATE",
-                      help="the FRF files carry an exponential window exp(-RATE t) (1/s): "
-                           "the fit models it and removes it")
-    pred.add_argument("--record-length", type=float, default=None, metavar="T",
-                      help="length (s) of the records behind the FRF files (no zero "
-                           "padding): the fit undoes the record's end too")
+    add_fit_options(pred)
     pred.add_argument("--out", help="folder for the CSV files and the plot")
     pred.set_defaults(func=_cmd_predict)
     bench = sub.add_parser("benchmark", help="synthetic hammer tests -> identification -> "

@@ -7,7 +7,7 @@ import sys
 import warnings
 from pathlib import Path
 
-from ._cli import run_command
+from ._cli import add_fit_options, fit_options, run_command
 
 __all__ = ["main"]
 
@@ -26,8 +26,7 @@ def _cmd_fit(args) -> int:
     fit = ModalFit(method=args.method, freq_range=freq_range, n_modes=args.n_modes,
                    rigid_body={"auto": "auto", "yes": True, "no": False}[args.rigid_body],
                    passive=not args.not_driving_point, weighting=args.weighting,
-                   window_decay_rate=args.window_decay or 0.0, record_length=args.record_length,
-                   missed_modes=args.missed_modes)
+                   **fit_options(args))
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         fit.fit(data)
@@ -83,15 +82,7 @@ def build_parser() -> argparse.ArgumentParser:
                           "estimated from the data (analyzer exports)")
     fit.add_argument("--not-driving-point", action="store_true",
                      help="allow negative modal masses (a transfer FRF, or a reversed sign)")
-    fit.add_argument("--missed-modes", choices=("strict", "dense"), default="strict",
-                     help="dense: add every mode the residual and the information criterion "
-                          "support (bands with many weak or close modes)")
-    fit.add_argument("--window-decay", type=float, default=None, metavar="RATE",
-                     help="the FRF carries an exponential window exp(-RATE t) (1/s): the fit "
-                          "models it and the model written is without it")
-    fit.add_argument("--record-length", type=float, default=None, metavar="T",
-                     help="length (s) of the records behind the FRF (no zero padding): the "
-                          "fit undoes the record's end too")
+    add_fit_options(fit)
     fit.add_argument("--out", help="folder for the model JSON and the plots")
     fit.set_defaults(func=_cmd_fit)
     return parser

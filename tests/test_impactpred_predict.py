@@ -128,23 +128,10 @@ def test_predict_command_with_a_saved_multi_point_model_writes_every_point(tmp_p
                                motion["y2"].to_numpy(), rtol=0, atol=1e-12)
 
 
-def test_windowed_hammer_frf_file_with_fit_options(tmp_path):
+def test_windowed_hammer_frf_file_with_fit_options(windowed_free_rod_csv, tmp_path):
     """A free rod's mobility from an exponentially windowed hammer test, as a CSV: with the
     window's options the identified mass is right and the mass hits it as the exact rod."""
-    import math
-
-    from data_synth import synthetic_hammer_test
-    from modalid import frf_from_hammer
-
-    truth = lightly_damped(Rod(1.0, 1.0), 15, 0.001)
-    top, duration = 2.75, 100.0                              # 5 elastic modes in band
-    test = synthetic_hammer_test(truth, 5 * top, duration, pulse_width=0.5 / top,
-                                 response="velocity", anti_alias=True)
-    est = frf_from_hammer(test.force, test.response, 5 * top, response_type="velocity",
-                          exponential_decay=-math.log(0.01) / duration)
-    path = tmp_path / "free_rod.csv"
-    write_frf(path, est.frf.band((1 / duration, top)))
-    options = est.fit_options()
+    path, options = windowed_free_rod_csv
     masses = {}
     for label, kw in (("window", options), ("plain", None)):
         with pytest.warns(BandWarning):

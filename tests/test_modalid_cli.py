@@ -30,23 +30,10 @@ def test_fit_command_reports_bad_input(capsys):
 
 
 @pytest.mark.filterwarnings("ignore::UserWarning")
-def test_fit_command_models_an_exponential_window(tmp_path, capsys):
+def test_fit_command_models_an_exponential_window(windowed_free_rod_csv, tmp_path, capsys):
     """A free rod's mobility from an exponentially windowed hammer test, as a CSV: with
     --window-decay and --record-length the model written has the rod's mass (1 kg)."""
-    import math
-
-    from data_synth import Rod, lightly_damped, synthetic_hammer_test
-    from modalid import frf_from_hammer, write_frf
-
-    truth = lightly_damped(Rod(1.0, 1.0), 15, 0.001)
-    top, duration = 2.75, 100.0                              # 5 elastic modes in band
-    test = synthetic_hammer_test(truth, 5 * top, duration, pulse_width=0.5 / top,
-                                 response="velocity", anti_alias=True)
-    est = frf_from_hammer(test.force, test.response, 5 * top, response_type="velocity",
-                          exponential_decay=-math.log(0.01) / duration)
-    path = tmp_path / "free_rod.csv"
-    write_frf(path, est.frf.band((1 / duration, top)))
-    options = est.fit_options()
+    path, options = windowed_free_rod_csv
     masses = {}
     window = ["--window-decay", str(options["window_decay_rate"]),
               "--record-length", str(options["record_length"])]
