@@ -419,8 +419,9 @@ def main(argv=None):
     t_start = time.perf_counter()
     print(f"BLAS threads {os.environ.get('OPENBLAS_NUM_THREADS')}, cpus {os.cpu_count()}, "
           f"load average {os.getloadavg()[0]:.2f}; {args.seeds} seeds; targets at 5 % noise: "
-          "df < 5e-4, dz < 5e-2, dr < 1e-2, dM < 1e-2, nrmse (truth) < 0.02, bad = 0, "
-          "t < 0.1 s; clean: df < 1e-5, dz < 1e-3, dr < 1e-3")
+          + ", ".join(f"{k.replace('nrmse', 'nrmse (truth)')} < {v:g}"
+                      for k, v in TARGETS_5.items())
+          + ", bad = 0, t < 0.1 s; clean: df < 1e-5, dz < 1e-3, dr < 1e-3")
     fitters = []
     if args.anchors:
         fitters = anchor_fitters()

@@ -45,6 +45,7 @@ def relative_jacobian(truth, omega, n_modes):
     omega : ndarray of float, shape (n_lines,)
         Angular frequencies of the lines (rad/s).
     n_modes : int
+        Modes of the model: the band's and the pseudo-modes above it.
 
     Returns
     -------
@@ -79,6 +80,11 @@ def crb_covariance(jac, exact, noise):
         The noise-free receptance (sets the proportional noise's variance).
     noise : float
         ``eta > 0``.
+
+    Returns
+    -------
+    ndarray of float, shape (n_par, n_par)
+        The inverse Fisher information, in the relative units of ``jac``'s columns.
     """
     jw = jac / (noise * np.abs(exact))[:, None]
     fisher = 2.0 * np.real(jw.conj().T @ jw)
@@ -98,7 +104,9 @@ def bound_draws(truth, omega, exact, noise, *, n_modes, n_band, draws, rng):
     n_band : int
         The first ``n_band`` modes are scored.
     draws : int
+        Number of simulated fits (seeds).
     rng : numpy.random.Generator
+        Source of the draws (fixed seed for a reproducible table).
 
     Returns
     -------
@@ -122,7 +130,19 @@ def bound_draws(truth, omega, exact, noise, *, n_modes, n_band, draws, rng):
 
 
 def worst_of(values, n_seeds):
-    """The worst of each run of ``n_seeds`` consecutive draws: one benchmark run each."""
+    """The worst of each run of ``n_seeds`` consecutive draws: one benchmark run each.
+
+    Parameters
+    ----------
+    values : array_like, shape (n,)
+        One metric per draw.
+    n_seeds : int
+        Draws per run; a last incomplete run is dropped.
+
+    Returns
+    -------
+    ndarray, shape (n // n_seeds,)
+    """
     values = np.asarray(values)
     n_runs = values.size // n_seeds
     return values[:n_runs * n_seeds].reshape(n_runs, n_seeds).max(axis=1)

@@ -121,24 +121,29 @@ class FRFPipeline:
         """``(rigid, lower)``: is there a mass line, and is it a rigid body or the lower
         residual of modes below the band?
 
-        With lines well below the first pole, their phase and slope decide (a free body's
-        receptance there is ``-1/(M omega^2)``, a grounded one's a positive static
-        flexibility); otherwise a ``1/s^2`` term must lower the weighted residual by more
-        than its information cost, with a positive mass. A mass line is a rigid body when
-        the data reach well below the first pole and ``freq_range`` did not cut them;
-        else (and with ``rigid_body=False``) it is the lower residual.
+        With three lines or more well below the first pole (and above twice the window's
+        decay, where a windowed mass line ``1/(M (s + sigma)^2)`` is negative like
+        ``1/(M s^2)``), their phase and slope decide: a free body's receptance there is
+        ``-1/(M omega^2)``, a grounded one's a positive static flexibility, and a mass
+        line keeps its sign down to the lowest of them (a resonance the poles missed turns
+        its static side, the lowest lines, positive). Otherwise a ``1/s^2`` term must lower
+        the weighted residual by more than its information cost, with a positive mass. A
+        mass line is a rigid body when the data reach well below the first pole and
+        ``freq_range`` did not cut them; else (and with ``rigid_body=False``) it is the
+        lower residual.
         """
         if self.rigid_body is True:
             return True, False
-        below, hb = self._below_first(omega, h, poles)
-        if below.size >= 3:
+        below = self._below_first(omega, poles)
+        below = below[omega[below] > 2.0 * self._shift]
+        hb = h[below]
+        steady = below.size >= 3 and bool(np.all(np.sign(hb[:3].real)
+                                                 == np.sign(np.median(hb.real))))
+        if steady:
             slope = np.polyfit(np.log(omega[below]), np.log(np.abs(hb)), 1)[0]
             level = np.median(hb.real)
-            # a resonance the poles missed among these lines turns its static side, the
-            # lowest lines, to the other sign: not a mass line
-            steady = bool(np.all(np.sign(hb[:3].real) == np.sign(level)))
-            mass_line = bool(level < 0 and slope < -1.0 and steady)
-            if not self.passive and slope < -1.5 and level > 0 and steady:
+            mass_line = bool(level < 0 and slope < -1.0)
+            if not self.passive and slope < -1.5 and level > 0:
                 return False, "lower" in self.residuals    # negative mass line: transfer
         else:
             mass_line = mass_line_significant(omega, h, w, poles, self._shift)
@@ -147,31 +152,30 @@ class FRFPipeline:
         lower = "lower" in self.residuals
         if self.rigid_body is False:
             return False, lower
-        if below.size >= 3 and not cut:
+        if steady and not cut:
             return True, False
         return not lower, lower
 
-    def _below_first(self, omega, h, poles):
-        """Indices of the (at most 20) lowest lines below half the first pole, and ``h``
-        there with a windowed mass line ``1/(M (s + sigma)^2)`` turned into ``1/(M s^2)``."""
+    @staticmethod
+    def _below_first(omega, poles):
+        """Indices of the (at most 20) lowest lines below half the first pole."""
         first = np.min(np.abs(poles)) if poles.size else omega[-1]
-        below = np.flatnonzero(omega < 0.5 * first)[:20]
-        hb = h[below]
-        if self._shift:
-            sb = 1j * omega[below]
-            hb = hb * ((sb + self._shift) / sb) ** 2
-        return below, hb
+        return np.flatnonzero(omega < 0.5 * first)[:20]
 
     def _low_resonance(self, omega, h, poles):
         """A resonance the pole estimator missed among the lines below the first pole.
 
-        A receptance's real part is positive below a resonance and negative above it; a
-        mass line's is negative throughout. When the lowest lines' real parts go from
-        positive to negative with ``|h|`` at its largest around the change, a pole is
-        placed at the change (1 % damping plus the window's decay). ``None`` otherwise.
+        Near a resonance of positive modal mass a receptance's real part is positive below
+        it and negative above; a mass line's is negative throughout (a windowed one's
+        positive below the window's decay, but with ``|h|`` falling all the way). When the
+        lowest lines' real parts go from positive to negative and ``|h|`` rises to its
+        largest (by 10 % or more over the lowest line) within a line of the change, a
+        pole is placed there (1 % damping plus the window's decay) and returned. ``None``
+        otherwise (resonances of negative modal mass, allowed by ``passive=False``, are
+        left to the residual's peaks).
         """
-        below, _ = self._below_first(omega, h, poles)
-        hb = h[below]               # a windowed resonance is a resonance: no correction
+        below = self._below_first(omega, poles)
+        hb = h[below]
         if below.size < 3 or hb[0].real <= 0:
             return None
         negative = np.flatnonzero(hb.real < 0)
@@ -179,7 +183,7 @@ class FRFPipeline:
             return None
         c = int(negative[0])
         peak = int(np.argmax(np.abs(hb)))
-        if abs(peak - c) > 1 or np.abs(hb[peak]) < 1.5 * np.abs(hb[0]):
+        if abs(peak - c) > 1 or np.abs(hb[peak]) < 1.1 * np.abs(hb[0]):
             return None
         lo, hi = omega[below[c - 1]], omega[below[c]]
         wk = lo + (hi - lo) * hb[c - 1].real / (hb[c - 1].real - hb[c].real)
@@ -224,7 +228,7 @@ class FRFPipeline:
         if low is not None:
             poles = np.append(poles, low)
             notes.append("added a resonance below the first pole, where the real part of "
-                         f"the lowest lines changes sign, at {abs(low) / (2 * np.pi):.6g} Hz")
+                         f"the lowest lines changes sign, at {low.imag / (2 * np.pi):.6g} Hz")
         poles = poles[np.argsort(np.abs(poles))]
         poles, kinds, terms = self._start(omega, h, w, poles, cut)
         self._iterations, self._buffers = 0, {}
@@ -399,21 +403,25 @@ class FRFPipeline:
 
         A physical pole must have a positive modal mass, stay in the band, not duplicate a
         stronger one (half-power bands overlapping) and be significant, checked in that
-        order; the weakest offender goes. Significant: damping < 0.3 and ``|r| > 6 std``,
-        or else removing the mode (the rest refitted linearly) raises the cost by more
-        than ``4 ln(n)`` residual variances (a sharp resonance on few lines has a poorly
-        determined residue but is plainly there).
+        order; the weakest offender goes. Significant: damping < 0.3 (the structure's, a
+        window's decay removed) and ``|r| > 6 std``, or else removing the mode (the rest
+        refitted linearly) raises the cost by more than ``4 ln(n)`` residual variances (a
+        sharp resonance on few lines has a poorly determined residue but is plainly
+        there).
         """
         r, *_ = split_coefficients(x, poles.size, terms)
         std = info["std"]["modes"] if info["std"] is not None else np.zeros((poles.size, 4))
         t = np.abs(r) / np.maximum(np.hypot(std[:, 2], std[:, 3]), 1e-300)
         wn, zeta = np.abs(poles), -poles.real / np.abs(poles)
+        # significance judges the structure's damping: the window's decay removed
+        own = poles + self._shift
+        zeta_own = -own.real / np.abs(own)
         mode = kinds == "mode"
         if only is not None:
             mode = mode & (np.arange(poles.size) == only)
         overlap = np.abs(wn[:, None] - wn[None, :]) < zeta[:, None] * wn[:, None] + zeta * wn
         weaker = overlap & mode[None, :] & (t[None, :] > t[:, None])
-        weak = mode & (t < 6.0) & (zeta <= 0.3)
+        weak = mode & (t < 6.0) & (zeta_own <= 0.3)
         if weak.any():
             gain = removal_cost(omega, h, self._model_weights(omega, poles, x, terms, w),
                                 poles, terms, np.flatnonzero(weak), passive=self.passive,
@@ -422,12 +430,12 @@ class FRFPipeline:
         tests = [(self.passive & (r.imag >= 0), "no positive modal mass"),
                  ((wn < omega[0]) | (wn > omega[-1]), "it left the band"),
                  (weaker.any(axis=1), "it duplicates a stronger pole"),
-                 (weak | (zeta > 0.3), "not significant")]
+                 (weak | (zeta_own > 0.3), "not significant")]
         for bad, reason in tests:
             bad = bad & mode
             if bad.any():
                 k = int(np.flatnonzero(bad)[np.argmin(t[bad])])
-                detail = f" (|r|/std = {t[k]:.3g}, damping {zeta[k]:.3g})"
+                detail = f" (|r|/std = {t[k]:.3g}, damping {zeta_own[k]:.3g})"
                 return k, f"dropped the pole at {wn[k] / (2 * np.pi):.6g} Hz: {reason}{detail}"
         return None, None
 

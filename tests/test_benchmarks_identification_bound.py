@@ -76,3 +76,46 @@ def test_crb_covariance_inverts_the_fisher_information():
 
 def test_worst_of_groups_consecutive_draws():
     np.testing.assert_array_equal(bound.worst_of(np.arange(11.0), 5), [4.0, 9.0])
+
+
+def test_crb_matches_the_scatter_of_a_weighted_least_squares_fit():
+    """The bound's noise model is frf_case's: H (1 + eta (n1 + i n2) / sqrt 2). A weighted
+    linear least-squares fit of the linearised model to that noise scatters by exactly the
+    bound (the efficient estimator here), which checks the factor 2 and the variance."""
+    truth = Rod(1.0, 1.0, support="fixed").modal_model(5, damping_ratio=0.01, residual=True)
+    omega = np.linspace(1.0, 1.1 * truth.modes["omega_n"].iloc[2], 600)
+    jac = bound.relative_jacobian(truth, omega, 3)
+    exact = truth.frf(omega)
+    eta = 0.05
+    cov = bound.crb_covariance(jac, exact, eta)
+    jw = jac / (eta * np.abs(exact))[:, None]
+    a = np.vstack([jw.real, jw.imag])
+    rng = np.random.default_rng(3)
+    fits = []
+    for _ in range(400):
+        noise = exact * eta * (rng.normal(size=omega.size)
+                               + 1j * rng.normal(size=omega.size)) / np.sqrt(2)
+        nw = noise / (eta * np.abs(exact))
+        fits.append(np.linalg.lstsq(a, np.r_[nw.real, nw.imag], rcond=None)[0])
+    ratio = np.std(fits, axis=0) / np.sqrt(np.diag(cov))
+    assert np.all(np.abs(ratio - 1) < 0.12), ratio
+
+
+def test_bound_draws_map_the_covariance_to_the_metrics():
+    """One mode in band, a rigid body: df, dz are |errors| of the first two columns, dr the
+    modulus of the residue pair, dM the inverse mass's (medians of |N(0, s)| are 0.674 s),
+    nrmse the linearised FRF error."""
+    truth = Rod(1.0, 1.0, support="free").modal_model(3, damping_ratio=0.01, residual=True)
+    omega = np.linspace(0.2, 1.5, 500) * truth.modes["omega_n"].iloc[0]
+    exact = truth.frf(omega)
+    cov = bound.crb_covariance(bound.relative_jacobian(truth, omega, 2), exact, 0.05)
+    d = bound.bound_draws(truth, omega, exact, 0.05, n_modes=2, n_band=1, draws=40000,
+                          rng=np.random.default_rng(0))
+    sd = np.sqrt(np.diag(cov))
+    for key, col in (("df", 0), ("dz", 1), ("dM", -1)):
+        assert np.median(d[key]) == pytest.approx(0.6745 * sd[col], rel=0.03), key
+    # mean squares: E|dr|^2 = var(Re r) + var(Im r); E nrmse^2 = tr(J C J^H) / ||H||^2
+    assert np.mean(d["dr"] ** 2) == pytest.approx(cov[2, 2] + cov[3, 3], rel=0.03)
+    jac = bound.relative_jacobian(truth, omega, 2)
+    expected = np.real(np.trace(jac @ cov @ jac.conj().T)) / np.sum(np.abs(exact) ** 2)
+    assert np.mean(d["nrmse"] ** 2) == pytest.approx(expected, rel=0.03)
