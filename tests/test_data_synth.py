@@ -426,7 +426,8 @@ def test_impulse_response_is_derivative_of_step_response(name):
     # delta^2/6 |h''| ~ 3e-9, rounding ~ 1e-16 S/delta ~ 1e-11 (in T/m)
     kw = {"n_terms": 20} if name == "beam" else {}
     delta = 1e-6 * tau if name == "beam" else 1e-4 * tau
-    fd = (model.step_response(t + delta, **kw) - model.step_response(t - delta, **kw)) / (2 * delta)
+    fd = (model.step_response(t + delta, **kw)
+          - model.step_response(t - delta, **kw)) / (2 * delta)
     h = model.impulse_response(t, **kw)
     scale = np.max(np.abs(h))
     # rods, lumped mass: S piecewise linear / quadratic, the central difference is exact

@@ -253,7 +253,8 @@ def test_multi_output_rows_equal_the_transfer_receptances(name):
         np.testing.assert_array_equal(mo.inverse_mass, model.inverse_mass)
         err = np.abs(mo.receptance(s) - exact)
         errs[residual] = np.max(err / scale)
-    # with the residual: |sum_{k>n} a_k psi_k s^2/(w_k^2 (s^2 + w_k^2))| <= tail |s|^2/(w^2 - |s|^2)
+    # with the residual:
+    # |sum_{k>n} a_k psi_k s^2/(w_k^2 (s^2 + w_k^2))| <= tail |s|^2/(w^2 - |s|^2)
     tail = model.modal_model(n, residual=True).flexibility
     w_next = model.natural_frequencies(n + 1)[-1]
     bound = tail * np.abs(s) ** 2 / (w_next**2 - np.abs(s) ** 2)

@@ -38,7 +38,8 @@ def test_paper_command_writes_figures_and_table(tmp_path, capsys):
 def test_paper_table_without_files():
     table = run_paper_cases(None, plot=False)
     assert 0 < table.loc["b_equal_mass", "restitution"] < 1
-    assert table.loc["b_equal_mass", "peak_force_N"] > table.loc["b_equal_material", "peak_force_N"]
+    assert (table.loc["b_equal_mass", "peak_force_N"]
+            > table.loc["b_equal_material", "peak_force_N"])
 
 
 def test_cli_reports_bad_input_without_a_traceback(capsys):

@@ -49,7 +49,8 @@ def test_no_impact_follows_the_exact_forced_response():
     assert np.all(r.damper == 0.0)
     assert r.is_steady is False or r.steady_state_cycle > 0
     assert r.amplitude_without_damper == pytest.approx(
-        10.0 / abs(sm.stiffness - (2 * np.pi * 4) ** 2 + 2j * 0.05 * 2 * np.pi * 5 * 2 * np.pi * 4))
+        10.0 / abs(sm.stiffness - (2 * np.pi * 4) ** 2
+                   + 2j * 0.05 * 2 * np.pi * 5 * 2 * np.pi * 4))
 
 
 def test_elastic_instantaneous_impacts_conserve_energy_up_to_the_input_work():

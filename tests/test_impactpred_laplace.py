@@ -33,7 +33,8 @@ def test_mass_on_spring_mass_closed_form():
     v_common = m1 * v / (m1 + m2)
     # during contact f = m1 * (deceleration of the pair) = m1 * v_common * omega * sin(omega t)
     inside = (r.t > 0) & (r.t < np.pi / omega)
-    np.testing.assert_allclose(r.force[inside], m1 * v_common * omega * np.sin(omega * r.t[inside]),
+    np.testing.assert_allclose(r.force[inside],
+                               m1 * v_common * omega * np.sin(omega * r.t[inside]),
                                rtol=1e-9, atol=1e-12)
     assert r.velocities_after[0] == pytest.approx(-v_common, rel=1e-12)
     assert r.restitution == pytest.approx(v_common / v, rel=1e-12)

@@ -25,7 +25,8 @@ M, K, F0 = 1.0, 1.0, 1.0           # omega_n = 1 rad/s, static deflection F0/K =
 
 
 class ImpactSim:
-    """Event-driven SDOF primary + free mass in a clearance ``c`` each side, instantaneous impacts."""
+    """Event-driven SDOF primary + free mass in a clearance ``c`` each side, instantaneous
+    impacts."""
 
     def __init__(self, M, m, K, F0, freq_hz, c, e):
         self.M, self.m, self.c, self.e, self.F0 = M, m, c, e, F0
@@ -40,16 +41,19 @@ class ImpactSim:
         B = (v0 + D * Om * np.sin(Om * t0)) / wn
         s = np.asarray(t) - t0
         x = D * np.cos(Om * np.asarray(t)) + A * np.cos(wn * s) + B * np.sin(wn * s)
-        v = -D * Om * np.sin(Om * np.asarray(t)) - A * wn * np.sin(wn * s) + B * wn * np.cos(wn * s)
+        v = (-D * Om * np.sin(Om * np.asarray(t)) - A * wn * np.sin(wn * s)
+             + B * wn * np.cos(wn * s))
         return x, v
 
     def impact(self, v, yd):
         vrel = yd - v
-        p = -(1 + self.e) * vrel * self.M * self.m / (self.M + self.m)   # impulse on the damper mass
+        # impulse on the damper mass
+        p = -(1 + self.e) * vrel * self.M * self.m / (self.M + self.m)
         return v - p / self.M, yd + p / self.m, vrel
 
     def next_impact(self, state, t_end):
-        """First impact after ``state = (t0, x0, v0, y0, yd0)``: (t, side, x, v-, y, yd-) or None."""
+        """First impact after ``state = (t0, x0, v0, y0, yd0)``: (t, side, x, v-, y, yd-)
+        or None."""
         t0, x0, v0, y0, yd0 = state
         c, h = self.c, self.h
         tt = t0
@@ -75,7 +79,8 @@ class ImpactSim:
         return None
 
     def run(self, state, t_end, max_impacts=20000):
-        """All impacts until ``t_end``: rows (t, side, x, v-, y, yd-), and the post-impact states."""
+        """All impacts until ``t_end``: rows (t, side, x, v-, y, yd-), and the post-impact
+        states."""
         rows, states = [], [state]
         while len(rows) < max_impacts:
             hit = self.next_impact(state, t_end)
@@ -203,7 +208,8 @@ def test_converges_from_rest_to_the_stable_solution():
     assert np.max(np.abs(phase - s.impact_phase)) < 1e-6
     assert np.max(np.abs(up[:, 2] - s.impact_displacement)) < 1e-6 * s.amplitude
     # the transient decays at the rate of the largest Floquet multiplier (envelope, 100 cycles)
-    dev = np.abs((sim.Om * rows[rows[:, 1] > 0][:, 0] - s.impact_phase + np.pi) % (2 * np.pi) - np.pi)
+    dev = np.abs((sim.Om * rows[rows[:, 1] > 0][:, 0] - s.impact_phase + np.pi) % (2 * np.pi)
+                 - np.pi)
     rate = (dev[200:210].max() / dev[100:110].max()) ** (1 / 100)
     assert abs(rate - max(abs(z) for z in s.multipliers)) < 0.01
     # amplitude over the last full cycle from the simulator's own flights
@@ -236,8 +242,8 @@ def test_existence_boundary_and_curve():
     with pytest.raises(ValueError, match="does not exist"):
         s.trajectory([0.0])
     f = np.linspace(0.6, 2.0, 8) / (2 * np.pi)
-    table = masri_caughey_curve(f, primary_mass=M, damper_mass=0.1, stiffness=K, force_amplitude=F0,
-                                clearance=3.0, restitution=0.6)
+    table = masri_caughey_curve(f, primary_mass=M, damper_mass=0.1, stiffness=K,
+                                force_amplitude=F0, clearance=3.0, restitution=0.6)
     assert isinstance(table, pd.DataFrame) and len(table) == 8
     assert {"freq_hz", "amplitude", "impact_phase", "exists", "stable", "reduction"} <= set(table)
     row = table.iloc[3]

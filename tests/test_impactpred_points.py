@@ -101,7 +101,8 @@ def test_laplace_outputs_agree_with_modal_stepping():
         inside = (step.t > 20 * dt) & (step.t < 0.012 - dt)   # inside the first contact
         err = []
         for q in ("displacement", "velocity", "acceleration"):
-            ref = np.array([np.interp(step.t, exact.t, row) for row in getattr(exact.points[1], q)])
+            ref = np.array([np.interp(step.t, exact.t, row)
+                            for row in getattr(exact.points[1], q)])
             got = getattr(step.points[1], q)
             err.append(np.max(np.abs(got - ref)[:, inside]) / np.max(np.abs(ref)))
         errors.append(err)

@@ -42,7 +42,8 @@ _FITS = {}
 def fitted(name, noise, **settings):
     key = (name, noise, tuple(sorted(settings.items())))
     if key not in _FITS:
-        structure = {"beam": CantileverBeam(1.0, 1.0), "free rod": Rod(1.0, 1.0, support="free")}[name]
+        structure = {"beam": CantileverBeam(1.0, 1.0),
+                     "free rod": Rod(1.0, 1.0, support="free")}[name]
         truth, data, exact = make_case(structure, noise)
         _FITS[key] = (structure, truth, data, exact, ModalFit(**settings).fit(data))
     return _FITS[key]

@@ -55,7 +55,8 @@ def test_step_response_closed_form_single_mode():
     t = np.linspace(0, 5, 301)
     wd = wn * np.sqrt(1 - zeta**2)
     h_exact = np.exp(-zeta * wn * t) * np.sin(wd * t) / (mm * wd)
-    s_exact = (1 - np.exp(-zeta * wn * t) * (np.cos(wd * t) + zeta * wn / wd * np.sin(wd * t))) / (mm * wn**2)
+    s_exact = (1 - np.exp(-zeta * wn * t)
+               * (np.cos(wd * t) + zeta * wn / wd * np.sin(wd * t))) / (mm * wn**2)
     np.testing.assert_allclose(m.impulse_response(t), h_exact, atol=1e-15)
     np.testing.assert_allclose(m.step_response(t), s_exact, atol=1e-15)
     assert m.impulse_response([-1.0])[0] == 0.0 and m.step_response([-1.0])[0] == 0.0
@@ -68,7 +69,8 @@ def test_impulse_response_is_derivative_of_step_response(model):
     np.testing.assert_allclose(derivative, model.impulse_response(t), rtol=1e-6, atol=1e-9)
     # the flexibility is the jump of the step response at t = 0
     assert model.step_response([0.0])[0] == pytest.approx(1e-3)
-    assert model.static_flexibility() == pytest.approx(1e-3 + 1 / 100 + 1 / (2 * 625) + 1 / (0.5 * 4900))
+    assert model.static_flexibility() == pytest.approx(
+        1e-3 + 1 / 100 + 1 / (2 * 625) + 1 / (0.5 * 4900))
 
 
 def test_impulse_response_against_numerical_inverse_laplace():
