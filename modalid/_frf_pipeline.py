@@ -330,7 +330,7 @@ class FRFPipeline:
         relative = self._relative()
         poles, x, info = refine_varpro(omega, h, w, poles, terms, with_std=not relative,
                                        stat_tol=0.1 if relative else 1e-4,
-                                       max_iter=15 if quick else 50, **kw)
+                                       max_iter=15 if quick else max(50, 4 * poles.size), **kw)
         n_iter = info["n_iter"]
         for _ in range(0 if quick or not relative else 2):
             wm = self._model_weights(omega, poles, x, terms, w)
