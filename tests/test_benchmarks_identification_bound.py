@@ -119,3 +119,13 @@ def test_bound_draws_map_the_covariance_to_the_metrics():
     jac = bound.relative_jacobian(truth, omega, 2)
     expected = np.real(np.trace(jac @ cov @ jac.conj().T)) / np.sum(np.abs(exact) ** 2)
     assert np.mean(d["nrmse"] ** 2) == pytest.approx(expected, rel=0.03)
+
+
+def test_runs_meeting_counts_runs_under_every_target():
+    draws = {"a": np.array([1.0, 3.0, 1.0, 1.0, 2.0, 0.5]), "b": np.array([0.0, 0.0, 5.0,
+                                                                          0.0, 0.0, 0.0])}
+    stats, all_met = bound.runs_meeting(draws, {"a": 2.5, "b": 1.0}, 2)
+    # runs (1, 3), (1, 1), (2, 0.5) of a; (0, 0), (5, 0), (0, 0) of b
+    assert stats["a"] == (pytest.approx(2.0), pytest.approx(2 / 3))
+    assert stats["b"] == (pytest.approx(0.0), pytest.approx(2 / 3))
+    assert all_met == pytest.approx(1 / 3)
