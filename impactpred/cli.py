@@ -79,7 +79,7 @@ def _cmd_predict(args) -> int:
                        gap=args.gap, contact=args.contact, t_end=args.t_end, dt=args.dt,
                        method=args.method, quantity=args.quantity,
                        continuation=args.continuation, uncertainty=args.uncertainty,
-                       fit_options=fit_options(args) or None)
+                       fit_options=fit_options(args))
     res = pred.result
     for i, fit in enumerate(pred.fits, start=1):
         if fit is None:

@@ -137,11 +137,10 @@ class FRFPipeline:
         below = self._below_first(omega, poles)
         below = below[omega[below] > 2.0 * self._shift]
         hb = h[below]
-        steady = below.size >= 3 and bool(np.all(np.sign(hb[:3].real)
-                                                 == np.sign(np.median(hb.real))))
+        level = np.median(hb.real) if below.size else 0.0
+        steady = below.size >= 3 and bool(np.all(np.sign(hb[:3].real) == np.sign(level)))
         if steady:
             slope = np.polyfit(np.log(omega[below]), np.log(np.abs(hb)), 1)[0]
-            level = np.median(hb.real)
             mass_line = bool(level < 0 and slope < -1.0)
             if not self.passive and slope < -1.5 and level > 0:
                 return False, "lower" in self.residuals    # negative mass line: transfer
