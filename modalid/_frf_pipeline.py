@@ -14,11 +14,13 @@ from __future__ import annotations
 import warnings
 
 import numpy as np
+import pandas as pd
 from scipy.signal import find_peaks
 
 from ._checks import as_count
 from ._lscf import lscf_subbands
-from ._lsfd import (Terms, evaluate, mass_line_significant, place_upper_modes,
+from ._segments import MIN_SEGMENTED, segment_poles
+from ._lsfd import (Terms, evaluate, mass_line_significant, noise_level, place_upper_modes,
                     refine_varpro, release_gain, removal_cost, split_coefficients)
 from ._vf import vector_fit_poles
 from ._window import rigid_factor, truncation_factors, unwindow
@@ -47,6 +49,15 @@ class FRFPipeline:
     def _fit_frf(self, data: FRFData):
         frf, w, cut = self._prepare(data)
         self.frf_ = frf
+        if self._segmented(frf):                 # a wide band: poles from its segments
+            poles, fits = segment_poles(self, self.data_)
+            self.stabilization_ = pd.concat([s.stabilization_ for s in fits],
+                                            ignore_index=True)
+            self.clusters_ = pd.concat([s.clusters_ for s in fits], ignore_index=True)
+            self._segment_count = len(fits)
+            max_order = max(s.report_["max_order"] for s in fits)
+            return self._identify(frf, w, poles, cut, max_order, None)
+        self._segment_count = 1
         omega, h = frf.omega, frf.values
         peaks, _ = find_peaks(np.log10(np.abs(h)), prominence=0.3)
         max_order = (as_count("max_order", self.max_order, minimum=2) if self.max_order
@@ -73,6 +84,12 @@ class FRFPipeline:
             poles = self._screen(omega, h, w, poles, cut)
         return self._identify(frf, w, poles, cut, max_order, iterations)
 
+    def _segmented(self, frf) -> bool:
+        """Fit by segments (:mod:`modalid._segments`): a band of ``MIN_SEGMENTED`` lines,
+        the mode count left to the data, no per-line weights, LSCF poles."""
+        return (len(frf) >= MIN_SEGMENTED and not self._selection()
+                and self.weights is None and self.method == "lscf")
+
     def _select_by_information(self, omega, h, w, clusters, cut, min_share=0.5):
         """Clusters in ``min_share`` of their band's orders, ranked by persistence; the
         information criterion decides how many are physical. (Noise and antiresonance
@@ -84,7 +101,7 @@ class FRFPipeline:
         if cand.size:
             keep, _, negative = select_by_information(
                 omega, h, w, cand, *self._linear_terms(omega, h, w, cand, cut),
-                passive=self.passive)
+                passive=self._passive_on)
             self._warn_negative(cand[negative])
             selected[np.flatnonzero(share >= min_share)[keep]] = True
             cand = cand[keep]
@@ -93,17 +110,18 @@ class FRFPipeline:
     def _warn_negative(self, poles):
         """Resonances the data support but with a negative modal mass: not a passive
         driving point (a transfer FRF, or the response sign reversed)."""
-        if self.passive and poles.size:
+        if self._passive_on and not isinstance(self.passive, str) and poles.size:
             freqs = ", ".join(f"{abs(p) / (2 * np.pi):.4g}" for p in np.sort(np.abs(poles)))
             warnings.warn(f"resonances at {freqs} Hz have a negative modal mass and are left "
-                          "out (passive=True): is this a transfer FRF, or is the sign "
-                          "reversed? Fit with passive=False", ModalFitWarning, stacklevel=5)
+                          "out (passive=True forces a driving point): is this a transfer "
+                          "FRF, or is the sign reversed? The default passive='auto' decides "
+                          "from the data", ModalFitWarning, stacklevel=5)
 
     def _screen(self, omega, h, w, poles, cut):
         """Vector-fitting poles the data support (greedy forward selection, BIC)."""
         keep, _, negative = select_by_information(
             omega, h, w, poles, *self._linear_terms(omega, h, w, poles, cut), greedy=True,
-            passive=self.passive)
+            passive=self._passive_on)
         self._warn_negative(poles[negative])
         return poles[keep][np.argsort(np.abs(poles[keep]))]
 
@@ -142,7 +160,7 @@ class FRFPipeline:
         if steady:
             slope = np.polyfit(np.log(omega[below]), np.log(np.abs(hb)), 1)[0]
             mass_line = bool(level < 0 and slope < -1.0)
-            if not self.passive and slope < -1.5 and level > 0:
+            if not self._passive_on and slope < -1.5 and level > 0:
                 return False, "lower" in self.residuals    # negative mass line: transfer
         else:
             mass_line = mass_line_significant(omega, h, w, poles, self._shift)
@@ -212,7 +230,7 @@ class FRFPipeline:
         (a fixed shape for the distant modes costs less variance than a free one)."""
         hold = kinds == "far"
         wm = self._model_weights(omega, poles, x, terms, w)
-        gain = release_gain(omega, h, wm, poles, terms, hold, passive=self.passive)
+        gain = release_gain(omega, h, wm, poles, terms, hold, passive=self._passive_on)
         if gain < 2 * np.log(2 * omega.size):
             return poles, kinds, x, info
         kinds = np.where(hold, "upper", kinds)
@@ -268,14 +286,14 @@ class FRFPipeline:
                 poles, kinds, x, info = self._release_far(omega, h, w, poles, kinds, x,
                                                           info, terms)
             # a pseudo-mode held at zero modal mass by passivity carries nothing physical
-            for _ in range(2 if self.passive else 0):
+            for _ in range(2 if self._passive_on else 0):
                 idle = (kinds != "mode") & (split_coefficients(x, poles.size, terms)[0].imag >= 0)
                 if not idle.any():
                     break
                 poles, x, info = self._refine(omega, h, w, poles[~idle], kinds[~idle], terms)
                 kinds = kinds[~idle]
         else:
-            poles, x, info = refine_varpro(omega, h, w, poles, terms, passive=self.passive,
+            poles, x, info = refine_varpro(omega, h, w, poles, terms, passive=self._passive_on,
                                            max_iter=0, max_real=self.max_real)
             info.update(converged=True, message="linear least squares (refine=False)")
         residues, _, u, d = split_coefficients(x, poles.size, terms)
@@ -322,7 +340,7 @@ class FRFPipeline:
         deviation), then reweighted by the model ``1/|H_model|`` and converged; once more
         if that moved the poles much. ``quick``: the first stage only, 15 steps at most."""
         lo, hi = self._imag_bounds(kinds, omega, poles)
-        kw = dict(imag_lo=lo, imag_hi=hi, passive=self.passive, hold=kinds == "far",
+        kw = dict(imag_lo=lo, imag_hi=hi, passive=self._passive_on, hold=kinds == "far",
                   buffers=self._buffers)
         if self.max_real is not None:
             kw["max_real"] = self.max_real
@@ -423,10 +441,10 @@ class FRFPipeline:
         weak = mode & (t < 6.0) & (zeta_own <= 0.3)
         if weak.any():
             gain = removal_cost(omega, h, self._model_weights(omega, poles, x, terms, w),
-                                poles, terms, np.flatnonzero(weak), passive=self.passive,
+                                poles, terms, np.flatnonzero(weak), passive=self._passive_on,
                                 buffers=self._buffers)
             weak[weak] = gain < 4 * np.log(2 * omega.size)
-        tests = [(self.passive & (r.imag >= 0), "no positive modal mass"),
+        tests = [(self._passive_on & (r.imag >= 0), "no positive modal mass"),
                  ((wn < omega[0]) | (wn > omega[-1]), "it left the band"),
                  (weaker.any(axis=1), "it duplicates a stronger pole"),
                  (weak | (zeta_own > 0.3), "not significant")]
@@ -444,6 +462,7 @@ class FRFPipeline:
         omega, h = frf.omega, frf.values
         # the model of the data fitted (the windowed FRF when there is a window), then the
         # structure's (the window and the record's end undone: modalid._window)
+        self._raw_inverse_mass = float(u)     # its sign speaks of driving point or not
         fitted_model = ModalModel(poles=poles, residues=residues, inverse_mass=max(u, 0.0),
                                   flexibility=d)
         fitted = evaluate(omega, poles, residues, (), (), max(u, 0.0), d, self._shift)
@@ -481,10 +500,16 @@ class FRFPipeline:
                 flexibility_std = float(extra[int(terms.rigid)])
         self.report_ = fit_report(
             self.model_, kinds, info, notes, method=self.method, max_order=max_order,
-            frf_nrmse=float(np.linalg.norm(fitted - h) / np.linalg.norm(h)),
+            frf_nrmse=float(np.linalg.norm(own) / np.linalg.norm(band.values)),
             frf_nrmse_data=float(np.linalg.norm(own) / np.linalg.norm(band.values)),
+            frf_nrmse_receptance=float(np.linalg.norm(fitted - h) / np.linalg.norm(h)),
+            noise_estimate_data=float(np.linalg.norm(noise_level(band.values))
+                                      / np.linalg.norm(band.values)),
+            frf_median_relative_error=float(np.median(np.abs(own) / np.abs(band.values))),
+            noise_median_relative=float(np.median(noise_level(band.values)
+                                                  / np.abs(band.values))),
             data_quantity=band.quantity,
-            band_hz=(float(frf.freq_hz[0]), float(frf.freq_hz[-1])),
+            band_hz=(float(frf.freq_hz[0]), float(frf.freq_hz[-1])), segments=self._segment_count,
             vf_iterations=vf_iterations, modes=modes, inverse_mass_std=inverse_mass_std,
             flexibility_std=flexibility_std,
             **{k: v for k, v in window.items()

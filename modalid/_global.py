@@ -197,9 +197,9 @@ def _fit_warning():
 def _row_weights(est, rec: FRFSet):
     """Weights per row as :meth:`ModalFit._prepare` (each row on its own scale)."""
     mag = np.abs(rec.values)
-    if est.weighting == "relative":
+    if est._weighting_on == "relative":
         w = 1.0 / np.maximum(mag, 1e-12 * mag.max(axis=1, keepdims=True))
-    elif est.weighting == "noise":
+    elif est._weighting_on == "noise":
         w = 1.0 / np.array([noise_level(h) for h in rec.values])
     else:
         w = np.ones_like(mag) / np.sqrt(np.mean(mag**2, axis=1, keepdims=True))
@@ -209,7 +209,7 @@ def _row_weights(est, rec: FRFSet):
 
 
 def _model_weights(est, omega, poles, xs, terms, w0, coh):
-    if est.weighting != "relative":
+    if est._weighting_on != "relative":
         return w0
     mag = np.abs(evaluate_rows(omega, poles, xs, terms))
     if not np.all(np.isfinite(mag)) or np.any(mag.max(axis=1) <= 0):
@@ -221,8 +221,8 @@ def _refine(est, omega, h, w, coh, poles, kinds, terms, dp):
     """Data weights, then (relative weighting) model weights, as ``ModalFit._refine``."""
     lo, hi = est._imag_bounds(kinds, omega, poles)
     kw = dict(imag_lo=lo, imag_hi=hi, hold=kinds == "far",
-              passive_row=dp if est.passive else None)
-    relative = est.weighting == "relative"
+              passive_row=dp if est._passive_on else None)
+    relative = est._weighting_on == "relative"
     poles, xs, info = refine_joint(omega, h, w, poles, terms, with_std=not relative,
                                    stat_tol=0.1 if relative else 1e-4, **kw)
     n_iter = info["n_iter"]
@@ -253,7 +253,7 @@ def _worst_pole(est, omega, h, w, coh, poles, xs, info, kinds, terms, dp):
     candidates = np.flatnonzero(mode & (t < 6.0 * np.sqrt(h.shape[0])))
     if candidates.size:
         wm = _model_weights(est, omega, poles, xs, terms, w, coh)
-        kw = dict(passive_row=dp if est.passive else None, max_iter=0, with_std=False)
+        kw = dict(passive_row=dp if est._passive_on else None, max_iter=0, with_std=False)
         cost = refine_joint(omega, h, wm, poles, terms, **kw)[2]["cost"]
         n_data = 2 * h.size
         sigma2 = cost / max(n_data - h.shape[0] * (2 * poles.size + terms.n_extra)
@@ -261,7 +261,7 @@ def _worst_pole(est, omega, h, w, coh, poles, xs, info, kinds, terms, dp):
         for k in candidates:
             rise = refine_joint(omega, h, wm, np.delete(poles, k), terms, **kw)[2]["cost"] - cost
             weak[k] |= rise / sigma2 < (2 + 2 * h.shape[0]) * np.log(n_data)
-    tests = [(est.passive & (r[dp].imag >= 0), "no positive modal mass at the driving point"),
+    tests = [(est._passive_on & (r[dp].imag >= 0), "no positive modal mass at the driving point"),
              ((wn < omega[0]) | (wn > omega[-1]), "it left the band"),
              (weaker.any(axis=1), "it duplicates a stronger pole"),
              (weak, "not significant")]
@@ -309,7 +309,7 @@ def fit_set(est, data: FRFSet):
         if cand.size:
             terms, fixed = est._linear_terms(omega, h[dp], w[dp], cand, cut)
             keep, negative = select_joint(omega, h, w, cand, terms, fixed, driving_point=dp,
-                                          passive=est.passive)
+                                          passive=est._passive_on)
             est._warn_negative(cand[negative])
             selected[np.flatnonzero(share >= 0.5)[keep]] = True
             cand = cand[keep]
@@ -330,7 +330,7 @@ def fit_set(est, data: FRFSet):
         info["n_iter_total"] = n_iter
     else:
         p, xs, info = refine_joint(omega, h, w, start, terms, max_iter=0,
-                                   passive_row=dp if est.passive else None)
+                                   passive_row=dp if est._passive_on else None)
         info.update(converged=True, message="linear least squares (refine=False)",
                     n_iter_total=0)
     if not info["converged"]:

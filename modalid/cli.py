@@ -12,6 +12,13 @@ from ._cli import add_fit_options, fit_options, run_command
 __all__ = ["main"]
 
 
+def _passive(args):
+    """``ModalFit(passive=...)`` from ``--driving-point`` (and its older spelling)."""
+    if args.not_driving_point:
+        return False
+    return {"auto": "auto", "yes": True, "no": False}[args.driving_point]
+
+
 def _cmd_fit(args) -> int:
     import pandas as pd
 
@@ -25,7 +32,7 @@ def _cmd_fit(args) -> int:
         freq_range = (args.fmin or 0.0, args.fmax or float(data.freq_hz[-1]))
     fit = ModalFit(method=args.method, freq_range=freq_range, n_modes=args.n_modes,
                    rigid_body={"auto": "auto", "yes": True, "no": False}[args.rigid_body],
-                   passive=not args.not_driving_point, weighting=args.weighting,
+                   passive=_passive(args), weighting=args.weighting,
                    **fit_options(args))
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
@@ -42,7 +49,15 @@ def _cmd_fit(args) -> int:
     print(f"rigid body: {report['rigid_body']} (inverse mass {report['inverse_mass']:.6g} 1/kg), "
           f"residual flexibility {report['residual_flexibility']:.6g} m/N, effective mass "
           f"{report['effective_mass']:.6g} kg")
-    print(f"FRF NRMSE {report['frf_nrmse']:.4g}; converged: {report['converged']}")
+    print(f"band {report['band_hz'][0]:g}-{report['band_hz'][1]:g} Hz: "
+          f"{report['band_reason']}")
+    if report.get("driving_point") is not None:
+        print(f"driving point: {'yes' if report['driving_point'] else 'no'} "
+              f"({report['driving_point_reason']})")
+    print(f"FRF NRMSE {report['frf_nrmse']:.4g} ({data.quantity}); converged: "
+          f"{report['converged']}")
+    print(f"verdict: {report['verdict']}" + "".join(f"\n  - {r}"
+                                                    for r in report["verdict_reasons"]))
     if args.out:
         out = Path(args.out)
         out.mkdir(parents=True, exist_ok=True)
@@ -74,14 +89,21 @@ def build_parser() -> argparse.ArgumentParser:
     fit.add_argument("--index", type=int, default=None, help="which FRF of a multi-FRF file")
     fit.add_argument("--method", choices=("lscf", "vf"), default="lscf")
     fit.add_argument("--n-modes", type=int, default=None, help="number of modes (default: auto)")
-    fit.add_argument("--fmin", type=float, default=None, help="lowest frequency (Hz)")
+    fit.add_argument("--fmin", type=float, default=None,
+                     help="lowest frequency (Hz); with neither --fmin nor --fmax the band is "
+                          "chosen from the data")
     fit.add_argument("--fmax", type=float, default=None, help="highest frequency (Hz)")
     fit.add_argument("--rigid-body", choices=("auto", "yes", "no"), default="auto")
-    fit.add_argument("--weighting", choices=("relative", "noise", "uniform"), default="relative",
+    fit.add_argument("--weighting", choices=("auto", "relative", "noise", "uniform"),
+                     default="auto",
                      help="relative: noise proportional to the FRF; noise: a noise floor "
-                          "estimated from the data (analyzer exports)")
+                          "estimated from the data (analyzer exports); auto: decide from "
+                          "the data")
+    fit.add_argument("--driving-point", choices=("auto", "yes", "no"), default="auto",
+                     help="yes: keep modal masses positive (a passive driving point); no: "
+                          "allow negative ones (a transfer FRF); auto: decide from the data")
     fit.add_argument("--not-driving-point", action="store_true",
-                     help="allow negative modal masses (a transfer FRF, or a reversed sign)")
+                     help="the same as --driving-point no")
     add_fit_options(fit)
     fit.add_argument("--out", help="folder for the model JSON and the plots")
     fit.set_defaults(func=_cmd_fit)

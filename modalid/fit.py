@@ -27,13 +27,16 @@ from threadpoolctl import threadpool_limits
 
 from ._checks import (as_choice, as_count, as_nonnegative_scalar, as_positive_scalar,
                       as_real_array)
+from ._band import choose_band, choose_weighting
 from ._era import identify_impulse, impulse_samples
 from ._frf_pipeline import FRFPipeline, ModalFitWarning, fit_report
+from ._verdict import damping_resolved, driving_point_decision, quality_verdict
 from ._lsfd import noise_level
 from ._window import windowed_receptance
 from .frf import FRFData
 from .frf_set import FRFSet
 from .model import ModalModel
+from .multi_output import MultiOutputModalModel
 from .quantities import receptance_to
 from .stabilization import plot_fit, plot_stabilization
 
@@ -55,7 +58,11 @@ class ModalFit(FRFPipeline, BaseEstimator):
         resonance peaks (``4 n_peaks + 16``, at most 120); for ERA from the rank of the
         Hankel matrix (its singular values above the noise, plus 12).
     freq_range : (float, float), optional
-        Band (Hz) to fit; default: all lines above 0 Hz.
+        Band (Hz) to fit. Default: chosen from the data (:func:`modalid._band.choose_band`):
+        the lowest lines are dropped while they scatter like noise, the top ones where the
+        coherence (or, without it, the lines' scatter) says the data stop being
+        informative; ``report_["band_hz"]`` and ``report_["band_reason"]`` say which and
+        why. ``(0, numpy.inf)`` fits every line above 0 Hz.
     rigid_body : {"auto", True, False}
         Fit a rigid-body mass line ``1/(M s^2)``; ``"auto"`` keeps it when the lines well
         below the first resonance show one (negative real receptance falling like
@@ -66,11 +73,21 @@ class ModalFit(FRFPipeline, BaseEstimator):
         when the data show a mass line that is not a rigid body (``freq_range`` cut the
         data above the first modes, the data start too close to the first resonance to
         tell, or ``rigid_body=False``).
-    passive : bool
-        Keep modal masses, the rigid mass and the residual flexibility positive.
+    passive : {"auto", True, False}
+        Keep modal masses, the rigid mass and the residual flexibility positive (a passive
+        driving point). ``"auto"`` (default): fit without the constraint, decide from the
+        signs of the modal constants whether the FRF is a driving point (modes of
+        positive modal mass carry 90 % of the peak receptance and the mass line is not
+        negative; :func:`modalid._verdict.driving_point_decision`) and, where it is,
+        refit with it; ``report_["driving_point"]`` and ``report_["driving_point_reason"]``
+        say what was decided. An impulse response (``"era"``) or an FRFSet is taken as a
+        driving point.
     refine : bool
         Run the nonlinear refinement (else: residues of the estimated poles only).
-    weighting : {"relative", "noise", "uniform"}
+    weighting : {"auto", "relative", "noise", "uniform"}
+        ``"auto"`` (default): ``"noise"`` when the data show a noise floor that matters,
+        else ``"relative"`` (:func:`modalid._band.choose_weighting`; an FRFSet:
+        ``"relative"``); ``report_["weighting"]`` says which and why.
         ``"relative"``: weights ``1/|H|`` (times the square root of the coherence when
         given), then ``1/|H_model|``: maximum likelihood for noise proportional to the
         FRF. ``"noise"``: one over the noise level estimated from the data's own scatter
@@ -171,8 +188,8 @@ class ModalFit(FRFPipeline, BaseEstimator):
     """
 
     def __init__(self, *, method="lscf", n_modes=None, max_order=None, freq_range=None,
-                 rigid_body="auto", residuals=("lower", "upper"), passive=True, refine=True,
-                 weighting="relative", weights=None, max_real=None, window_decay_rate=0.0,
+                 rigid_body="auto", residuals=("lower", "upper"), passive="auto", refine=True,
+                 weighting="auto", weights=None, max_real=None, window_decay_rate=0.0,
                  record_length=None, missed_modes="strict"):
         self.method = method
         self.n_modes = n_modes
@@ -206,8 +223,13 @@ class ModalFit(FRFPipeline, BaseEstimator):
             data's own scatter, relative) per output.
         """
         as_choice("method", self.method, ("lscf", "vf", "era"))
-        as_choice("weighting", self.weighting, ("relative", "noise", "uniform"))
+        as_choice("weighting", self.weighting, ("auto", "relative", "noise", "uniform"))
+        self._weighting_on = "relative" if self.weighting == "auto" else self.weighting
+        self._weighting_reason = "given" if self.weighting != "auto" else "an FRFSet or ERA"
         as_choice("missed_modes", self.missed_modes, ("strict", "dense"))
+        if not (isinstance(self.passive, str) and self.passive == "auto"
+                or isinstance(self.passive, (bool, np.bool_))):
+            raise ValueError(f"passive must be 'auto', True or False, got {self.passive!r}")
         if not (isinstance(self.rigid_body, str) and self.rigid_body == "auto"
                 or isinstance(self.rigid_body, (bool, np.bool_))):
             raise ValueError(f"rigid_body must be 'auto', True or False, got {self.rigid_body!r}")
@@ -230,21 +252,94 @@ class ModalFit(FRFPipeline, BaseEstimator):
                              "to method 'lscf' or 'vf' only")
         if self.max_real is not None and not float(self.max_real) < 0:
             raise ValueError(f"max_real must be negative, got {self.max_real!r}")
+        auto = isinstance(self.passive, str)
+        self._passive_on = bool(self.passive) if not auto else True
         if isinstance(data, FRFSet):              # common poles: see modalid._global
             from ._global import fit_set
             with threadpool_limits(limits=1, user_api="blas"):
-                return fit_set(self, data)
+                fit_set(self, data)
+            return self._judge(driving_point=True, reason="an FRFSet has a driving point")
         if self.method != "era" and not isinstance(data, FRFData):
             raise TypeError(f"data must be an FRFData or FRFSet for method={self.method!r}, "
                             f"got {type(data).__name__}")
         # small dense algebra: BLAS threads only add overhead (restored on exit)
         with threadpool_limits(limits=1, user_api="blas"):
-            return self._fit_impulse(data) if self.method == "era" else self._fit_frf(data)
+            if self.method == "era":
+                self._fit_impulse(data)
+                return self._judge(driving_point=None, reason="an impulse response: not "
+                                   "decided (taken as a driving point)")
+            if not auto:
+                self._fit_frf(data)
+                return self._judge(driving_point=self._passive_on,
+                                   reason=f"passive={self.passive!r} given")
+            self._passive_on = False              # unconstrained, then decide
+            self._fit_frf(data)
+            driving, reason = driving_point_decision(self.report_["modes"],
+                                                     self._raw_inverse_mass)
+            if driving and not (self.model_.is_passive() and self._raw_inverse_mass >= 0):
+                free = (dict(self.__dict__), self.report_["frf_median_relative_error"])
+                self._passive_on = True           # the constraint is active: refit with it
+                self._fit_frf(data)
+                error = self.report_["frf_median_relative_error"]
+                if error > 1.5 * free[1] + 0.01:  # the data contradict a passive model
+                    self.__dict__.update(free[0])
+                    driving, reason = False, (
+                        f"{reason}, but the passive fit's median error per line is "
+                        f"{100 * error:.3g} % against {100 * free[1]:.3g} % without the "
+                        "constraint: not a passive driving point")
+            return self._judge(driving_point=driving, reason=reason)
+
+    def _judge(self, *, driving_point, reason):
+        """Add the driving-point decision, damping resolution and the quality verdict
+        to ``report_``; warn (:class:`ModalFitWarning`) unless the verdict is ``"ok"``."""
+        report = self.report_
+        modes = report["modes"]
+        frf = getattr(self, "frf_", None)
+        if isinstance(frf, FRFData):
+            spacing = float(np.median(np.diff(frf.freq_hz)))
+            band = report["band_hz"]
+            nrmse = report["frf_nrmse"]
+            relative = (report["frf_median_relative_error"], report["noise_median_relative"])
+        else:                                     # an impulse response, or an FRFSet
+            spacing, band = 0.0, report.get("band_hz", (0.0, np.inf))
+            nrmse = float(np.max(np.atleast_1d(report.get("frf_nrmse",
+                                                          report.get("impulse_nrmse", 0.0)))))
+            relative = (0.0, np.nan)
+        modes["damping_resolved"] = damping_resolved(modes, spacing)
+        model = self.model_
+        finite = all(np.all(np.isfinite(np.asarray(a))) for a in (
+            model.poles, model.residues, model.inverse_mass, model.flexibility,
+            modes["modal_mass"].to_numpy(float)))
+        verdict, reasons = quality_verdict(modes, band_hz=band, driving_point=driving_point,
+                                           nrmse=nrmse, relative_error=relative[0],
+                                           relative_noise=relative[1],
+                                           rigid_body=bool(report["rigid_body"]),
+                                           finite=finite)
+        if not isinstance(model, MultiOutputModalModel):    # a set's is the row's index
+            report.update(driving_point=driving_point, driving_point_reason=reason)
+        report.update(weighting=self._weighting_on, weighting_reason=self._weighting_reason,
+                      verdict=verdict, verdict_reasons=reasons,
+                      band_reason=getattr(self, "_band_reason", None))
+        if verdict != "ok":
+            warnings.warn(f"the fit is {verdict}: " + "; ".join(reasons), ModalFitWarning,
+                          stacklevel=3)
+        return self
 
     def _check_window(self):
         as_nonnegative_scalar("window_decay_rate", self.window_decay_rate)
         if self.record_length is not None:
             as_positive_scalar("record_length", self.record_length)
+
+    @property
+    def _passive_on(self) -> bool:
+        """The passivity constraint in effect (``passive="auto"`` sets it per pass)."""
+        if "_passive_now" in self.__dict__:
+            return self.__dict__["_passive_now"]
+        return True if isinstance(self.passive, str) else bool(self.passive)
+
+    @_passive_on.setter
+    def _passive_on(self, value):
+        self.__dict__["_passive_now"] = bool(value)
 
     @property
     def _shift(self) -> float:
@@ -262,7 +357,7 @@ class ModalFit(FRFPipeline, BaseEstimator):
         return {"frequencies_hz": freqs}
 
     def _relative(self):
-        return self.weighting == "relative" and self.weights is None
+        return getattr(self, "_weighting_on", self.weighting) == "relative" and self.weights is None
 
     def _prepare(self, data: FRFData):
         given = None
@@ -274,18 +369,26 @@ class ModalFit(FRFPipeline, BaseEstimator):
             given = given[data.freq_hz > 0]
         data = data.select(data.freq_hz > 0)
         first = data.freq_hz[0]
-        if self.freq_range is not None:
-            if given is not None:
-                lo, hi = self.freq_range
-                given = given[(data.freq_hz >= lo) & (data.freq_hz <= hi)]
-            data = data.band(self.freq_range)
-        cut = bool(data.freq_hz[0] > first)          # lines below the band were dropped
+        if self.freq_range is None:                   # the lines the data can vouch for
+            windowed = bool(self.window_decay_rate) or self.record_length is not None
+            band, self._band_reason = choose_band(data, low_end=not windowed)
+        else:
+            band, self._band_reason = self.freq_range, "freq_range"
+        if given is not None:
+            lo, hi = band
+            given = given[(data.freq_hz >= lo) & (data.freq_hz <= hi)]
+        data = data.band(band)
+        # lines below the band were dropped by the user (the automatic band drops only
+        # lines that scatter like noise: the data still reach below the first resonance)
+        cut = self.freq_range is not None and bool(data.freq_hz[0] > first)
         self._data_band = self.data_ = data           # in the data's own quantity
+        if self.weighting == "auto":
+            self._weighting_on, self._weighting_reason = choose_weighting(data.values)
         frf = data.to_receptance()
         mag = np.abs(frf.values)
-        if self.weighting == "relative":
+        if self._weighting_on == "relative":
             w = 1.0 / np.maximum(mag, 1e-12 * mag.max())
-        elif self.weighting == "noise":
+        elif self._weighting_on == "noise":
             w = 1.0 / noise_level(frf.values)
         else:
             w = np.full(mag.size, 1.0 / np.sqrt(np.mean(mag**2)))
@@ -303,7 +406,7 @@ class ModalFit(FRFPipeline, BaseEstimator):
         t, h = impulse_samples(data)
         max_order = as_count("max_order", self.max_order, minimum=2) if self.max_order else None
         out = identify_impulse(t, h, max_order=max_order, selection=self._selection(),
-                               rigid_body=self.rigid_body, passive=self.passive)
+                               rigid_body=self.rigid_body, passive=self._passive_on)
         self.stabilization_, self.clusters_ = out["stabilization"], out["clusters"]
         self.impulse_ = (t, h)
         poles, notes = out["poles"], []

@@ -124,14 +124,17 @@ class FRFData:
                        coherence=coherence)
 
     def band(self, freq_range) -> FRFData:
-        """The lines with ``fmin <= freq_hz <= fmax`` (Hz); an empty band is an error."""
+        """The lines with ``fmin <= freq_hz <= fmax`` (Hz; ``fmax`` may be ``numpy.inf``);
+        an empty band is an error."""
         try:
             fmin, fmax = freq_range
         except (TypeError, ValueError) as exc:
             raise TypeError(f"freq_range must be a pair (fmin, fmax) in Hz, got "
                             f"{freq_range!r}") from exc
         fmin = as_real_scalar("freq_range[0]", fmin)
-        fmax = as_real_scalar("freq_range[1]", fmax)
+        # an open top (numpy.inf) takes every line above fmin
+        open_top = isinstance(fmax, (float, np.floating)) and np.isposinf(fmax)
+        fmax = np.inf if open_top else as_real_scalar("freq_range[1]", fmax)
         if fmax <= fmin:
             raise ValueError(f"freq_range must have fmin < fmax, got ({fmin!r}, {fmax!r})")
         mask = (self._freq_hz >= fmin) & (self._freq_hz <= fmax)

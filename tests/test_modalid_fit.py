@@ -226,14 +226,21 @@ def test_noise_weighting_estimates_the_noise_from_the_data():
     assert df.max() < 2.5e-4 and dz.max() < 0.015 and dr.max() < 0.003
 
 
-def test_negative_modal_masses_warn_unless_not_passive():
+def test_negative_modal_masses_warn_when_passive_is_forced():
     truth, data, _ = frf_case("fixed rod", 0.01)
     reversed_sign = FRFData(data.freq_hz, -data.values)
     with pytest.warns(ModalFitWarning) as record:
-        fit = ModalFit().fit(reversed_sign)
+        fit = ModalFit(passive=True).fit(reversed_sign)
     assert any("negative modal mass" in str(w.message) for w in record)
-    assert fit.report_["n_modes"] == 0
-    fit = ModalFit(passive=False).fit(reversed_sign)
+    assert fit.report_["n_modes"] == 0 and fit.report_["verdict"] == "failed"
+    for fit in (ModalFit().fit(reversed_sign), ModalFit(passive=False).fit(reversed_sign)):
+        assert fit.report_["n_modes"] == N_BAND
+        true, ident = paired(truth, fit.report_["modes"])
+        np.testing.assert_allclose(ident["modal_mass"], -0.5, rtol=0.01)
+    # the default decides from the data: every modal mass negative, the sign reversed
+    fit = ModalFit().fit(reversed_sign)
+    assert fit.report_["driving_point"] is False
+    assert "sign reversed" in fit.report_["driving_point_reason"]
     true, ident = paired(truth, fit.report_["modes"])
     np.testing.assert_allclose(ident["modal_mass"], -0.5, rtol=0.01)
     np.testing.assert_allclose(ident["residue"], -true["residue"], rtol=0.005)
@@ -555,3 +562,42 @@ def test_the_low_end_rules_keep_a_free_body_and_a_grounded_one():
     assert fit._low_end(omega, h, np.ones_like(omega), rest, False) == (False, False)
     placed = fit._low_resonance(omega, h, rest)
     assert abs(placed.imag / (2 * np.pi) - f1) < f1 / 3.0
+
+
+def _real(name):
+    from modalid import read_frf
+
+    if name.endswith(".mat"):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")              # coherence clipped at a few lines
+            return read_frf(DATA / name, quantity="accelerance")
+    n = sum(1 for _ in open(DATA / name))
+    return read_frf(DATA / name, format="complex-lines", freq_hz=np.arange(float(n)),
+                    quantity="accelerance")
+
+
+@pytest.mark.parametrize("name, published, tol", [
+    ("case1.mat", [212.09], 1e-3), ("case2.mat", [192.59], 1e-3),
+    # pyuff's peaks, the first where 1/H crosses zero between its lines 51 and 52 Hz
+    ("meas_point_1.txt", [51.52, 142, 279, 460, 687, 959], 5e-3),
+    ("meas_point_3.txt", [51.52, 142, 279, 460, 687, 959], 5e-3)])
+def test_real_files_with_no_options(name, published, tol):
+    """Measured transfer FRFs, ModalFit() with no options: the band, the weighting and
+    'not a driving point' decided from the data, every published resonance found, none
+    spurious in the pyuff beam, and the verdict not failed."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        fit = ModalFit().fit(_real(name))
+    r = fit.report_
+    found = r["modes"]["frequency_hz"].to_numpy()
+    for f in published:
+        assert np.min(np.abs(found / f - 1)) < tol, (f, found)
+    assert r["driving_point"] is False and r["verdict"] != "failed"
+    assert r["band_hz"][0] > 0 and r["band_reason"]
+    if name.startswith("meas"):
+        assert r["n_modes"] == 6 and r["weighting"] == "relative"
+        assert r["band_hz"][0] >= 5.0                    # the noisy lowest lines dropped
+        # peaks sharper than the 1 Hz lines: their damping is flagged, not trusted
+        assert (~r["modes"]["damping_resolved"]).sum() >= 3
+    else:
+        assert r["weighting"] == "noise"                 # an analyzer's noise floor

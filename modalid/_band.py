@@ -1,0 +1,171 @@
+"""The automatic band of :class:`modalid.ModalFit`: the lines a measured FRF can vouch for.
+
+A measured FRF is not equally informative everywhere. Below the first trustworthy line
+sit DC leakage and the analyzer's or window's low end (random phase, |H| jumping from
+line to line); above the excitation's reach the coherence falls and the lines become
+noise. Fitting those lines costs time and, under relative weights, drags the poles. The
+band is chosen from the data alone:
+
+* **low end** -- the *roughness* of line ``k``, ``|H[k-1] - 2 H[k] + H[k+1]| / |H[k]|``
+  (a smooth FRF's second difference is small against its value; noise's is of order
+  one), is smoothed by a running median of 5 lines; the lowest lines are dropped while it
+  stays above ``max(0.3, 2 x`` the file's median roughness), at most 5 % of the lines,
+  and never through a resonance (a peak standing half a decade above its surroundings);
+* **high end** -- with coherence: the noise-to-signal ratio ``(1 - g)/g`` of the smoothed
+  coherence ``g`` (running median of about 1 % of the lines), compared with the file's
+  best tenth: the band ends where, above the middle of the file, a run of 2 % of the lines
+  or more has a ratio above ``max(0.1, 100 x`` the best) and the lines do not recover for
+  good. Without coherence the smoothed roughness plays the same part (above ``max(0.3,
+  4 x`` its median).
+
+Which lines were dropped, and why, is returned as a sentence for ``report_``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.ndimage import median_filter
+from scipy.signal import find_peaks
+
+from ._lsfd import noise_level
+from .frf import FRFData
+
+__all__ = ["choose_band", "choose_weighting", "roughness"]
+
+_LOW_MAX_SHARE = 0.05        # the low-end cut takes at most this share of the lines
+_RUN_SHARE = 0.02            # a bad run at the top must span this share of the lines
+_MIN_COHERENCE = 0.1         # below this everywhere the lines hold no information
+
+
+def roughness(values) -> np.ndarray:
+    """Relative second difference of each line, shape ``values.shape`` (the end lines
+    copy their neighbours'); about 0 for a smooth FRF, of order 1 for noise."""
+    h = np.asarray(values, dtype=complex)
+    if h.size < 3:
+        return np.zeros(h.size)
+    mag = np.maximum(np.abs(h[1:-1]), 1e-300)
+    inner = np.abs(h[2:] - 2.0 * h[1:-1] + h[:-2]) / mag
+    return np.concatenate([inner[:1], inner, inner[-1:]])
+
+
+def _low_cut(h, rough) -> int:
+    """How many of the lowest lines to drop."""
+    n = h.size
+    threshold = max(0.3, 2.0 * float(np.median(rough)))
+    smooth = median_filter(rough, size=5, mode="nearest")
+    good = np.flatnonzero(smooth < threshold)
+    cut = int(good[0]) if good.size else 0
+    if cut == 0 or cut > _LOW_MAX_SHARE * n:
+        return 0
+    # never through a resonance: a peak half a decade above its surroundings there, or
+    # closer than a quarter of the way to the first clear peak above
+    logmag = np.log10(np.maximum(np.abs(h), 1e-300))
+    if find_peaks(logmag[:cut + 3], prominence=0.5)[0].size:
+        return 0
+    above = find_peaks(logmag[cut:], prominence=0.3)[0]
+    if above.size and cut > 0.25 * (cut + above[0]):
+        return 0
+    return cut
+
+
+def _top_run(bad, n) -> int | None:
+    """Index where the band ends: the start of the highest run of ``bad`` lines of at
+    least ``_RUN_SHARE`` of ``n`` in the upper half, after which fewer than half of the
+    lines recover; ``None`` when there is none."""
+    run = max(3, int(_RUN_SHARE * n))
+    edges = np.flatnonzero(np.diff(np.concatenate([[0], bad.astype(np.int8), [0]])))
+    starts, stops = edges[::2], edges[1::2]
+    long_runs = [(a, b) for a, b in zip(starts, stops) if b - a >= run and a >= n // 2]
+    for a, _ in long_runs:
+        if np.mean(bad[a:]) >= 0.5:          # the lines above do not recover for good
+            return int(a)
+    return None
+
+
+def choose_band(data: FRFData, *, low_end=True) -> tuple[tuple[float, float], str]:
+    """The band (Hz) to fit and a sentence saying why.
+
+    Parameters
+    ----------
+    data : FRFData
+        The measured FRF, lines above 0 Hz (any quantity; roughness is scale-free).
+    low_end : bool
+        Whether the lowest lines may be dropped (not for data whose low end a model
+        describes, e.g. an exponential window's).
+
+    Returns
+    -------
+    (fmin, fmax) : tuple of float
+        The band, both ends included (Hz).
+    reason : str
+        What was dropped at each end and why ("all lines" when nothing was).
+
+    Raises
+    ------
+    ValueError
+        When fewer than 8 lines would remain, or the smoothed coherence is under 0.1 on
+        all but 8 lines (no usable band).
+    """
+    f, h, n = data.freq_hz, data.values, len(data)
+    rough = roughness(h)
+    lo = _low_cut(h, rough) if low_end else 0
+    reasons = []
+    if lo:
+        reasons.append(f"dropped {lo} line{'s' * (lo > 1)} below {f[lo]:.6g} Hz (the "
+                       "lowest lines scatter like noise: relative second difference "
+                       f"{np.median(rough[:lo]):.2g} against {np.median(rough):.2g})")
+    hi = None
+    if data.coherence is not None:
+        window = max(11, (n // 100) | 1)
+        g = np.clip(median_filter(data.coherence, size=window, mode="nearest"), 1e-6, 1.0)
+        nsr = (1.0 - g) / g
+        limit = max(0.1, 100.0 * float(np.quantile(nsr, 0.1)))
+        if np.count_nonzero(g >= _MIN_COHERENCE) < 8:
+            raise ValueError(f"the FRF holds no usable band: the smoothed coherence is below "
+                             f"{_MIN_COHERENCE} on {np.count_nonzero(g < _MIN_COHERENCE)} of "
+                             f"its {n} lines")
+        hi = _top_run(nsr > limit, n)
+        if hi is not None:
+            reasons.append(f"dropped the {n - hi} lines above {f[hi - 1]:.6g} Hz (the "
+                           f"smoothed coherence falls below {1 / (1 + limit):.3g})")
+    else:
+        window = max(11, (n // 100) | 1)
+        smooth = median_filter(rough, size=window, mode="nearest")
+        limit = max(0.3, 4.0 * float(np.median(rough)))
+        hi = _top_run(smooth > limit, n)
+        if hi is not None:
+            reasons.append(f"dropped the {n - hi} lines above {f[hi - 1]:.6g} Hz (the lines "
+                           "scatter like noise there)")
+    hi = n if hi is None else hi
+    if hi - lo < 8:
+        raise ValueError(f"the FRF holds no usable band: {hi - lo} informative lines of "
+                         f"{n} ({'; '.join(reasons)})")
+    return (float(f[lo]), float(f[hi - 1])), "; ".join(reasons) or "all lines"
+
+
+def choose_weighting(values) -> tuple[str, str]:
+    """``("noise" | "relative", reason)``: the weighting the data's noise calls for.
+
+    The data's own scatter (:func:`modalid._lsfd.noise_level`) relative to ``|H|`` is
+    compared on the weakest and the strongest quarter of the lines: noise proportional to
+    the FRF gives a ratio near 1, a noise floor (an analyzer's, a hammer test's) one of
+    ``|H|``'s spread. With a floor (ratio above 2.5) that matters (median relative scatter
+    above 5 %) the lines are weighted by one over the noise level ("noise"); else by
+    ``1/|H|`` ("relative", maximum likelihood for proportional noise).
+
+    Parameters
+    ----------
+    values : ndarray of complex, shape (n,)
+        The FRF in the quantity measured.
+    """
+    h = np.asarray(values, dtype=complex)
+    mag = np.abs(h)
+    relative = noise_level(h) / np.maximum(mag, 1e-300)
+    lo, hi = np.quantile(mag, [0.25, 0.75])
+    ratio = float(np.median(relative[mag <= lo]) / np.median(relative[mag >= hi]))
+    scatter = float(np.median(relative))
+    if ratio > 2.5 and scatter > 0.05:
+        return "noise", (f"a noise floor: the lines scatter by {100 * scatter:.2g} % (median), "
+                         f"{ratio:.2g} times more on the weakest quarter than the strongest")
+    return "relative", (f"noise proportional to the FRF or small (scatter {100 * scatter:.2g} "
+                        f"%, weak/strong ratio {ratio:.2g})")

@@ -1,0 +1,157 @@
+"""What a fit can vouch for: the driving-point decision and the quality verdict.
+
+Two judgements :class:`modalid.ModalFit` makes after identifying a model, so that no fit
+is silent nonsense:
+
+* :func:`driving_point_decision` -- is the FRF a driving point? A passive driving-point
+  receptance has every modal constant of one sign (positive modal mass
+  ``-1/(2 Im p Im r)``) and a positive mass line; a transfer FRF mixes signs. Decided
+  from an unconstrained fit, each mode weighed by its strength ``1/|m_k|``.
+* :func:`quality_verdict` -- ``"ok"``, ``"suspect"`` or ``"failed"`` with its reasons:
+  non-finite parameters, modal masses of the wrong sign for a driving point, damping at
+  a bound or not resolved by the line spacing, poles outside the band, an FRF error
+  worse than a zero model or well above the data's own scatter.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+__all__ = ["driving_point_decision", "quality_verdict", "damping_resolved"]
+
+_DOMINANT = 0.9       # share of the peak receptance that decides a driving point
+_MIN_DAMPING = 1e-6   # below this the damping ratio sits at the refinement's bound
+
+
+def driving_point_decision(modes: pd.DataFrame, inverse_mass: float):
+    """``(driving_point, reason)`` from an unconstrained fit's modes.
+
+    Parameters
+    ----------
+    modes : pandas.DataFrame
+        The physical modes (``ModalModel.modes``: ``omega_n``, ``damping_ratio``,
+        ``modal_mass``, ``residue``).
+    inverse_mass : float
+        The fitted mass line's ``1/M`` (1/kg), before any clipping; < 0 means a negative
+        mass line (a transfer FRF or a reversed sign).
+
+    Returns
+    -------
+    driving_point : bool
+        True when modes of positive modal mass carry at least 90 % of the modes'
+        strength ``sum 1/|m_k|`` and the mass line is not negative.
+    reason : str
+        The evidence, for ``report_``.
+    """
+    mass = modes["modal_mass"].to_numpy(float)
+    if mass.size == 0:
+        if inverse_mass < 0:
+            return False, "no resonance; the mass line is negative (transfer FRF or sign)"
+        return True, "no resonance to contradict it"
+        # a mode's weight: its strength 1/|m| (damping-free: a lightly damped peak's height
+    # says more about the damping estimate than about the mode)
+    strength = np.where(np.isfinite(mass) & (mass != 0), 1.0 / np.abs(mass), 0.0)
+    positive = np.isfinite(mass) & (mass > 0)
+    total = float(np.sum(strength))
+    share = float(np.sum(strength[positive]) / total) if total > 0 else 0.0
+    counts = f"{int(positive.sum())} of {mass.size} modes"
+    if share >= _DOMINANT and inverse_mass >= 0:
+        return True, (f"{counts} have a positive modal mass, carrying {100 * share:.0f} % "
+                      "of the modes' strength 1/|m|")
+    if share <= 1 - _DOMINANT and inverse_mass <= 0:
+        return False, (f"{mass.size - int(positive.sum())} of {mass.size} modes have a "
+                       "negative modal mass: a driving point with its sign reversed, or a "
+                       "transfer FRF")
+    why = f"modal masses of both signs ({counts} positive, {100 * share:.0f} % of the strength)"
+    if inverse_mass < 0:
+        why += " and a negative mass line"
+    return False, why + ": a transfer FRF"
+
+
+def damping_resolved(modes: pd.DataFrame, line_spacing_hz: float) -> np.ndarray:
+    """Per mode: can the data resolve its damping? Bool, shape (n_modes,).
+
+    Not when the half-power bandwidth ``2 zeta f`` is under half a line spacing (the
+    peak falls between lines: its shape gives the frequency, not the width), the ratio
+    sits at the refinement's lower bound, or its standard deviation exceeds half of it.
+    """
+    zeta = modes["damping_ratio"].to_numpy(float)
+    f = modes["frequency_hz"].to_numpy(float)
+    ok = (2.0 * zeta * f >= 0.5 * line_spacing_hz) & (zeta > _MIN_DAMPING)
+    if "damping_ratio_std" in modes:
+        std = modes["damping_ratio_std"].to_numpy(float)
+        ok &= ~(std > 0.5 * zeta)              # NaN (not estimated) passes
+    return ok
+
+
+def quality_verdict(modes: pd.DataFrame, *, band_hz, driving_point, nrmse, relative_error,
+                    relative_noise, rigid_body, finite):
+    """``(verdict, reasons)``: ``"ok"``, ``"suspect"`` or ``"failed"`` and why.
+
+    Parameters
+    ----------
+    modes : pandas.DataFrame
+        The physical modes.
+    band_hz : (float, float)
+        The band fitted.
+    driving_point : bool or None
+        The fit's decision (``None``: not decided, e.g. ERA).
+    nrmse : float
+        ``||H_model - H|| / ||H||`` in the data's own quantity (1: a zero model's).
+    relative_error, relative_noise : float
+        Median over the lines of ``|H_model - H| / |H|``, and of the data's own scatter
+        ``/ |H|`` (what no model can remove); NaN when not measured.
+    rigid_body : bool
+        Whether the model has a mass line.
+    finite : bool
+        Whether every parameter of the model is finite.
+
+    Returns
+    -------
+    verdict : str
+    reasons : list of str
+        Empty for ``"ok"``.
+
+    Notes
+    -----
+    Failed: a non-finite parameter or modal mass; an error no better than a zero model;
+    an error above 50 % while the lines' median error is above ``max(0.2, 3 x`` the
+    scatter); no resonance and no mass line with an error above 10 %. Suspect: an error
+    above 50 % otherwise; a median line error above ``max(0.05, 3 x`` the scatter) (modes missing); a negative modal mass
+    at a driving point; a mode outside the band; a damping ratio at its lower bound.
+    """
+    failed, suspect = [], []
+    if not finite:
+        failed.append("a parameter is not finite")
+    tolerance = max(0.05, 3.0 * relative_noise) if np.isfinite(relative_noise) else 0.05
+    if not np.isfinite(nrmse) or nrmse >= 1.0:
+        failed.append(f"the FRF error ({100 * nrmse:.3g} %) is no better than a zero model")
+    elif nrmse > 0.5 and relative_error > max(0.2, tolerance):
+        failed.append(f"the FRF error is {100 * nrmse:.3g} % (median per line "
+                      f"{100 * relative_error:.3g} %)")
+    elif nrmse > 0.5:
+        suspect.append(f"the FRF error is {100 * nrmse:.3g} % (median per line "
+                       f"{100 * relative_error:.3g} %: the lines near the peaks are missed)")
+    elif relative_error > tolerance:
+        suspect.append(f"the median error per line is {100 * relative_error:.3g} %, above "
+                       f"{100 * tolerance:.3g} % (three times the data's scatter, at least "
+                       "5 %): modes may be missing")
+    if len(modes) == 0 and not rigid_body and nrmse > 0.1:
+        failed.append("no resonance in the band")
+    f = modes["frequency_hz"].to_numpy(float)
+    mass = modes["modal_mass"].to_numpy(float)
+    zeta = modes["damping_ratio"].to_numpy(float)
+    for k in range(f.size):
+        name = f"mode at {f[k]:.6g} Hz"
+        if not np.isfinite(mass[k]) or mass[k] == 0:
+            failed.append(f"{name}: modal mass {mass[k]:.3g}")
+        elif driving_point and mass[k] < 0:
+            suspect.append(f"{name}: negative modal mass at a driving point")
+        if not band_hz[0] <= f[k] <= band_hz[1]:
+            suspect.append(f"{name}: outside the band {band_hz[0]:.6g}-{band_hz[1]:.6g} Hz")
+        if zeta[k] <= _MIN_DAMPING:
+            suspect.append(f"{name}: damping ratio {zeta[k]:.2g} at its lower bound")
+    if failed:
+        return "failed", failed + suspect
+    return ("suspect", suspect) if suspect else ("ok", [])

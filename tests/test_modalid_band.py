@@ -1,0 +1,84 @@
+"""The automatic band and weighting of ModalFit (modalid._band) on FRFs whose good lines
+are known: a clean cantilever receptance with junk lines at the bottom, a coherence that
+collapses at the top, a resonance at the lowest lines, and two noise models."""
+
+import numpy as np
+import pytest
+
+from data_synth import CantileverBeam
+from modalid import FRFData
+from modalid._band import choose_band, choose_weighting, roughness
+
+
+def beam_frf(n_lines=2000, zeta=0.01, first=None):
+    truth = CantileverBeam(1.0, 1.0).modal_model(16, damping_ratio=zeta, residual=True)
+    wn = truth.modes["omega_n"].to_numpy()
+    top = 0.5 * (wn[7] + wn[8]) / (2 * np.pi)
+    df = top / n_lines if first is None else wn[0] / (2 * np.pi) / first
+    freq = df * np.arange(1, n_lines + 1)
+    return freq, truth.frf(2 * np.pi * freq)
+
+
+def test_roughness_is_zero_on_a_line_and_large_on_noise():
+    assert np.allclose(roughness(np.linspace(1, 2, 50) + 0j), 0.0, atol=1e-12)
+    rng = np.random.default_rng(0)
+    noise = rng.normal(size=500) + 1j * rng.normal(size=500)
+    assert np.median(roughness(noise)) > 1.0
+
+
+def test_a_clean_frf_keeps_every_line():
+    freq, h = beam_frf()
+    (lo, hi), reason = choose_band(FRFData(freq, h))
+    assert (lo, hi) == (freq[0], freq[-1]) and reason == "all lines"
+
+
+def test_noise_at_the_lowest_lines_is_dropped():
+    freq, h = beam_frf(first=60)                 # the first mode at line 60
+    rng = np.random.default_rng(1)
+    junk = h.copy()
+    junk[:12] = np.abs(h[:12]) * np.exp(2j * np.pi * rng.random(12)) * rng.uniform(0.3, 3, 12)
+    (lo, hi), reason = choose_band(FRFData(freq, junk))
+    assert freq[10] <= lo <= freq[14] and hi == freq[-1]
+    assert "scatter like noise" in reason
+    (lo, _), _ = choose_band(FRFData(freq, junk), low_end=False)
+    assert lo == freq[0]
+
+
+def test_a_resonance_at_the_lowest_lines_is_never_cut():
+    """First mode between lines 2 and 3, 5 % noise: its lines are rough, but they hold a
+    resonance."""
+    freq, h = beam_frf(first=2.5)
+    rng = np.random.default_rng(2)
+    noisy = h * (1 + 0.05 * (rng.normal(size=h.size) + 1j * rng.normal(size=h.size)))
+    (lo, _), _ = choose_band(FRFData(freq, noisy))
+    assert lo == freq[0]
+
+
+def test_the_band_ends_where_the_coherence_collapses():
+    freq, h = beam_frf()
+    coherence = np.where(freq < freq[1499], 0.999, 0.3)
+    (lo, hi), reason = choose_band(FRFData(freq, h, coherence=coherence))
+    assert lo == freq[0] and freq[1490] <= hi <= freq[1499]
+    assert "coherence" in reason
+    # a dip in the middle (an antiresonance) and a recovery at the top do not end it
+    dip = np.where((freq > freq[900]) & (freq < freq[950]), 0.3, 0.999)
+    (_, hi), _ = choose_band(FRFData(freq, h, coherence=dip))
+    assert hi == freq[-1]
+
+
+def test_no_usable_band_is_an_error():
+    freq, h = beam_frf(n_lines=200)
+    with pytest.raises(ValueError, match="no usable band"):
+        choose_band(FRFData(freq, h, coherence=np.where(freq < freq[3], 0.999, 0.01)))
+    with pytest.raises(ValueError, match="no usable band"):
+        choose_band(FRFData(freq[:5], h[:5]))
+
+
+def test_the_weighting_follows_the_noise_model():
+    freq, h = beam_frf()
+    rng = np.random.default_rng(3)
+    e = (rng.normal(size=h.size) + 1j * rng.normal(size=h.size)) / np.sqrt(2)
+    proportional, _ = choose_weighting(h * (1 + 0.05 * e))
+    floor, reason = choose_weighting(h + 0.05 * np.sqrt(np.mean(np.abs(h) ** 2)) * e)
+    assert proportional == "relative" and floor == "noise" and "noise floor" in reason
+    assert choose_weighting(h)[0] == "relative"

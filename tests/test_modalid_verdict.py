@@ -1,0 +1,91 @@
+"""The driving-point decision and the quality verdict (modalid._verdict) on modal tables
+whose answer is known, and on the fits of exact FRFs."""
+
+import numpy as np
+import pandas as pd
+
+from data_synth import CantileverBeam
+from modalid import ModalModel
+from modalid._verdict import damping_resolved, driving_point_decision, quality_verdict
+
+
+def modes_of(poles, residues):
+    return ModalModel(poles=np.asarray(poles, complex), residues=np.asarray(residues)).modes
+
+
+POLES = [-1 + 100j, -2 + 300j, -3 + 500j]
+
+
+def test_one_sign_is_a_driving_point_mixed_signs_a_transfer():
+    driving = modes_of(POLES, [-0.01j, -0.02j, -0.015j])       # Im r < 0: m > 0
+    assert driving_point_decision(driving, 0.0)[0] is True
+    assert driving_point_decision(driving, -1.0)[0] is False   # a negative mass line
+    mixed = modes_of(POLES, [-0.01j, 0.02j, -0.015j])
+    ok, why = driving_point_decision(mixed, 0.0)
+    assert ok is False and "transfer" in why
+    reversed_sign = modes_of(POLES, [0.01j, 0.02j, 0.015j])
+    ok, why = driving_point_decision(reversed_sign, 0.0)
+    assert ok is False and "sign reversed" in why
+    # a weak mode of the other sign (under 10 % of the strength 1/|m|) is noise
+    weak = modes_of(POLES, [-0.01j, -0.02j, 0.0005j])
+    assert driving_point_decision(weak, 0.0)[0] is True
+    assert driving_point_decision(modes_of([], []), 0.0)[0] is True
+
+
+def test_damping_is_resolved_only_when_the_lines_resolve_it():
+    modes = modes_of([-1e-3 + 100j, -5 + 300j], [-0.01j, -0.02j])
+    # half-power bandwidths 2 zeta f: 3.2e-4 Hz and 1.6 Hz; lines 0.5 Hz apart
+    assert damping_resolved(modes, 0.5).tolist() == [False, True]
+    assert damping_resolved(modes, 1e-4).tolist() == [True, True]
+
+
+def verdict(modes, **kw):
+    settings = dict(band_hz=(1.0, 100.0), driving_point=True, nrmse=0.01, relative_error=0.01,
+                    relative_noise=0.01, rigid_body=False, finite=True)
+    settings.update(kw)
+    return quality_verdict(modes, **settings)
+
+
+def test_the_verdict_names_what_is_wrong():
+    good = modes_of(POLES, [-0.01j, -0.02j, -0.015j])
+    assert verdict(good) == ("ok", [])
+    state, why = verdict(good, nrmse=1.2, relative_error=0.9)
+    assert state == "failed" and "zero model" in why[0]
+    state, why = verdict(good, finite=False)
+    assert state == "failed" and "not finite" in why[0]
+    state, why = verdict(good, nrmse=0.3, relative_error=0.2)
+    assert state == "suspect" and "modes may be missing" in why[0]
+    # noisy data: an error the scatter explains is no fault
+    assert verdict(good, nrmse=0.3, relative_error=0.2, relative_noise=0.1)[0] == "ok"
+    mixed = modes_of(POLES, [-0.01j, 0.02j, -0.015j])
+    state, why = verdict(mixed)
+    assert state == "suspect" and "negative modal mass at a driving point" in why[0]
+    assert verdict(mixed, driving_point=False)[0] == "ok"
+    bound = modes_of([-1e-8 + 100j], [-0.01j])
+    state, why = verdict(bound)
+    assert state == "suspect" and "lower bound" in why[0]
+    state, why = verdict(modes_of([], []), nrmse=0.9, relative_error=0.9)
+    assert state == "failed" and "no resonance in the band" in why
+    outside = modes_of([-1 + 2000j], [-0.01j])
+    assert "outside the band" in verdict(outside)[1][0]
+
+
+def test_exact_fits_are_ok_and_a_noise_fit_fails():
+    from modalid import FRFData, ModalFit
+
+    truth = CantileverBeam(1.0, 1.0).modal_model(12, damping_ratio=0.01, residual=True)
+    freq = np.linspace(0.02, 40.0, 2000)
+    fit = ModalFit().fit(FRFData(freq, truth.frf(2 * np.pi * freq)))
+    r = fit.report_
+    assert r["verdict"] == "ok" and r["driving_point"] is True and r["weighting"] == "relative"
+    assert bool(np.all(r["modes"]["damping_resolved"]))
+    rng = np.random.default_rng(0)
+    noise = rng.normal(size=freq.size) + 1j * rng.normal(size=freq.size)
+    import warnings
+
+    with warnings.catch_warnings(record=True):
+        warnings.simplefilter("always")
+        fit = ModalFit().fit(FRFData(freq, 1e-3 * noise))
+    assert fit.report_["verdict"] in ("failed", "suspect")
+    assert isinstance(fit.report_["verdict_reasons"], list) and fit.report_["verdict_reasons"]
+    assert isinstance(pd.DataFrame(fit.report_["modes"]), pd.DataFrame)
