@@ -7,7 +7,8 @@ import sys
 import warnings
 from pathlib import Path
 
-from ._cli import add_fit_options, fit_options, run_command
+from ._cli import (add_fit_options, add_read_options, fit_options, in_flags, read_options,
+                   run_command)
 
 __all__ = ["main"]
 
@@ -25,7 +26,7 @@ def _cmd_fit(args) -> int:
     from .fit import ModalFit
     from .io import read_frf
 
-    data = read_frf(args.file, quantity=args.quantity, index=args.index)
+    data = read_frf(args.file, **read_options(args, args.file))
     freq_range = (args.fmin, args.fmax) if args.fmin is not None or args.fmax is not None \
         else None
     if freq_range is not None:
@@ -36,14 +37,18 @@ def _cmd_fit(args) -> int:
                    **fit_options(args))
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        fit.fit(data)
+        try:
+            fit.fit(data)
+        except ValueError as exc:
+            raise ValueError(f"{args.file}: {exc}") from None
     for w in caught:
-        print(f"warning: {w.message}", file=sys.stderr)
+        print(f"warning: {in_flags(str(w.message))}", file=sys.stderr)
     report = fit.report_
     print(f"{args.file}: {len(data)} lines, {data.freq_hz[0]:g}-{data.freq_hz[-1]:g} Hz, "
           f"{data.quantity}")
     columns = [c for c in ("frequency_hz", "damping_ratio", "modal_mass", "frequency_hz_std",
-                           "damping_ratio_std") if c in report["modes"].columns]
+                           "damping_ratio_std", "damping_resolved")
+               if c in report["modes"].columns]
     with pd.option_context("display.width", 140, "display.float_format", "{:.6g}".format):
         print(report["modes"][columns].to_string())
     print(f"rigid body: {report['rigid_body']} (inverse mass {report['inverse_mass']:.6g} 1/kg), "
@@ -58,6 +63,8 @@ def _cmd_fit(args) -> int:
           f"{report['converged']}")
     print(f"verdict: {report['verdict']}" + "".join(f"\n  - {r}"
                                                     for r in report["verdict_reasons"]))
+    if not args.out:
+        print("nothing saved (--out DIR writes the model JSON and the plots)")
     if args.out:
         out = Path(args.out)
         out.mkdir(parents=True, exist_ok=True)
@@ -75,6 +82,10 @@ def _cmd_fit(args) -> int:
         fig.savefig(out / f"{stem}_fit.png", dpi=110)
         plt.close(fig)
         print(f"wrote {out / (stem + '_model.json')} and {out / (stem + '_fit.png')}")
+    if report["verdict"] == "failed":
+        print(f"{args.file}: the fit failed (see the verdict); try --fmin/--fmax, "
+              "--weighting, --driving-point or --n-modes", file=sys.stderr)
+        return 3
     return 0
 
 
@@ -84,9 +95,7 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", metavar="command")
     fit = sub.add_parser("fit", help="identify a modal model from an FRF file")
     fit.add_argument("file", help="CSV, .npz, .mat or UFF 58 file")
-    fit.add_argument("--quantity", choices=("receptance", "mobility", "accelerance"),
-                     help="the FRF's quantity if the file does not say it")
-    fit.add_argument("--index", type=int, default=None, help="which FRF of a multi-FRF file")
+    add_read_options(fit)
     fit.add_argument("--method", choices=("lscf", "vf"), default="lscf")
     fit.add_argument("--n-modes", type=int, default=None, help="number of modes (default: auto)")
     fit.add_argument("--fmin", type=float, default=None,

@@ -2,6 +2,7 @@
 
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from modalid import ModalModel
@@ -51,4 +52,33 @@ def test_fit_command_models_an_exponential_window(windowed_free_rod_csv, tmp_pat
     assert 1.0 / dense.inverse_mass == pytest.approx(1.0, rel=3e-3)
     capsys.readouterr()
     assert main(["fit", str(path), "--window-decay", "-1"]) == 2
-    assert "window_decay_rate" in capsys.readouterr().err
+    assert "--window-decay must be non-negative" in capsys.readouterr().err
+
+
+def test_fit_command_on_a_bare_complex_lines_file(capsys):
+    """pyuff's measured accelerance (one complex literal per line): without frequencies
+    the message names the flags; with --df 1 the six peaks, 'not a driving point', the
+    band and the verdict are printed, and nothing saved is said."""
+    path = str(Path(__file__).parent / "data" / "meas_point_1.txt")
+    assert main(["fit", path, "--quantity", "accelerance"]) == 2
+    err = capsys.readouterr().err
+    assert "--freq-start/--df" in err and "freq_hz=" not in err
+    assert main(["fit", path, "--quantity", "accelerance", "--df", "1"]) == 0
+    out = capsys.readouterr().out
+    for peak in ("142.17", "278.67", "460.39", "687.1", "958.5"):
+        assert peak in out
+    assert "driving point: no" in out and "band 8-1000 Hz" in out and "verdict: ok" in out
+    assert "nothing saved" in out
+    assert main(["fit", path, "--quantity", "accelerance", "--df", "-1"]) == 2
+    assert "--df must be a positive" in capsys.readouterr().err
+
+
+def test_fit_command_on_a_file_with_no_usable_band(tmp_path, capsys):
+    """Coherence near zero on every line: an error naming the file, exit 2."""
+    freq = np.linspace(1.0, 100.0, 200)
+    table = np.column_stack([freq, 1.0 / (1 + freq), 0 * freq, np.full(200, 0.01)])
+    path = tmp_path / "noise.csv"
+    np.savetxt(path, table, delimiter=",", header="freq_hz,real,imag,coherence")
+    assert main(["fit", str(path), "--quantity", "receptance"]) == 2
+    err = capsys.readouterr().err
+    assert str(path) in err and "no usable band" in err
