@@ -24,13 +24,13 @@ Which lines were dropped, and why, is returned as a sentence for ``report_``.
 from __future__ import annotations
 
 import numpy as np
-from scipy.ndimage import median_filter
+from scipy.ndimage import median_filter, percentile_filter
 from scipy.signal import find_peaks
 
 from ._lsfd import noise_level
 from .frf import FRFData
 
-__all__ = ["choose_band", "choose_weighting", "roughness"]
+__all__ = ["choose_band", "choose_weighting", "noise_model", "roughness"]
 
 _LOW_MAX_SHARE = 0.05        # the low-end cut takes at most this share of the lines
 _RUN_SHARE = 0.02            # a bad run at the top must span this share of the lines
@@ -144,14 +144,16 @@ def choose_band(data: FRFData, *, low_end=True) -> tuple[tuple[float, float], st
 
 
 def choose_weighting(values) -> tuple[str, str]:
-    """``("noise" | "relative", reason)``: the weighting the data's noise calls for.
+    """``("relative" | "mixed" | "noise", reason)``: the weighting the data's noise calls for.
 
     The data's own scatter (:func:`modalid._lsfd.noise_level`) relative to ``|H|`` is
     compared on the weakest and the strongest quarter of the lines: noise proportional to
     the FRF gives a ratio near 1, a noise floor (an analyzer's, a hammer test's) one of
-    ``|H|``'s spread. With a floor (ratio above 2.5) that matters (median relative scatter
-    above 5 %) the lines are weighted by one over the noise level ("noise"); else by
-    ``1/|H|`` ("relative", maximum likelihood for proportional noise).
+    ``|H|``'s spread. Without a floor (ratio up to 2.5): ``1/|H|`` ("relative", maximum
+    likelihood for proportional noise). With one: where it dominates (median relative
+    scatter above 5 %) one over the local noise level ("noise"), else one over the
+    modelled ``sqrt((sigma_rel |H|)^2 + floor^2)`` of :func:`noise_model` ("mixed": the
+    antiresonances' floor does not take over the weights).
 
     Parameters
     ----------
@@ -164,8 +166,30 @@ def choose_weighting(values) -> tuple[str, str]:
     lo, hi = np.quantile(mag, [0.25, 0.75])
     ratio = float(np.median(relative[mag <= lo]) / np.median(relative[mag >= hi]))
     scatter = float(np.median(relative))
-    if ratio > 2.5 and scatter > 0.05:
-        return "noise", (f"a noise floor: the lines scatter by {100 * scatter:.2g} % (median), "
-                         f"{ratio:.2g} times more on the weakest quarter than the strongest")
+    floor = (f"a noise floor: the lines scatter by {100 * scatter:.2g} % (median), "
+             f"{ratio:.2g} times more on the weakest quarter than the strongest")
+    if ratio > 2.5:
+        return ("noise" if scatter > 0.05 else "mixed"), floor
     return "relative", (f"noise proportional to the FRF or small (scatter {100 * scatter:.2g} "
                         f"%, weak/strong ratio {ratio:.2g})")
+
+
+def noise_model(values):
+    """``(sigma_rel, floor)``: the data's noise as a part proportional to ``|H|`` and a
+    floor, per line.
+
+    ``floor`` (shape ``values.shape``, units of ``values``) is the 20th percentile of the
+    local noise level (:func:`modalid._lsfd.noise_level`) over about 2 % of the lines (at
+    least 51): the scatter where the FRF is weak, not raised by the curvature of the
+    resonances. ``sigma_rel`` is the median relative scatter of the strongest quarter of
+    the lines. The standard deviation of line ``k`` is then modelled as
+    ``sqrt((sigma_rel |H_k|)^2 + floor_k^2)``.
+    """
+    h = np.asarray(values, dtype=complex)
+    mag = np.abs(h)
+    level = noise_level(h)
+    window = max(51, (h.size // 50) | 1)
+    floor = percentile_filter(level, 20, size=window, mode="nearest")
+    strong = mag >= np.quantile(mag, 0.75)
+    sigma_rel = float(np.median(level[strong] / mag[strong]))
+    return sigma_rel, np.maximum(floor, 1e-12 * mag.max())

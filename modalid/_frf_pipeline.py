@@ -37,6 +37,7 @@ _FAR = 2.0          # the held upper pseudo-mode sits at twice the top of the ba
 # residual peaks rejected in a row ("strict": sparse bands; "dense": many weak modes)
 _MAX_ADDED = {"strict": 4, "dense": 60}
 _MAX_MISSES = {"strict": 1, "dense": 3}
+_MAX_DROPS = 8      # non-physical poles dropped one at a time (each drop refits)
 
 
 class ModalFitWarning(UserWarning):
@@ -275,7 +276,7 @@ class FRFPipeline:
                 else:
                     break
             # drop the worst non-physical pole, refine again from the start without it
-            for _ in range(0 if self._selection() else 4):
+            for _ in range(0 if self._selection() else _MAX_DROPS):
                 k, why = self._worst_pole(omega, h, w, poles, x, info, kinds, terms)
                 if k is None:
                     break
@@ -333,6 +334,8 @@ class FRFPipeline:
         mag = np.abs(evaluate(omega, poles, r, (), (), u, d, terms.rigid_shift))
         if not np.all(np.isfinite(mag)) or mag.max() <= 0:
             return w0                                     # no model to weigh by
+        if getattr(self, "_weighting_on", None) == "mixed":
+            return self._coherence_weight * self._mixed_weights(mag)
         return self._coherence_weight / np.maximum(mag, 1e-12 * mag.max())
 
     def _refine(self, omega, h, w, poles, kinds, terms, quick=False):

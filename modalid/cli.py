@@ -103,7 +103,7 @@ def build_parser() -> argparse.ArgumentParser:
                           "chosen from the data")
     fit.add_argument("--fmax", type=float, default=None, help="highest frequency (Hz)")
     fit.add_argument("--rigid-body", choices=("auto", "yes", "no"), default="auto")
-    fit.add_argument("--weighting", choices=("auto", "relative", "noise", "uniform"),
+    fit.add_argument("--weighting", choices=("auto", "relative", "mixed", "noise", "uniform"),
                      default="auto",
                      help="relative: noise proportional to the FRF; noise: a noise floor "
                           "estimated from the data (analyzer exports); auto: decide from "

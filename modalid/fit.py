@@ -27,7 +27,7 @@ from threadpoolctl import threadpool_limits
 
 from ._checks import (as_choice, as_count, as_nonnegative_scalar, as_positive_scalar,
                       as_real_array)
-from ._band import choose_band, choose_weighting
+from ._band import choose_band, choose_weighting, noise_model
 from ._era import identify_impulse, impulse_samples
 from ._frf_pipeline import FRFPipeline, ModalFitWarning, fit_report
 from ._verdict import damping_resolved, driving_point_decision, quality_verdict
@@ -84,10 +84,13 @@ class ModalFit(FRFPipeline, BaseEstimator):
         driving point.
     refine : bool
         Run the nonlinear refinement (else: residues of the estimated poles only).
-    weighting : {"auto", "relative", "noise", "uniform"}
-        ``"auto"`` (default): ``"noise"`` when the data show a noise floor that matters,
-        else ``"relative"`` (:func:`modalid._band.choose_weighting`; an FRFSet:
-        ``"relative"``); ``report_["weighting"]`` says which and why.
+    weighting : {"auto", "relative", "mixed", "noise", "uniform"}
+        ``"auto"`` (default): ``"relative"`` for noise proportional to the FRF, ``"mixed"``
+        for a noise floor under it, ``"noise"`` where the floor dominates
+        (:func:`modalid._band.choose_weighting`; an FRFSet: ``"relative"``);
+        ``report_["weighting"]`` says which and why. ``"mixed"``: one over the modelled
+        noise ``sqrt((sigma_rel |H|)^2 + floor^2)`` (:func:`modalid._band.noise_model`),
+        then with the model's ``|H|``.
         ``"relative"``: weights ``1/|H|`` (times the square root of the coherence when
         given), then ``1/|H_model|``: maximum likelihood for noise proportional to the
         FRF. ``"noise"``: one over the noise level estimated from the data's own scatter
@@ -223,7 +226,7 @@ class ModalFit(FRFPipeline, BaseEstimator):
             data's own scatter, relative) per output.
         """
         as_choice("method", self.method, ("lscf", "vf", "era"))
-        as_choice("weighting", self.weighting, ("auto", "relative", "noise", "uniform"))
+        as_choice("weighting", self.weighting, ("auto", "relative", "mixed", "noise", "uniform"))
         self._weighting_on = "relative" if self.weighting == "auto" else self.weighting
         self._weighting_reason = "given" if self.weighting != "auto" else "an FRFSet or ERA"
         as_choice("missed_modes", self.missed_modes, ("strict", "dense"))
@@ -356,8 +359,15 @@ class ModalFit(FRFPipeline, BaseEstimator):
             raise ValueError(f"n_modes as frequencies must be positive Hz, got {freqs!r}")
         return {"frequencies_hz": freqs}
 
+    def _mixed_weights(self, mag):
+        """One over the modelled noise ``sqrt((sigma_rel |H|)^2 + floor^2)`` of each line
+        (``weighting="mixed"``; ``mag``: the data's or the model's ``|H|``)."""
+        sigma_rel, floor = self._noise
+        return 1.0 / np.sqrt((sigma_rel * mag) ** 2 + floor ** 2)
+
     def _relative(self):
-        return getattr(self, "_weighting_on", self.weighting) == "relative" and self.weights is None
+        on = getattr(self, "_weighting_on", self.weighting)
+        return on in ("relative", "mixed") and self.weights is None
 
     def _prepare(self, data: FRFData):
         given = None
@@ -390,6 +400,9 @@ class ModalFit(FRFPipeline, BaseEstimator):
             w = 1.0 / np.maximum(mag, 1e-12 * mag.max())
         elif self._weighting_on == "noise":
             w = 1.0 / noise_level(frf.values)
+        elif self._weighting_on == "mixed":
+            self._noise = noise_model(frf.values)
+            w = self._mixed_weights(mag)
         else:
             w = np.full(mag.size, 1.0 / np.sqrt(np.mean(mag**2)))
         self._coherence_weight = (1.0 if frf.coherence is None
