@@ -282,7 +282,7 @@ class ModalFit(FRFPipeline, BaseEstimator):
             if driving and not (self.model_.is_passive() and self._raw_inverse_mass >= 0):
                 free = (dict(self.__dict__), self.report_["frf_median_relative_error"])
                 self._passive_on = True           # the constraint is active: refit with it
-                self._fit_frf(data)
+                self._refit_from_poles(data)
                 error = self.report_["frf_median_relative_error"]
                 if error > 1.5 * free[1] + 0.01:  # the data contradict a passive model
                     self.__dict__.update(free[0])
@@ -291,6 +291,19 @@ class ModalFit(FRFPipeline, BaseEstimator):
                         f"{100 * error:.3g} % against {100 * free[1]:.3g} % without the "
                         "constraint: not a passive driving point")
             return self._judge(driving_point=driving, reason=reason)
+
+    def _refit_from_poles(self, data):
+        """Identify again from the current fit's physical poles (the stabilization diagram
+        and its selection kept): the passive pass of ``passive="auto"``."""
+        start = self.poles_ - self._shift          # the fitted (windowed) data's poles
+        stabilization, clusters = self.stabilization_, self.clusters_
+        max_order = self.report_["max_order"]
+        added = [note for note in self.report_["notes"] if note.startswith("added")]
+        frf, w, cut = self._prepare(data)
+        self.frf_ = frf
+        self._identify(frf, w, start, cut, max_order, None)
+        self.stabilization_, self.clusters_ = stabilization, clusters
+        self.report_["notes"] = added + self.report_["notes"]   # how the start was found
 
     def _judge(self, *, driving_point, reason):
         """Add the driving-point decision, damping resolution and the quality verdict
