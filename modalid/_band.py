@@ -14,8 +14,8 @@ band is chosen from the data alone:
 * **high end** -- with coherence: the noise-to-signal ratio ``(1 - g)/g`` of the smoothed
   coherence ``g`` (running median of about 1 % of the lines), compared with the file's
   best tenth: the band ends where, above the middle of the file, a run of 2 % of the lines
-  or more has a ratio above ``max(0.1, 100 x`` the best) and the lines do not recover for
-  good. Without coherence the smoothed roughness plays the same part (above ``max(0.3,
+  or more has a ratio above ``max(1, 100 x`` the best) (the noise as strong as the signal,
+  or a hundred times the file's best) and the lines do not recover for good. Without coherence the smoothed roughness plays the same part (above ``max(0.3,
   4 x`` its median).
 
 Which lines were dropped, and why, is returned as a sentence for ``report_``.
@@ -119,7 +119,7 @@ def choose_band(data: FRFData, *, low_end=True) -> tuple[tuple[float, float], st
         window = max(11, (n // 100) | 1)
         g = np.clip(median_filter(data.coherence, size=window, mode="nearest"), 1e-6, 1.0)
         nsr = (1.0 - g) / g
-        limit = max(0.1, 100.0 * float(np.quantile(nsr, 0.1)))
+        limit = max(1.0, 100.0 * float(np.quantile(nsr, 0.1)))
         if np.count_nonzero(g >= _MIN_COHERENCE) < 8:
             raise ValueError(f"the FRF holds no usable band: the smoothed coherence is below "
                              f"{_MIN_COHERENCE} on {np.count_nonzero(g < _MIN_COHERENCE)} of "
