@@ -11,7 +11,17 @@ from data_synth import CantileverBeam, ExactModel, Rod
 from modalid import ModalModel, MultiOutputModalModel
 from modalid._checks import as_real_array, as_real_scalar
 
-__all__ = ["Body", "SampledResponse"]
+__all__ = ["Body", "SampledResponse", "check_driving_point", "driving_point_problems"]
+
+#: a mode whose shares of the model's inverse mass and static flexibility are both below
+#: this is negligible (e.g. an identified pseudo-mode with a rounding-level residue): it
+#: cannot change an impact by more than that share, so its sign is not judged
+NEGLIGIBLE_SHARE = 1e-6
+
+_WHAT_TO_DO = ("What to do: a transfer FRF is not a driving point: a body needs its "
+               "driving-point receptance (force and response at the contact point, same "
+               "direction); check the FRF's sign and quantity; refit the band (a passive fit "
+               "keeps modal masses positive, e.g. modalid.ModalFit(passive=True))")
 
 
 @dataclass(frozen=True, eq=False)
@@ -106,6 +116,16 @@ class Body:
         points as fractions of the length measured from the driving point (0 = the
         driving point, 1 = the far end). :attr:`ImpactResult.points` then holds their
         displacement, velocity and acceleration along ``y``.
+    check_passive : bool, keyword-only
+        Refuse a modal model that is not a stable, passive driving point (see
+        :func:`check_driving_point`): a pole with ``Re p > 0``, a mode with a negative or
+        non-finite modal mass, a negative ``inverse_mass``, ``flexibility`` or real
+        residue (of a ``MultiOutputModalModel``: its driving-point row; ``data_synth``
+        models are passive by construction). Such a model can put energy into the impact
+        from nowhere. ``False`` skips the check, for
+        a model you can justify (e.g. a deliberately active element); the result's
+        :attr:`~ImpactResult.energy_audit` still reports any energy created. A negative
+        rigid-body term ``1/M`` is refused either way (no rigid-body energy without it).
 
     Attributes
     ----------
@@ -126,13 +146,19 @@ class Body:
     vibration: Any = None
     load: Any = None
     outputs: Any = None
+    check_passive: bool = True
 
     def __init__(self, model, *, velocity=0.0, displacement=0.0, vibration=None, load=None,
-                 outputs=None):
+                 outputs=None, check_passive=True):
         model, outputs = _split_outputs(model, outputs)
         if not isinstance(model, (ModalModel, ExactModel, SampledResponse)):
             raise TypeError(f"model must be a ModalModel, a MultiOutputModalModel, a data_synth "
                             f"model or a SampledResponse, got {type(model).__name__}")
+        if not isinstance(check_passive, bool):
+            raise TypeError(f"check_passive must be True or False, got {check_passive!r}")
+        if check_passive and isinstance(model, ModalModel):
+            check_driving_point(model, name="the body's model",
+                                opt_out="to use it anyway, check_passive=False")
         velocity = as_real_scalar("velocity", velocity)
         displacement = as_real_scalar("displacement", displacement)
         if model.inverse_mass < 0.0:
@@ -158,7 +184,8 @@ class Body:
             load = _as_load(load)
         for name, value in (("model", model), ("velocity", velocity),
                             ("displacement", displacement), ("vibration", vibration),
-                            ("load", load), ("outputs", outputs)):
+                            ("load", load), ("outputs", outputs),
+                            ("check_passive", check_passive)):
             object.__setattr__(self, name, value)
 
     # ------------------------------------------------------------------ queries
@@ -267,6 +294,88 @@ class Body:
             raise ValueError(f"load(t) must return finite values of shape {t.shape}, got "
                              f"shape {values.shape}")
         return values
+
+
+def driving_point_problems(model: ModalModel) -> list:
+    """Why ``model`` cannot be a driving-point receptance: one sentence per fault.
+
+    Parameters
+    ----------
+    model : ModalModel
+        Pole-residue receptance (m/N).
+
+    Returns
+    -------
+    list of str
+        Empty for a stable, passive driving point. Faults: a pole with ``Re p > 0``
+        (unstable) or a real pole ``>= 0``; a mode whose modal mass
+        ``-1/(2 Im p Im r)`` (kg) is negative or not finite; a negative real residue, rigid
+        term ``inverse_mass`` (1/kg) or ``flexibility`` (m/N).
+
+    Notes
+    -----
+    The same conditions as :meth:`modalid.ModalModel.is_passive`, except that a mode
+    whose shares of the model's inverse mass ``sum |2 Im p Im r|`` and static flexibility
+    ``sum |r/p|`` are both below :data:`NEGLIGIBLE_SHARE` is not judged: a pseudo-mode with
+    a rounding-level residue has an undefined (infinite) modal mass of either sign and no
+    effect on an impact.
+    """
+    problems = []
+    p, r = model.poles, model.residues
+    inverse_share = np.abs(2.0 * p.imag * r.imag)
+    static_share = np.abs(r / p)
+    negligible = ((inverse_share <= NEGLIGIBLE_SHARE * (np.sum(inverse_share)
+                                                        + abs(model.inverse_mass)))
+                  & (static_share <= NEGLIGIBLE_SHARE * (np.sum(static_share)
+                                                         + abs(model.flexibility))))
+    with np.errstate(divide="ignore"):
+        modal_mass = -1.0 / (2.0 * p.imag * r.imag)
+    for k in np.argsort(np.abs(p), kind="stable"):
+        where = f"the mode at {abs(p[k]) / (2 * np.pi):.6g} Hz"
+        if p[k].real > 0.0:
+            problems.append(f"{where} is unstable (Re p = {p[k].real:.4g} rad/s > 0: it "
+                            "grows without a force)")
+        elif not negligible[k] and not (np.isfinite(modal_mass[k]) and modal_mass[k] > 0.0):
+            problems.append(f"{where} has modal mass {modal_mass[k]:.4g} kg (residue "
+                            f"{r[k].real:.4g}{r[k].imag:+.4g}j): not positive, a mode that "
+                            "gives back energy it never received")
+    for sigma, a in zip(model.real_poles, model.real_residues):
+        if sigma >= 0.0:
+            problems.append(f"the real pole {sigma:.4g} rad/s is unstable (>= 0)")
+        elif a < 0.0:
+            problems.append(f"the real pole {sigma:.4g} rad/s has a negative residue {a:.4g}")
+    if model.inverse_mass < 0.0:
+        problems.append(f"its rigid-body term 1/M = {model.inverse_mass:.4g} 1/kg is negative")
+    if model.flexibility < 0.0:
+        problems.append(f"its residual flexibility {model.flexibility:.4g} m/N is negative")
+    return problems
+
+
+def check_driving_point(model, *, name: str = "model", opt_out: str = "") -> None:
+    """Raise ``ValueError`` unless ``model`` is a stable, passive driving point.
+
+    Parameters
+    ----------
+    model : ModalModel or MultiOutputModalModel
+        Receptance (m/N); of a multi-output model, its driving-point row is checked.
+    name : str, keyword-only
+        What to call the model in the message (e.g. ``"the primary"``).
+    opt_out : str, keyword-only
+        How the caller's user can skip the check, appended to the message (none if empty).
+
+    Raises
+    ------
+    ValueError
+        Naming each faulty mode (frequency in Hz) and why (see
+        :func:`driving_point_problems`), and what to do about it.
+    """
+    if isinstance(model, MultiOutputModalModel):
+        model = model.driving
+    problems = driving_point_problems(model)
+    if problems:
+        raise ValueError(f"{name} is not a stable, passive driving-point receptance: "
+                         f"{'; '.join(problems)}. {_WHAT_TO_DO}"
+                         + (f"; {opt_out}" if opt_out else ""))
 
 
 def _split_outputs(model, outputs):

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import re
 import sys
 from pathlib import Path
 
@@ -66,6 +67,43 @@ def _cmd_paper(args) -> int:
     return 0
 
 
+#: predict's keywords (as its messages write them, ``name=``) and the flags that set them
+_FLAGS = (("check_passive=False", "--no-passivity-check"), ("velocity1=", "--v1 "),
+          ("velocity2=", "--v2 "), ("t_end=", "--t-end "), ("dt=", "--dt "),
+          ("gap=", "--gap "), ("quantity=", "--quantity "), ("contact=", "--contact "),
+          ("method=", "--method "), ("missed_modes=", "--missed-modes "),
+          ("window_decay_rate=", "--window-decay "), ("record_length=", "--record-length "))
+
+#: units of the columns of the CSV files ``impactpred predict`` writes
+_UNITS = {"t": "t_s", "force": "force_N", "y1": "y1_m", "y2": "y2_m", "gap": "gap_m",
+          "displacement": "displacement_m", "velocity": "velocity_m_s",
+          "acceleration": "acceleration_m_s2"}
+
+
+def in_flag_terms(message: str) -> str:
+    """``message`` on one line, with predict's keywords (``t_end=8``) written as the
+    command's flags (``--t-end 8``)."""
+    message = " ".join(str(message).split())
+    for keyword, flag in _FLAGS:
+        message = re.sub(r"(?<![\w.-])" + re.escape(keyword), flag, message)
+    return re.sub(r"(--[\w-]+ )'([^']*)'", r"\1\2", message)
+
+
+def _with_units(frame):
+    """``frame`` with the project's units in its column and index names."""
+    frame = frame.rename(columns=lambda c: _UNITS.get(c, c))
+    frame.index = frame.index.rename(_UNITS.get(frame.index.name, frame.index.name))
+    return frame
+
+
+def _audit_line(res) -> str:
+    audit = res.energy_audit
+    verdict = "ok" if audit.ok else "FLAGGED: " + "; ".join(audit.reasons)
+    return (f"{'energy_audit':>26s}: created {audit.created:.4g} J = {100 * audit.relative:.3g} "
+            f"% of the {audit.scale:.4g} J the impact can redistribute (tolerance "
+            f"{100 * audit.tolerance:.3g} %): {verdict}")
+
+
 def _cmd_predict(args) -> int:
     import warnings
 
@@ -75,11 +113,15 @@ def _cmd_predict(args) -> int:
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        pred = predict(args.body1, args.body2, velocity1=args.v1, velocity2=args.v2,
-                       gap=args.gap, contact=args.contact, t_end=args.t_end, dt=args.dt,
-                       method=args.method, quantity=args.quantity,
-                       continuation=args.continuation, uncertainty=args.uncertainty,
-                       fit_options=fit_options(args))
+        try:
+            pred = predict(args.body1, args.body2, velocity1=args.v1, velocity2=args.v2,
+                           gap=args.gap, contact=args.contact, t_end=args.t_end, dt=args.dt,
+                           method=args.method, quantity=args.quantity,
+                           continuation=args.continuation, uncertainty=args.uncertainty,
+                           fit_options=fit_options(args),
+                           check_passive=not args.no_passivity_check)
+        except ValueError as exc:
+            raise ValueError(in_flag_terms(exc)) from None
     res = pred.result
     for i, fit in enumerate(pred.fits, start=1):
         if fit is None:
@@ -87,7 +129,7 @@ def _cmd_predict(args) -> int:
         report = fit.report_
         print(f"body {i}: identified from {getattr(args, f'body{i}')} "
               f"({report['band_hz'][0]:.4g}-{report['band_hz'][1]:.4g} Hz, "
-              f"FRF NRMSE {report['frf_nrmse']:.3g})")
+              f"FRF NRMSE {report['frf_nrmse']:.3g}, verdict {report.get('verdict', 'ok')})")
         with pd.option_context("display.width", 140, "display.float_format", "{:.6g}".format):
             print(report["modes"][["frequency_hz", "damping_ratio", "modal_mass"]].to_string())
         print(f"  rigid body: {report['rigid_body']}, effective mass "
@@ -95,13 +137,15 @@ def _cmd_predict(args) -> int:
               f"{report['residual_flexibility']:.6g} m/N; force energy above the band: "
               f"{100 * pred.band_reach[i - 1]:.2f} %")
     for w in caught:
-        print(f"warning: {w.message}", file=sys.stderr)
-    summary = res.summary()
+        print(f"warning: {in_flag_terms(w.message)}", file=sys.stderr)
+    summary = res.headline()
     for key, value in summary.items():
         print(f"{key:>26s}: {value}")
     intervals = [(round(a, 9), round(b, 9)) for a, b in res.contact_intervals]
-    print(f"{'contact_intervals':>26s}: {intervals}")
+    print(f"{'contact_intervals_s':>26s}: {intervals}")
+    print(_audit_line(res))
     with pd.option_context("display.width", 140, "display.float_format", "{:.6g}".format):
+        print("energy (J):")
         print(res.energy.to_string())
         if any(p is not None for p in res.points):
             print("peaks at the output points (body, point):")
@@ -118,12 +162,13 @@ def _cmd_predict(args) -> int:
 
         out = Path(args.out)
         out.mkdir(parents=True, exist_ok=True)
-        res.to_pandas().to_csv(out / "force_motion.csv")
+        _with_units(res.to_pandas()).to_csv(out / "force_motion.csv")
         pd.DataFrame([summary]).to_csv(out / "summary.csv", index=False)
-        res.energy.to_csv(out / "energy.csv")
+        res.energy.rename(columns=lambda c: f"{c}_J").rename_axis("body").to_csv(
+            out / "energy.csv")
         for i, points in enumerate(res.points, start=1):
             if points is not None:
-                points.to_pandas().to_csv(out / f"points_body{i}.csv")
+                _with_units(points.to_pandas()).to_csv(out / f"points_body{i}.csv")
         fig, ax = plt.subplots(figsize=(8, 4))
         res.plot(ax=ax)
         fig.tight_layout()
@@ -187,8 +232,13 @@ def build_parser() -> argparse.ArgumentParser:
                            "impedance of their top modes)")
     pred.add_argument("--uncertainty", action="store_true",
                       help="report the spread over cut-band re-identifications")
+    pred.add_argument("--no-passivity-check", action="store_true",
+                      help="accept models that are not stable, passive driving points "
+                           "(negative modal masses, unstable poles): only for a model you "
+                           "can justify; the energy audit still flags energy from nowhere")
     add_fit_options(pred)
-    pred.add_argument("--out", help="folder for the CSV files and the plot")
+    pred.add_argument("--out", help="folder for the CSV files (units in their headers) and "
+                                    "the plot")
     pred.set_defaults(func=_cmd_predict)
     bench = sub.add_parser("benchmark", help="synthetic hammer tests -> identification -> "
                                              "prediction, against the exact answers")

@@ -26,17 +26,74 @@ from modalid import ModalFit, ModalModel, MultiOutputModalModel
 from modalid.io import read_frf
 
 from .api import solve_impact
-from .body import Body, SampledResponse
+from .body import Body, SampledResponse, check_driving_point
 from .contact import ContactLaw, Hertz, LinearSpring, Rigid
 from .result import ImpactResult
 from .truncation import band_resolution, identified_model, impact_figures
 from .uncertainty import uncertainty_band
 
-__all__ = ["predict", "Prediction", "parse_body", "parse_contact", "BandWarning"]
+__all__ = ["predict", "Prediction", "parse_body", "parse_contact", "BandWarning",
+           "IdentificationWarning", "check_identification"]
 
 
 class BandWarning(UserWarning):
     """The predicted force has a good part of its spectrum above a body's measured band."""
+
+
+class IdentificationWarning(UserWarning):
+    """A body's identification is suspect (``ModalFit.report_["verdict"] == "suspect"``):
+    the prediction goes on, on a model to be checked."""
+
+
+#: what may fix a failed identification, as predict's and ModalFit's keywords (the command
+#: line names the same options as flags)
+_FIT_REMEDIES = ("quantity=... if the file does not state its quantity or states it wrong; "
+                 "missed_modes='dense' for a band with many weak or close modes; "
+                 "window_decay_rate=... and record_length=... for FRFs measured with an "
+                 "exponential window; a band that holds whole resonances, or identify the "
+                 "body yourself (modalid.ModalFit) and give the saved model (.json)")
+
+
+def check_identification(fit, source, *, body: int) -> None:
+    """Stop a prediction on a failed or non-driving-point identification; warn on a suspect one.
+
+    Parameters
+    ----------
+    fit : modalid.ModalFit
+        Fitted on the FRF file ``source``; reads ``report_["verdict"]`` (``"ok"``,
+        ``"suspect"`` or ``"failed"``, ``"ok"`` when absent), ``report_["verdict_reasons"]``
+        and ``report_["driving_point"]`` (True, False or None: not decided).
+    source : str or Path
+        The FRF file, named in the messages.
+    body : int, keyword-only
+        1 or 2, named in the messages.
+
+    Raises
+    ------
+    ValueError
+        The verdict is ``"failed"`` (with its reasons and options that may fix it), or
+        the FRF is not a driving point (a transfer FRF cannot be an impact body).
+
+    Warns
+    -----
+    IdentificationWarning
+        The verdict is ``"suspect"``.
+    """
+    report = fit.report_
+    verdict = report.get("verdict", "ok")
+    reasons = "; ".join(report.get("verdict_reasons", ())) or "no reason given"
+    if report.get("driving_point") is False:
+        why = report.get("driving_point_reason") or reasons
+        raise ValueError(f"body {body}: {source} is not a driving-point FRF ({why}): a "
+                         "transfer FRF cannot be an impact body, a body needs its "
+                         "driving-point receptance (force and response at the contact "
+                         "point); give the FRF measured there")
+    if verdict == "failed":
+        raise ValueError(f"body {body}: the identification of {source} failed ({reasons}); "
+                         f"options that may fix it: {_FIT_REMEDIES}")
+    if verdict == "suspect":
+        warnings.warn(f"body {body}: the identification of {source} is suspect ({reasons}); "
+                      "the prediction relies on it", IdentificationWarning, stacklevel=3)
 
 
 _SPECS = {
@@ -181,7 +238,7 @@ def force_energy_above(result: ImpactResult, freq_hz: float) -> float:
 def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rigid",
             t_end, dt=None, method="auto", quantity=None, band_tolerance=0.01,
             continuation=False, uncertainty=False, uncertainty_draws=4,
-            seed=0, fit_options=None) -> Prediction:
+            seed=0, fit_options=None, check_passive=True) -> Prediction:
     """Predict the impact of two bodies given as files, specs or models.
 
     Parameters
@@ -212,21 +269,38 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
         Keyword options of the :class:`modalid.ModalFit` each FRF file is identified with,
         e.g. ``HammerFRF.fit_options()`` (``window_decay_rate``, ``record_length``) for FRFs
         measured with an exponential window, which the fit then models exactly.
+    check_passive : bool
+        Refuse models that are not stable, passive driving points (see :class:`Body`).
+
+    Raises
+    ------
+    ValueError
+        A body's identification failed or its FRF is not a driving point (see
+        :func:`check_identification`; a suspect one warns with
+        :class:`IdentificationWarning`), a model is not a passive driving point, or the
+        solve's input is refused (see :func:`solve_impact`).
     """
     if fit_options is not None and not isinstance(fit_options, dict):
         raise TypeError(f"fit_options must be a dict of ModalFit options, got "
                         f"{type(fit_options).__name__}")
     models, fits = [], []
-    for spec in (body1, body2):
+    for i, spec in enumerate((body1, body2), start=1):
         estimator = ModalFit(**fit_options) if fit_options else None
         model, fit = parse_body(spec, quantity=quantity, fit=estimator,
                                 continuation=continuation)
+        if fit is not None:
+            check_identification(fit, spec, body=i)
+        if check_passive and isinstance(model, (ModalModel, MultiOutputModalModel)):
+            label = spec if isinstance(spec, (str, Path)) else f"a {type(spec).__name__}"
+            check_driving_point(model, name=f"body {i} ({label})",
+                                opt_out="to use it anyway, check_passive=False")
         models.append(model)
         fits.append(fit)
     law = parse_contact(contact)
 
     def solve(model1, model2):
-        return solve_impact(Body(model1, velocity=velocity1), Body(model2, velocity=velocity2),
+        return solve_impact(Body(model1, velocity=velocity1, check_passive=check_passive),
+                            Body(model2, velocity=velocity2, check_passive=check_passive),
                             gap=gap, contact=law, t_end=t_end, dt=dt, method=method)
 
     result = solve(*models)

@@ -7,7 +7,12 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
-__all__ = ["ImpactResult", "BodyEnergy"]
+__all__ = ["ImpactResult", "BodyEnergy", "EnergyAudit", "EnergyWarning"]
+
+
+class EnergyWarning(UserWarning):
+    """A prediction ends with more energy than it had: beyond the solver's accuracy, the
+    result is not physical (see :class:`EnergyAudit`)."""
 
 
 @dataclass(frozen=True)
@@ -31,6 +36,67 @@ class BodyEnergy:
     @property
     def total_after(self) -> float:
         return self.rigid_after + self.vibration_after
+
+
+@dataclass(frozen=True)
+class EnergyAudit:
+    """The energy balance of a prediction, both bodies and the contact together.
+
+    ``created = after + stored + dissipated - before - load_work`` (J) is energy that
+    came from nowhere: 0 for an exact solution of undamped bodies, negative when the
+    bodies' own damping or a Dirac (plastic) part of the force took some.
+
+    Attributes
+    ----------
+    before, after : float
+        Rigid-body kinetic plus vibration energy of both bodies (J) at ``t = 0`` and at
+        ``t_end``.
+    dissipated : float
+        Energy (J) a spring-dashpot contact took: its dashpot's, plus the spring energy
+        left behind where the force is clipped at 0 with the bodies still overlapping
+        (0 for rigid and purely elastic contacts).
+    stored : float
+        Elastic energy (J) left in a compliant contact still closed at ``t_end``.
+    load_work : float
+        Work (J) of the external loads on the bodies.
+    scale : float
+        The energy the impact can redistribute (J): ``before`` less the centre of mass's
+        kinetic energy (which the contact force cannot change), plus ``|load_work|``.
+    tolerance : float
+        Relative accuracy of the solver's energy (of ``scale``): rounding-level for the
+        exact solvers, the discretisation's for the time-stepping ones.
+    reasons : tuple of str
+        Why the result is flagged (empty when it is not): ``relative`` above
+        ``tolerance``, a body left with negative vibration energy, or a restitution above
+        ``1 + tolerance`` without pre-impact vibration or load (see
+        :func:`impactpred.api.energy_audit`).
+    """
+
+    before: float
+    after: float
+    dissipated: float
+    stored: float
+    load_work: float
+    scale: float
+    tolerance: float
+    reasons: tuple = ()
+
+    @property
+    def created(self) -> float:
+        """Energy (J) the prediction ends with beyond what it had and was given."""
+        return self.after + self.stored + self.dissipated - self.before - self.load_work
+
+    @property
+    def relative(self) -> float:
+        """``created / scale`` (0 when nothing moves)."""
+        if self.scale > 0.0:
+            return self.created / self.scale
+        return 0.0 if self.created <= 0.0 else float("inf")
+
+    @property
+    def ok(self) -> bool:
+        """True when nothing is flagged."""
+        return not self.reasons
 
 
 def _frozen(a, dtype=float):
@@ -77,6 +143,9 @@ class ImpactResult:
     points : tuple of (PointResponse or None)
         Per body: displacement, velocity and acceleration histories of its output points
         (None for a body given without outputs); see :class:`impactpred.PointResponse`.
+    energy_audit : EnergyAudit or None
+        The energy balance (``energy_audit.ok``, ``.created``, ``.relative``), set by
+        :func:`impactpred.solve_impact`; None on a result built by a solver directly.
     """
 
     t: np.ndarray
@@ -96,6 +165,7 @@ class ImpactResult:
     inverse_masses: tuple
     notes: tuple = field(default_factory=tuple)
     points: tuple = (None, None)
+    energy_audit: EnergyAudit | None = None
 
     def __post_init__(self):
         for name in ("t", "force", "y1", "y2", "gap"):
@@ -112,15 +182,23 @@ class ImpactResult:
         return len(self.contact_intervals)
 
     @property
-    def contact_duration(self) -> float:
+    def contact_duration_first(self) -> float:
         """Duration (s) of the first contact; 0.0 without contact."""
         if not self.contact_intervals:
             return 0.0
         start, end = self.contact_intervals[0]
         return end - start
 
+    #: the first contact's duration (s): the name kept for existing code
+    contact_duration = contact_duration_first
+
     @property
-    def peak_force(self) -> float:
+    def total_contact_time(self) -> float:
+        """Time (s) in contact, summed over every contact interval within ``t_end``."""
+        return float(sum(end - start for start, end in self.contact_intervals))
+
+    @property
+    def peak_force_first_contact(self) -> float:
         """Largest regular force (N) during the first contact (Dirac parts excluded)."""
         if not self.contact_intervals:
             return 0.0
@@ -128,19 +206,37 @@ class ImpactResult:
         inside = (self.t >= start) & (self.t <= end)
         return float(np.max(self.force[inside], initial=0.0))
 
+    #: the first contact's peak force (N): the name kept for existing code
+    peak_force = peak_force_first_contact
+
+    @property
+    def peak_force_max(self) -> float:
+        """Largest regular force (N) over the whole history (Dirac parts excluded)."""
+        return float(np.max(self.force, initial=0.0))
+
     @property
     def impulse(self) -> float:
         """Total impulse (N s) of all contacts within ``t_end``, Dirac parts included."""
         return self.total_impulse
 
     @property
+    def touched(self) -> bool:
+        """True when the bodies touched within ``t_end`` (a Dirac contact counts)."""
+        return bool(self.contact_intervals or self.dirac_impulses)
+
+    @property
     def restitution(self):
-        """``(u2' - u1') / (u1 - u2)`` after the last separation; None without approach."""
+        """``(u2' - u1') / (u1 - u2)`` after the last separation; None without approach or
+        without contact."""
+        if not self.touched:
+            return None
         return _restitution(self.velocities_before, self.velocities_after)
 
     @property
     def restitution_first(self):
-        """Restitution after the first contact only; None without approach."""
+        """Restitution after the first contact only; None without approach or contact."""
+        if not self.touched:
+            return None
         u1, u2 = self.velocities_before
         p = self.first_contact_impulse
         after = (u1 - p * self.inverse_masses[0], u2 + p * self.inverse_masses[1])
@@ -161,8 +257,37 @@ class ImpactResult:
         after_vib = sum(e.vibration_after for e in self.energy_by_body)
         return after_vib / before if before > 0 else 0.0
 
+    def headline(self) -> dict:
+        """The headline figures, each named for what it is, with its unit in the key.
+
+        ``peak_force_N`` is the largest regular force over the whole history,
+        ``peak_force_first_contact_N`` that of the first contact;
+        ``contact_duration_first_s`` is the first contact's duration,
+        ``total_contact_time_s`` the sum over all contacts; restitutions are None without
+        contact. The ``energy_*`` entries are the :attr:`energy_audit` (None without one).
+        """
+        audit = self.energy_audit
+        return {"method": self.method, "dt_s": self.dt, "n_contacts": self.n_contacts,
+                "contact_duration_first_s": self.contact_duration_first,
+                "total_contact_time_s": self.total_contact_time,
+                "peak_force_first_contact_N": self.peak_force_first_contact,
+                "peak_force_N": self.peak_force_max,
+                "impulse_first_contact_Ns": self.first_contact_impulse,
+                "impulse_Ns": self.impulse,
+                "restitution_first": self.restitution_first, "restitution": self.restitution,
+                "vibration_energy_fraction": self.vibration_energy_fraction,
+                "n_dirac": len(self.dirac_impulses),
+                "energy_before_J": None if audit is None else audit.before,
+                "energy_created_J": None if audit is None else audit.created,
+                "energy_created_relative": None if audit is None else audit.relative,
+                "energy_audit_ok": None if audit is None else audit.ok}
+
     def summary(self) -> dict:
-        """The headline figures as a plain dict."""
+        """The headline figures as a plain dict, under their original names.
+
+        ``contact_duration`` and ``peak_force`` are the first contact's; see
+        :meth:`headline` for the figures named for what they are, with units.
+        """
         return {"method": self.method, "dt": self.dt, "n_contacts": self.n_contacts,
                 "contact_duration": self.contact_duration, "peak_force": self.peak_force,
                 "impulse": self.impulse, "restitution_first": self.restitution_first,

@@ -93,10 +93,13 @@ def test_predict_command_writes_results(measured_rod, tmp_path, capsys):
     out = capsys.readouterr()
     assert "identified from" in out.out and "restitution" in out.out
     assert "above its measured band" in out.err
-    frame = pd.read_csv(tmp_path / "force_motion.csv", index_col="t")
-    assert list(frame.columns) == ["force", "y1", "y2", "gap"]
+    frame = pd.read_csv(tmp_path / "force_motion.csv", index_col="t_s")
+    assert list(frame.columns) == ["force_N", "y1_m", "y2_m", "gap_m"]
     summary = pd.read_csv(tmp_path / "summary.csv")
     assert summary["restitution"].iloc[0] == pytest.approx(0.698876, rel=0.04)
+    assert summary["energy_audit_ok"].iloc[0]
+    energy = pd.read_csv(tmp_path / "energy.csv", index_col="body")
+    assert list(energy.columns)[:2] == ["rigid_before_J", "vibration_before_J"]
     assert (tmp_path / "impact.png").stat().st_size > 1000
 
 
@@ -106,7 +109,7 @@ def test_predict_command_with_continuation_and_uncertainty(measured_rod, capsys)
     out = capsys.readouterr().out
     assert "uncertainty band" in out and "restitution" in out
     # the continued model no longer chatters: one first contact about 3.07 T long
-    assert "contact_intervals: [(0.0, 3.07" in out
+    assert "contact_intervals_s: [(0.0, 3.07" in out
 
 
 def test_predict_command_with_a_saved_multi_point_model_writes_every_point(tmp_path, capsys):
@@ -122,10 +125,12 @@ def test_predict_command_with_a_saved_multi_point_model_writes_every_point(tmp_p
     assert "peaks at the output points" in printed and "xi=0.8" in printed
     table = pd.read_csv(out / "points_body2.csv", header=[0, 1], index_col=0)
     assert table.shape[1] == 9
+    assert set(table.columns.get_level_values(0)) == {"displacement_m", "velocity_m_s",
+                                                      "acceleration_m_s2"}
     motion = pd.read_csv(out / "force_motion.csv", index_col=0)
     # the driving-point row is the struck point's displacement
-    np.testing.assert_allclose(table[("displacement", "xi=0")].to_numpy(),
-                               motion["y2"].to_numpy(), rtol=0, atol=1e-12)
+    np.testing.assert_allclose(table[("displacement_m", "xi=0")].to_numpy(),
+                               motion["y2_m"].to_numpy(), rtol=0, atol=1e-12)
 
 
 def test_windowed_hammer_frf_file_with_fit_options(windowed_free_rod_csv, tmp_path):
@@ -133,7 +138,9 @@ def test_windowed_hammer_frf_file_with_fit_options(windowed_free_rod_csv, tmp_pa
     window's options the identified mass is right and the mass hits it as the exact rod."""
     path, options = windowed_free_rod_csv
     masses = {}
-    for label, kw in (("window", options), ("plain", None)):
+    # plain: the whole band, a passive fit without the window's model
+    plain = {"freq_range": (0.0, np.inf), "passive": True}
+    for label, kw in (("window", options), ("plain", plain)):
         with pytest.warns(BandWarning):
             pred = predict("mass:1.0", path, velocity1=1.0, t_end=6.0, continuation=True,
                            fit_options=kw)

@@ -1,0 +1,321 @@
+"""Physical guardrails: no impossible impact prediction gets through silently.
+
+Passivity at the door (Body), an energy audit on every result, restitution only where the
+bodies touched, a failed identification stops `predict`, headline figures named for what
+they are, and a time step that does not grow with t_end.
+"""
+
+import dataclasses
+import warnings
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from data_synth import LumpedMass, Rod, SpringMass, synthetic_frf
+from impactpred import (Body, BodyEnergy, ImpactDamper, LinearSpring, Rigid, SampledResponse,
+                        choose_dt, predict, solve_impact)
+from impactpred.api import ENERGY_TOLERANCE, energy_audit
+from impactpred.result import EnergyWarning
+from impactpred.cli import main
+from impactpred.damper import HarmonicForce
+from impactpred.predict import IdentificationWarning
+from modalid import ModalFit, ModalModel, MultiOutputModalModel, write_frf
+
+W1, W2 = 2 * np.pi * 3.0, 2 * np.pi * 20.0
+
+
+def pole(omega, zeta=0.01):
+    """The pole of natural frequency ``omega`` (rad/s) and damping ratio ``zeta``."""
+    return omega * (-zeta + 1j * np.sqrt(1 - zeta**2))
+
+
+def residue(omega, mass, zeta=0.01):
+    """The normal-mode residue of modal mass ``mass`` (kg) at ``pole(omega, zeta)``."""
+    return -1j / (2 * mass * pole(omega, zeta).imag)
+
+
+def two_modes(sign2=1.0, **kw):
+    """Grounded, modes at 3 Hz (1 kg) and 20 Hz (modal mass ``0.5 * sign2`` kg)."""
+    return ModalModel(poles=[pole(W1), pole(W2)],
+                      residues=[residue(W1, 1.0), residue(W2, 0.5 * sign2)], **kw)
+
+
+# ---------------------------------------------------------------- 1. passivity at the door
+@pytest.mark.parametrize("model, match", [
+    (two_modes(-1.0), r"mode at 20 Hz has modal mass -0.5 kg"),
+    (ModalModel(poles=[0.3 + 1j * W1], residues=[-1j / (2 * W1)]),
+     r"mode at 3.00\d* Hz is unstable \(Re p = 0.3 rad/s > 0"),
+    (two_modes(flexibility=-1e-6), r"residual flexibility -1e-06 m/N is negative"),
+    (two_modes(real_poles=[-50.0], real_residues=[-1e-3]),
+     r"real pole -50 rad/s has a negative residue"),
+    (two_modes(inverse_mass=-0.5), r"rigid-body term 1/M = -0.5 1/kg is negative"),
+])
+def test_body_refuses_a_model_that_is_not_a_passive_driving_point(model, match):
+    with pytest.raises(ValueError, match=match) as info:
+        Body(model)
+    message = str(info.value)
+    assert "a transfer FRF is not a driving point" in message
+    assert "check_passive=False" in message
+
+
+def test_a_rounding_level_pseudo_mode_is_not_judged_but_a_real_one_is():
+    """A pseudo-mode with a purely real residue has an infinite modal mass; negligible (a
+    1e-9 share of the model) it passes, at a 1e-3 share it is refused."""
+    base = two_modes()
+    scale = float(np.abs(base.residues[0]))
+    for share, refused in ((1e-9, False), (1e-3, True)):
+        model = base.replace(poles=np.append(base.poles, pole(2 * np.pi * 200.0)),
+                             residues=np.append(base.residues, share * scale + 0j))
+        assert not np.isfinite(model.modes["modal_mass"].to_numpy()[-1])
+        if refused:
+            with pytest.raises(ValueError, match=r"mode at 200 Hz has modal mass -?inf kg"):
+                Body(model)
+        else:
+            Body(model)
+
+
+def test_multi_output_model_is_judged_by_its_driving_point_row():
+    poles = [pole(W1), pole(W2)]
+    good = [residue(W1, 1.0), residue(W2, 0.5)]
+    transfer = [residue(W1, 1.0), residue(W2, -0.5)]      # negative modal constant: fine
+    Body(MultiOutputModalModel(poles=poles, residues=[good, transfer]))
+    with pytest.raises(ValueError, match="mode at 20 Hz has modal mass -0.5 kg"):
+        Body(MultiOutputModalModel(poles=poles, residues=[good, transfer], driving_point=1))
+
+
+def test_impact_damper_uses_the_same_check():
+    with pytest.raises(ValueError, match=r"the primary's driving-point receptance is not a "
+                                         r"stable, passive.*mode at 20 Hz has modal mass"):
+        ImpactDamper(two_modes(-1.0), damper_mass=0.05, clearance=1e-3,
+                     excitation=HarmonicForce(1.0, 3.0))
+
+
+def test_opt_out_lets_the_model_through_and_the_audit_flags_the_restitution():
+    """A negative-mass mode gives e = 1.79 to a mass striking it: let through with
+    check_passive=False, the result is flagged and an EnergyWarning issued."""
+    active = ModalModel(poles=[10j, 30j], residues=[0.02j, -0.5j / 30])
+    assert Body(active, check_passive=False).check_passive is False
+    with pytest.warns(EnergyWarning, match=r"restitution = 1.79162 > 1"):
+        res = solve_impact(Body(LumpedMass(1.0), velocity=1.0),
+                           Body(active, check_passive=False),
+                           contact=LinearSpring(1e3), t_end=3.0)
+    assert res.restitution == pytest.approx(1.7916179, abs=1e-6)
+    assert not res.energy_audit.ok
+    # its vibration energy is negative: the books balance only because of that
+    assert res.energy_by_body[1].vibration_after < 0
+    assert any("negative vibration energy" in r for r in res.energy_audit.reasons)
+
+
+def test_check_passive_must_be_a_bool():
+    with pytest.raises(TypeError, match="check_passive"):
+        Body(two_modes(), check_passive="no")
+
+
+# ------------------------------------------------------------------ 2. energy audit
+@pytest.mark.parametrize("method", ["laplace", "modal", "convolution"])
+def test_no_contact_means_no_restitution(method):
+    """gap = 100 m: the bodies never touch within t_end; restitution was -1.0 before."""
+    res = solve_impact(Body(LumpedMass(1.0), velocity=1.0), Body(SpringMass(1.0, 100.0)),
+                       gap=100.0, t_end=1.0, method=method)
+    assert res.n_contacts == 0 and not res.touched
+    assert res.restitution is None and res.restitution_first is None
+    assert res.energy_audit.ok and res.energy_audit.created == pytest.approx(0.0, abs=1e-12)
+
+
+def test_no_contact_closed_form_has_no_restitution():
+    res = solve_impact(Body(Rod(1.0, 1.0, support="free"), velocity=1.0),
+                       Body(Rod(1.0, 1.0, support="free")), gap=100.0, t_end=2.0)
+    assert res.method == "closed_form" and res.restitution is None
+
+
+def test_energy_audit_of_exact_solutions_is_rounding():
+    """Closed form: exactly 0. Laplace, a spring contact still closed at t_end: the
+    contact's stored energy closes the books to rounding."""
+    rods = solve_impact(Body(Rod(1.0, 1.0, support="free"), velocity=1.0),
+                        Body(Rod(1.0, 1.0, support="free"), velocity=-1.0), t_end=4.0)
+    assert rods.energy_audit.created == 0.0 and rods.energy_audit.scale == 1.0
+    res = solve_impact(Body(LumpedMass(1.0), velocity=1.0), Body(LumpedMass(2.0)),
+                       contact=LinearSpring(1e4), t_end=0.01)
+    audit = res.energy_audit
+    assert res.method == "laplace" and audit.tolerance == ENERGY_TOLERANCE["laplace"]
+    # mid-contact: 1/3 J can be redistributed (centre-of-mass energy 1/6 J of 1/2 J)
+    assert audit.scale == pytest.approx(1.0 / 3.0, rel=1e-14)
+    assert audit.stored == pytest.approx(0.5 * 1e4 * res.gap[-1] ** 2, rel=1e-12)
+    assert audit.stored > 0.25
+    assert abs(audit.relative) < 1e-12 and audit.ok
+
+
+def test_energy_audit_counts_the_dashpot():
+    """Two masses, spring-dashpot contact: the energy the bodies lose is what the dashpot
+    took, to the time stepping's first-order error (implicit: a slight loss, never a gain)."""
+    errors = []
+    for dt in (1e-4, 1e-5):
+        res = solve_impact(Body(LumpedMass(1.0), velocity=1.0), Body(LumpedMass(2.0)),
+                           contact=LinearSpring(1e4, damping=20.0), t_end=0.2, dt=dt,
+                           method="modal")
+        audit = res.energy_audit
+        assert audit.dissipated == pytest.approx(audit.before - audit.after, rel=0.01)
+        assert audit.ok and audit.created < 0
+        errors.append(-audit.relative)
+    assert errors[1] < 0.2 * errors[0] and errors[1] < 5e-4
+
+
+def test_energy_audit_flags_energy_from_nowhere():
+    """The audit of a result whose bodies end with 1 % more energy than they started."""
+    bodies = (Body(LumpedMass(1.0), velocity=1.0), Body(SpringMass(1.0, 100.0)))
+    res = solve_impact(*bodies, contact=LinearSpring(1e3), t_end=1.0)
+    e1, e2 = res.energy_by_body
+    inflated = BodyEnergy(e2.rigid_before, e2.vibration_before, e2.rigid_after,
+                          e2.vibration_after + 0.005)
+    audit = energy_audit(dataclasses.replace(res, energy_by_body=(e1, inflated)), bodies,
+                         LinearSpring(1e3))
+    assert audit.created == pytest.approx(0.005, abs=1e-12)
+    assert audit.relative == pytest.approx(0.01, abs=1e-12)
+    assert not audit.ok and "0.005 J more than they had" in audit.reasons[0]
+
+
+def test_energy_audit_includes_the_work_of_loads():
+    """A mass pushed by 3 N onto a spring-mass from rest: all its energy is the load's work."""
+    body1 = Body(LumpedMass(1.0), load=lambda t: 3.0 * np.ones_like(t))
+    res = solve_impact(body1, Body(SpringMass(2.0, 100.0)), t_end=2.0, dt=1e-4)
+    audit = res.energy_audit
+    assert audit.before == 0.0
+    assert audit.load_work == pytest.approx(3.0 * res.y1[-1], rel=1e-12) and res.y1[-1] > 0.01
+    assert abs(audit.relative) < 1e-3 and audit.ok
+
+
+# --------------------------------------------------------------- 5. headline figures
+def test_headline_names_the_figures_for_what_they_are():
+    res = solve_impact(Body(LumpedMass(1.0), velocity=1.0),
+                       Body(Rod(1.0, 1.0, support="fixed")), t_end=8.0)
+    head = res.headline()
+    (a0, b0), (a1, b1) = res.contact_intervals
+    assert head["n_contacts"] == 2
+    assert head["contact_duration_first_s"] == b0 - a0 == res.contact_duration
+    assert head["total_contact_time_s"] == pytest.approx((b0 - a0) + (b1 - a1), abs=1e-12)
+    assert head["peak_force_first_contact_N"] == res.peak_force
+    assert head["peak_force_N"] == float(np.max(res.force))
+    assert head["impulse_Ns"] == res.total_impulse
+    assert head["energy_audit_ok"] is True
+    assert set(head) == {"method", "dt_s", "n_contacts", "contact_duration_first_s",
+                         "total_contact_time_s", "peak_force_first_contact_N", "peak_force_N",
+                         "impulse_first_contact_Ns", "impulse_Ns", "restitution_first",
+                         "restitution", "vibration_energy_fraction", "n_dirac",
+                         "energy_before_J", "energy_created_J", "energy_created_relative",
+                         "energy_audit_ok"}
+
+
+def test_automatic_step_does_not_grow_with_t_end():
+    """Before: dt = t_end / 4e6 = 0.25 s at t_end = 1e6 s, first contact 3.0 s instead of
+    3.068 s (-2.2 %), silently. Now the step stays 1e-3 s and the solve is refused."""
+    bodies = (Body(LumpedMass(1.0), velocity=1.0), Body(Rod(1.0, 1.0, support="fixed")))
+    assert choose_dt(bodies, Rigid(), t_end=1e6) == choose_dt(bodies, Rigid(), t_end=8.0)
+    with pytest.raises(ValueError, match=r"t_end=1e\+06 needs 1e\+09 steps of dt=0.001 s.*"
+                                         r"at most 4000 s"):
+        solve_impact(*bodies, t_end=1e6)
+
+
+def test_automatic_step_coarsened_at_most_20_times_with_the_numbers():
+    """t_end twice what 4e6 automatic steps cover: the step doubles, with a warning that
+    says so and what it costs; the first contact stays within that estimate."""
+    bodies = (Body(LumpedMass(1.0), velocity=1.0), Body(SpringMass(1.0, 100.0)))
+    contact = LinearSpring(1e4, damping=1.0)
+    dt = choose_dt(bodies, contact, t_end=1.0, method="modal")
+    with pytest.warns(RuntimeWarning, match=r"dt=4.714e-05 s \(2 times coarser\) is used; "
+                                            r"expect errors up to about 0.4 %"):
+        res = solve_impact(*bodies, contact=contact, t_end=8e6 * dt)
+    assert res.dt == pytest.approx(2 * dt, rel=1e-12)
+    fine = solve_impact(*bodies, contact=contact, t_end=1.0)
+    assert res.contact_duration == pytest.approx(fine.contact_duration, rel=4e-3)
+
+
+def test_sampled_response_is_usable_up_to_its_last_sample():
+    rod = Rod(1.0, 1.0, support="fixed")
+    t = np.linspace(0.0, 10.0, 10001)
+    record = SampledResponse(t, rod.impulse_response(t))
+    body1 = Body(LumpedMass(1.0), velocity=1.0)
+    for dt in (None, 1e-3, 3e-3):
+        res = solve_impact(body1, Body(record), t_end=10.0, dt=dt)
+        assert res.t[-1] == pytest.approx(10.0, abs=1e-12)
+        assert res.restitution == pytest.approx(0.698876, abs=2e-3)
+    with pytest.raises(ValueError, match=r"covers 0 to 10 s, asked for t = 10.50?\d* s"):
+        solve_impact(body1, Body(record), t_end=10.5)
+
+
+# ------------------------------------------------------- 3. a failed identification stops
+@pytest.fixture(scope="module")
+def two_mode_frf(tmp_path_factory):
+    truth = ModalModel.from_modes([2 * np.pi * 10, 2 * np.pi * 25], [0.02, 0.02], [1.0, 0.5])
+    path = tmp_path_factory.mktemp("frf") / "two_modes.csv"
+    write_frf(path, synthetic_frf(truth, np.linspace(1.0, 40.0, 800), noise=0.0))
+    return path
+
+
+@pytest.fixture
+def verdict(monkeypatch):
+    """Set what ModalFit reports (``verdict``, ``verdict_reasons``, ``driving_point``)."""
+    report = {}
+    fit = ModalFit.fit
+
+    def judged(self, *args, **kwargs):
+        out = fit(self, *args, **kwargs)
+        self.report_.update(report)
+        return out
+
+    monkeypatch.setattr(ModalFit, "fit", judged)
+    return report
+
+
+def test_failed_identification_stops_predict(two_mode_frf, verdict):
+    verdict.update(verdict="failed", verdict_reasons=["FRF error worse than a zero model"])
+    with pytest.raises(ValueError, match=r"body 2: the identification of .*two_modes.csv "
+                                         r"failed \(FRF error worse than a zero model\); "
+                                         r"options that may fix it: quantity="):
+        predict("mass:1", two_mode_frf, velocity1=0.1, t_end=0.5)
+
+
+def test_transfer_frf_cannot_be_an_impact_body(two_mode_frf, verdict):
+    verdict.update(verdict="ok", driving_point=False,
+                   driving_point_reason="modal masses of both signs")
+    with pytest.raises(ValueError, match=r"two_modes.csv is not a driving-point FRF \(modal "
+                                         r"masses of both signs\): a transfer FRF cannot be "
+                                         r"an impact body"):
+        predict("mass:1", two_mode_frf, velocity1=0.1, t_end=0.5)
+
+
+@pytest.mark.filterwarnings("ignore::impactpred.predict.BandWarning")
+def test_suspect_identification_warns_and_goes_on(two_mode_frf, verdict):
+    verdict.update(verdict="suspect", verdict_reasons=["damping ratio at its lower bound"])
+    with pytest.warns(IdentificationWarning, match="suspect .damping ratio at its lower"):
+        pred = predict("mass:1", two_mode_frf, velocity1=0.1, t_end=0.5)
+    assert pred.result.n_contacts >= 1
+
+
+def test_command_line_names_flags_on_one_line(two_mode_frf, verdict, capsys):
+    verdict.update(verdict="failed", verdict_reasons=["poles outside the band"])
+    assert main(["predict", "mass:1", str(two_mode_frf), "--v1", "0.1", "--t-end",
+                 "0.5"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "Traceback" not in err
+    assert "--quantity" in err and "--missed-modes dense" in err and "--window-decay" in err
+    assert "quantity=" not in err and "missed_modes" not in err
+
+
+def test_command_line_refuses_a_non_passive_model_unless_told(tmp_path, capsys):
+    path = tmp_path / "active.json"
+    ModalModel(poles=[10j, 30j], residues=[0.02j, -0.5j / 30]).to_json(path)
+    args = ["predict", "mass:1", str(path), "--v1", "1", "--t-end", "3",
+            "--contact", "spring:stiffness=1e3"]
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert "body 2" in err and "modal mass" in err and "--no-passivity-check" in err
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", EnergyWarning)
+        assert main(args + ["--no-passivity-check", "--out", str(tmp_path)]) == 0
+    out = capsys.readouterr()
+    assert "energy_audit: created" in out.out and "FLAGGED" in out.out
+    assert "restitution = 1.79162 > 1" in out.err
+    summary = pd.read_csv(tmp_path / "summary.csv")
+    assert not summary["energy_audit_ok"].iloc[0]
+    assert summary["restitution"].iloc[0] == pytest.approx(1.7916179, abs=1e-6)
