@@ -77,9 +77,10 @@ class ModalFit(FRFPipeline, BaseEstimator):
         Keep modal masses, the rigid mass and the residual flexibility positive (a passive
         driving point). ``"auto"`` (default): fit without the constraint, decide from the
         signs of the modal constants whether the FRF is a driving point (modes of
-        positive modal mass carry 90 % of the peak receptance and the mass line is not
-        negative; :func:`modalid._verdict.driving_point_decision`) and, where it is,
-        refit with it; ``report_["driving_point"]`` and ``report_["driving_point_reason"]``
+        positive modal mass carry 90 % of the modes' strength ``1/|m|`` and the mass line
+        is not negative; :func:`modalid._verdict.driving_point_decision`) and, where it
+        is, refine again with it from the poles found (kept unconstrained when that
+        raises the median error per line by half); ``report_["driving_point"]`` and ``report_["driving_point_reason"]``
         say what was decided. An impulse response (``"era"``) or an FRFSet is taken as a
         driving point.
     refine : bool
@@ -279,7 +280,7 @@ class ModalFit(FRFPipeline, BaseEstimator):
             self._fit_frf(data)
             driving, reason = driving_point_decision(self.report_["modes"],
                                                      self._raw_inverse_mass)
-            if driving and not (self.model_.is_passive() and self._raw_inverse_mass >= 0):
+            if driving:       # the passive pass: pseudo-modes and residual terms held too
                 free = (dict(self.__dict__), self.report_["frf_median_relative_error"])
                 self._passive_on = True           # the constraint is active: refit with it
                 self._refit_from_poles(data)
