@@ -296,6 +296,7 @@ class FRFPipeline:
         else:
             poles, x, info = refine_varpro(omega, h, w, poles, terms, passive=self._passive_on,
                                            max_iter=0, max_real=self.max_real)
+            self._final_weights = w
             info.update(converged=True, message="linear least squares (refine=False)")
         residues, _, u, d = split_coefficients(x, poles.size, terms)
         info["n_iter_total"] = self._iterations
@@ -352,10 +353,12 @@ class FRFPipeline:
                                        stat_tol=0.1 if relative else 1e-4,
                                        max_iter=15 if quick else max(50, 4 * poles.size), **kw)
         n_iter = info["n_iter"]
+        self._final_weights = w
         for _ in range(0 if quick or not relative else 2):
             wm = self._model_weights(omega, poles, x, terms, w)
             poles, x, info = refine_varpro(omega, h, wm, poles, terms, **kw)
             n_iter += info["n_iter"]
+            self._final_weights = wm
             if info["n_iter"] <= 3:
                 break
         info["n_iter"] = n_iter
@@ -480,6 +483,11 @@ class FRFPipeline:
         self.poles_ = poles[physical][np.argsort(np.abs(poles[physical]))]
         modes = ModalModel(poles=poles[physical], residues=residues[physical]).modes
         std = info.get("std")
+        # the formula assumes independent lines; correlated residuals (model error, the
+        # estimator's smoothing) carry fewer independent ones: widen by Bartlett's factor
+        inflation = residual_correlation_inflation(self._final_weights * (fitted - h))
+        if std is not None:
+            std = {k: v * inflation for k, v in std.items()}
         for name in ("frequency_hz_std", "damping_ratio_std", "residue_std"):
             modes[name] = np.nan
         if std is not None:
@@ -514,7 +522,7 @@ class FRFPipeline:
             data_quantity=band.quantity,
             band_hz=(float(frf.freq_hz[0]), float(frf.freq_hz[-1])), segments=self._segment_count,
             vf_iterations=vf_iterations, modes=modes, inverse_mass_std=inverse_mass_std,
-            flexibility_std=flexibility_std,
+            flexibility_std=flexibility_std, std_inflation=inflation,
             **{k: v for k, v in window.items()
                if k not in ("truncation_factors", "rigid_factor")})
 
@@ -540,6 +548,22 @@ class FRFPipeline:
                      "window_clipped": int(np.sum(clipped)), "truncation_factors": factors,
                      "rigid_factor": (rigid_factor(sigma, length, self._data_band.quantity)
                                       if model.inverse_mass else 1.0)}
+
+
+def residual_correlation_inflation(residual) -> float:
+    """Factor (>= 1) widening standard deviations computed as if the lines' errors were
+    independent, from the lag-one correlation ``rho`` of the weighted residual (complex,
+    shape (n,)): ``sqrt((1 + rho) / (1 - rho))``, the ratio of the line count to the
+    effective count of independent lines for AR(1) errors (Bartlett). White residuals
+    (noise alone) give 1; a residual that is model error, smooth over the lines, more.
+    ``rho`` is taken in [0, 0.99]."""
+    r = np.asarray(residual, dtype=complex)
+    power = float(np.sum(np.abs(r) ** 2))
+    if r.size < 3 or power <= 0:
+        return 1.0
+    rho = float(np.real(np.sum(r[1:] * np.conj(r[:-1])))) / power
+    rho = min(max(rho, 0.0), 0.99)
+    return float(np.sqrt((1.0 + rho) / (1.0 - rho)))
 
 
 def _high_frequency(model, physical):

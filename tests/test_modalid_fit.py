@@ -601,3 +601,25 @@ def test_real_files_with_no_options(name, published, tol):
         assert (~r["modes"]["damping_resolved"]).sum() >= 3
     else:
         assert r["weighting"] == "noise"                 # an analyzer's noise floor
+
+
+def test_correlated_residuals_widen_the_standard_deviations():
+    """Bartlett's factor: 1 for white residuals, sqrt((1 + rho)/(1 - rho)) for AR(1) ones;
+    on noise alone the fit keeps its stds (inflation near 1), on a measured FRF whose
+    residual is model error it widens them."""
+    from modalid._frf_pipeline import residual_correlation_inflation
+
+    rng = np.random.default_rng(0)
+    white = rng.normal(size=20000) + 1j * rng.normal(size=20000)
+    assert residual_correlation_inflation(white) == pytest.approx(1.0, abs=0.02)
+    ar = np.zeros(20000, complex)
+    for k in range(1, ar.size):
+        ar[k] = 0.8 * ar[k - 1] + white[k]
+    assert residual_correlation_inflation(ar) == pytest.approx(3.0, rel=0.05)
+    assert residual_correlation_inflation(np.zeros(5)) == 1.0
+    _, _, _, fit = fitted("fixed rod", 0.05)
+    assert 1.0 <= fit.report_["std_inflation"] < 1.1
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        measured = ModalFit().fit(_real("case1.mat"))
+    assert measured.report_["std_inflation"] > 1.5
