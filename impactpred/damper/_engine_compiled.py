@@ -5,7 +5,10 @@ held in compiled arrays at once) and returns :func:`._engine_run.run`'s dict.
 
 A chunk boundary does not cut a phase: every event search looks up to the run's end and
 the loop stops at the first event after the chunk's end, so the chunks give exactly the
-run itself.
+run itself. A call also pauses after ``PHASES_PER_CALL`` phases (the bar is redrawn, then
+the chunk goes on from the same state), so that a run with many contacts per cycle still
+reports progress; more than ``MAX_IMPACTS_PER_PERIOD`` impacts within one forcing period
+raise a ``RuntimeError`` (the cost per cycle is bounded).
 """
 
 from __future__ import annotations
@@ -13,12 +16,50 @@ from __future__ import annotations
 import numpy as np
 
 from ._engine import EngineState
-from ._loop_kernels import N_IMPACT_COLS, STALLED, rigid_loop
+from ._loop_kernels import N_IMPACT_COLS, PAUSED, RUNAWAY, STALLED, rigid_loop
 
-__all__ = ["kind_arrays", "run_compiled"]
+__all__ = ["kind_arrays", "run_compiled", "runaway_error", "stall_error"]
 
 #: forcing cycles per call of the compiled loop
 CHUNK_CYCLES = 50
+#: phases per call of the compiled loop at most (~0.1-0.5 s): the progress bar is redrawn
+#: at least this often
+PHASES_PER_CALL = 20_000
+#: impacts allowed within any window of one forcing period (both loops): more raise a
+#: ``RuntimeError``. The Zeno rule closes an accumulation of impacts after about
+#: ``14 / (1 - e)`` of them (``ln(1e12) / (2 ln(1/e))``: bounce heights from the gap's
+#: scale to its resolution), so a run past this cap has impacts that do not accumulate
+#: (``e`` = 1 between nearly coincident stops, or a restitution within ~1e-4 of 1).
+MAX_IMPACTS_PER_PERIOD = 100_000
+
+
+def stall_error(eng, t, phase):
+    """The ``RuntimeError`` of contact events repeating without time advancing at ``t`` (s)
+    in a ``phase`` ("free", "stuck", ...) phase."""
+    from .contact import InstantaneousImpact
+
+    hint = ""
+    if isinstance(eng.contact, InstantaneousImpact) and eng.contact.restitution == 1.0:
+        hint = (f"; with restitution 1 an impact between stops that coincide to rounding "
+                f"(clearance {eng.c!r} m) rebounds into the other stop for ever: use a "
+                f"restitution below 1 or a larger clearance")
+    return RuntimeError(f"contact events repeat without time advancing at t = {float(t)!r} s "
+                        f"({phase} phase): the contact state cannot be decided (grazing)"
+                        + hint)
+
+
+def runaway_error(eng, t, v_rel, cap):
+    """The ``RuntimeError`` of a run with more than ``cap`` impacts within one forcing period
+    (before ``t``, s; ``v_rel``: the last approach velocity, m/s)."""
+    from .contact import InstantaneousImpact
+
+    e = eng.contact.restitution if isinstance(eng.contact, InstantaneousImpact) else 0.0
+    return RuntimeError(
+        f"more than {cap} impacts within one forcing period (T = {eng.period!r} s) before "
+        f"t = {float(t)!r} s (last approach velocity {float(v_rel)!r} m/s): the impacts do "
+        f"not accumulate into sticking (restitution {e!r}, clearance {eng.c!r} m). Elastic "
+        f"or nearly elastic impacts between (nearly) coincident stops never end; use a "
+        f"lower restitution, a larger clearance or Rigid()")
 
 
 def kind_arrays(kind):
@@ -50,7 +91,8 @@ def run_compiled(eng, *, start, n_cycles, samples_per_cycle, bar, decide_rtol):
 
     ``bar``: the run's progress bar (``update(t)``); ``decide_rtol``: the contact
     decision's tolerance. Raises ``RuntimeError`` where contact events repeat without time
-    advancing (as the Python loop).
+    advancing, or past ``MAX_IMPACTS_PER_PERIOD`` impacts within one forcing period (as
+    the Python loop).
     """
     from .contact import InstantaneousImpact
 
@@ -88,27 +130,30 @@ def run_compiled(eng, *, start, n_cycles, samples_per_cycle, bar, decide_rtol):
     done = False
     i_chunk = 0
     bar.update(t)
+    status = None
     while not done:
-        i_chunk += 1
-        t_stop = t0_run + i_chunk * CHUNK_CYCLES * T
-        if t_stop <= t:         # the last call's phase ran past this chunk's end
-            i_chunk = int((t - t0_run) / (CHUNK_CYCLES * T)) + 1
+        if status != PAUSED:
+            i_chunk += 1
             t_stop = t0_run + i_chunk * CHUNK_CYCLES * T
-        t_stop = min(t_stop, t_end)
+            if t_stop <= t:         # the last call's phase ran past this chunk's end
+                i_chunk = int((t - t0_run) / (CHUNK_CYCLES * T)) + 1
+                t_stop = t0_run + i_chunk * CHUNK_CYCLES * T
+            t_stop = min(t_stop, t_end)
         (status, t, x, mode, side, on_boundary, open_row, first_sample, stall, crawl, v_max,
          cur, imp, n_imp, ts, vs, ws, gs, done) = rigid_loop(
             free, stuck_p, stuck_m, x, t, mode, side, on_boundary, open_row, first_sample,
-            stall, crawl, v_max, work, cur, imp, n_imp, t_end, t_stop, *consts)
+            stall, crawl, v_max, work, cur, imp, n_imp, t_end, t_stop, PHASES_PER_CALL,
+            MAX_IMPACTS_PER_PERIOD, *consts)
         chunks_t.append(ts)
         chunks_v.append(vs)
         chunks_w.append(ws)
         chunks_g.append(gs)
         if status == STALLED:
-            name = "free" if mode == 0 else "stuck"
-            raise RuntimeError(f"contact events repeat without time advancing at t = {t!r} s "
-                               f"({name} phase): the contact state cannot be decided (grazing)")
+            raise stall_error(eng, t, "free" if mode == 0 else "stuck")
+        if status == RUNAWAY:
+            raise runaway_error(eng, t, float(imp[n_imp - 1, 4]), MAX_IMPACTS_PER_PERIOD)
         bar.update(t)
-        if t_stop >= t_end:
+        if status != PAUSED and t_stop >= t_end:
             done = True
     tab = imp[:n_imp]
     cont = np.zeros(n_imp, bool)

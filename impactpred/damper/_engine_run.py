@@ -17,6 +17,17 @@ time: grazing returns and accumulations of micro-impacts resolve into sticking o
 separations that advance time. A stuck phase ends where its force crosses zero; the
 free flight then starts open from the stop.
 
+Instantaneous impacts with restitution ``e``: the rebound ``u = e v`` is applied unless
+:func:`._loop_kernels.zeno_closes` finds it unresolved (the end of a Zeno sequence,
+whose bounces under the relative acceleration ``a`` accumulate at
+``t + 2 u / (a (1 - e))``; or stops that coincide to the gap's resolution, where the
+impacts ``v, e v, e^2 v, ...`` at one instant sum to a plastic one); the impact is then
+the Rigid law's plastic impact and decision above (the same code). The rule's scales do
+not vanish with the clearance: ``clearance = 0`` with ``e < 1`` is the Rigid law at
+``clearance = 0``, the damper mass moving with the primary. Both loops raise a
+``RuntimeError`` after more than ``_engine_compiled.MAX_IMPACTS_PER_PERIOD`` impacts
+within one forcing period, so that a run's cost per cycle is bounded.
+
 Linear spring(-dashpot) contacts (``f = max(0, k d + c d')`` while the penetration
 ``d > 0``): the force law is continuous across ``q = k d + c d' = 0`` (the vector field
 does not jump there), and jumps by ``c d'`` across ``d = 0`` only where ``d' != 0``. The
@@ -40,10 +51,11 @@ import numpy as np
 
 from ..contact import LinearSpring, Rigid
 from ._engine import OUT_BV, OUT_FEQ, OUT_LAM, OUT_VP, EngineState
-from ._engine_compiled import run_compiled
+from . import _engine_compiled
+from ._engine_compiled import run_compiled, runaway_error, stall_error
 from ._engine_form import evaluate, first_event
 from ._engine_hertz import hertz_contact
-from ._loop_kernels import _decide
+from ._loop_kernels import _decide, zeno_closes
 from .contact import InstantaneousImpact
 
 __all__ = ["run"]
@@ -175,7 +187,8 @@ def run(eng, *, start: EngineState, n_cycles, samples_per_cycle, progress):
         impacts.append(cur)
     chunks_t, chunks_v, chunks_w, chunks_g = [], [], [], []
     work = np.zeros(2)
-    v_max = eng.c * eng.omega
+    v_max = eng.c * eng.omega       # the Zeno rule's velocity scale (m/s)
+    max_impacts = _engine_compiled.MAX_IMPACTS_PER_PERIOD
     on_boundary = mode != "free"
     open_row = None           # event row decided to open at the phase's start
     zero_open = False         # ... and 0 there by construction (spring contact)
@@ -335,8 +348,7 @@ def run(eng, *, start: EngineState, n_cycles, samples_per_cycle, progress):
         stall = stall + 1 if tau == 0.0 else 0
         crawl = crawl + 1 if tau < 1e-9 * T else 0
         if stall > _STALL or crawl > 100 * _STALL:
-            raise RuntimeError(f"contact events repeat without time advancing at t = {t!r} s "
-                               f"({mode} phase): the contact state cannot be decided (grazing)")
+            raise stall_error(eng, t, mode)
         t = t + tau
         bar.update(t)
         if not happened:
@@ -354,22 +366,15 @@ def run(eng, *, start: EngineState, n_cycles, samples_per_cycle, progress):
                     cur = open_impact(s, t, v_rel)
                 continue
             cur = open_impact(s, t, v_rel)
+            if len(impacts) > max_impacts and impacts[-1 - max_impacts]["time"] > t - T:
+                raise runaway_error(eng, t, v_rel, max_impacts)
             if isinstance(contact, (Rigid, InstantaneousImpact)):
                 x = pin(x, t, s, False)
                 e = contact.restitution if isinstance(contact, InstantaneousImpact) else 0.0
-                if e > 0.0:
-                    # the bounce's height under the free flight's relative acceleration:
-                    # below rounding, the rest of the (Zeno) sequence of ever smaller
-                    # bounces is replaced by its limit, a plastic impact
-                    xa = eng.augmented(x, t)
-                    acc = -s * float(r0AA @ xa)
-                    low = acc < 0.0 and (e * v_rel) ** 2 <= -2.0 * acc * 1e-12 * max(
-                        eng.c, abs(float(eng.r0 @ xa)))
-                else:
-                    low = True
-                if low or e * v_rel <= 1e-6 * v_max:
-                    # plastic (or restitution below resolution): zero the relative velocity
-                    # (a Dirac only where the gap has relative degree 2), then decide
+                acc = -s * float(r0AA @ eng.augmented(x, t))
+                if zeno_closes(e, v_rel, acc, eng.c, float(zero_tol[row]), v_max):
+                    # plastic (Rigid, or the limit of a Zeno sequence): zero the relative
+                    # velocity (a Dirac only where the gap has relative degree 2), then decide
                     p = max(v_rel, 0.0) / eng.inv_mu if eng.rho == 2 else 0.0
                     x = x + s * p * eng.Bl[:n]
                     cur["impulse"] += p

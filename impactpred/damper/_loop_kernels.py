@@ -5,11 +5,14 @@
 (:meth:`._engine_form.PhaseKind.start`), the event rows' coefficients, the certified
 event search (:func:`._search_kernels.first_event`), the output samples with the exact
 input-work integrals, the contact impulse, the state at the event, and the event itself
-(the damper mass pinned on the stop, the plastic or restitution impulse, the Zeno /
-low-bounce rule, the stick-or-separate decision). Same rules, same order of decisions as
-the Python loop; only the rounding differs (loops instead of BLAS products, the search's
-own sums): chattering runs, which amplify rounding, agree with the Python loop for tens
-of contacts and then in their statistics only (see ``tests/test_impactpred_damper_kernels``).
+(the damper mass pinned on the stop, the plastic or restitution impulse, the Zeno rule
+:func:`zeno_closes` shared with the Python loop, the stick-or-separate decision), with a
+cap on impacts per forcing period (status ``RUNAWAY``) and a pause every ``max_phases``
+phases (status ``PAUSED``: the driver redraws the progress bar). Same rules, same order
+of decisions as the Python loop; only the rounding differs (loops instead of BLAS
+products, the search's own sums): chattering runs, which amplify rounding, agree with the
+Python loop for tens of contacts and then in their statistics only (see
+``tests/test_impactpred_damper_kernels``).
 
 A kind of phase is passed as the tuple built by :func:`._engine_compiled.kind_arrays`:
 ``(lam, abs_lam, abs_lam4, order, V, Vinv, in0, S0P, X, ev_rv, ev_rp, ev_rx, out_rv,
@@ -38,8 +41,14 @@ __all__ = ["rigid_loop"]
 
 #: phases in a row without time advancing (``tau == 0``) before the loop reports a stall
 STALL = 50
-#: the loop's status codes: finished the chunk, or events repeat at one time (grazing)
-OK, STALLED = 0, 1
+#: the loop's status codes: finished the chunk; events repeat at one time (grazing); more
+#: than ``max_impacts`` impacts within one forcing period (an accumulation that does not
+#: close); paused after ``max_phases`` phases (the driver redraws the progress bar, then
+#: calls again: a pause falls between two phases, so it does not change the run)
+OK, STALLED, RUNAWAY, PAUSED = 0, 1, 2, 3
+#: the Zeno rule's velocity resolution: a rebound slower than this fraction of the run's
+#: velocity scale (see :func:`zeno_closes`) is taken as the end of the sequence
+ZENO_VELOCITY_RTOL = 1e-6
 #: the impacts' columns: time, side, impulse, duration, relative velocity, phase
 N_IMPACT_COLS = 6
 
@@ -187,6 +196,64 @@ def _decide(lam, b, poly, rtol, first):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
+def zeno_closes(e, v_rel, acc, c, gap_tol, v_scale):  # pragma: no cover - compiled
+    """Whether an impact closes a Zeno sequence: replace it by a plastic impact, then
+    :func:`_decide` (the ``Rigid`` law's stick-or-separate path), instead of a rebound.
+
+    Parameters
+    ----------
+    e : float
+        Coefficient of restitution (0 for ``Rigid``: always plastic).
+    v_rel : float
+        Approach velocity at the stop (m/s, > 0 approaching).
+    acc : float
+        Second derivative of that stop's gap in free flight at the impact (m/s^2; < 0: the
+        relative acceleration pushes the damper mass back onto the stop).
+    c : float
+        Clearance on each side (m).
+    gap_tol : float
+        The event search's zero tolerance on that gap (m): ``1e-12`` of the gap row's terms,
+        the gap's resolution.
+    v_scale : float
+        The run's velocity scale (m/s): the largest approach velocity so far, at least
+        ``c Omega``.
+
+    Returns
+    -------
+    bool
+        True when the rebound ``u = e v_rel`` (m/s) is not resolved:
+
+        * ``u <= ZENO_VELOCITY_RTOL * v_scale`` (the resolution of the restitution law);
+        * ``e < 1`` and ``2 c <= gap_tol``: the two stops coincide to the gap's resolution,
+          the rebound is at once an impact on the other stop, and the impacts
+          ``v, e v, e^2 v, ...`` at one instant sum to a plastic impact (exact; at ``c = 0``
+          the damper mass can never leave the primary);
+        * ``acc < 0`` and ``h = u^2 / (2 |acc|) <= gap_tol``: the rebound's height is below
+          the gap's resolution (the event search could not tell the next impact from a
+          graze). Under the constant relative acceleration ``acc`` the remaining bounces
+          (heights ``e^{2j} h``) accumulate at ``t + T_Z``, ``T_Z = 2 u / ((1 - e) |acc|)``
+          (the geometric series of their flight times ``2 e^j u / |acc|``), with zero
+          relative velocity: their limit is the stuck phase, which is taken at once
+          instead of at ``t + T_Z``. That moves the damper mass by at most ``h`` and the
+          primary by at most ``(m_d / M_eff) u T_Z = 4 (m_d / M_eff) h / (1 - e)`` (the
+          sequence's momentum is exchanged within ``T_Z`` instead of at once).
+
+        Neither scale vanishes with the clearance (``gap_tol`` is relative to the gap's
+        terms, the primary's motion among them). A sequence closes after about
+        ``ln(h_0 / gap_tol) / (2 ln(1/e))`` impacts (``h_0``: its first height; at most
+        ~``14 / (1 - e)``).
+    """
+    if e <= 0.0:
+        return True
+    u = e * v_rel
+    if u <= ZENO_VELOCITY_RTOL * v_scale:
+        return True
+    if e < 1.0 and 2.0 * c <= gap_tol:
+        return True
+    return acc < 0.0 and u * u <= -2.0 * acc * gap_tol
+
+
+@njit(cache=True)
 def _grow(a, need):  # pragma: no cover - compiled
     out = np.empty((a.shape[0], max(need, 2 * a.shape[1])))
     out[:, :a.shape[1]] = a
@@ -302,8 +369,9 @@ def _new_impact(imp, n_imp, t, s, v_rel, omega, phi):  # pragma: no cover - comp
 @njit(cache=True)
 def rigid_loop(free, stuck_p, stuck_m, x, t, mode, side, on_boundary, open_row,
                first_sample, stall, crawl, v_max, work, cur, imp, n_imp, t_end, t_stop,
-               t0_run, dt_out, period, iy, iv, c, omega, phi, r0, r0A, r0AA, A, bl, inv_mu,
-               rho, restitution, decide_rtol):  # pragma: no cover - compiled
+               max_phases, max_impacts, t0_run, dt_out, period, iy, iv, c, omega, phi, r0,
+               r0A, r0AA, A, bl, inv_mu, rho, restitution,
+               decide_rtol):  # pragma: no cover - compiled
     """Phases from ``(x, t)`` until ``t >= t_stop`` (or ``t_end``, s) for a rigid or
     instantaneous contact: :func:`._engine_run.run`'s loop (see the module docstring).
 
@@ -312,17 +380,22 @@ def rigid_loop(free, stuck_p, stuck_m, x, t, mode, side, on_boundary, open_row,
     free, stuck_p, stuck_m : tuple
         The free-flight and stuck (upper, lower stop) kinds (:func:`kind_arrays`).
     x, t, mode, side, on_boundary, open_row, first_sample, stall, crawl, v_max
-        The loop's state (``mode``: 0 free, 1 stuck; ``open_row`` -1: none), carried from
-        one call to the next so that chunks of a run give the run itself.
+        The loop's state (``mode``: 0 free, 1 stuck; ``open_row`` -1: none; ``v_max``:
+        the Zeno rule's velocity scale, m/s), carried from one call to the next so that
+        chunks of a run give the run itself.
     work : ndarray, shape (2,)
         The input-work integrals so far (updated in place).
     cur, imp, n_imp
         The open impact's row (-1: none) in the impacts table ``imp`` (rows ``:n_imp``;
         columns: time (s), side, impulse (N s), duration (s), relative velocity (m/s),
         forcing phase (rad)).
-    t_end, t_stop, t0_run, dt_out, period : float
-        End of the run (every search looks up to it), end of this call, start of the run,
-        output step and forcing period (s).
+    t_end, t_stop : float
+        End of the run (every search looks up to it) and of this call (s).
+    max_phases, max_impacts : int
+        Phases after which this call pauses (status ``PAUSED``), and impacts allowed within
+        one forcing period (more: status ``RUNAWAY``).
+    t0_run, dt_out, period : float
+        Start of the run, output step and forcing period (s).
     iy, iv, c, omega, phi, r0, r0A, r0AA, A, bl, inv_mu, rho, restitution, decide_rtol
         The engine (:class:`._engine.Engine`): indices of ``y_d``, ``v_d``, clearance
         (m), excitation (rad/s, rad), the relative displacement / velocity / acceleration
@@ -333,10 +406,12 @@ def rigid_loop(free, stuck_p, stuck_m, x, t, mode, side, on_boundary, open_row,
     -------
     tuple
         ``(status, t, x, mode, side, on_boundary, open_row, first_sample, stall, crawl,
-        v_max, cur, imp, n_imp, times, values, work_samples, grid, done)``: ``status`` 0,
-        or 1 when events repeat without time advancing (then ``t`` and ``mode`` say
-        where); the samples of this call (``values``: the first six output rows);
-        ``done``: the run reached ``t_end``.
+        v_max, cur, imp, n_imp, times, values, work_samples, grid, done)``: ``status``
+        ``OK``; ``STALLED`` when events repeat without time advancing (then ``t`` and
+        ``mode`` say where); ``RUNAWAY`` after the impact that is the ``max_impacts + 1``-th
+        within one period (``t``: its time); ``PAUSED`` after ``max_phases`` phases
+        (continue with the state returned); the samples of this call (``values``: the
+        first six output rows); ``done``: the run reached ``t_end``.
     """
     cap = max(int((min(t_stop, t_end) - t) / dt_out), 0) * 2 + 256
     times = np.empty(cap)
@@ -345,7 +420,13 @@ def rigid_loop(free, stuck_p, stuck_m, x, t, mode, side, on_boundary, open_row,
     grid = np.empty(cap, np.int64)
     used = 0
     done = False
+    status = OK
+    n_phases = 0
     while t < t_end - 1e-12 * period and t < t_stop:
+        if n_phases >= max_phases:
+            status = PAUSED
+            break
+        n_phases += 1
         if mode == 0:
             kd = free
             r_lo, r_hi = 0, 2
@@ -409,18 +490,15 @@ def rigid_loop(free, stuck_p, stuck_m, x, t, mode, side, on_boundary, open_row,
             v_max = max(v_max, v_rel)
             imp, n_imp = _new_impact(imp, n_imp, t, s, v_rel, omega, phi)
             cur = n_imp - 1
+            if n_imp > max_impacts and imp[n_imp - 1 - max_impacts, 0] > t - period:
+                return (RUNAWAY, t, x, mode, side, on_boundary, open_row, first_sample,
+                        stall, crawl, v_max, cur, imp, n_imp, times[:used], vals[:, :used],
+                        wk[:, :used], grid[:used], done)
             x = _pin(x, t, s, False, iy, iv, c, r0, r0A, omega, phi)
             e = restitution
-            if e > 0.0:
-                # the bounce's height under the free flight's relative acceleration: below
-                # rounding, the Zeno sequence is replaced by its limit, a plastic impact
-                xa = _augmented(x, t, omega, phi)
-                acc = -s * np.dot(r0AA, xa)
-                low = acc < 0.0 and (e * v_rel) ** 2 <= -2.0 * acc * 1e-12 * max(
-                    c, abs(np.dot(r0, xa)))
-            else:
-                low = True
-            if low or e * v_rel <= 1e-6 * v_max:
+            xa = _augmented(x, t, omega, phi)
+            if zeno_closes(e, v_rel, -s * np.dot(r0AA, xa), c, zero_tol[row], v_max):
+                # plastic (Rigid, or the limit of a Zeno sequence): the Rigid law's path
                 p = max(v_rel, 0.0) / inv_mu if rho == 2 else 0.0
                 x = x + s * p * bl
                 imp[cur, 2] += p
@@ -447,5 +525,6 @@ def rigid_loop(free, stuck_p, stuck_m, x, t, mode, side, on_boundary, open_row,
             mode, open_row = 0, (0 if side == 1 else 1)
     if not t < t_end - 1e-12 * period:
         done = True
-    return (OK, t, x, mode, side, on_boundary, open_row, first_sample, stall, crawl, v_max,
-            cur, imp, n_imp, times[:used], vals[:, :used], wk[:, :used], grid[:used], done)
+    return (status, t, x, mode, side, on_boundary, open_row, first_sample, stall, crawl,
+            v_max, cur, imp, n_imp, times[:used], vals[:, :used], wk[:, :used], grid[:used],
+            done)

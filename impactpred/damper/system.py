@@ -14,6 +14,7 @@ from data_synth import SpringMass
 from modalid import ModalModel, MultiOutputModalModel
 from modalid._checks import as_count, as_nonnegative_scalar, as_positive_scalar
 
+from ..body import check_driving_point
 from ..contact import Hertz, LinearSpring, Rigid
 from ._engine import Engine, EngineState
 from ._engine_run import run
@@ -45,9 +46,7 @@ def _primary_model(primary):
                          f"structure that can be excited into steady vibration")
     if model.n_modes == 0 and model.real_poles.size == 0:
         raise ValueError("the primary has no mode: a pure flexibility has no mass to vibrate")
-    if not model.is_passive():
-        raise ValueError(f"the primary's driving-point receptance is not passive ({model!r}): "
-                         "modal masses must be positive and poles stable")
+    check_driving_point(model, name="the primary's driving-point receptance")
     return model, None
 
 
@@ -183,11 +182,22 @@ class ImpactDamper:
         samples_per_cycle : int, keyword-only
             Output samples per forcing period (>= 4), plus every event time.
         progress : bool, keyword-only
-            Print a progress bar to stderr.
+            Print a progress bar to stderr (redrawn at least every 20,000 phases).
 
         Returns
         -------
         DamperResult
+
+        Raises
+        ------
+        RuntimeError
+            Contact events repeat without time advancing (an undecidable grazing contact,
+            or elastic impacts between stops that coincide to rounding), or more than
+            100,000 impacts fall within one forcing period (impacts that do not accumulate
+            into sticking, e.g. ``InstantaneousImpact(1.0)`` at a clearance of nanometres).
+            An accumulation of impacts with restitution below 1 (a Zeno sequence, every
+            ``clearance = 0`` case included) is closed into sticking instead (see
+            :class:`InstantaneousImpact`).
         """
         n_cycles = as_count("n_cycles", n_cycles, minimum=1)
         spc = as_count("samples_per_cycle", samples_per_cycle, minimum=4)
