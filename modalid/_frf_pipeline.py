@@ -298,6 +298,11 @@ class FRFPipeline:
                                            max_iter=0, max_real=self.max_real)
             self._final_weights = w
             info.update(converged=True, message="linear least squares (refine=False)")
+        # unconverged: stop if more steps would not move the poles, else refine on
+        for _ in range(2 if self.refine else 0):
+            if info["converged"] or self._settled(omega, h, poles, kinds, terms, info):
+                break
+            poles, x, info = self._refine(omega, h, w, poles, kinds, terms)
         residues, _, u, d = split_coefficients(x, poles.size, terms)
         info["n_iter_total"] = self._iterations
         if not info["converged"]:
@@ -310,6 +315,28 @@ class FRFPipeline:
                     terms)
         del self._buffers
         return self
+
+    def _settled(self, omega, h, poles, kinds, terms, info, more=10, within=0.1):
+        """Does an unconverged result depend on more iterations? ``more`` further steps
+        from it: when no pole moves by more than ``within`` of its standard deviation (or
+        1e-9 of its modulus, without one) the result stands, and ``info`` says so
+        (converged, the step limit named in the message). Returns whether it stands."""
+        lo, hi = self._imag_bounds(kinds, omega, poles)
+        kw = dict(imag_lo=lo, imag_hi=hi, passive=self._passive_on, hold=kinds == "far",
+                  with_std=False)
+        if self.max_real is not None:
+            kw["max_real"] = self.max_real
+        moved, _, _ = refine_varpro(omega, h, self._final_weights, poles, terms,
+                                    max_iter=more, **kw)
+        std = info["std"]["modes"][:, :2] if info.get("std") is not None else None
+        scale = (np.hypot(std[:, 0], std[:, 1]) if std is not None
+                 else np.zeros(poles.size)) + 1e-9 * np.abs(poles)
+        change = float(np.max(np.abs(moved - poles) / scale)) if poles.size else 0.0
+        if change <= within:
+            info["converged"] = True
+            info["message"] = (f"settled: {info['message']}, and {more} more steps move no "
+                               f"pole by more than {change:.2g} of its standard deviation")
+        return info["converged"]
 
     def _imag_bounds(self, kinds, omega, poles):
         """Bounds on ``Im p``: pseudo-modes stay outside the band, a physical pole within
