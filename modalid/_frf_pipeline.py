@@ -63,13 +63,19 @@ class FRFPipeline:
         peaks, _ = find_peaks(np.log10(np.abs(h)), prominence=0.3)
         max_order = (as_count("max_order", self.max_order, minimum=2) if self.max_order
                      else int(min(120, 4 * max(peaks.size, 2) + 16)))
-        bands = lscf_subbands(omega, h, w, max_order, peaks=omega[peaks])
-        f0 = frf.freq_hz[0]
-        # a sub-band's top edge is where its basis wraps (z = -1): its poles there are not
-        tops = [(1.0 if k == 0 else 0.9) * top / (2 * np.pi) for k, (top, _) in enumerate(bands)]
-        self.stabilization_ = stabilization_table([p for _, p in bands],
-                                                  [(f0, top) for top in tops])
-        clusters = cluster_poles(self.stabilization_)
+        cached = self.__dict__.get("_stabilization_cache")
+        if cached is None:                       # (a passive="auto" probe keeps it)
+            bands = lscf_subbands(omega, h, w, max_order, peaks=omega[peaks])
+            f0 = frf.freq_hz[0]
+            # a sub-band's top edge is where its basis wraps (z = -1): its poles there
+            # are not
+            tops = [(1.0 if k == 0 else 0.9) * top / (2 * np.pi)
+                    for k, (top, _) in enumerate(bands)]
+            table = stabilization_table([p for _, p in bands], [(f0, top) for top in tops])
+            cached = (table, cluster_poles(table))
+            if "_stabilization_cache" in self.__dict__:
+                self.__dict__["_stabilization_cache"] = cached
+        self.stabilization_, clusters = cached
         if self._selection():
             poles, selected = select_poles(clusters, **self._selection())
         else:
@@ -256,7 +262,7 @@ class FRFPipeline:
             # the estimator missed, where the residual peaks
             poles, x, info = self._refine(omega, h, w, start, kinds, terms, quick=True)
             tried = []
-            for stage in range(2):
+            for stage in range(0 if self.__dict__.get("_probe") else 2):
                 added = misses = 0
                 while not self._selection() and added < _MAX_ADDED[self.missed_modes]:
                     poles, kinds, x, info, found = self._missed_mode(
@@ -276,7 +282,8 @@ class FRFPipeline:
                 else:
                     break
             # drop the worst non-physical pole, refine again from the start without it
-            for _ in range(0 if self._selection() else _MAX_DROPS):
+            for _ in range(0 if self._selection() or self.__dict__.get("_probe")
+                           else _MAX_DROPS):
                 k, why = self._worst_pole(omega, h, w, poles, x, info, kinds, terms)
                 if k is None:
                     break
@@ -299,16 +306,16 @@ class FRFPipeline:
             self._final_weights = w
             info.update(converged=True, message="linear least squares (refine=False)")
         # unconverged: stop if more steps would not move the poles, else refine on
-        for _ in range(2 if self.refine else 0):
+        for _ in range(0 if self.__dict__.get("_probe") or not self.refine else 2):
             if info["converged"] or self._settled(omega, h, poles, kinds, terms, info):
                 break
             poles, x, info = self._refine(omega, h, w, poles, kinds, terms)
         residues, _, u, d = split_coefficients(x, poles.size, terms)
         info["n_iter_total"] = self._iterations
-        if not info["converged"]:
+        if not info["converged"] and not self.__dict__.get("_probe"):
             warnings.warn(f"the refinement did not converge: {info['message']}",
                           ModalFitWarning, stacklevel=4)
-        if not np.any(kinds == "mode"):
+        if not np.any(kinds == "mode") and not self.__dict__.get("_probe"):
             warnings.warn("no resonance found in the band: the model holds only residual "
                           "terms; see stabilization_", ModalFitWarning, stacklevel=4)
         self._store(frf, poles, kinds, residues, u, d, info, notes, max_order, vf_iterations,

@@ -79,8 +79,9 @@ class ModalFit(FRFPipeline, BaseEstimator):
         signs of the modal constants whether the FRF is a driving point (modes of
         positive modal mass carry 90 % of the modes' strength ``1/|m|`` and the mass line
         is not negative; :func:`modalid._verdict.driving_point_decision`) and, where it
-        is, refine again with it from the poles found (kept unconstrained when that
-        raises the median error per line by half); ``report_["driving_point"]`` and ``report_["driving_point_reason"]``
+        is, identify with it (a quick unconstrained refinement decides; the full
+        identification follows with the constraint, and stays unconstrained when the
+        constraint raises the median error per line by half); ``report_["driving_point"]`` and ``report_["driving_point_reason"]``
         say what was decided. An impulse response (``"era"``) or an FRFSet is taken as a
         driving point.
     refine : bool
@@ -242,7 +243,7 @@ class ModalFit(FRFPipeline, BaseEstimator):
             raise ValueError(f"residuals must be a subset of ('lower', 'upper'), got {bad}")
         self._selection()                        # validates n_modes
         for name in ("model_", "poles_", "stabilization_", "clusters_", "report_", "frf_",
-                     "data_", "impulse_", "mode_shapes_"):
+                     "data_", "impulse_", "mode_shapes_", "_stabilization_cache", "_probe"):
             self.__dict__.pop(name, None)         # a second fit starts afresh
         self._check_window()
         windowed = self.window_decay_rate != 0.0 or self.record_length is not None
@@ -276,35 +277,28 @@ class ModalFit(FRFPipeline, BaseEstimator):
                 self._fit_frf(data)
                 return self._judge(driving_point=self._passive_on,
                                    reason=f"passive={self.passive!r} given")
-            self._passive_on = False              # unconstrained, then decide
-            self._fit_frf(data)
+            # a quick unconstrained probe decides; one full identification follows
+            self._passive_on, self.__dict__["_probe"] = False, True
+            self.__dict__["_stabilization_cache"] = None     # the passes share the diagram
+            try:
+                self._fit_frf(data)
+            finally:
+                del self.__dict__["_probe"]
             driving, reason = driving_point_decision(self.report_["modes"],
                                                      self._raw_inverse_mass)
-            if driving:       # the passive pass: pseudo-modes and residual terms held too
-                free = (dict(self.__dict__), self.report_["frf_median_relative_error"])
-                self._passive_on = True           # the constraint is active: refit with it
-                self._refit_from_poles(data)
-                error = self.report_["frf_median_relative_error"]
-                if error > 1.5 * free[1] + 0.01:  # the data contradict a passive model
-                    self.__dict__.update(free[0])
-                    driving, reason = False, (
-                        f"{reason}, but the passive fit's median error per line is "
-                        f"{100 * error:.3g} % against {100 * free[1]:.3g} % without the "
-                        "constraint: not a passive driving point")
+            probe_error = self.report_["frf_median_relative_error"]
+            self._passive_on = driving
+            self._fit_frf(data)
+            error = self.report_["frf_median_relative_error"]
+            if driving and error > 1.5 * probe_error + 0.01:
+                self._passive_on = False          # the data contradict a passive model
+                self._fit_frf(data)
+                driving, reason = False, (
+                    f"{reason}, but the passive fit's median error per line is "
+                    f"{100 * error:.3g} % against {100 * probe_error:.3g} % for a quick "
+                    "unconstrained one: not a passive driving point")
+            self.__dict__.pop("_stabilization_cache", None)
             return self._judge(driving_point=driving, reason=reason)
-
-    def _refit_from_poles(self, data):
-        """Identify again from the current fit's physical poles (the stabilization diagram
-        and its selection kept): the passive pass of ``passive="auto"``."""
-        start = self.poles_ - self._shift          # the fitted (windowed) data's poles
-        stabilization, clusters = self.stabilization_, self.clusters_
-        max_order = self.report_["max_order"]
-        added = [note for note in self.report_["notes"] if note.startswith("added")]
-        frf, w, cut = self._prepare(data)
-        self.frf_ = frf
-        self._identify(frf, w, start, cut, max_order, None)
-        self.stabilization_, self.clusters_ = stabilization, clusters
-        self.report_["notes"] = added + self.report_["notes"]   # how the start was found
 
     def _judge(self, *, driving_point, reason):
         """Add the driving-point decision, damping resolution and the quality verdict
