@@ -51,7 +51,10 @@ class FRFPipeline:
         frf, w, cut = self._prepare(data)
         self.frf_ = frf
         if self._segmented(frf):                 # a wide band: poles from its segments
-            poles, fits = segment_poles(self, self.data_)
+            cached = self.__dict__.get("_stabilization_cache")
+            poles, fits = cached if cached is not None else segment_poles(self, self.data_)
+            if "_stabilization_cache" in self.__dict__:   # a passive="auto" probe keeps them
+                self.__dict__["_stabilization_cache"] = (poles, fits)
             self.stabilization_ = pd.concat([s.stabilization_ for s in fits],
                                             ignore_index=True)
             self.clusters_ = pd.concat([s.clusters_ for s in fits], ignore_index=True)
@@ -262,9 +265,11 @@ class FRFPipeline:
             # the estimator missed, where the residual peaks
             poles, x, info = self._refine(omega, h, w, start, kinds, terms, quick=True)
             tried = []
+            # (segments searched their own lines for missed modes already)
+            search = not self._selection() and self._segment_count == 1
             for stage in range(0 if self.__dict__.get("_probe") else 2):
                 added = misses = 0
-                while not self._selection() and added < _MAX_ADDED[self.missed_modes]:
+                while search and added < _MAX_ADDED[self.missed_modes]:
                     poles, kinds, x, info, found = self._missed_mode(
                         omega, h, w, poles, kinds, x, info, terms, tried)
                     if found is None:
