@@ -7,10 +7,12 @@ frequencies and a truncated :class:`modalid.ModalModel` (method.md section 2):
 * :class:`SpringMass` - a grounded spring-mass(-damper);
 * :class:`Rod` - a uniform rod in axial vibration, free or fixed far end, struck at one end;
 * :class:`CantileverBeam` - an Euler-Bernoulli cantilever struck at its free tip;
-* :func:`cantilever_roots` - roots of ``1 + cosh(e) cos(e) = 0``.
+* :func:`cantilever_roots` - roots of ``1 + cosh(e) cos(e) = 0``;
+* :func:`example_data_path` - the measured example files of ``tests/data``, from any directory.
 """
 
 from ._base import ExactModel
+from ._files import example_data_path
 from .beam import CantileverBeam
 from .lumped import LumpedMass, SpringMass
 from .measure import (HammerTest, lightly_damped, synthetic_frf, synthetic_hammer_test,
@@ -21,4 +23,4 @@ from .roots import cantilever_roots
 __all__ = ["ExactModel", "LumpedMass", "SpringMass", "Rod", "CantileverBeam",
            "cantilever_roots"]
 __all__ += ["synthetic_frf", "lightly_damped", "synthetic_impulse_response",
-            "synthetic_hammer_test", "HammerTest"]
+            "synthetic_hammer_test", "HammerTest", "example_data_path"]

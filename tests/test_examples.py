@@ -64,6 +64,25 @@ def test_examples_exist():
     assert NOTEBOOKS, f"no notebooks found in {EXAMPLES}"
 
 
+def test_example_data_is_found_from_any_directory(tmp_path, monkeypatch):
+    from data_synth import example_data_path
+
+    monkeypatch.chdir(tmp_path)
+    data = EXAMPLES.parent / "tests" / "data"
+    for name in ("case1.mat", "meas_point_1.txt"):
+        assert example_data_path(name) == data / name
+    with pytest.raises(FileNotFoundError, match="no example file 'missing.txt'"):
+        example_data_path("missing.txt")
+    with pytest.raises(ValueError):
+        example_data_path("../README.md")
+    # no notebook opens a file by a path relative to the working directory
+    for path in NOTEBOOKS:
+        code = "\n".join("".join(cell.source) for cell in nbformat.read(path, as_version=4).cells
+                         if cell.cell_type == "code")
+        relative = r"""["']\.\.?/|Path\(["']\.\.?["']\)|["']tests/data"""
+        assert not re.search(relative, code), path.name
+
+
 @pytest.fixture
 def this_python_kernel(tmp_path, monkeypatch):
     """Make kernel name ``python3`` resolve to ``sys.executable``; return the name."""
@@ -105,11 +124,14 @@ def test_notebook_saved_without_outputs(path):
 
 
 @pytest.mark.parametrize("path", NOTEBOOKS, ids=[p.name for p in NOTEBOOKS])
-def test_notebook_executes(path, this_python_kernel):
+def test_notebook_executes(path, this_python_kernel, tmp_path):
     nb = nbformat.read(path, as_version=4)
+    # run from an empty directory: a notebook must find its data from anywhere
+    workdir = tmp_path / "cwd"
+    workdir.mkdir()
     client = NotebookClient(nb, timeout=CELL_TIMEOUT, kernel_name=this_python_kernel,
                             allow_errors=False,
-                            resources={"metadata": {"path": str(path.parent)}})
+                            resources={"metadata": {"path": str(workdir)}})
     start = time.perf_counter()
     client.execute()  # raises CellExecutionError, naming the cell, on the first error
     elapsed = time.perf_counter() - start

@@ -236,3 +236,35 @@ def test_identified_model_as_normal_modes_has_no_spurious_h0():
     np.testing.assert_array_equal(normal.residues[inside].imag, raw.residues[inside].imag)
     np.testing.assert_array_equal(normal.residues[~inside], raw.residues[~inside])
     assert raw is fit.model_
+
+
+def test_identified_model_folds_a_multi_output_fits_pseudo_modes():
+    """A cantilever fitted at three points with common poles: the pseudo-modes above the
+    band leave as static compliance in every row's constant, close to the exact model's
+    compliance of its modes above the band; nothing moves at t = 0; no continuation."""
+    import warnings
+
+    from data_synth import CantileverBeam, LumpedMass, synthetic_frf
+    from impactpred import Body, solve_impact
+    from modalid import FRFSet, ModalFit
+
+    beam = CantileverBeam(1.0, 1.0)
+    xi = [0.0, 0.5, 0.8]
+    truth = beam.multi_output_model(xi, 18, damping_ratio=0.01, residual=True)
+    freq_hz = np.linspace(0.05, 80.0, 3000)
+    frfs = [synthetic_frf(truth.row(i), freq_hz, noise=0.01, seed=i) for i in range(3)]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        fit = ModalFit().fit(FRFSet.from_frfs(frfs, driving_point=0, outputs=truth.outputs))
+    model = identified_model(fit, continuation=False)
+    top = 2 * np.pi * fit.report_["band_hz"][1]
+    assert np.all(np.abs(model.poles) <= top) and np.all(model.residues.real == 0)
+    above = np.abs(truth.poles) > top
+    exact = truth.flexibility - 2 * np.sum((truth.residues[:, above]
+                                            / truth.poles[above]).real, axis=1)
+    np.testing.assert_allclose(model.flexibility, exact, rtol=0.15)
+    res = solve_impact(Body(LumpedMass(0.1), velocity=1.0), Body(model), t_end=0.5)
+    assert abs(res.force[0]) < 1e-9 * np.max(res.force)
+    assert np.max(np.abs(res.points[1].displacement[:, 0])) < 1e-15
+    with pytest.raises(ValueError, match="continuation=False"):
+        identified_model(fit)
