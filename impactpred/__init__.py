@@ -10,12 +10,14 @@ from .contact import ContactLaw, Hertz, LinearSpring, Rigid
 from .damper import (BaseExcitation, DamperResult, HarmonicForce, ImpactDamper,
                      InstantaneousImpact)
 from .points import PointResponse
-from .predict import BandWarning, Prediction, predict
-from .result import BodyEnergy, ImpactResult
+from .predict import (BandWarning, ContinuationWarning, IdentificationWarning, Prediction,
+                      predict)
+from .result import BodyEnergy, EnergyAudit, EnergyWarning, ImpactResult
 
 __all__ = ["Body", "SampledResponse", "solve_impact", "choose_dt", "METHODS", "Rigid",
            "LinearSpring", "Hertz", "ContactLaw", "ImpactResult", "BodyEnergy", "predict",
            "Prediction",
            "BandWarning", "PointResponse"]
+__all__ += ["EnergyAudit", "EnergyWarning", "IdentificationWarning", "ContinuationWarning"]
 __all__ += ["ImpactDamper", "HarmonicForce", "BaseExcitation", "InstantaneousImpact",
             "DamperResult"]

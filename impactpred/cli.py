@@ -3,11 +3,11 @@
 from __future__ import annotations
 
 import argparse
-import re
 import sys
 from pathlib import Path
 
-from modalid._cli import add_fit_options, fit_options, run_command
+from modalid._cli import (add_fit_options, add_read_options, check_out_dir, fit_options,
+                          in_flags, nothing_saved, read_options, run_command)
 
 __all__ = ["main"]
 
@@ -16,6 +16,8 @@ def _cmd_models(args) -> int:
     import numpy as np
 
     from data_synth import CantileverBeam, Rod, SpringMass
+
+    out = check_out_dir(args.out)
 
     models = {
         "Rod(m=1 kg, T=1 s, fixed)": Rod(1.0, 1.0, support="fixed"),
@@ -29,13 +31,14 @@ def _cmd_models(args) -> int:
         freq_hz = model.natural_frequencies(n) / (2 * np.pi)
         print(f"  {name:42s} " + "  ".join(f"{f:9.4f}" for f in freq_hz))
     print(f"  {'LumpedMass(1 kg)':42s} (rigid body only)")
-    if args.out:
+    if out is None:
+        print(nothing_saved("DIR writes the FRF plot"))
+    else:
         import matplotlib
 
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
 
-        out = Path(args.out)
         out.mkdir(parents=True, exist_ok=True)
         freq_hz = np.linspace(0.01, 4.0, 4000)
         fig, ax = plt.subplots(figsize=(7, 4))
@@ -57,36 +60,24 @@ def _cmd_paper(args) -> int:
 
     from .paper import run_paper_cases
 
-    table = run_paper_cases(args.out, dt=args.dt, plot=not args.no_plot)
+    out = check_out_dir(args.out)
+    table = run_paper_cases(out, dt=args.dt, plot=not args.no_plot)
     with pd.option_context("display.width", 160, "display.max_columns", 20):
         print(table.drop(columns=["description"]).to_string(float_format=lambda x: f"{x:.6g}"))
     print("Case (b): the paper's stepped force is the equal-mass reading (b_equal_mass); rods "
           "of the same material give a plain rectangular pulse 2 T2 wide (b_equal_material).")
-    if args.out:
-        print(f"wrote {Path(args.out) / 'paper_cases.csv'} and the Fig. 4 PNG files")
+    if out is None:
+        print(nothing_saved("DIR writes the table as CSV and the Fig. 4 PNG files"))
+    else:
+        print(f"wrote {out / 'paper_cases.csv'}" + ("" if args.no_plot
+                                                    else " and the Fig. 4 PNG files"))
     return 0
 
-
-#: predict's keywords (as its messages write them, ``name=``) and the flags that set them
-_FLAGS = (("check_passive=False", "--no-passivity-check"), ("velocity1=", "--v1 "),
-          ("velocity2=", "--v2 "), ("t_end=", "--t-end "), ("dt=", "--dt "),
-          ("gap=", "--gap "), ("quantity=", "--quantity "), ("contact=", "--contact "),
-          ("method=", "--method "), ("missed_modes=", "--missed-modes "),
-          ("window_decay_rate=", "--window-decay "), ("record_length=", "--record-length "))
 
 #: units of the columns of the CSV files ``impactpred predict`` writes
 _UNITS = {"t": "t_s", "force": "force_N", "y1": "y1_m", "y2": "y2_m", "gap": "gap_m",
           "displacement": "displacement_m", "velocity": "velocity_m_s",
           "acceleration": "acceleration_m_s2"}
-
-
-def in_flag_terms(message: str) -> str:
-    """``message`` on one line, with predict's keywords (``t_end=8``) written as the
-    command's flags (``--t-end 8``)."""
-    message = " ".join(str(message).split())
-    for keyword, flag in _FLAGS:
-        message = re.sub(r"(?<![\w.-])" + re.escape(keyword), flag, message)
-    return re.sub(r"(--[\w-]+ )'([^']*)'", r"\1\2", message)
 
 
 def _with_units(frame):
@@ -104,10 +95,17 @@ def _audit_line(res) -> str:
             f"{100 * audit.tolerance:.3g} %): {verdict}")
 
 
-def _cmd_predict(args) -> int:
-    import warnings
+def _body_read_options(args, spec) -> dict:
+    """The ``read_frf`` options of body ``spec`` when it is an FRF file, else ``{}``."""
+    path = Path(spec)
+    if not path.is_file() or path.suffix.lower() == ".json":
+        return {}
+    return read_options(args, path)
 
-    import pandas as pd
+
+def _run_predict(args):
+    """``(Prediction, warnings caught)`` of the ``predict`` command's arguments."""
+    import warnings
 
     from .predict import predict
 
@@ -116,13 +114,21 @@ def _cmd_predict(args) -> int:
         try:
             pred = predict(args.body1, args.body2, velocity1=args.v1, velocity2=args.v2,
                            gap=args.gap, contact=args.contact, t_end=args.t_end, dt=args.dt,
-                           method=args.method, quantity=args.quantity,
-                           continuation=args.continuation, uncertainty=args.uncertainty,
-                           fit_options=fit_options(args),
+                           method=args.method, continuation=args.continuation,
+                           uncertainty=args.uncertainty, fit_options=fit_options(args),
+                           read_options=tuple(_body_read_options(args, spec)
+                                              for spec in (args.body1, args.body2)),
                            check_passive=not args.no_passivity_check)
-        except ValueError as exc:
-            raise ValueError(in_flag_terms(exc)) from None
-    res = pred.result
+        except RuntimeError as exc:
+            if isinstance(exc, (NotImplementedError, RecursionError)):
+                raise
+            raise ValueError(f"the solver stopped: {exc}") from None
+    return pred, caught
+
+
+def _print_bodies(args, pred) -> None:
+    import pandas as pd
+
     for i, fit in enumerate(pred.fits, start=1):
         if fit is None:
             continue
@@ -136,9 +142,18 @@ def _cmd_predict(args) -> int:
               f"{report['effective_mass']:.6g} kg, residual flexibility "
               f"{report['residual_flexibility']:.6g} m/N; force energy above the band: "
               f"{100 * pred.band_reach[i - 1]:.2f} %")
-    for w in caught:
-        print(f"warning: {in_flag_terms(w.message)}", file=sys.stderr)
-    summary = res.headline()
+
+
+def _continuation_line(pred) -> str:
+    notes = [f"body {i}: {note}" for i, note in enumerate(pred.continuation, start=1)
+             if note is not None]
+    return f"{'continuation':>26s}: " + ("; ".join(notes) if notes else "no identified body")
+
+
+def _print_summary(pred, summary) -> None:
+    import pandas as pd
+
+    res = pred.result
     for key, value in summary.items():
         print(f"{key:>26s}: {value}")
     intervals = [(round(a, 9), round(b, 9)) for a, b in res.contact_intervals]
@@ -154,29 +169,49 @@ def _cmd_predict(args) -> int:
             print("uncertainty band (re-identified on 60 % and 80 % of each band, parameter "
                   "draws, widened by the truncation and tail errors they imply):")
             print(pred.uncertainty.table())
-    if args.out:
-        import matplotlib
 
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
 
-        out = Path(args.out)
-        out.mkdir(parents=True, exist_ok=True)
-        _with_units(res.to_pandas()).to_csv(out / "force_motion.csv")
-        pd.DataFrame([summary]).to_csv(out / "summary.csv", index=False)
-        res.energy.rename(columns=lambda c: f"{c}_J").rename_axis("body").to_csv(
-            out / "energy.csv")
-        for i, points in enumerate(res.points, start=1):
-            if points is not None:
-                _with_units(points.to_pandas()).to_csv(out / f"points_body{i}.csv")
-        fig, ax = plt.subplots(figsize=(8, 4))
-        res.plot(ax=ax)
-        fig.tight_layout()
-        fig.savefig(out / "impact.png", dpi=110)
-        plt.close(fig)
-        points = "".join(f", points_body{i}.csv" for i, p in enumerate(res.points, 1)
-                         if p is not None)
-        print(f"wrote force_motion.csv, summary.csv, energy.csv{points} and impact.png in {out}")
+def _save_predict(pred, summary, out: Path) -> None:
+    import matplotlib
+    import pandas as pd
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    res = pred.result
+    out.mkdir(parents=True, exist_ok=True)
+    _with_units(res.to_pandas()).to_csv(out / "force_motion.csv")
+    pd.DataFrame([summary]).to_csv(out / "summary.csv", index=False)
+    res.energy.rename(columns=lambda c: f"{c}_J").rename_axis("body").to_csv(
+        out / "energy.csv")
+    for i, points in enumerate(res.points, start=1):
+        if points is not None:
+            _with_units(points.to_pandas()).to_csv(out / f"points_body{i}.csv")
+    fig, ax = plt.subplots(figsize=(8, 4))
+    res.plot(ax=ax)
+    fig.tight_layout()
+    fig.savefig(out / "impact.png", dpi=110)
+    plt.close(fig)
+    points = "".join(f", points_body{i}.csv" for i, p in enumerate(res.points, 1)
+                     if p is not None)
+    print(f"wrote force_motion.csv, summary.csv, energy.csv{points} and impact.png in {out}")
+
+
+def _cmd_predict(args) -> int:
+    out = check_out_dir(args.out)                 # before any work
+    pred, caught = _run_predict(args)
+    _print_bodies(args, pred)
+    for w in caught:
+        print(f"warning: {in_flags(w.message)}", file=sys.stderr)
+    summary = pred.result.headline()
+    if any(note is not None for note in pred.continuation):
+        summary["continuation"] = _continuation_line(pred).split(": ", 1)[1]
+    _print_summary(pred, summary)
+    if out is None:
+        print(nothing_saved("DIR writes force_motion.csv, summary.csv, energy.csv and "
+                            "impact.png"))
+    else:
+        _save_predict(pred, summary, out)
     return 0
 
 
@@ -185,15 +220,54 @@ def _cmd_benchmark(args) -> int:
 
     from .benchmark import markdown_table, run_benchmark
 
+    check_out_dir(args.out)
     table = run_benchmark(quick=args.quick, out=args.out, progress=True,
                           bands=tuple(args.bands), noises=tuple(n / 100 for n in args.noise))
     print(markdown_table(table))
     with pd.option_context("display.width", 140):
         print(table.attrs["targets"].to_string(index=False))
-    print(f"total {table.attrs['seconds']:.0f} s"
-          + (f"; wrote synthetic_benchmark.csv, .md and figures in {args.out}" if args.out
-             else ""))
+    print(f"total {table.attrs['seconds']:.0f} s; "
+          + (f"wrote synthetic_benchmark.csv, .md and figures in {args.out}" if args.out
+             else nothing_saved("DIR writes the CSV and markdown tables and the figures")))
     return 0
+
+
+def _add_predict_parser(sub) -> None:
+    pred = sub.add_parser("predict", help="predict the impact of two bodies given as FRF "
+                                          "files, saved models or specs (mass:M, rod:..)")
+    pred.add_argument("body1", help="body 1 (moving towards +y): FRF file, model .json or spec")
+    pred.add_argument("body2", help="body 2")
+    pred.add_argument("--v1", type=float, default=0.0, help="rigid velocity of body 1 (m/s)")
+    pred.add_argument("--v2", type=float, default=0.0, help="rigid velocity of body 2 (m/s)")
+    pred.add_argument("--gap", type=float, default=0.0, help="initial clearance (m)")
+    pred.add_argument("--contact", default="rigid", help="rigid | spring:stiffness=.. | "
+                      "hertz:stiffness=.. | hertz-sphere:radius1=..,youngs_modulus1=..,...")
+    pred.add_argument("--t-end", type=float, required=True, help="end of the prediction (s)")
+    pred.add_argument("--dt", type=float, default=None, help="time step (s); default: auto")
+    pred.add_argument("--method", default="auto",
+                      choices=("auto", "laplace", "modal", "convolution", "closed_form"),
+                      help="the impact solver (the identification's: --fit-method)")
+    pred.add_argument("--continuation", dest="continuation", action="store_const", const=True,
+                      default="auto",
+                      help="continue every identified model above its band with the "
+                           "high-frequency impedance of its top modes (default: those with "
+                           "more than 0.1 %% of the force's energy above their band)")
+    pred.add_argument("--no-continuation", dest="continuation", action="store_const",
+                      const=False, help="the identified models as they are")
+    pred.add_argument("--uncertainty", action="store_true",
+                      help="report the spread over cut-band re-identifications")
+    pred.add_argument("--no-passivity-check", action="store_true",
+                      help="accept models that are not stable, passive driving points "
+                           "(negative modal masses, unstable poles, FRFs whose sign says "
+                           "so): only for a model you can justify; the energy audit still "
+                           "flags energy from nowhere")
+    read = pred.add_argument_group("reading the FRF files (as modalid fit)")
+    add_read_options(read)
+    fit = pred.add_argument_group("identifying the FRF files (as modalid fit)")
+    add_fit_options(fit, method_flags=("--fit-method",))
+    pred.add_argument("--out", metavar="DIR", help="folder for the CSV files (units in "
+                      "their headers) and the plot (default: nothing saved)")
+    pred.set_defaults(func=_cmd_predict)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -212,34 +286,7 @@ def build_parser() -> argparse.ArgumentParser:
     paper.add_argument("--dt", type=float, default=None, help="time step (s); default: auto")
     paper.add_argument("--no-plot", action="store_true", help="table only")
     paper.set_defaults(func=_cmd_paper)
-    pred = sub.add_parser("predict", help="predict the impact of two bodies given as FRF "
-                                          "files, saved models or specs (mass:M, rod:..)")
-    pred.add_argument("body1", help="body 1 (moving towards +y): FRF file, model .json or spec")
-    pred.add_argument("body2", help="body 2")
-    pred.add_argument("--v1", type=float, default=0.0, help="rigid velocity of body 1 (m/s)")
-    pred.add_argument("--v2", type=float, default=0.0, help="rigid velocity of body 2 (m/s)")
-    pred.add_argument("--gap", type=float, default=0.0, help="initial clearance (m)")
-    pred.add_argument("--contact", default="rigid", help="rigid | spring:stiffness=.. | "
-                      "hertz:stiffness=.. | hertz-sphere:radius1=..,youngs_modulus1=..,...")
-    pred.add_argument("--t-end", type=float, required=True, help="end of the prediction (s)")
-    pred.add_argument("--dt", type=float, default=None, help="time step (s); default: auto")
-    pred.add_argument("--method", default="auto",
-                      choices=("auto", "laplace", "modal", "convolution", "closed_form"))
-    pred.add_argument("--quantity", choices=("receptance", "mobility", "accelerance"),
-                      help="quantity of FRF files that do not say it")
-    pred.add_argument("--continuation", action="store_true",
-                      help="continue identified models above their band (high-frequency "
-                           "impedance of their top modes)")
-    pred.add_argument("--uncertainty", action="store_true",
-                      help="report the spread over cut-band re-identifications")
-    pred.add_argument("--no-passivity-check", action="store_true",
-                      help="accept models that are not stable, passive driving points "
-                           "(negative modal masses, unstable poles): only for a model you "
-                           "can justify; the energy audit still flags energy from nowhere")
-    add_fit_options(pred)
-    pred.add_argument("--out", help="folder for the CSV files (units in their headers) and "
-                                    "the plot")
-    pred.set_defaults(func=_cmd_predict)
+    _add_predict_parser(sub)
     bench = sub.add_parser("benchmark", help="synthetic hammer tests -> identification -> "
                                              "prediction, against the exact answers")
     bench.add_argument("--quick", action="store_true",

@@ -14,10 +14,53 @@ import pandas as pd
 
 from data_synth import CantileverBeam, LumpedMass, Rod
 
-from .api import solve_impact
+from modalid._checks import as_positive_scalar
+
+from .api import _MAX_STEPS, solve_impact
 from .body import Body
 
-__all__ = ["PaperCase", "paper_cases", "run_paper_cases"]
+__all__ = ["PaperCase", "paper_cases", "run_paper_cases", "check_paper_dt"]
+
+#: memory (bytes) a case takes per output sample at its peak: measured 98 for the closed
+#: form, 176-354 for the convolution solver (case d at dt = 1e-4 s)
+BYTES_PER_SAMPLE = 360
+
+
+def _bytes(n: float) -> str:
+    for unit, size in (("TiB", 2.0**40), ("GiB", 2.0**30), ("MiB", 2.0**20)):
+        if n >= size:
+            return f"{n / size:.3g} {unit}"
+    return f"{n / 2**10:.3g} KiB"
+
+
+def check_paper_dt(dt, *, t_end: float = 8.0) -> None:
+    """Refuse a step the paper's cases cannot take, before any of them is solved.
+
+    Parameters
+    ----------
+    dt : float or None
+        The step (s) asked for; None (automatic) passes.
+    t_end : float, keyword-only
+        The cases' end (s).
+
+    Raises
+    ------
+    ValueError
+        ``dt`` not positive, or finer than ``t_end / 4,000,000`` (the solvers' limit on
+        steps, about 1.3 GiB per case): the message gives the samples and the memory
+        (:data:`BYTES_PER_SAMPLE` per sample) it would need.
+    """
+    if dt is None:
+        return
+    dt = as_positive_scalar("dt", dt)
+    n = t_end / dt
+    if n > _MAX_STEPS * (1 + 1e-9):
+        finest = t_end / _MAX_STEPS
+        raise ValueError(f"dt={dt:.4g} s is too fine for the paper's cases: {n:.3g} samples "
+                         f"per case ({t_end:g} s each) would need about "
+                         f"{_bytes(n * BYTES_PER_SAMPLE)} of memory; the finest step they "
+                         f"take is {finest:.4g} s ({_MAX_STEPS:,} samples, about "
+                         f"{_bytes(_MAX_STEPS * BYTES_PER_SAMPLE)})")
 
 
 @dataclass(frozen=True)
@@ -58,11 +101,14 @@ def run_paper_cases(out_dir=None, *, dt=None, plot=True) -> pd.DataFrame:
     """Solve every case; write ``fig4_<key>.png`` and ``paper_cases.csv`` into ``out_dir``.
 
     Returns the table: duration, peak force, impulse, restitution (first contact and after
-    all contacts), vibration energy share, contacts, method and step, per case.
+    all contacts), vibration energy share, contacts, method and step, per case. A ``dt``
+    (s) the cases cannot take is refused first (:func:`check_paper_dt`).
     """
+    cases = paper_cases()
+    check_paper_dt(dt, t_end=max(case.t_end for case in cases))
     rows = []
     results = {}
-    for case in paper_cases():
+    for case in cases:
         res = solve_impact(case.body1, case.body2, t_end=case.t_end, dt=dt)
         results[case.key] = res
         s = res.summary()

@@ -95,16 +95,30 @@ def perturb_residues(fit, rng) -> ModalModel:
     deviation; the rigid body's inverse mass and the residual flexibility (the constant
     term) by a real one of theirs (``report_["inverse_mass_std"]``,
     ``report_["flexibility_std"]``), kept >= 0.
+
+    For a driving point (``report_["driving_point"]`` not False) each mode of positive
+    modal mass keeps it positive: a draw whose residue's imaginary part crosses zero is
+    reflected back (``Im r -> -Im r``), so that the draw stays a passive driving point
+    (a modal mass of the wrong sign would be refused by the passivity check) and the
+    draw sequence stays the same.
     """
     model = fit.model_
     modes = fit.report_["modes"]
     std = modes["residue_std"].to_numpy()
     residues = model.residues.copy()
+    driving = fit.report_.get("driving_point") is not False
     for pole, s in zip(fit.poles_, std):
         if not np.isfinite(s):
             continue
         k = int(np.argmin(np.abs(model.poles - pole)))
-        residues[k] += s / math.sqrt(2.0) * complex(rng.standard_normal(), rng.standard_normal())
+        nominal = residues[k]
+        drawn = nominal + s / math.sqrt(2.0) * complex(rng.standard_normal(),
+                                                       rng.standard_normal())
+        # modal mass -1/(2 Im p Im r) > 0  <=>  Im r has the sign of -Im p
+        if driving and nominal.imag * model.poles[k].imag < 0 \
+                and drawn.imag * nominal.imag <= 0:
+            drawn = complex(drawn.real, -drawn.imag if drawn.imag else nominal.imag)
+        residues[k] = drawn
     scalars = {}
     for name in ("inverse_mass", "flexibility"):
         value, s = getattr(model, name), fit.report_.get(f"{name}_std", math.nan)

@@ -1,36 +1,83 @@
-"""The shared runner of the project's command-line tools."""
+"""The shared ground of the project's command-line tools (``modalid``, ``impactpred``).
+
+One runner (:func:`run_command`: one-line errors, exit status 2), the identification
+options of every command that fits FRF files (:func:`add_fit_options`,
+:func:`fit_options`), the options that say how an FRF file is read
+(:func:`add_read_options`, :func:`read_options`), the check of an output folder given
+with ``--out`` (:func:`check_out_dir`), and the one translation of the library's Python
+argument names into the flags that set them (:func:`in_flags`).
+"""
 
 from __future__ import annotations
 
 import argparse
+import re
 import sys
+from pathlib import Path
 
 __all__ = ["run_command", "add_fit_options", "fit_options", "add_read_options", "read_options",
-           "in_flags"]
+           "in_flags", "check_out_dir", "nothing_saved"]
 
-# Python argument words in library messages -> the command line's flags
-_FLAGS = (("passive=False", "--driving-point no"), ("passive=True", "--driving-point yes"),
-          ("passive='auto'", "--driving-point auto"),
-          ("format='complex-lines'", "--format complex-lines"), ("freq_hz=", "--freq-start/--df"),
-          ("quantity=", "--quantity"), ("index=", "--index"), ("format=", "--format"),
-          ("freq_range", "--fmin/--fmax"), ("window_decay_rate", "--window-decay"),
-          ("record_length", "--record-length"), ("missed_modes", "--missed-modes"),
-          ("weighting=", "--weighting"), ("n_modes", "--n-modes"))
+#: phrases whose value picks the flag (matched first, as written)
+_PHRASES = (("check_passive=False", "--no-passivity-check"),
+            ("continuation=False", "--no-continuation"),
+            ("passive=False", "--driving-point no"), ("passive=True", "--driving-point yes"),
+            ("passive='auto'", "--driving-point auto"),
+            ("read_options={'conjugate': True}", "--conjugate"),
+            ("read_options={'negate': True}", "--negate"),
+            ("freq_hz=", "--freq-start/--df"))
+
+#: Python keyword -> flag: ``name=value`` becomes ``--flag value`` (quotes dropped); the
+#: names with an underscore also bare (``window_decay_rate must be ...``)
+_KEYWORDS = {
+    # how the impact is predicted (impactpred predict, paper)
+    "velocity1": "--v1", "velocity2": "--v2", "t_end": "--t-end", "dt": "--dt", "gap": "--gap",
+    "contact": "--contact", "method": "--method",
+    # how a file is read
+    "quantity": "--quantity", "index": "--index", "format": "--format",
+    # how an FRF is identified (ModalFit)
+    "n_modes": "--n-modes", "freq_range": "--fmin/--fmax", "rigid_body": "--rigid-body",
+    "weighting": "--weighting", "missed_modes": "--missed-modes",
+    "window_decay_rate": "--window-decay", "record_length": "--record-length",
+    # how a hammer test becomes an FRF (frf_from_hammer)
+    "fs": "--fs", "response_type": "--response-type", "force_window": "--force-window",
+    "force_window_length": "--force-window-length", "exponential_decay": "--exponential-decay",
+    "n_fft": "--n-fft",
+}
 
 
-def in_flags(message: str) -> str:
-    """``message`` with the Python argument names it mentions replaced by the flags."""
-    for word, flag in _FLAGS:
-        message = message.replace(word, flag)
-    return message
+#: a name starts a word, not inside an identifier or a file path
+_START = r"(?<![\w./\\-])"
+
+
+def in_flags(message) -> str:
+    """``message`` on one line, with the Python argument names it mentions written as the
+    command line's flags.
+
+    ``t_end=8`` becomes ``--t-end 8``, ``missed_modes='dense'`` ``--missed-modes dense``,
+    ``window_decay_rate must be ...`` ``--window-decay must be ...``, ``passive=False``
+    ``--driving-point no``; see ``_PHRASES`` and ``_KEYWORDS``.
+    """
+    message = " ".join(str(message).split())
+    for phrase, flag in _PHRASES:
+        message = re.sub(_START + re.escape(phrase), flag, message)
+    for name in sorted(_KEYWORDS, key=len, reverse=True):
+        flag, word = _KEYWORDS[name], _START + re.escape(name)
+        message = re.sub(word + r"=\s*(?:'([^']*)'|\"([^\"]*)\")",
+                         lambda m, flag=flag: f"{flag} {m.group(1) or m.group(2) or ''}",
+                         message)
+        message = re.sub(word + r"=\s*", flag + " ", message)
+        if "_" in name:
+            message = re.sub(word + r"(?![\w=])", flag, message)
+    return " ".join(message.split())
 
 
 def run_command(parser: argparse.ArgumentParser, argv=None, *,
                 errors=(ValueError, TypeError, FileNotFoundError)) -> int:
     """Parse ``argv``, run the chosen sub-command's ``func``; bad input exits 2 with a message.
 
-    Expected errors (bad values, missing files) are reported on one line without a
-    traceback; anything else propagates, since it is a bug.
+    Expected errors (bad values, missing files) are reported on one line, in flags
+    (:func:`in_flags`), without a traceback; anything else propagates, since it is a bug.
     """
     args = parser.parse_args(argv)
     if not getattr(args, "func", None):
@@ -39,17 +86,71 @@ def run_command(parser: argparse.ArgumentParser, argv=None, *,
     try:
         return args.func(args)
     except errors as exc:
-        print(f"{parser.prog}: error: {in_flags(str(exc))}", file=sys.stderr)
+        print(f"{parser.prog}: error: {in_flags(exc)}", file=sys.stderr)
         return 2
 
 
-def add_fit_options(parser: argparse.ArgumentParser) -> None:
-    """The ``ModalFit`` options of the commands that fit FRF files: the mode search and an
-    exponential window (``--missed-modes``, ``--window-decay``, ``--record-length``)."""
-    parser.add_argument("--missed-modes", choices=("strict", "dense"), default="strict",
+def check_out_dir(out, *, flag: str = "--out") -> Path | None:
+    """The output folder ``out`` as a Path (None without one), refused up front when it
+    names an existing file (before any work, not after it).
+
+    Raises
+    ------
+    ValueError
+        ``out`` exists and is not a folder.
+    """
+    if out is None:
+        return None
+    path = Path(out)
+    if path.exists() and not path.is_dir():
+        raise ValueError(f"{flag} {out} is an existing file, not a folder: give a folder "
+                         "(created if missing)")
+    return path
+
+
+def nothing_saved(what: str) -> str:
+    """The line a command prints when ``--out`` is not given."""
+    return f"nothing saved (--out {what})"
+
+
+# ------------------------------------------------------------------ identification options
+def add_fit_options(parser: argparse.ArgumentParser, *, method_flags=("--method",)) -> None:
+    """The :class:`modalid.ModalFit` options of every command that fits FRF files.
+
+    Parameters
+    ----------
+    parser : argparse.ArgumentParser
+    method_flags : tuple of str, keyword-only
+        The flag(s) of the fit's method (``impactpred predict``, whose ``--method`` is the
+        impact solver's, passes ``("--fit-method",)``).
+    """
+    parser.add_argument(*method_flags, dest="fit_method", choices=("lscf", "vf"), default=None,
+                        help="identification method (default lscf)")
+    parser.add_argument("--n-modes", type=int, default=None,
+                        help="number of modes (default: chosen from the data)")
+    parser.add_argument("--fmin", type=float, default=None, metavar="HZ",
+                        help="lowest frequency (Hz); with neither --fmin nor --fmax the band "
+                             "is chosen from the data")
+    parser.add_argument("--fmax", type=float, default=None, metavar="HZ",
+                        help="highest frequency (Hz)")
+    parser.add_argument("--rigid-body", choices=("auto", "yes", "no"), default=None,
+                        help="a free body's mass line 1/(M s^2): auto (default) decides from "
+                             "the data")
+    parser.add_argument("--weighting", choices=("auto", "relative", "mixed", "noise", "uniform"),
+                        default=None,
+                        help="relative: noise proportional to the FRF; noise: a noise floor "
+                             "estimated from the data (analyzer exports); auto (default): "
+                             "decide from the data")
+    parser.add_argument("--driving-point", choices=("auto", "yes", "no"), default=None,
+                        help="yes: keep modal masses positive (a passive driving point); no: "
+                             "allow negative ones (a transfer FRF); auto (default): decide "
+                             "from the data")
+    parser.add_argument("--not-driving-point", action="store_true",
+                        help="the same as --driving-point no")
+    parser.add_argument("--missed-modes", choices=("strict", "dense"), default=None,
                         help="dense: the fit adds every mode the residual and the "
                              "information criterion support (bands with many weak or close "
-                             "modes)")
+                             "modes); default strict")
     parser.add_argument("--window-decay", type=float, default=None, metavar="RATE",
                         help="the FRFs carry an exponential window exp(-RATE t) (1/s): the "
                              "fit models it and the models are without it")
@@ -58,11 +159,41 @@ def add_fit_options(parser: argparse.ArgumentParser) -> None:
                              "the fit undoes the record's end too")
 
 
+_CHOICE = {"auto": "auto", "yes": True, "no": False}
+
+
 def fit_options(args) -> dict:
-    """The ``ModalFit`` keyword arguments of :func:`add_fit_options`'s options (only those
-    given or not at their default)."""
+    """The :class:`modalid.ModalFit` keyword arguments of :func:`add_fit_options`'s
+    options, only those given.
+
+    ``--fmin``/``--fmax`` give ``freq_range`` (0 and infinity for the one left out);
+    ``--driving-point``/``--not-driving-point`` give ``passive``.
+
+    Raises
+    ------
+    ValueError
+        ``--not-driving-point`` with ``--driving-point yes`` or ``auto``.
+    """
     options = {}
-    if args.missed_modes != "strict":
+    if args.fit_method is not None:
+        options["method"] = args.fit_method
+    if args.n_modes is not None:
+        options["n_modes"] = args.n_modes
+    if args.fmin is not None or args.fmax is not None:
+        options["freq_range"] = (0.0 if args.fmin is None else args.fmin,
+                                 float("inf") if args.fmax is None else args.fmax)
+    if args.rigid_body is not None:
+        options["rigid_body"] = _CHOICE[args.rigid_body]
+    if args.weighting is not None:
+        options["weighting"] = args.weighting
+    if args.not_driving_point and args.driving_point not in (None, "no"):
+        raise ValueError(f"--not-driving-point contradicts --driving-point "
+                         f"{args.driving_point}: give one of them")
+    if args.not_driving_point:
+        options["passive"] = False
+    elif args.driving_point is not None:
+        options["passive"] = _CHOICE[args.driving_point]
+    if args.missed_modes is not None:
         options["missed_modes"] = args.missed_modes
     if args.window_decay is not None:
         options["window_decay_rate"] = args.window_decay
@@ -71,9 +202,11 @@ def fit_options(args) -> dict:
     return options
 
 
+# ------------------------------------------------------------------ reading options
 def add_read_options(parser: argparse.ArgumentParser) -> None:
-    """How an FRF file is read: ``--quantity``, ``--index``, ``--format`` and, for bare
-    complex lines, ``--freq-start``/``--df``."""
+    """How an FRF file is read: ``--quantity``, ``--index``, ``--format``, for bare complex
+    lines ``--freq-start``/``--df``, and ``--conjugate``/``--negate`` for a file stored with
+    the other sign convention or the response's sign reversed."""
     parser.add_argument("--quantity", choices=("receptance", "mobility", "accelerance"),
                         help="the FRF's quantity if the file does not say it")
     parser.add_argument("--index", type=int, default=None,
@@ -85,19 +218,40 @@ def add_read_options(parser: argparse.ArgumentParser) -> None:
                         help="a complex-lines file: the frequency of its first line (Hz)")
     parser.add_argument("--df", type=float, default=None, metavar="HZ",
                         help="a complex-lines file: the spacing of its lines (Hz)")
+    parser.add_argument("--conjugate", action="store_true",
+                        help="the file uses the other sign convention (Fourier kernel "
+                             "exp(+i w t)): take the complex conjugate of its values")
+    parser.add_argument("--negate", action="store_true",
+                        help="the response was recorded in the opposite direction to the "
+                             "force: reverse the sign of the values")
 
 
 def read_options(args, path) -> dict:
-    """The ``read_frf`` keyword arguments of :func:`add_read_options`'s options; the line
-    frequencies of a complex-lines file from ``--freq-start`` and ``--df``."""
+    """The :func:`modalid.read_frf` keyword arguments of :func:`add_read_options`'s options
+    for the file ``path``, only those given.
+
+    The line frequencies of a complex-lines file come from ``--freq-start`` (Hz, default 0)
+    and ``--df`` (Hz): one per non-blank line of ``path``.
+
+    Raises
+    ------
+    ValueError
+        ``--df`` missing or not positive while ``--freq-start`` is given.
+    FileNotFoundError
+        ``--df`` given and ``path`` is not a file.
+    """
     import numpy as np
 
-    options = {"quantity": args.quantity, "index": args.index, "format": args.format}
+    options = {"quantity": args.quantity, "index": args.index, "format": args.format,
+               "conjugate": args.conjugate or None, "negate": args.negate or None}
     if args.df is not None or args.freq_start is not None:
         if args.df is None or not args.df > 0:
             raise ValueError(f"--df must be a positive line spacing (Hz), got {args.df!r}")
-        with open(path) as stream:
-            n_lines = sum(1 for line in stream if line.strip())
+        if not Path(path).is_file():
+            raise FileNotFoundError(f"no such file: {str(path)!r}")
+        with open(path, encoding="utf-8-sig", errors="replace") as stream:
+            n_lines = sum(1 for line in stream
+                          if line.strip() and not line.lstrip().startswith("#"))
         start = 0.0 if args.freq_start is None else args.freq_start
         options["freq_hz"] = start + args.df * np.arange(n_lines)
         options["format"] = "complex-lines"

@@ -1,4 +1,5 @@
-"""Command line: ``modalid fit FILE`` identifies a modal model from a measured FRF."""
+"""Command line: ``modalid fit FILE`` identifies a modal model from a measured FRF;
+``modalid hammer FILE...`` turns raw impact-hammer records into an FRF file."""
 
 from __future__ import annotations
 
@@ -7,43 +8,20 @@ import sys
 import warnings
 from pathlib import Path
 
-from ._cli import (add_fit_options, add_read_options, fit_options, in_flags, read_options,
-                   run_command)
+from ._cli import (add_fit_options, add_read_options, check_out_dir, fit_options, in_flags,
+                   nothing_saved, read_options, run_command)
 
-__all__ = ["main"]
-
-
-def _passive(args):
-    """``ModalFit(passive=...)`` from ``--driving-point`` (and its older spelling)."""
-    if args.not_driving_point:
-        return False
-    return {"auto": "auto", "yes": True, "no": False}[args.driving_point]
+__all__ = ["main", "build_parser"]
 
 
-def _cmd_fit(args) -> int:
+def _warn(message) -> None:
+    print(f"warning: {in_flags(message)}", file=sys.stderr)
+
+
+# ------------------------------------------------------------------------------ fit
+def _print_report(args, data, report) -> None:
     import pandas as pd
 
-    from .fit import ModalFit
-    from .io import read_frf
-
-    data = read_frf(args.file, **read_options(args, args.file))
-    freq_range = (args.fmin, args.fmax) if args.fmin is not None or args.fmax is not None \
-        else None
-    if freq_range is not None:
-        freq_range = (args.fmin or 0.0, args.fmax or float(data.freq_hz[-1]))
-    fit = ModalFit(method=args.method, freq_range=freq_range, n_modes=args.n_modes,
-                   rigid_body={"auto": "auto", "yes": True, "no": False}[args.rigid_body],
-                   passive=_passive(args), weighting=args.weighting,
-                   **fit_options(args))
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        try:
-            fit.fit(data)
-        except ValueError as exc:
-            raise ValueError(f"{args.file}: {exc}") from None
-    for w in caught:
-        print(f"warning: {in_flags(str(w.message))}", file=sys.stderr)
-    report = fit.report_
     print(f"{args.file}: {len(data)} lines, {data.freq_hz[0]:g}-{data.freq_hz[-1]:g} Hz, "
           f"{data.quantity}")
     columns = [c for c in ("frequency_hz", "damping_ratio", "modal_mass", "frequency_hz_std",
@@ -55,7 +33,7 @@ def _cmd_fit(args) -> int:
           f"residual flexibility {report['residual_flexibility']:.6g} m/N, effective mass "
           f"{report['effective_mass']:.6g} kg")
     print(f"band {report['band_hz'][0]:g}-{report['band_hz'][1]:g} Hz: "
-          f"{report['band_reason']}")
+          f"{in_flags(report['band_reason'])}")
     if report.get("driving_point") is not None:
         print(f"driving point: {'yes' if report['driving_point'] else 'no'} "
               f"({report['driving_point_reason']})")
@@ -63,59 +41,198 @@ def _cmd_fit(args) -> int:
           f"{report['converged']}")
     print(f"verdict: {report['verdict']}" + "".join(f"\n  - {r}"
                                                     for r in report["verdict_reasons"]))
-    if not args.out:
-        print("nothing saved (--out DIR writes the model JSON and the plots)")
-    if args.out:
-        out = Path(args.out)
-        out.mkdir(parents=True, exist_ok=True)
-        stem = Path(args.file).stem
-        fit.model_.to_json(out / f"{stem}_model.json")
-        import matplotlib
 
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
 
-        fig, axes = plt.subplots(2, 1, figsize=(8, 8))
-        fit.plot_fit(ax=axes[0])
-        fit.plot_stabilization(ax=axes[1])
-        fig.tight_layout()
-        fig.savefig(out / f"{stem}_fit.png", dpi=110)
-        plt.close(fig)
-        print(f"wrote {out / (stem + '_model.json')} and {out / (stem + '_fit.png')}")
+def _save_fit(fit, out: Path, stem: str) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    out.mkdir(parents=True, exist_ok=True)
+    fit.model_.to_json(out / f"{stem}_model.json")
+    fig, axes = plt.subplots(2, 1, figsize=(8, 8))
+    fit.plot_fit(ax=axes[0])
+    fit.plot_stabilization(ax=axes[1])
+    fig.tight_layout()
+    fig.savefig(out / f"{stem}_fit.png", dpi=110)
+    plt.close(fig)
+    print(f"wrote {out / (stem + '_model.json')} and {out / (stem + '_fit.png')}")
+
+
+def _cmd_fit(args) -> int:
+    from ._sign import check_sign
+    from .fit import ModalFit
+    from .io import read_frf
+
+    out = check_out_dir(args.out)                 # before any work
+    fit = ModalFit(**fit_options(args))
+    data = read_frf(args.file, **read_options(args, args.file))
+    sign = check_sign(data)
+    if sign.verdict != "ok":
+        _warn(sign.problem(args.file))
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            fit.fit(data)
+        except ValueError as exc:
+            raise ValueError(f"{args.file}: {exc}") from None
+    for w in caught:
+        _warn(w.message)
+    report = fit.report_
+    _print_report(args, data, report)
+    if out is None:
+        print(nothing_saved("DIR writes the model JSON and the plots"))
+    else:
+        _save_fit(fit, out, Path(args.file).stem)
     if report["verdict"] == "failed":
+        fix = (f"; {in_flags(sign.problem(args.file))}" if sign.verdict != "ok" else "")
         print(f"{args.file}: the fit failed (see the verdict); try --fmin/--fmax, "
-              "--weighting, --driving-point or --n-modes", file=sys.stderr)
+              f"--weighting, --driving-point or --n-modes{fix}", file=sys.stderr)
         return 3
     return 0
+
+
+# --------------------------------------------------------------------------- hammer
+def _check_frf_out(out):
+    """``--out FILE`` of ``modalid hammer``: a writable format, not a folder."""
+    if out is None:
+        return None
+    from .io import WRITE_FORMATS, _format_of
+
+    path = Path(out)
+    if path.is_dir():
+        raise ValueError(f"--out {out} is a folder: give the FRF file to write (.csv, .npz, "
+                         ".mat or .uff)")
+    _format_of(path, None, WRITE_FORMATS)
+    return path
+
+
+def _excited_top(est) -> float:
+    """The highest line (Hz) where the force spectrum is within 20 dB of its maximum."""
+    import numpy as np
+
+    spectrum = est.force_spectrum
+    return float(est.frf.freq_hz[np.flatnonzero(spectrum >= 0.01 * spectrum.max())[-1]])
+
+
+def _fit_flags(est) -> str:
+    """The ``modalid fit`` / ``impactpred predict`` flags of the estimate's windows."""
+    options = est.fit_options()
+    flags = [f"--window-decay {options['window_decay_rate']:.9g}"]
+    if options["record_length"] is not None:
+        flags.append(f"--record-length {options['record_length']:.9g}")
+    return " ".join(flags)
+
+
+def _cmd_hammer(args) -> int:
+    import numpy as np
+
+    from ._hammer_files import read_hammer_records
+    from .hammer import frf_from_hammer
+    from .io import write_frf
+
+    out = _check_frf_out(args.out)                # before any work
+    records = read_hammer_records(args.files, fs=args.fs, time=args.time, force=args.force,
+                                  response=args.response)
+    n_hits, n_samples = records.force.shape
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        est = frf_from_hammer(records.force, records.response, records.fs,
+                              response_type=args.response_type, force_window=args.force_window,
+                              force_window_length=args.force_window_length,
+                              exponential_decay=args.exponential_decay, n_fft=args.n_fft)
+    for w in caught:
+        _warn(w.message)
+    frf = est.frf
+    files = list(dict.fromkeys(records.sources))
+    named = files[0] if len(files) == 1 else f"{files[0]} ... {files[-1]}"
+    print(f"{n_hits} hit{'s' * (n_hits > 1)} from {len(files)} file"
+          f"{'s' * (len(files) > 1)} ({named}): {n_samples} samples at {records.fs:.9g} Hz "
+          f"({n_samples / records.fs:.6g} s); channels: {records.channels}")
+    window = ("none" if est.force_window_length is None
+              else f"force window to {est.force_window_length:.6g} s")
+    decay = est.window_decay_rate
+    ends = f", ending at {np.exp(-decay * n_samples / records.fs):.3g}" if decay else ""
+    print(f"windows: {window}; exponential decay {decay:.6g} 1/s{ends}")
+    coherence = ("" if frf.coherence is None
+                 else f", median coherence {np.median(frf.coherence[1:]):.4f}")
+    print(f"H1 {frf.quantity}: {len(frf)} lines, {frf.freq_hz[0]:g}-{frf.freq_hz[-1]:g} Hz"
+          f"{coherence}; the force spectrum is within 20 dB of its maximum up to "
+          f"{_excited_top(est):.6g} Hz")
+    if est.double_hits:
+        print(f"double hits in hits {list(est.double_hits)} (averaged all the same)")
+    target = out if out is not None else "FILE"
+    print(f"fit it with: modalid fit {target} {_fit_flags(est)} (and --fmax "
+          f"{_excited_top(est):.6g} to keep to the band the hammer excited); impactpred "
+          "predict takes the same flags")
+    if out is None:
+        print(nothing_saved("FILE writes the FRF with its coherence (.csv, .npz, .mat, .uff)"))
+    else:
+        out.parent.mkdir(parents=True, exist_ok=True)
+        write_frf(out, frf)
+        print(f"wrote {out}")
+    return 0
+
+
+# --------------------------------------------------------------------------- parser
+def _add_fit_parser(sub) -> None:
+    fit = sub.add_parser("fit", help="identify a modal model from an FRF file")
+    fit.add_argument("file", help="CSV, .npz, .mat, UFF 58 or complex-lines file")
+    add_read_options(fit)
+    add_fit_options(fit)
+    fit.add_argument("--out", metavar="DIR", help="folder for the model JSON and the plots "
+                                                  "(default: nothing saved)")
+    fit.set_defaults(func=_cmd_fit)
+
+
+def _channel(text):
+    return int(text) if text.isdigit() else text
+
+
+def _add_hammer_parser(sub) -> None:
+    hammer = sub.add_parser("hammer", help="raw impact-hammer records -> an FRF file (H1 "
+                                           "with coherence)")
+    hammer.add_argument("files", nargs="+", metavar="FILE",
+                        help=".npy (channels as rows or columns), .npz (named arrays) or "
+                             "CSV records; several files are several hits, averaged")
+    hammer.add_argument("--fs", type=float, default=None, metavar="HZ",
+                        help="sample rate (Hz) when the files have no time channel")
+    hammer.add_argument("--time", type=_channel, default=None, metavar="NAME|INDEX",
+                        help="the time channel (s); default: by name (t, time), else the "
+                             "first of three channels")
+    hammer.add_argument("--force", type=_channel, default=None, metavar="NAME|INDEX",
+                        help="the force channel (N); default: by name (force, f), else the "
+                             "second of three channels (first of two)")
+    hammer.add_argument("--response", type=_channel, default=None, metavar="NAME|INDEX",
+                        help="the response channel; default: by name (response, "
+                             "acceleration, velocity, displacement), else the last")
+    hammer.add_argument("--response-type", default="acceleration",
+                        choices=("acceleration", "velocity", "displacement"),
+                        help="the response's kind (m/s^2, m/s or m): the FRF is "
+                             "accelerance, mobility or receptance")
+    hammer.add_argument("--exponential-decay", type=float, default=0.0, metavar="RATE",
+                        help="exponential window exp(-RATE t) on both channels (1/s; for a "
+                             "window ending at e: -ln(e)/T); default none")
+    hammer.add_argument("--force-window", choices=("force", "none"), default="force",
+                        help="force: zero the force record after the pulse (default)")
+    hammer.add_argument("--force-window-length", type=float, default=None, metavar="S",
+                        help="length (s) of the force window; default: the pulse and five "
+                             "times its width")
+    hammer.add_argument("--n-fft", type=int, default=None, metavar="N",
+                        help="FFT length, zero-padded (default: the record length)")
+    hammer.add_argument("--out", metavar="FILE",
+                        help="the FRF file to write (.csv, .npz, .mat, .uff; default: "
+                             "nothing saved)")
+    hammer.set_defaults(func=_cmd_hammer)
 
 
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="modalid", description="Identify pole-residue "
                                      "modal models from measured FRFs.")
     sub = parser.add_subparsers(dest="command", metavar="command")
-    fit = sub.add_parser("fit", help="identify a modal model from an FRF file")
-    fit.add_argument("file", help="CSV, .npz, .mat or UFF 58 file")
-    add_read_options(fit)
-    fit.add_argument("--method", choices=("lscf", "vf"), default="lscf")
-    fit.add_argument("--n-modes", type=int, default=None, help="number of modes (default: auto)")
-    fit.add_argument("--fmin", type=float, default=None,
-                     help="lowest frequency (Hz); with neither --fmin nor --fmax the band is "
-                          "chosen from the data")
-    fit.add_argument("--fmax", type=float, default=None, help="highest frequency (Hz)")
-    fit.add_argument("--rigid-body", choices=("auto", "yes", "no"), default="auto")
-    fit.add_argument("--weighting", choices=("auto", "relative", "mixed", "noise", "uniform"),
-                     default="auto",
-                     help="relative: noise proportional to the FRF; noise: a noise floor "
-                          "estimated from the data (analyzer exports); auto: decide from "
-                          "the data")
-    fit.add_argument("--driving-point", choices=("auto", "yes", "no"), default="auto",
-                     help="yes: keep modal masses positive (a passive driving point); no: "
-                          "allow negative ones (a transfer FRF); auto: decide from the data")
-    fit.add_argument("--not-driving-point", action="store_true",
-                     help="the same as --driving-point no")
-    add_fit_options(fit)
-    fit.add_argument("--out", help="folder for the model JSON and the plots")
-    fit.set_defaults(func=_cmd_fit)
+    _add_fit_parser(sub)
+    _add_hammer_parser(sub)
     return parser
 
 

@@ -6,7 +6,10 @@ One file holds one FRF or several; the rule is the same for every format:
 * :func:`read_frf` returns one :class:`FRFData`: the only one, or the one ``index=``
   picks; a file holding several without ``index=`` is a ``ValueError``;
 * :func:`describe_frfs` tabulates what :func:`read_frfs` would return (quantity,
-  lines, band, UFF response/reference node and direction), for choosing ``index``.
+  lines, band, UFF response/reference node and direction), for choosing ``index``;
+* :func:`check_sign` tells an FRF stored with the other sign convention (the complex
+  conjugate) or a driving point with its sign reversed; ``read_frf(...,
+  conjugate=True)`` / ``negate=True`` read them right.
 
 The quantity (receptance, mobility or accelerance) comes from the file when it says it,
 else from ``quantity=``, else reading fails asking for it; a file and an argument that
@@ -43,11 +46,13 @@ from ._io_records import (
     _Raw,
     _vector,
 )
+from ._sign import SignCheck, check_sign
 from ._uff import _dof, _read_uff, _write_uff
 from .frf import FRFData
 from .quantities import QUANTITIES
 
-__all__ = ["read_frf", "read_frfs", "write_frf", "describe_frfs", "read_complex_lines"]
+__all__ = ["read_frf", "read_frfs", "write_frf", "describe_frfs", "read_complex_lines",
+           "check_sign", "SignCheck"]
 
 READ_FORMATS = ("csv", "npz", "mat", "uff", "complex-lines")
 WRITE_FORMATS = ("csv", "npz", "mat", "uff")
@@ -219,9 +224,29 @@ def _read_npz(path, columns):
     return [_from_arrays(str(path), arrays, columns)]
 
 
+def _text_head(path):
+    """The first line of ``path`` when the file starts as text (no NUL byte in its first
+    512 bytes, not a MATLAB 5 header), else None."""
+    with open(path, "rb") as fh:
+        head = fh.read(512)
+    if not head or b"\0" in head or head.startswith(b"MATLAB"):
+        return None
+    try:
+        text = head.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        if exc.start < len(head) - 3:     # not a character cut by the 512 bytes
+            return None
+        text = head[:exc.start].decode("utf-8")
+    return text.strip().splitlines()[0][:60] if text.strip() else ""
+
+
 def _read_mat(path, columns):
     import scipy.io
 
+    head = _text_head(path)
+    if head is not None:
+        raise ValueError(f"{path} is a text file, not a MATLAB file (it starts {head!r}): "
+                         "rename it .csv or .txt, or pass format='csv'")
     try:
         data = scipy.io.loadmat(path)
     except NotImplementedError as exc:
@@ -352,7 +377,7 @@ def read_frfs(path, *, format=None, quantity=None, columns=None) -> list[FRFData
 
 
 def read_frf(path, *, format=None, quantity=None, columns=None, index=None,
-             freq_hz=None) -> FRFData:
+             freq_hz=None, conjugate=False, negate=False) -> FRFData:
     """The FRF in a file: the only one, or the one ``index`` picks.
 
     Parameters
@@ -366,11 +391,30 @@ def read_frf(path, *, format=None, quantity=None, columns=None, index=None,
         For ``format="complex-lines"`` only (one Python complex literal per line, no
         frequencies in the file): the frequency (Hz) of each line; see
         :func:`read_complex_lines`.
+    conjugate : bool, default False
+        The file is stored with the other sign convention (Fourier kernel
+        ``exp(+i omega t)``): return the complex conjugate of its values.
+    negate : bool, default False
+        The response was recorded against the force: return the values with their sign
+        reversed. :func:`check_sign` tells either case from the data.
 
     Returns
     -------
     FRFData
     """
+    for name, flag in (("conjugate", conjugate), ("negate", negate)):
+        if not isinstance(flag, (bool, np.bool_)):
+            raise TypeError(f"{name} must be True or False, got {flag!r}")
+    frf = _read_one(path, format, quantity, columns, index, freq_hz)
+    if conjugate or negate:
+        values = np.conj(frf.values) if conjugate else frf.values
+        frf = FRFData(frf.freq_hz, -values if negate else values, quantity=frf.quantity,
+                      coherence=frf.coherence)
+    return frf
+
+
+def _read_one(path, format, quantity, columns, index, freq_hz):
+    """:func:`read_frf` as the file holds it."""
     index = None if index is None else as_count("index", index)
     path, fmt = _resolve(path, format)
     if fmt == "complex-lines" or freq_hz is not None:

@@ -53,3 +53,170 @@ def test_benchmark_command_quick_writes_tables(tmp_path, capsys):
     assert "mass-rod M/m=1" in out and "no prediction with e > 1" in out
     table = pd.read_csv(tmp_path / "synthetic_benchmark.csv")
     assert len(table) == 2 and (tmp_path / "synthetic_benchmark.md").exists()
+
+
+# ------------------------------------------------------------------ predict: files, flags
+import json  # noqa: E402
+
+import numpy as np  # noqa: E402
+
+from modalid import FRFData, ModalModel, write_frf  # noqa: E402
+
+TWO_MODES = ModalModel.from_modes([2 * np.pi * 10, 2 * np.pi * 25], [0.02, 0.02], [1.0, 0.5])
+SPRING = ["--contact", "spring:stiffness=1e4"]
+
+
+def one_line_error(capsys) -> str:
+    """The command's stderr, checked to be one line, without its prefix."""
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "Traceback" not in err
+    assert err.startswith("impactpred: error: ")
+    return err[len("impactpred: error: "):-1]
+
+
+@pytest.fixture(scope="module")
+def two_mode_accelerance():
+    """The driving-point accelerance of a grounded two-mode body (10 and 25 Hz)."""
+    freq = np.linspace(1.0, 40.0, 800)
+    return FRFData(freq, TWO_MODES.frf(2 * np.pi * freq, quantity="accelerance"),
+                   quantity="accelerance")
+
+
+def test_predict_refuses_model_files_it_cannot_read_on_one_line(tmp_path, capsys):
+    empty, prose, units = (tmp_path / f"{name}.json" for name in ("empty", "prose", "units"))
+    empty.write_text("")
+    prose.write_text("hello world\n")
+    units.write_text(json.dumps(dict(json.loads(TWO_MODES.to_json()),
+                                     units={"s": "rad/s", "receptance": "furlong/N"})))
+    expected = {
+        empty: f"{empty} is empty: not a model JSON file",
+        prose: f"{prose} is not JSON: Expecting value: line 1 column 1 (char 0)",
+        units: f"units.receptance 'furlong/N' ({units}) is not a known receptance unit: use "
+               "one of m/N, mm/N, um/N, nm/N, m/kN, mm/kN, in/lbf (or convert the file to m/N)",
+    }
+    for path, message in expected.items():
+        assert main(["predict", "mass:1", str(path), "--v1", "1", "--t-end", "1"]) == 2
+        assert one_line_error(capsys) == message
+
+
+def test_predict_reads_a_model_stated_in_mm_per_newton(tmp_path, capsys):
+    """The same body saved in m/N and in mm/N (values x 1000, units say so) predicts the
+    same impact; read as m/N it would be 1000 times softer."""
+    payload = json.loads(TWO_MODES.to_json())
+    scaled = dict(payload, units={"s": "rad/s", "receptance": "mm/N"},
+                  residues=[[1e3 * re, 1e3 * im] for re, im in payload["residues"]])
+    si, mm = tmp_path / "si.json", tmp_path / "mm.json"
+    si.write_text(json.dumps(payload))
+    mm.write_text(json.dumps(scaled))
+    printed = {}
+    for path in (si, mm):
+        assert main(["predict", "mass:1", str(path), "--v1", "0.1", "--t-end", "0.3",
+                     *SPRING]) == 0
+        printed[path] = [line for line in capsys.readouterr().out.splitlines()
+                         if line.strip().startswith(("peak_force_N", "restitution:"))]
+    assert printed[si] == printed[mm] and len(printed[si]) == 2
+
+
+@pytest.mark.filterwarnings("ignore::UserWarning")
+def test_predict_refuses_a_conjugated_or_reversed_frf_naming_the_flag(
+        two_mode_accelerance, tmp_path, capsys):
+    frf = two_mode_accelerance
+    for flag, values, problem in (
+            ("--conjugate", frf.values.conj(), "its resonances turn counter-clockwise"),
+            ("--negate", -frf.values, "the real part of its mobility is negative")):
+        path = tmp_path / f"body{flag}.csv"
+        write_frf(path, FRFData(frf.freq_hz, values, quantity="accelerance"))
+        args = ["predict", "mass:1", str(path), "--v1", "0.1", "--t-end", "0.3", *SPRING]
+        assert main(args) == 2
+        message = one_line_error(capsys)
+        assert message.startswith(f"body 2: {path}: {problem}")
+        assert f"read it with {flag}" in message and "read_options" not in message
+        assert main(args + [flag]) == 0
+        assert "verdict ok" in capsys.readouterr().out
+
+
+@pytest.mark.filterwarnings("ignore::UserWarning")
+def test_predict_reads_bare_complex_lines_and_takes_the_fit_flags(two_mode_accelerance,
+                                                                  tmp_path, capsys):
+    """A complex-lines file (no frequencies) needs --freq-start/--df, as for modalid fit;
+    --fmax and --n-modes reach the identification; without --out nothing is saved."""
+    frf = two_mode_accelerance
+    path = tmp_path / "lines.txt"
+    path.write_text("".join(f"{complex(v)!r}\n" for v in frf.values))
+    args = ["predict", "mass:1", str(path), "--v1", "0.1", "--t-end", "0.3", "--contact",
+            "spring:stiffness=1e3", "--quantity", "accelerance"]
+    assert main(args) == 2
+    assert "--freq-start/--df" in one_line_error(capsys)
+    df = float(frf.freq_hz[1] - frf.freq_hz[0])
+    lines = ["--freq-start", "1", "--df", repr(df)]
+    assert main(args + lines) == 0
+    out = capsys.readouterr().out
+    assert f"body 2: identified from {path} (1-40 Hz," in out
+    assert "continuation: body 2: off (auto: 0.04 % of the force's energy above the band)" \
+        in out                                     # a soft contact: the force keeps to it
+    assert out.splitlines()[-1] == ("nothing saved (--out DIR writes force_motion.csv, "
+                                    "summary.csv, energy.csv and impact.png)")
+    assert main(args + lines + ["--fmax", "18", "--n-modes", "1", "--fit-method", "vf"]) == 0
+    out = capsys.readouterr().out
+    assert f"body 2: identified from {path} (1-17.99 Hz," in out   # the last line below 18
+    assert ("continuation: body 2: on, above 17.99 Hz (auto: 0.35 % of the force's energy "
+            "lay above the band without it)") in out
+
+
+def test_out_naming_a_file_is_refused_before_any_work(tmp_path, monkeypatch, capsys):
+    import importlib
+
+    def no_work(*args, **kwargs):
+        raise AssertionError("worked before refusing --out")
+
+    monkeypatch.setattr(importlib.import_module("impactpred.predict"), "predict", no_work)
+    monkeypatch.setattr(importlib.import_module("impactpred.paper"), "run_paper_cases", no_work)
+    out = tmp_path / "taken"
+    out.write_text("keep me")
+    for args in (["predict", "mass:1", "mass:1", "--t-end", "1"], ["paper"], ["models"],
+                 ["benchmark", "--quick"]):
+        assert main(args + ["--out", str(out)]) == 2
+        assert one_line_error(capsys) == (f"--out {out} is an existing file, not a folder: "
+                                          "give a folder (created if missing)")
+    assert out.read_text() == "keep me"
+
+
+def test_models_command_says_nothing_is_saved(capsys):
+    assert main(["models"]) == 0
+    assert capsys.readouterr().out.splitlines()[-1] == "nothing saved (--out DIR writes the " \
+                                                       "FRF plot)"
+
+
+def test_paper_refuses_a_step_it_cannot_take_giving_the_memory(capsys):
+    assert main(["paper", "--dt", "1e-9", "--no-plot"]) == 2
+    assert one_line_error(capsys) == (
+        "--dt 1e-09 s is too fine for the paper's cases: 8e+09 samples per case (8 s each) "
+        "would need about 2.62 TiB of memory; the finest step they take is 2e-06 s "
+        "(4,000,000 samples, about 1.34 GiB)")
+
+
+def test_a_solver_that_cannot_go_on_is_one_line(monkeypatch, capsys):
+    """A RuntimeError of the solver (the exact solver's grazing) exits 2 on one line that
+    names the flag to use instead."""
+    import importlib
+
+    from impactpred.solvers.laplace import _grazing
+
+    def grazing(*args, **kwargs):
+        raise _grazing(0.25)
+
+    monkeypatch.setattr(importlib.import_module("impactpred.predict"), "solve_impact", grazing)
+    assert main(["predict", "mass:1", "mass:1", "--v1", "1", "--t-end", "1"]) == 2
+    assert one_line_error(capsys) == (
+        "the solver stopped: contact events repeat without time advancing at t = 0.25 s: the "
+        "contact state cannot be decided (grazing); use --method modal")
+
+
+def test_the_guardrails_names_are_exported():
+    import impactpred
+    from impactpred.predict import IdentificationWarning
+    from impactpred.result import EnergyAudit, EnergyWarning
+
+    assert impactpred.EnergyAudit is EnergyAudit and impactpred.EnergyWarning is EnergyWarning
+    assert impactpred.IdentificationWarning is IdentificationWarning
+    assert {"EnergyAudit", "EnergyWarning", "IdentificationWarning"} <= set(impactpred.__all__)

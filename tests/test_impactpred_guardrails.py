@@ -319,3 +319,34 @@ def test_command_line_refuses_a_non_passive_model_unless_told(tmp_path, capsys):
     summary = pd.read_csv(tmp_path / "summary.csv")
     assert not summary["energy_audit_ok"].iloc[0]
     assert summary["restitution"].iloc[0] == pytest.approx(1.7916179, abs=1e-6)
+
+
+# ------------------------------------------------ 4. uncertainty draws stay driving points
+def test_perturbed_driving_point_keeps_its_modal_masses_positive():
+    """Residue draws as wide as the residues: for a driving point every drawn modal mass
+    stays positive (the draw reflected where it crossed zero, the sequence unchanged), so
+    ``predict --uncertainty`` never trips its own passivity check; for a transfer FRF the
+    same draws change sign."""
+    import types
+
+    from impactpred.body import check_driving_point
+    from impactpred.uncertainty import perturb_residues
+
+    model = two_modes()
+    std = 1.5 * np.abs(model.residues.imag)
+    report = {"modes": pd.DataFrame({"residue_std": std}), "driving_point": True}
+    fit = types.SimpleNamespace(model_=model, report_=report, poles_=model.poles)
+    rng = np.random.default_rng(7)
+    driving = [perturb_residues(fit, rng) for _ in range(100)]
+    report["driving_point"] = False
+    rng = np.random.default_rng(7)
+    transfer = [perturb_residues(fit, rng) for _ in range(100)]
+    masses = np.array([m.modes["modal_mass"].to_numpy() for m in driving])
+    assert np.all(masses > 0)
+    for m in driving:
+        check_driving_point(m, name="draw")
+    flipped = np.array([m.modes["modal_mass"].to_numpy() < 0 for m in transfer])
+    assert 10 < flipped.sum() < 190
+    for d, t, f in zip(driving, transfer, flipped):
+        np.testing.assert_array_equal(d.residues.real, t.residues.real)
+        np.testing.assert_array_equal(d.residues.imag, np.where(f, -1, 1) * t.residues.imag)

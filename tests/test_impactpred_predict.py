@@ -1,5 +1,7 @@
 """predict: bodies from specs, saved models and measured FRF files, end to end."""
 
+import warnings
+
 import numpy as np
 import pandas as pd
 import pytest
@@ -40,16 +42,41 @@ def measured_rod(tmp_path_factory):
     return path
 
 
-def test_measured_frf_body_is_identified_and_the_band_is_checked(measured_rod):
-    with pytest.warns(BandWarning, match="above its measured band"):
+def test_measured_frf_body_is_identified_and_continued_by_default(measured_rod):
+    """The default continuation='auto': without continuation 17.9 % of the force's energy
+    lies above the band (rigid contact chatters on the finite modal sum), so the body is
+    continued; the force then stays within the band and one contact remains."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", BandWarning)
         pred = predict("mass:1", measured_rod, velocity1=1.0, t_end=8.0)
     fit = pred.fits[1]
     masses = fit.report_["modes"]["modal_mass"].to_numpy()
     np.testing.assert_allclose(masses[:20], 0.5, rtol=0.01)   # exact: m/2 per mode
+    assert pred.continuation[0] is None
+    assert pred.continuation[1].startswith("on, above 10.25 Hz (auto: 17.9")
+    assert pred.continuation[1].endswith(" % of the force's energy lay above the band "
+                                         "without it)")
+    assert pred.band_reach[1] < 0.01
+    assert pred.result.n_contacts == 1
+    # the damped, truncated model's restitution within a few per cent of the continuum's
+    assert pred.result.restitution == pytest.approx(0.698876, rel=0.04)
+
+
+def test_measured_frf_body_without_continuation_chatters_and_the_band_is_checked(
+        measured_rod):
+    """continuation=False: the model as identified; rigid contact chatters and the force's
+    energy above the band is flagged."""
+    with pytest.warns(BandWarning, match="above its measured band .* relies on the model's "
+                                         "residual terms there"):
+        pred = predict("mass:1", measured_rod, velocity1=1.0, t_end=8.0, continuation=False)
+    assert pred.continuation == (None, "off")
     assert 0.05 < pred.band_reach[1] < 0.5
-    # the truncated model's restitution within a few per cent of the continuum's 0.6989
+    assert pred.result.n_contacts > 5
     assert pred.result.restitution == pytest.approx(0.698876, rel=0.04)
     assert pred.result.restitution < 1.0
+    with pytest.raises(ValueError, match="^continuation must be True, False or 'auto', got "
+                                         "'yes'$"):
+        predict("mass:1", measured_rod, velocity1=1.0, t_end=8.0, continuation="yes")
 
 
 def test_force_energy_above_a_frequency():
@@ -92,12 +119,14 @@ def test_predict_command_writes_results(measured_rod, tmp_path, capsys):
     assert status == 0
     out = capsys.readouterr()
     assert "identified from" in out.out and "restitution" in out.out
-    assert "above its measured band" in out.err
+    assert "continuation: body 2: on, above 10.25 Hz (auto: 17.9" in out.out
+    assert "above its measured band" not in out.err
     frame = pd.read_csv(tmp_path / "force_motion.csv", index_col="t_s")
     assert list(frame.columns) == ["force_N", "y1_m", "y2_m", "gap_m"]
     summary = pd.read_csv(tmp_path / "summary.csv")
     assert summary["restitution"].iloc[0] == pytest.approx(0.698876, rel=0.04)
     assert summary["energy_audit_ok"].iloc[0]
+    assert summary["continuation"].iloc[0].startswith("body 2: on, above 10.25 Hz")
     energy = pd.read_csv(tmp_path / "energy.csv", index_col="body")
     assert list(energy.columns)[:2] == ["rigid_before_J", "vibration_before_J"]
     assert (tmp_path / "impact.png").stat().st_size > 1000

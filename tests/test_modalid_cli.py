@@ -82,3 +82,213 @@ def test_fit_command_on_a_file_with_no_usable_band(tmp_path, capsys):
     assert main(["fit", str(path), "--quantity", "receptance"]) == 2
     err = capsys.readouterr().err
     assert str(path) in err and "no usable band" in err
+
+
+# ---------------------------------------------------------------- shared options
+FIT_ARGS = ["--n-modes", "4", "--fmax", "50", "--rigid-body", "no", "--weighting", "noise",
+            "--driving-point", "yes", "--missed-modes", "dense", "--window-decay", "2",
+            "--record-length", "10"]
+FIT_OPTIONS = {"method": "vf", "n_modes": 4, "freq_range": (0.0, 50.0), "rigid_body": False,
+               "weighting": "noise", "passive": True, "missed_modes": "dense",
+               "window_decay_rate": 2.0, "record_length": 10.0}
+
+
+def test_fit_options_are_the_same_in_modalid_fit_and_impactpred_predict():
+    """One definition: the same flags give the same ModalFit keywords in both commands
+    (predict's --method is its solver's, so the fit's is --fit-method there)."""
+    from impactpred.cli import build_parser as impactpred_parser
+    from modalid._cli import fit_options
+    from modalid.cli import build_parser
+
+    fit = build_parser().parse_args(["fit", "x.csv", "--method", "vf"] + FIT_ARGS)
+    pred = impactpred_parser().parse_args(["predict", "mass:1", "x.csv", "--t-end", "1",
+                                           "--fit-method", "vf"] + FIT_ARGS)
+    assert fit_options(fit) == FIT_OPTIONS
+    assert fit_options(pred) == FIT_OPTIONS
+    assert fit_options(build_parser().parse_args(["fit", "x.csv"])) == {}
+    both = build_parser().parse_args(["fit", "x.csv", "--not-driving-point",
+                                      "--driving-point", "yes"])
+    with pytest.raises(ValueError, match="^--not-driving-point contradicts --driving-point "
+                                         "yes: give one of them$"):
+        fit_options(both)
+
+
+@pytest.mark.parametrize("message, flags", [
+    ("t_end=8.0 / dt=0.001 exceeds", "--t-end 8.0 / --dt 0.001 exceeds"),
+    ("options: missed_modes='dense' for a band", "options: --missed-modes dense for a band"),
+    ("window_decay_rate must be non-negative", "--window-decay must be non-negative"),
+    ("pass quantity= one of [...]", "pass --quantity one of [...]"),
+    ("read it with read_options={'conjugate': True}", "read it with --conjugate"),
+    ("the grazing;\n use method='modal'", "the grazing; use --method modal"),
+    ("passive=False allows it; check_passive=False", "--driving-point no allows it; "
+                                                     "--no-passivity-check"),
+    ("a quantity named in prose stays", "a quantity named in prose stays"),
+    ("/data/record_length/t_end=1.csv: bad", "/data/record_length/t_end=1.csv: bad"),
+])
+def test_in_flags_writes_python_arguments_as_flags(message, flags):
+    from modalid._cli import in_flags
+
+    assert in_flags(message) == flags
+
+
+def test_fit_refuses_an_out_that_is_a_file_before_fitting(tmp_path, monkeypatch, capsys):
+    from modalid import ModalFit
+
+    def no_fit(*args, **kwargs):
+        raise AssertionError("fitted before refusing --out")
+
+    monkeypatch.setattr(ModalFit, "fit", no_fit)
+    out = tmp_path / "result.txt"
+    out.write_text("keep me")
+    assert main(["fit", CASE1, "--quantity", "accelerance", "--out", str(out)]) == 2
+    assert capsys.readouterr().err == (f"modalid: error: --out {out} is an existing file, not "
+                                       "a folder: give a folder (created if missing)\n")
+    assert out.read_text() == "keep me"
+
+
+# ---------------------------------------------------------------- sign conventions
+@pytest.fixture(scope="module")
+def rod_accelerance():
+    """A fixed rod's driving-point accelerance: 8 modes, 1 % noise."""
+    from data_synth import Rod, lightly_damped, synthetic_frf
+
+    truth = lightly_damped(Rod(1.0, 1.0, support="fixed"), 12, 0.01)
+    top = truth.modes["omega_n"].to_numpy()[8] / (2 * np.pi)
+    return synthetic_frf(truth, np.linspace(0.02, top, 1500), quantity="accelerance",
+                         noise=0.01, seed=1)
+
+
+@pytest.mark.filterwarnings("ignore::UserWarning")
+def test_fit_names_the_flag_for_a_conjugated_or_reversed_file(rod_accelerance, tmp_path,
+                                                              capsys):
+    from modalid import FRFData, write_frf
+
+    for kind, values, flag in (("conj", rod_accelerance.values.conj(), "--conjugate"),
+                               ("neg", -rod_accelerance.values, "--negate")):
+        path = tmp_path / f"rod_{kind}.csv"
+        write_frf(path, FRFData(rod_accelerance.freq_hz, values, quantity="accelerance"))
+        status = main(["fit", str(path)])
+        err = capsys.readouterr().err
+        warning = next(line for line in err.splitlines() if line.startswith("warning: "))
+        assert warning.startswith(f"warning: {path}: ")
+        assert warning.endswith(f"read it with {flag}" + ("" if kind == "conj" else
+                                ", or, if it is a transfer FRF, give the driving point's"))
+        assert status == (3 if kind == "conj" else 0)   # a conjugated FRF cannot be fitted
+        assert main(["fit", str(path), flag]) == 0
+        out, err = capsys.readouterr()
+        assert "driving point: yes" in out and "verdict: ok" in out and "warning" not in err
+
+
+# ---------------------------------------------------------------- modalid hammer
+@pytest.fixture(scope="module")
+def hammer_test():
+    """Three synthetic hits on a free rod (1 kg, T = 1 s), velocity response, 0.1 % noise:
+    ``(test, decay)`` with the decay of a window ending at 1 %."""
+    from data_synth import Rod, lightly_damped, synthetic_hammer_test
+
+    truth = lightly_damped(Rod(1.0, 1.0), 15, 0.001)
+    top, duration = 2.75, 100.0
+    test = synthetic_hammer_test(truth, 5 * top, duration, n_hits=3, pulse_width=0.5 / top,
+                                 response="velocity", anti_alias=True, noise=0.001, seed=2)
+    return test, float(-np.log(0.01) / duration)
+
+
+def save_rows(folder, test):
+    """One .npy file per hit, rows t, force, response (as pyFRF's measurements)."""
+    paths = []
+    for i in range(test.force.shape[0]):
+        paths.append(folder / f"hit{i}.npy")
+        np.save(paths[-1], np.array([test.t, test.force[i], test.response[i]]))
+    return [str(p) for p in paths]
+
+
+@pytest.mark.filterwarnings("ignore::UserWarning")
+def test_hammer_command_writes_the_h1_and_the_flags_of_a_later_fit(hammer_test, tmp_path,
+                                                                   capsys):
+    """Three .npy files (rows t, force, velocity) -> the CSV holds frf_from_hammer's H1 and
+    coherence exactly; the printed flags make the fit of that file give the rod's mass."""
+    from modalid import frf_from_hammer, read_frf
+
+    test, decay = hammer_test
+    out = tmp_path / "rod_frf.csv"
+    assert main(["hammer", *save_rows(tmp_path, test), "--response-type", "velocity",
+                 "--exponential-decay", repr(decay), "--out", str(out)]) == 0
+    printed = capsys.readouterr().out
+    assert printed.startswith("3 hits from 3 files (hit0.npy ... hit2.npy): 1375 samples at "
+                              "13.75 Hz (100 s); channels: time 0, force 1, response 2\n")
+    flags = f"--window-decay {decay:.9g} --record-length 100"
+    assert f"fit it with: modalid fit {out} {flags} (and --fmax " in printed
+    expected = frf_from_hammer(test.force, test.response, test.fs, response_type="velocity",
+                               exponential_decay=decay).frf
+    written = read_frf(out)
+    assert written.quantity == "mobility"
+    np.testing.assert_array_equal(written.freq_hz, expected.freq_hz)
+    np.testing.assert_array_equal(written.values, expected.values)
+    np.testing.assert_array_equal(written.coherence, expected.coherence)
+    fitted = tmp_path / "fit"
+    assert main(["fit", str(out), *flags.split(), "--fmax", "2.75", "--out",
+                 str(fitted)]) == 0
+    mass = 1.0 / ModalModel.from_json(fitted / "rod_frf_model.json").inverse_mass
+    assert mass == pytest.approx(1.0, rel=3e-3)
+
+
+def test_hammer_command_reads_csv_and_npz_records(hammer_test, tmp_path, capsys):
+    """A CSV with a header (time, force, velocity columns) and an .npz of hits x samples
+    with --fs give the same FRF as the .npy rows; nothing saved without --out."""
+    from modalid import read_frf
+
+    test, _ = hammer_test
+    paths = []
+    for i in range(3):
+        paths.append(tmp_path / f"hit{i}.csv")
+        np.savetxt(paths[-1], np.column_stack([test.t, test.force[i], test.response[i]]),
+                   delimiter=",", header="time_s,force_N,velocity", comments="")
+    npz = tmp_path / "hits.npz"
+    np.savez(npz, force=test.force, response=test.response)
+    frfs = {}
+    for label, args in (("csv", [str(p) for p in paths]), ("npz", [str(npz), "--fs", "13.75"]),
+                        ("npy", save_rows(tmp_path, test))):
+        frfs[label] = tmp_path / f"{label}.csv"
+        assert main(["hammer", *args, "--response-type", "velocity", "--out",
+                     str(frfs[label])]) == 0
+    printed = capsys.readouterr().out
+    assert "channels: time time_s, force force_N, response velocity" in printed
+    assert "3 hits from 1 file (hits.npz): 1375 samples" in printed
+    reference = read_frf(frfs["npy"])
+    for label in ("csv", "npz"):
+        np.testing.assert_allclose(read_frf(frfs[label]).values, reference.values,
+                                   rtol=1e-12, atol=1e-12 * np.abs(reference.values).max())
+    assert main(["hammer", str(npz), "--fs", "13.75", "--response-type", "velocity"]) == 0
+    printed = capsys.readouterr().out
+    assert printed.splitlines()[-1] == ("nothing saved (--out FILE writes the FRF with its "
+                                        "coherence (.csv, .npz, .mat, .uff))")
+
+
+def test_hammer_command_refuses_bad_records_on_one_line(hammer_test, tmp_path, capsys):
+    test, _ = hammer_test
+    pickled = tmp_path / "pickled.npy"
+    np.save(pickled, np.array([{"force": 1}], dtype=object), allow_pickle=True)
+    two = tmp_path / "two.npy"
+    np.save(two, np.array([test.force[0], test.response[0]]))
+    jitter = tmp_path / "jitter.npy"
+    np.save(jitter, np.array([test.t * (1 + 0.01 * (np.arange(test.t.size) % 2)),
+                              test.force[0], test.response[0]]))
+    folder = tmp_path / "folder.csv"
+    folder.mkdir()
+    cases = [
+        ([str(pickled)], f"cannot read {pickled} as .npy (pickled/object arrays are refused)"),
+        ([str(two)], f"{two} has no time channel: give the sample rate with --fs"),
+        ([str(jitter)], f"{jitter}: its time channel is not uniformly increasing"),
+        ([str(two), "--fs", "13.75", "--exponential-decay", "-1"],
+         "--exponential-decay must be non-negative, got -1.0"),
+        ([str(two), "--fs", "13.75", "--out", str(folder)],
+         f"--out {folder} is a folder: give the FRF file to write"),
+        ([str(two), "--fs", "13.75", "--out", str(tmp_path / "frf.xyz")],
+         "cannot tell the format of"),
+        ([str(tmp_path / "missing.npy"), "--fs", "1"], "no such file: "),
+    ]
+    for args, message in cases:
+        assert main(["hammer", *args]) == 2
+        err = capsys.readouterr().err
+        assert err.startswith("modalid: error: ") and err.count("\n") == 1
+        assert message in err

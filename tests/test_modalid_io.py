@@ -422,8 +422,11 @@ def test_npz_and_mat_bad_data(tmp_path):
     with pytest.raises(ValueError, match=r"values of .* must be a vector, got shape \(4, 2\)"):
         read_frf(tmp_path / "matrix.mat", quantity="receptance")
     (tmp_path / "junk.mat").write_bytes(b"not a mat file" * 20)
-    with pytest.raises(ValueError, match="not a readable MATLAB file"):
+    with pytest.raises(ValueError, match="junk.mat is a text file, not a MATLAB file"):
         read_frf(tmp_path / "junk.mat", quantity="receptance")
+    (tmp_path / "binary.mat").write_bytes(b"\x00\x01not a mat file" * 20)
+    with pytest.raises(ValueError, match="binary.mat is not a readable MATLAB file"):
+        read_frf(tmp_path / "binary.mat", quantity="receptance")
 
 
 class _Payload:
@@ -469,3 +472,131 @@ def test_format_and_argument_errors(tmp_path):
         read_frf(DATA / "case1.mat", format="uff", columns={"values": "x"})
     with pytest.raises(FileNotFoundError):
         read_frf(tmp_path / "missing.csv")
+
+
+# ------------------------------------------------------------------- the sign convention
+def rod_frf(quantity, noise=0.01):
+    """A fixed rod's driving point (8 modes in band, 1 % noise)."""
+    from data_synth import Rod, lightly_damped, synthetic_frf
+
+    truth = lightly_damped(Rod(1.0, 1.0, support="fixed"), 12, 0.01)
+    top = truth.modes["omega_n"].to_numpy()[8] / (2 * np.pi)
+    return synthetic_frf(truth, np.linspace(0.02, top, 1500), quantity=quantity,
+                         noise=noise, seed=1)
+
+
+@pytest.mark.parametrize("quantity", QUANTITIES)
+def test_check_sign_tells_a_conjugated_and_a_reversed_driving_point(quantity):
+    from modalid.io import check_sign
+
+    frf = rod_frf(quantity)
+    found = {}
+    for kind, values in (("as measured", frf.values), ("conjugate", frf.values.conj()),
+                         ("reversed", -frf.values)):
+        found[kind] = check_sign(FRFData(frf.freq_hz, values, quantity=quantity))
+    assert [c.verdict for c in found.values()] == ["ok", "conjugate", "reversed"]
+    assert found["as measured"].turning < -0.99 and found["as measured"].conductance > 0.99
+    assert found["conjugate"].turning > 0.99
+    assert found["reversed"].turning < -0.99 and found["reversed"].conductance < -0.99
+
+
+def test_check_sign_leaves_the_measured_files_alone():
+    """The analyzer exports (transfer FRFs of unknown sign) and pyuff's beam accelerances:
+    none is taken for a conjugated or reversed driving point."""
+    from modalid.io import check_sign
+
+    frfs = []
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")       # coherence clipped at a few lines
+        for name in ("case1.mat", "case2.mat"):
+            frfs.append(read_frf(DATA / name, quantity="accelerance"))
+    for point in (1, 2, 3):
+        frfs.append(read_frf(DATA / f"meas_point_{point}.txt", format="complex-lines",
+                             freq_hz=np.arange(1001.0), quantity="accelerance"))
+    assert [check_sign(frf).verdict for frf in frfs] == ["ok"] * 5
+
+
+def test_read_frf_conjugates_or_negates_on_request(tmp_path):
+    frf = make_frf()
+    write_frf(tmp_path / "a.csv", frf)
+    np.testing.assert_array_equal(read_frf(tmp_path / "a.csv", conjugate=True).values,
+                                  frf.values.conj())
+    both = read_frf(tmp_path / "a.csv", conjugate=True, negate=True)
+    np.testing.assert_array_equal(both.values, -frf.values.conj())
+    np.testing.assert_array_equal(both.coherence, frf.coherence)
+    with pytest.raises(TypeError, match="^negate must be True or False, got 'yes'$"):
+        read_frf(tmp_path / "a.csv", negate="yes")
+
+
+def test_a_check_sign_problem_names_the_file_and_the_option():
+    from modalid.io import check_sign
+
+    frf = rod_frf("receptance")
+    reversed_ = check_sign(FRFData(frf.freq_hz, -frf.values))
+    assert reversed_.problem("rod.csv") == (
+        f"rod.csv: the real part of its mobility is negative (conductance score "
+        f"{reversed_.conductance:+.2f}; a passive driving point's is positive, +1): its sign "
+        "is reversed (response recorded against the force); read it with "
+        "read_options={'negate': True}, or, if it is a transfer FRF, give the driving "
+        "point's")
+    assert check_sign(frf).problem("rod.csv") == ""
+
+
+def test_a_text_file_named_mat_is_refused_on_one_line(tmp_path):
+    path = tmp_path / "export.mat"
+    path.write_text("freq_hz,real,imag\n1,2,3\n2,4,5\n")
+    with pytest.raises(ValueError) as info:
+        read_frf(path, quantity="receptance")
+    assert str(info.value) == (f"{path} is a text file, not a MATLAB file (it starts "
+                               "'freq_hz,real,imag'): rename it .csv or .txt, or pass "
+                               "format='csv'")
+    assert read_frf(path, quantity="receptance", format="csv").values[0] == 2 + 3j
+
+
+# ------------------------------------------------------------------- model JSON files
+def test_model_json_errors_name_the_file(tmp_path):
+    from modalid import ModalModel
+
+    empty = tmp_path / "empty.json"
+    empty.write_text("")
+    prose = tmp_path / "prose.json"
+    prose.write_text("hello world\n")
+    with pytest.raises(ValueError, match=f"^{empty} is empty: not a model JSON file$"):
+        ModalModel.from_json(empty)
+    with pytest.raises(ValueError, match=f"^{prose} is not JSON: Expecting value: line 1 "
+                                         "column 1 \\(char 0\\)$"):
+        ModalModel.from_json(prose)
+    with pytest.raises(ValueError, match="^not a model JSON text \\(it does not start with "
+                                         "'{'\\) nor a file name: 'hello world\\\\n'$"):
+        ModalModel.from_json("hello world\n")
+    with pytest.raises(FileNotFoundError, match="^no such file: 'missing.json'$"):
+        ModalModel.from_json("missing.json")
+
+
+def test_model_json_units_are_converted_or_refused(tmp_path):
+    """A model stating mm/N is read in m/N (every receptance term divided by 1000);
+    an unknown unit or poles not in rad/s are refused naming the file."""
+    import json
+
+    from modalid import ModalModel
+
+    model = ModalModel(poles=[-0.3 + 7j], residues=[-0.2j], real_poles=[-12.0],
+                       real_residues=[0.4], inverse_mass=0.25, flexibility=2e-3)
+    payload = json.loads(model.to_json())
+    payload["units"] = {"s": "rad/s", "receptance": "mm/N"}
+    path = tmp_path / "mm.json"
+    path.write_text(json.dumps(payload))
+    read = ModalModel.from_json(path)
+    assert read == ModalModel(poles=[-0.3 + 7j], residues=[-0.2e-3j], real_poles=[-12.0],
+                              real_residues=[0.4e-3], inverse_mass=0.25e-3,
+                              flexibility=2e-6)
+    assert ModalModel.from_json(read.to_json()) == read        # written back in m/N
+    for units, message in (
+            ({"receptance": "furlong/N"}, f"units.receptance 'furlong/N' \\({path}\\) is not "
+                                          "a known receptance unit: use one of m/N, mm/N"),
+            ({"s": "Hz"}, f"units.s 'Hz' \\({path}\\) is not supported: poles must be in "
+                          "rad/s"),
+            ({"mobility": "m/s/N"}, f"the 'units' field \\({path}\\) names \\['mobility'\\]")):
+        path.write_text(json.dumps(dict(payload, units=units)))
+        with pytest.raises(ValueError, match="^" + message):
+            ModalModel.from_json(path)

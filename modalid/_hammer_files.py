@@ -1,0 +1,246 @@
+"""Raw impact-hammer records from files: the input of ``modalid hammer``.
+
+A file holds channels sampled together: a time column (s) or none (the sample rate is
+then given), the hammer force and the response. Formats:
+
+* ``.npy``: a 2-D array, channels as rows (shape ``(n_channels, n_samples)``, as pyFRF's
+  ``measurements_*.npy``: t, force, acceleration) or as columns (the longer axis is time);
+* ``.npz``: named arrays, each a channel (1-D) or several hits of it (2-D, hits x
+  samples);
+* CSV/text: a column per channel, with a header line (names) or without (positions).
+
+Channels are picked by name or 0-based position (``time``, ``force``, ``response``);
+by default by their names (time/t, force/f/excitation, response/acceleration/velocity/
+displacement), else by position: three channels are time, force, response; two are
+force, response. Several files are several hits, averaged by :func:`frf_from_hammer`.
+
+Nothing read is executed: ``np.load(allow_pickle=False)``, text parsed as numbers.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["HammerRecords", "read_hammer_records"]
+
+_TIME = {"t", "time", "ts", "times", "timesec"}
+_FORCE = {"f", "force", "forcen", "excitation", "exc", "hammer", "input"}
+_RESPONSE = {"response", "resp", "acceleration", "accel", "acc", "a", "velocity", "vel", "v",
+             "displacement", "disp", "x", "output"}
+
+#: relative scatter of a time column's steps accepted as uniform sampling
+_UNIFORM = 1e-4
+
+
+@dataclass(frozen=True)
+class HammerRecords:
+    """Force and response records of one or more hits, as :func:`frf_from_hammer` takes.
+
+    Attributes
+    ----------
+    force, response : ndarray of float, shape (n_hits, n_samples)
+    fs : float
+        Sample rate (Hz).
+    sources : tuple of str
+        Per hit, the name of the file it came from.
+    channels : str
+        Which channels were read, e.g. ``"time 0, force 1, response 2"`` (names or
+        positions), from the first file.
+    """
+
+    force: np.ndarray
+    response: np.ndarray
+    fs: float
+    sources: tuple
+    channels: str = ""
+
+
+def _normal(name) -> str:
+    text = str(name).lower().split("[")[0].split("(")[0]
+    return re.sub(r"[^a-z]", "", text)
+
+
+def _load(path: Path):
+    """``(channels, names)``: a dict name -> array (1-D or hits x samples) and whether the
+    names are the file's (else positions "0", "1", ...)."""
+    suffix = path.suffix.lower()
+    if suffix in (".npy", ".npz"):
+        try:
+            loaded = np.load(path, allow_pickle=False)
+        except ValueError as exc:
+            raise ValueError(f"cannot read {path} as {suffix} (pickled/object arrays are "
+                             f"refused): {exc}") from None
+        except (OSError, EOFError) as exc:
+            raise ValueError(f"{path} is not a readable {suffix} file: {exc}") from None
+        if isinstance(loaded, np.lib.npyio.NpzFile):
+            with loaded:
+                return {k: loaded[k] for k in loaded.files}, True
+        return _positional(path, loaded), False
+    if suffix in (".csv", ".tsv", ".txt"):
+        return _load_text(path)
+    raise ValueError(f"cannot tell the format of {str(path)!r} from its extension "
+                     f"{suffix!r}: accepted are .npy, .npz, .csv, .tsv, .txt")
+
+
+def _positional(path, array):
+    array = np.asarray(array)
+    if array.dtype.kind not in "biuf":
+        raise ValueError(f"{path} must hold real numbers, got dtype {array.dtype}")
+    if array.ndim != 2:
+        raise ValueError(f"{path} must hold a 2-D array (channels x samples or samples x "
+                         f"channels), got shape {array.shape}")
+    channels = array if array.shape[0] <= array.shape[1] else array.T
+    return {str(i): row for i, row in enumerate(channels)}
+
+
+def _load_text(path):
+    import pandas as pd
+
+    lines = [line for line in path.read_text(encoding="utf-8-sig",
+                                             errors="replace").splitlines()
+             if line.strip() and not line.lstrip().startswith("#")]
+    if not lines:
+        raise ValueError(f"{path} holds no samples")
+    sep = next((s for s in (",", ";", "\t") if s in lines[0]), r"\s+")
+    tokens = [t.strip() for t in re.split(sep, lines[0].strip())]
+    try:
+        [float(t) for t in tokens]
+        header = None
+    except ValueError:
+        header = 0
+    try:
+        table = pd.read_csv(path, sep=sep, comment="#", header=header, encoding="utf-8-sig",
+                            skipinitialspace=True, engine="python")
+    except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
+        raise ValueError(f"cannot parse {path} as a table: {exc}") from None
+    values = table.apply(pd.to_numeric, errors="coerce").to_numpy(dtype=float)
+    bad = ~np.isfinite(values)
+    if np.any(bad):
+        row, col = (int(i) for i in np.argwhere(bad)[0])
+        raise ValueError(f"column {table.columns[col]!r} of {path} has a missing or "
+                         f"non-numeric value at data row {row + 1}: "
+                         f"{table.iloc[row, col]!r}")
+    if header is None:
+        return {str(i): values[:, i] for i in range(values.shape[1])}, False
+    return {str(name).strip(): values[:, i] for i, name in enumerate(table.columns)}, True
+
+
+def _pick(path, channels, named, role, given, words):
+    """The channel name of ``role``: the one given (name or position), else by name."""
+    keys = list(channels)
+    if given is not None:
+        if str(given) in channels:
+            return str(given)
+        if re.fullmatch(r"\d+", str(given)) and int(given) < len(keys):
+            return keys[int(given)]
+        raise ValueError(f"{path} has no channel {given!r} (--{role}): it has {keys}")
+    if named:
+        found = [k for k in keys if _normal(k) in words]
+        if len(found) == 1:
+            return found[0]
+        if len(found) > 1:
+            raise ValueError(f"{path} has several {role} channels {found}: pick one with "
+                             f"--{role}")
+    return None
+
+
+def _channels_of(path, channels, named, *, time, force, response):
+    """``(t or None, force, response)`` arrays of one file."""
+    picks = {role: _pick(path, channels, named, role, given, words)
+             for role, given, words in (("time", time, _TIME), ("force", force, _FORCE),
+                                        ("response", response, _RESPONSE))}
+    keys = list(channels)
+    if picks["force"] is None or picks["response"] is None:
+        if time is None and force is None and response is None and len(keys) in (2, 3):
+            roles = ("time", "force", "response")[3 - len(keys):]
+            picks = dict(zip(roles, keys), **({} if len(keys) == 3 else {"time": None}))
+        else:
+            raise ValueError(f"{path}: cannot tell its force and response channels among "
+                             f"{keys}: name them with --force and --response (and --time)")
+    return (None if picks["time"] is None else np.asarray(channels[picks["time"]], float),
+            np.asarray(channels[picks["force"]], float),
+            np.asarray(channels[picks["response"]], float), picks)
+
+
+def _rate(path, t, n_samples):
+    """The sample rate (Hz) of a uniform time column."""
+    t = np.ravel(t)
+    if t.size != n_samples:
+        raise ValueError(f"{path}: its time channel has {t.size} samples, the records "
+                         f"{n_samples}")
+    steps = np.diff(t)
+    step = (t[-1] - t[0]) / (t.size - 1)
+    if not step > 0 or np.max(np.abs(steps - step)) > _UNIFORM * step:
+        raise ValueError(f"{path}: its time channel is not uniformly increasing (steps "
+                         f"{steps.min():.6g} to {steps.max():.6g} s): give the sample rate "
+                         "with --fs and no time channel")
+    return 1.0 / step
+
+
+def read_hammer_records(paths, *, fs=None, time=None, force=None,
+                        response=None) -> HammerRecords:
+    """Force and response records of one or more files (see the module docstring).
+
+    Parameters
+    ----------
+    paths : sequence of str or Path
+        One or more files; their hits are stacked in order.
+    fs : float, optional, keyword-only
+        Sample rate (Hz); needed when a file has no time channel, checked against it
+        (to 1e-6) when it has one.
+    time, force, response : str or int, optional, keyword-only
+        The channels' names or 0-based positions (default: by name, else by position).
+
+    Returns
+    -------
+    HammerRecords
+
+    Raises
+    ------
+    FileNotFoundError
+        A file is missing.
+    ValueError
+        Every other problem, on one line naming the file: a format not known, a pickled
+        or non-numeric array, channels not found, records of different lengths or sample
+        rates, a non-uniform time channel, no sample rate.
+    """
+    paths = [Path(p) for p in paths]
+    if not paths:
+        raise ValueError("give at least one file of records")
+    forces, responses, sources, rate = [], [], [], None
+    for path in paths:
+        if not path.is_file():
+            raise FileNotFoundError(f"no such file: {str(path)!r}")
+        channels, named = _load(path)
+        t, f, r, picks = _channels_of(path, channels, named, time=time, force=force,
+                                      response=response)
+        f, r = np.atleast_2d(f), np.atleast_2d(r)
+        if f.shape != r.shape or f.ndim != 2:
+            raise ValueError(f"{path}: force and response differ in shape, {f.shape} and "
+                             f"{r.shape}")
+        file_rate = None if t is None else _rate(path, t, f.shape[1])
+        if fs is not None and file_rate is not None and abs(file_rate - fs) > 1e-6 * fs:
+            raise ValueError(f"{path}: its time channel gives {file_rate:.9g} Hz, --fs says "
+                             f"{fs:.9g} Hz")
+        file_rate = fs if fs is not None else file_rate
+        if file_rate is None:
+            raise ValueError(f"{path} has no time channel: give the sample rate with --fs")
+        if rate is not None and abs(file_rate - rate) > 1e-6 * rate:
+            raise ValueError(f"{path} is sampled at {file_rate:.9g} Hz, {paths[0]} at "
+                             f"{rate:.9g} Hz: one test per command")
+        if forces and f.shape[1] != forces[0].shape[1]:
+            raise ValueError(f"{path} holds records of {f.shape[1]} samples, {paths[0]} of "
+                             f"{forces[0].shape[1]}: records of one length per command")
+        rate = file_rate
+        forces.append(f)
+        responses.append(r)
+        sources += [path.name] * f.shape[0]
+        if len(forces) == 1:
+            read = ", ".join(f"{role} {picks[role]}" for role in picks
+                             if picks[role] is not None)
+    return HammerRecords(np.concatenate(forces), np.concatenate(responses), float(rate),
+                         tuple(sources), read)
