@@ -25,7 +25,8 @@ from scipy.linalg import cholesky, solve_triangular
 from scipy.signal import find_peaks
 
 from ._checks import as_count
-from ._frf_pipeline import ModalFitWarning, fit_report
+from ._frf_pipeline import ModalFitWarning
+from ._report import fit_report
 from ._lm import bounded_lm, pole_limits
 from ._lscf import lscf_subbands
 from ._lsfd import (Terms, _bounds, _Projection, _realify, _std, design_matrix, noise_level,

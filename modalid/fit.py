@@ -29,7 +29,8 @@ from ._checks import (as_choice, as_count, as_nonnegative_scalar, as_positive_sc
                       as_real_array)
 from ._band import choose_band, choose_weighting, noise_model
 from ._era import identify_impulse, impulse_samples
-from ._frf_pipeline import FRFPipeline, ModalFitWarning, fit_report
+from ._frf_pipeline import FRFPipeline, ModalFitWarning
+from ._report import fit_report
 from ._verdict import damping_resolved, driving_point_decision, quality_verdict
 from ._lsfd import noise_level
 from ._window import windowed_receptance

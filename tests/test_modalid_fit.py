@@ -622,7 +622,7 @@ def test_correlated_residuals_widen_the_standard_deviations():
     """Bartlett's factor: 1 for white residuals, sqrt((1 + rho)/(1 - rho)) for AR(1) ones;
     on noise alone the fit keeps its stds (inflation near 1), on a measured FRF whose
     residual is model error it widens them."""
-    from modalid._frf_pipeline import residual_correlation_inflation
+    from modalid._report import residual_correlation_inflation
 
     rng = np.random.default_rng(0)
     white = rng.normal(size=20000) + 1j * rng.normal(size=20000)
