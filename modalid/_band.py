@@ -15,8 +15,9 @@ band is chosen from the data alone:
   coherence ``g`` (running median of about 1 % of the lines), compared with the file's
   best tenth: the band ends where, above the middle of the file, a run of 2 % of the lines
   or more has a ratio above ``max(1, 100 x`` the best) (the noise as strong as the signal,
-  or a hundred times the file's best) and the lines do not recover for good. Without coherence the smoothed roughness plays the same part (above ``max(0.3,
-  4 x`` its median).
+  or a hundred times the file's best) and the lines do not recover for good. Without
+  coherence the smoothed roughness plays the same part (above ``max(0.3, 4 x`` its
+  median).
 
 Which lines were dropped, and why, is returned as a sentence for ``report_``.
 """

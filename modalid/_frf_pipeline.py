@@ -52,10 +52,7 @@ class FRFPipeline:
         frf, w, cut = self._prepare(data)
         self.frf_ = frf
         if self._segmented(frf):                 # a wide band: poles from its segments
-            cached = self.__dict__.get("_stabilization_cache")
-            poles, fits = cached if cached is not None else segment_poles(self, self.data_)
-            if "_stabilization_cache" in self.__dict__:   # a passive="auto" probe keeps them
-                self.__dict__["_stabilization_cache"] = (poles, fits)
+            poles, fits = self._shared_between_passes(lambda: segment_poles(self, self.data_))
             self.stabilization_ = pd.concat([s.stabilization_ for s in fits],
                                             ignore_index=True)
             self.clusters_ = pd.concat([s.clusters_ for s in fits], ignore_index=True)
@@ -67,8 +64,8 @@ class FRFPipeline:
         peaks, _ = find_peaks(np.log10(np.abs(h)), prominence=0.3)
         max_order = (as_count("max_order", self.max_order, minimum=2) if self.max_order
                      else int(min(120, 4 * max(peaks.size, 2) + 16)))
-        cached = self.__dict__.get("_stabilization_cache")
-        if cached is None:                       # (a passive="auto" probe keeps it)
+
+        def diagram():
             bands = lscf_subbands(omega, h, w, max_order, peaks=omega[peaks])
             f0 = frf.freq_hz[0]
             # a sub-band's top edge is where its basis wraps (z = -1): its poles there
@@ -76,10 +73,9 @@ class FRFPipeline:
             tops = [(1.0 if k == 0 else 0.9) * top / (2 * np.pi)
                     for k, (top, _) in enumerate(bands)]
             table = stabilization_table([p for _, p in bands], [(f0, top) for top in tops])
-            cached = (table, cluster_poles(table))
-            if "_stabilization_cache" in self.__dict__:
-                self.__dict__["_stabilization_cache"] = cached
-        self.stabilization_, clusters = cached
+            return table, cluster_poles(table)
+
+        self.stabilization_, clusters = self._shared_between_passes(diagram)
         if self._selection():
             poles, selected = select_poles(clusters, **self._selection())
         else:
@@ -94,6 +90,19 @@ class FRFPipeline:
             poles = poles[(np.abs(poles) >= omega[0]) & (np.abs(poles) <= omega[-1])]
             poles = self._screen(omega, h, w, poles, cut)
         return self._identify(frf, w, poles, cut, max_order, iterations)
+
+    def _shared_between_passes(self, compute):
+        """``compute()``, or what the previous pass of the same fit computed: the
+        passes of ``passive="auto"`` (a probe, then the full identification) share their
+        pole estimates (the LSCF diagram, or the segments' poles), which do not depend on
+        the passivity constraint. Outside such a fit (no ``_stabilization_cache`` slot)
+        it just computes."""
+        cached = self.__dict__.get("_stabilization_cache")
+        if cached is None:
+            cached = compute()
+            if "_stabilization_cache" in self.__dict__:
+                self.__dict__["_stabilization_cache"] = cached
+        return cached
 
     def _segmented(self, frf) -> bool:
         """Fit by segments (:mod:`modalid._segments`): a band of ``MIN_SEGMENTED`` lines,
@@ -549,16 +558,15 @@ class FRFPipeline:
                 inverse_mass_std = float(extra[0]) / window.get("rigid_factor", 1.0)
             if terms.upper and not np.any((kinds == "upper") | (kinds == "far")):
                 flexibility_std = float(extra[int(terms.rigid)])
+        nrmse = float(np.linalg.norm(own) / np.linalg.norm(band.values))
+        scatter = noise_level(band.values)               # the data's own, per line
         self.report_ = fit_report(
             self.model_, kinds, info, notes, method=self.method, max_order=max_order,
-            frf_nrmse=float(np.linalg.norm(own) / np.linalg.norm(band.values)),
-            frf_nrmse_data=float(np.linalg.norm(own) / np.linalg.norm(band.values)),
+            frf_nrmse=nrmse, frf_nrmse_data=nrmse,
             frf_nrmse_receptance=float(np.linalg.norm(fitted - h) / np.linalg.norm(h)),
-            noise_estimate_data=float(np.linalg.norm(noise_level(band.values))
-                                      / np.linalg.norm(band.values)),
+            noise_estimate_data=float(np.linalg.norm(scatter) / np.linalg.norm(band.values)),
             frf_median_relative_error=float(np.median(np.abs(own) / np.abs(band.values))),
-            noise_median_relative=float(np.median(noise_level(band.values)
-                                                  / np.abs(band.values))),
+            noise_median_relative=float(np.median(scatter / np.abs(band.values))),
             data_quantity=band.quantity,
             band_hz=(float(frf.freq_hz[0]), float(frf.freq_hz[-1])), segments=self._segment_count,
             vf_iterations=vf_iterations, modes=modes, inverse_mass_std=inverse_mass_std,

@@ -118,8 +118,9 @@ def quality_verdict(modes: pd.DataFrame, *, band_hz, driving_point, nrmse, relat
     Failed: a non-finite parameter or modal mass; an error no better than a zero model;
     an error above 50 % while the lines' median error is above ``max(0.2, 3 x`` the
     scatter); no resonance and no mass line with an error above 10 %. Suspect: an error
-    above 50 % otherwise; a median line error above ``max(0.05, 3 x`` the scatter) (modes missing); a negative modal mass
-    at a driving point; a mode outside the band; a damping ratio at its lower bound.
+    above 50 % otherwise; a median line error above ``max(0.05, 3 x`` the scatter) (modes
+    missing); a negative modal mass at a driving point; a mode outside the band; a damping
+    ratio at its lower bound.
     """
     failed, suspect = [], []
     if not finite:

@@ -82,9 +82,9 @@ class ModalFit(FRFPipeline, BaseEstimator):
         is not negative; :func:`modalid._verdict.driving_point_decision`) and, where it
         is, identify with it (a quick unconstrained refinement decides; the full
         identification follows with the constraint, and stays unconstrained when the
-        constraint raises the median error per line by half); ``report_["driving_point"]`` and ``report_["driving_point_reason"]``
-        say what was decided. An impulse response (``"era"``) or an FRFSet is taken as a
-        driving point.
+        constraint raises the median error per line by half); ``report_["driving_point"]``
+        and ``report_["driving_point_reason"]`` say what was decided. An impulse response
+        (``"era"``) or an FRFSet is taken as a driving point.
     refine : bool
         Run the nonlinear refinement (else: residues of the estimated poles only).
     weighting : {"auto", "relative", "mixed", "noise", "uniform"}
