@@ -9,8 +9,10 @@ band is chosen from the data alone:
 * **low end** -- the *roughness* of line ``k``, ``|H[k-1] - 2 H[k] + H[k+1]| / |H[k]|``
   (a smooth FRF's second difference is small against its value; noise's is of order
   one), is smoothed by a running median of 5 lines; the lowest lines are dropped while it
-  stays above ``max(0.3, 2 x`` the file's median roughness), at most 5 % of the lines,
-  and never through a resonance (a peak standing half a decade above its surroundings);
+  stays above ``max(0.3, 2 x`` the file's median roughness), or (with coherence) while
+  the coherence (running median of 3 lines) is under 0.5, whichever drops more; at most
+  5 % of the lines, and (by roughness) never through a resonance (a peak standing half a
+  decade above its surroundings);
 * **high end** -- with coherence: the noise-to-signal ratio ``(1 - g)/g`` of the smoothed
   coherence ``g`` (running median of about 1 % of the lines), compared with the file's
   best tenth: the band ends where, above the middle of the file, a run of 2 % of the lines
@@ -49,8 +51,27 @@ def roughness(values) -> np.ndarray:
     return np.concatenate([inner[:1], inner, inner[-1:]])
 
 
-def _low_cut(h, rough) -> int:
-    """How many of the lowest lines to drop."""
+def _low_cut(h, rough, coherence=None) -> tuple[int, str]:
+    """How many of the lowest lines to drop, and what said so (``"roughness"`` or
+    ``"coherence"``): the larger of the two cuts that stand."""
+    n = h.size
+    by_roughness = _rough_low_cut(h, rough)
+    by_coherence = 0
+    if coherence is not None:
+        # the noise as strong as the signal: coherence under 1/2 (running median of 3);
+        # such lines show no resonance, so no guard is needed
+        trusted = np.flatnonzero(median_filter(coherence, size=3, mode="nearest") >= 0.5)
+        by_coherence = int(trusted[0]) if trusted.size else 0
+        if by_coherence > _LOW_MAX_SHARE * n:
+            by_coherence = 0
+    if by_coherence > by_roughness:
+        return by_coherence, "coherence"
+    return by_roughness, "roughness"
+
+
+def _rough_low_cut(h, rough) -> int:
+    """How many of the lowest lines the roughness says to drop (0: none, or a cut the
+    guards refuse)."""
     n = h.size
     threshold = max(0.3, 2.0 * float(np.median(rough)))
     smooth = median_filter(rough, size=5, mode="nearest")
@@ -109,9 +130,13 @@ def choose_band(data: FRFData, *, low_end=True) -> tuple[tuple[float, float], st
     """
     f, h, n = data.freq_hz, data.values, len(data)
     rough = roughness(h)
-    lo = _low_cut(h, rough) if low_end else 0
+    lo, why = _low_cut(h, rough, data.coherence) if low_end else (0, "")
     reasons = []
-    if lo:
+    if lo and why == "coherence":
+        reasons.append(f"dropped {lo} line{'s' * (lo > 1)} below {f[lo]:.6g} Hz (the "
+                       "coherence of the lowest lines is under 0.5: median "
+                       f"{np.median(data.coherence[:lo]):.2g})")
+    elif lo:
         reasons.append(f"dropped {lo} line{'s' * (lo > 1)} below {f[lo]:.6g} Hz (the "
                        "lowest lines scatter like noise: relative second difference "
                        f"{np.median(rough[:lo]):.2g} against {np.median(rough):.2g})")

@@ -17,11 +17,12 @@ import numpy as np
 import pandas as pd
 from scipy.signal import find_peaks
 
+from ._band import noise_model
 from ._checks import as_count
 from ._lscf import lscf_subbands
 from ._report import fit_report, residual_correlation_inflation
 from ._segments import MIN_SEGMENTED, segment_poles
-from ._lsfd import (Terms, evaluate, mass_line_significant, noise_level, place_upper_modes,
+from ._lsfd import (Terms, design_matrix, evaluate, mass_line_significant, noise_level, place_upper_modes,
                     refine_varpro, release_gain, removal_cost, split_coefficients)
 from ._vf import vector_fit_poles
 from ._window import rigid_factor, truncation_factors, unwindow
@@ -52,13 +53,14 @@ class FRFPipeline:
         frf, w, cut = self._prepare(data)
         self.frf_ = frf
         if self._segmented(frf):                 # a wide band: poles from its segments
-            poles, fits = self._shared_between_passes(lambda: segment_poles(self, self.data_))
+            poles, std, fits = self._shared_between_passes(
+                lambda: segment_poles(self, self.data_))
             self.stabilization_ = pd.concat([s.stabilization_ for s in fits],
                                             ignore_index=True)
             self.clusters_ = pd.concat([s.clusters_ for s in fits], ignore_index=True)
             self._segment_count = len(fits)
             max_order = max(s.report_["max_order"] for s in fits)
-            return self._identify(frf, w, poles, cut, max_order, None)
+            return self._identify(frf, w, poles, cut, max_order, None, segment_std=std)
         self._segment_count = 1
         omega, h = frf.omega, frf.values
         peaks, _ = find_peaks(np.log10(np.abs(h)), prominence=0.3)
@@ -66,14 +68,16 @@ class FRFPipeline:
                      else int(min(120, 4 * max(peaks.size, 2) + 16)))
 
         def diagram():
-            bands = lscf_subbands(omega, h, w, max_order, peaks=omega[peaks])
+            bands = lscf_subbands(omega, h, w, max_order, peaks=omega[peaks],
+                                  zoom=bool(self.__dict__.get("_segment_of")))
             f0 = frf.freq_hz[0]
             # a sub-band's top edge is where its basis wraps (z = -1): its poles there
             # are not
             tops = [(1.0 if k == 0 else 0.9) * top / (2 * np.pi)
                     for k, (top, _) in enumerate(bands)]
             table = stabilization_table([p for _, p in bands], [(f0, top) for top in tops])
-            return table, cluster_poles(table)
+            return table, cluster_poles(table,
+                                        spacing_hz=float(np.median(np.diff(frf.freq_hz))))
 
         self.stabilization_, clusters = self._shared_between_passes(diagram)
         if self._selection():
@@ -258,9 +262,23 @@ class FRFPipeline:
         return poles, kinds, x, info
 
     # -------------------------------------------------------------- identification
-    def _identify(self, frf, w, poles, cut, max_order, vf_iterations):
+    def _identify(self, frf, w, poles, cut, max_order, vf_iterations, segment_std=None):
+        """Refine ``poles`` into the model of ``frf`` and store it (``_store``).
+        ``segment_std``: the poles come from segment fits (:mod:`modalid._segments`)
+        with these standard deviations: they are held, and only the linear unknowns of
+        the whole band are fitted (:meth:`_assemble`)."""
         omega, h = frf.omega, frf.values
         notes = []
+        if segment_std is not None:
+            poles, kinds, terms = self._start(omega, h, w, poles, cut)
+            self._buffers = {}
+            poles, x, info = self._assemble(omega, h, w, poles, kinds, terms, segment_std)
+            residues, _, u, d = split_coefficients(x, poles.size, terms)
+            info["n_iter_total"] = 0
+            self._store(frf, poles, kinds, residues, u, d, info, notes, max_order,
+                        vf_iterations, terms)
+            del self._buffers
+            return self
         low = None if self._selection() else self._low_resonance(omega, h, poles)
         if low is not None:
             poles = np.append(poles, low)
@@ -305,7 +323,7 @@ class FRFPipeline:
                 notes.append(why)
                 start, kinds = np.delete(start, k), np.delete(kinds, k)
                 poles, x, info = self._refine(omega, h, w, start, kinds, terms)
-            if np.any(kinds == "far"):
+            if np.any(kinds == "far") and not self.__dict__.get("_segment_of"):
                 poles, kinds, x, info = self._release_far(omega, h, w, poles, kinds, x,
                                                           info, terms)
             # a pseudo-mode held at zero modal mass by passivity carries nothing physical
@@ -337,6 +355,25 @@ class FRFPipeline:
                     terms)
         del self._buffers
         return self
+
+    def _assemble(self, omega, h, w, poles, kinds, terms, mode_std):
+        """The whole band's linear unknowns for held poles (segment fits' poles, the
+        pseudo-modes where :meth:`_start` placed them): one weighted linear least-squares
+        solve (passive when the constraint is on). The physical poles' standard deviations
+        are their segments' (``mode_std``, rows in the order of the physical poles);
+        the pseudo-modes' and the extra terms' are NaN."""
+        kw = {} if self.max_real is None else {"max_real": self.max_real}
+        poles, x, info = refine_varpro(omega, h, w, poles, terms, passive=self._passive_on,
+                                       max_iter=0, with_std=False, buffers=self._buffers,
+                                       **kw)
+        self._final_weights = w
+        rows = np.full((poles.size, 4), np.nan)
+        rows[kinds == "mode"] = mode_std
+        n_extra = design_matrix(1j * omega[:1], np.zeros(0), terms).shape[1]
+        info.update(converged=True, std={"modes": rows, "extra": np.full(n_extra, np.nan)},
+                    message=f"poles from {self._segment_count} segment fits, held; residues "
+                            "and residual terms by linear least squares over the band")
+        return poles, x, info
 
     def _settled(self, omega, h, poles, kinds, terms, info, more=10, within=0.1):
         """Does an unconverged result depend on more iterations? ``more`` further steps
@@ -419,15 +456,19 @@ class FRFPipeline:
         """Add a mode the pole estimator missed, where the weighted residual has a peak.
 
         The residual power, averaged over 3 lines, must exceed 14 times its median (for
-        noise alone a 1e-9 event) at a frequency not ``tried`` before; a pole of 1 %
-        damping is placed there, refined quickly, and kept when the new pole passes
-        :meth:`_worst_pole` and, with ``missed_modes="strict"``, the cost (the data's
-        weights) halves; with ``"dense"``, the cost drops by more than ``4 ln(n)``
-        residual variances (``n`` real data, the variance the cost before it over ``n``
-        less four per pole: the information criterion of the pole selection), the pole
-        lies two lines or more from every other mode (closer ones cannot be resolved: a
-        sharp peak's shape, not a mode) and its damping ratio, the window's removed, is
-        under 0.1 (a resonance, not a broad trend of the residual).
+        noise alone a 1e-9 event) at a frequency not ``tried`` before, away from the 2 %
+        of the lines at either end (the pseudo-modes' ground); a pole is placed there with
+        the residual peak's half-power width (:meth:`_peak_half_width`), refined quickly,
+        and kept when the new pole passes :meth:`_worst_pole`, lies two lines or more from
+        every other mode (closer ones cannot be resolved: a sharp peak's shape, not a
+        mode; a first pole of 1 % damping that fails is tried once more from the peak's
+        half-power width, where a lightly damped mode is not left stuck) and, with ``missed_modes="strict"``, the weighted residual around it halves
+        (:meth:`_explains_peak`: a resonance accounts for most of its own peak, whatever
+        else the band still misses, and for much more than the data's noise there); with
+        ``"dense"``, the cost drops by more than ``4 ln(n)`` residual variances (``n`` real
+        data, the variance the cost before it over ``n`` less four per pole: the
+        information criterion of the pole selection) and its damping ratio, the window's
+        removed, is under 0.1 (a resonance, not a broad trend of the residual).
 
         Returns the poles, kinds, coefficients and information with the mode, or as they
         were, and a list of notes: one note when a mode was added, empty when the peak's
@@ -439,7 +480,9 @@ class FRFPipeline:
         wm = self._model_weights(omega, poles, x, terms, w)
         e2 = np.convolve(np.abs(resid * wm) ** 2, np.ones(3) / 3, mode="same")
         e2 /= np.median(e2)
-        e2[int(0.98 * e2.size):] = 0.0
+        edge = int(0.02 * e2.size)       # the pseudo-modes' lines at both ends
+        e2[:edge] = 0.0
+        e2[e2.size - edge:] = 0.0
         for wt in tried:
             e2[np.abs(omega - wt) < 0.02 * wt] = 0.0
         k = int(np.argmax(e2))
@@ -447,7 +490,24 @@ class FRFPipeline:
             return poles, kinds, x, info, None
         wk = omega[k]
         tried.append(wk)
-        trial = np.append(poles, complex(-0.01 * wk, wk))
+        # from 1 % damping; a sharp peak's mode can stay stuck there: then once more from
+        # the peak's own half-power width
+        narrow = self._peak_half_width(omega, resid, k)
+        starts = (0.01 * wk, narrow) if narrow < 0.005 * wk else (0.01 * wk,)
+        for decay in starts if self.missed_modes == "dense" else starts[::-1]:
+            out = self._trial_mode(omega, h, w, poles, kinds, terms, resid,
+                                   complex(-decay, wk))
+            if out is not None:
+                break
+        else:
+            return poles, kinds, x, info, []
+        note = f"added a mode the pole estimator missed, at {wk / (2 * np.pi):.6g} Hz"
+        return (*out, [note])
+
+    def _trial_mode(self, omega, h, w, poles, kinds, terms, resid, start):
+        """The model with a mode started at ``start`` added and refined quickly, as
+        ``(poles, kinds, x, info)``, if :meth:`_missed_mode`'s tests keep it; else None."""
+        trial = np.append(poles, start)
         kinds_t = np.append(kinds, "mode")
         order = np.argsort(np.where(kinds_t == "mode", np.abs(trial), np.inf), kind="stable")
         trial, kinds_t = trial[order], kinds_t[order]
@@ -455,20 +515,62 @@ class FRFPipeline:
         new = int(np.flatnonzero(order == trial.size - 1)[0])
         worst, _ = self._worst_pole(omega, h, w, poles_t, x_t, info_t, kinds_t, terms, only=new)
         cost = np.sum(np.abs(resid * w) ** 2)
+        added = poles_t[new]
+        others = np.abs(np.delete(poles_t, new)[np.delete(kinds_t, new) == "mode"])
+        apart = not np.any(np.abs(others - abs(added)) < 2 * np.median(np.diff(omega)))
         if self.missed_modes == "strict":
-            keep = info_t["cost"] <= 0.5 * cost
+            keep = (apart and info_t["cost"] < cost
+                    and self._explains_peak(omega, h, w, resid, poles_t, x_t, terms, new))
         else:
             n_real = 2 * omega.size
             variance = cost / max(n_real - 4 * poles.size, 1)
-            added = poles_t[new]
-            others = np.abs(np.delete(poles_t, new)[np.delete(kinds_t, new) == "mode"])
-            keep = (info_t["cost"] <= cost - 4 * np.log(n_real) * variance
-                    and not np.any(np.abs(others - abs(added)) < 2 * np.median(np.diff(omega)))
+            keep = (info_t["cost"] <= cost - 4 * np.log(n_real) * variance and apart
                     and (-added.real - self._shift) / abs(added) < 0.1)
         if not keep or worst is not None:
-            return poles, kinds, x, info, []
-        note = f"added a mode the pole estimator missed, at {wk / (2 * np.pi):.6g} Hz"
-        return poles_t, kinds_t, x_t, info_t, [note]
+            return None
+        return poles_t, kinds_t, x_t, info_t
+
+    @staticmethod
+    def _peak_half_width(omega, resid, k):
+        """Half-power half-width (rad/s) of the residual's peak at line ``k``: where
+        ``|resid|`` first falls below ``1/sqrt(2)`` of the peak on either side, half the
+        distance between them; at least half a line, at most 1 % of the frequency (the
+        start of a missed mode's damping: a lightly damped mode refines from near its own
+        damping, where one of 1 % can stay stuck on a sharp peak)."""
+        mag = np.abs(resid)
+        below = mag < mag[k] / np.sqrt(2.0)
+        right = np.flatnonzero(below[k:])
+        left = np.flatnonzero(below[:k + 1][::-1])
+        hi = omega[k + right[0]] if right.size else omega[-1]
+        lo = omega[k - left[0]] if left.size else omega[0]
+        spacing = float(np.median(np.diff(omega)))
+        return float(np.clip(0.5 * (hi - lo), 0.5 * spacing, 0.01 * omega[k]))
+
+    def _explains_peak(self, omega, h, w, resid, poles, x, terms, new):
+        """Does the mode ``new`` of the trial model ``(poles, x)`` account for the residual
+        peak it was placed on? Over the lines within five half-power half-widths of it
+        (five lines at least) the weighted residual ``|w (h - model)|^2`` must fall to
+        half of what it was (``resid``: before the mode) or less, and by more than
+        ``16 ln(n)`` times the data's own noise variance there (``n`` real data): the
+        information criterion of the pole selection (``4 ln(n)``), judged on the lines the
+        mode acts on instead of a cost that all the band's remaining misfit dilutes, with
+        the noise's standard deviation allowed to be twice what
+        :func:`modalid._band.noise_model` says (a part proportional to ``|H|`` and a floor:
+        robust to the curvature of dense sharp resonances, but the floor is a low
+        percentile of the local scatter). A step in the data (a level that changes and
+        stays) or a ripple a few times the noise is not taken for a mode."""
+        p = poles[new]
+        spacing = float(np.median(np.diff(omega)))
+        near = np.abs(omega - p.imag) <= max(5.0 * spacing, 5.0 * abs(p.real))
+        r, _, u, d = split_coefficients(x, poles.size, terms)
+        after = h[near] - evaluate(omega[near], poles, r, (), (), u, d, terms.rigid_shift)
+        before = np.sum(np.abs(w[near] * resid[near]) ** 2)
+        gain = before - np.sum(np.abs(w[near] * after) ** 2)
+        if "_noise_lines" not in self._buffers:
+            sigma_rel, floor = noise_model(h)
+            self._buffers["_noise_lines"] = np.hypot(sigma_rel * np.abs(h), floor)
+        noise = np.sum((w[near] * self._buffers["_noise_lines"][near]) ** 2)
+        return bool(gain >= 0.5 * before and gain > 16 * np.log(2 * omega.size) * noise)
 
     def _worst_pole(self, omega, h, w, poles, x, info, kinds, terms, only=None):
         """The physical pole to drop first, and why (``(None, None)``: all are fine).
@@ -532,6 +634,10 @@ class FRFPipeline:
         self.poles_ = poles[physical][np.argsort(np.abs(poles[physical]))]
         modes = ModalModel(poles=poles[physical], residues=residues[physical]).modes
         std = info.get("std")
+        self._mode_std_raw = None          # per physical pole, by frequency (segments)
+        if std is not None:
+            order = np.argsort(np.abs(poles[physical]), kind="stable")
+            self._mode_std_raw = std["modes"][physical][order]
         # the formula assumes independent lines; correlated residuals (model error, the
         # estimator's smoothing) carry fewer independent ones: widen by Bartlett's factor
         inflation = residual_correlation_inflation(self._final_weights * (fitted - h))

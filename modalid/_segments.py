@@ -2,17 +2,20 @@
 
 The refinement of :class:`modalid.ModalFit` costs ``O(lines x parameters^2)`` per step,
 and a wide hammer FRF (10^4 lines, tens of modes) makes both large. A lightly damped
-mode's information sits within a few half-power bandwidths of it, so the band is cut into
-overlapping segments of :data:`SEGMENT_LINES` lines (half a segment apart; bands of
-:data:`MIN_SEGMENTED` lines or more), each fitted on
-its own by the same estimator (its out-of-segment modes standing in its lower and upper
-pseudo-modes), and each segment contributes the poles of its middle half: every line of
-the band lies in exactly one segment's middle, away from the segment's edges. The poles
-then start one refinement of the whole band (:meth:`FRFPipeline._identify`), which fits
-the residues, the mass line and the residual terms of the whole band jointly.
+mode's information sits within a few half-power bandwidths of it, so a band of
+:data:`MIN_SEGMENTED` lines or more is cut into segments of :data:`SEGMENT_LINES` lines
+that overlap by twice :data:`SEGMENT_MARGIN` lines. Each is fitted on its own by the same
+estimator (the modes outside it standing in its lower and upper pseudo-modes) and
+contributes the poles, with their standard deviations, of its lines that lie
+``SEGMENT_MARGIN`` lines or more from its inner edges: every line of the band belongs to
+exactly one segment's kept range. The poles, held, then enter one linear least-squares
+fit of the whole band (:meth:`FRFPipeline._identify`): the residues, the mass line and
+the residual terms of the band jointly. The poles are not refined over the whole band:
+each is the nonlinear estimate of the lines around it, where a lightly damped mode's
+information lies.
 
 Cost: ``S`` segments of ``L`` lines and ``n/S`` modes cost ``O(n^2 L / S)`` a step where
-one fit of the band costs ``O(n^2 L S)``.
+one fit of the band costs ``O(n^2 L S)``; the final linear fit one ``O(n^2 L S)`` solve.
 """
 
 from __future__ import annotations
@@ -22,14 +25,19 @@ import warnings
 import numpy as np
 from sklearn.base import clone
 
-__all__ = ["SEGMENT_LINES", "MIN_SEGMENTED", "segment_edges", "segment_poles"]
+__all__ = ["SEGMENT_LINES", "SEGMENT_MARGIN", "MIN_SEGMENTED", "segment_edges", "segment_poles"]
 
 SEGMENT_LINES = 1600     # lines per segment
+SEGMENT_MARGIN = 200     # lines at a segment's inner edges whose poles it leaves to its neighbour
 MIN_SEGMENTED = 8000     # bands of this many lines and more are fitted by segments
 
 
-def segment_edges(n_lines: int, length: int = SEGMENT_LINES):
+def segment_edges(n_lines: int, length: int = SEGMENT_LINES, margin: int = SEGMENT_MARGIN):
     """Overlapping segments of a band of ``n_lines`` lines.
+
+    Consecutive segments overlap by ``2 margin`` lines; a segment keeps the poles of its
+    lines that lie ``margin`` lines or more from its inner edges (the band's own ends
+    excepted).
 
     Returns
     -------
@@ -38,14 +46,14 @@ def segment_edges(n_lines: int, length: int = SEGMENT_LINES):
         frequency lies in the lines ``[keep_from, keep_to)``; the kept ranges tile
         ``[0, n_lines)``.
     """
-    step = length // 2
+    step = length - 2 * margin
     edges = []
     start = 0
     while True:
         stop = min(start + length, n_lines)
         last = stop == n_lines
-        keep_from = 0 if start == 0 else start + step // 2
-        keep_to = n_lines if last else start + step + step // 2
+        keep_from = 0 if start == 0 else start + margin
+        keep_to = n_lines if last else start + step + margin
         edges.append((start, stop, keep_from, keep_to))
         if last:
             return edges
@@ -66,16 +74,20 @@ def segment_poles(estimator, band):
     -------
     poles : ndarray of complex
         The physical poles in the data's domain (a window's decay put back), by frequency.
+    std : ndarray, shape (n_poles, 4)
+        Their standard deviations ``(Re p, Im p, Re r, Im r)`` from their segment's fit
+        (before its correlation inflation; NaN where the segment's fit had none).
     fits : list of ModalFit
         The segment fits (their stabilization diagrams and reports).
     """
     f = band.freq_hz
     shift = float(estimator.window_decay_rate)
-    poles, fits = [], []
+    poles, stds, fits = [], [], []
     for start, stop, keep_from, keep_to in segment_edges(f.size):
         sub = clone(estimator).set_params(freq_range=(f[start], f[stop - 1]),
                                           passive=estimator._passive_on,
                                           weighting=estimator._weighting_on)
+        sub.__dict__["_segment_of"] = True       # its far pseudo-mode stays a stand-in
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             sub.fit(band)
@@ -85,5 +97,9 @@ def segment_poles(estimator, band):
         top = f[keep_to - 1] if keep_to == f.size else f[keep_to]
         kept = (fp >= f[keep_from]) & ((fp < top) if keep_to < f.size else (fp <= top))
         poles.append(p[kept] - shift)            # the windowed FRF's poles
+        std = sub._mode_std_raw
+        stds.append(np.full((p.size, 4), np.nan)[kept] if std is None else std[kept])
     out = np.concatenate(poles) if poles else np.zeros(0, complex)
-    return out[np.argsort(np.abs(out))], fits
+    std = np.concatenate(stds) if stds else np.zeros((0, 4))
+    order = np.argsort(np.abs(out))
+    return out[order], std[order], fits

@@ -54,6 +54,24 @@ def test_a_resonance_at_the_lowest_lines_is_never_cut():
     assert lo == freq[0]
 
 
+def test_lowest_lines_of_low_coherence_are_dropped():
+    """A hammer test's first lines: coherence under 0.5 on four lines (the values smooth,
+    so the roughness alone would keep them): they are dropped, and the reason says so."""
+    freq, h = beam_frf(first=60)
+    coherence = np.full(freq.size, 0.99)
+    coherence[:4] = [0.03, 0.47, 0.21, 0.05]
+    (lo, hi), reason = choose_band(FRFData(freq, h, coherence=coherence))
+    assert lo == freq[4] and hi == freq[-1]
+    assert "coherence of the lowest lines is under 0.5" in reason
+    # good coherence everywhere: nothing is dropped
+    (lo, _), _ = choose_band(FRFData(freq, h, coherence=np.full(freq.size, 0.99)))
+    assert lo == freq[0]
+    # never more than 5 % of the lines
+    coherence[:200] = 0.2
+    (lo, _), _ = choose_band(FRFData(freq, h, coherence=coherence))
+    assert lo == freq[0]
+
+
 def test_the_band_ends_where_the_coherence_collapses():
     freq, h = beam_frf()
     coherence = np.where(freq < freq[1499], 0.999, 0.3)
