@@ -14,7 +14,11 @@ Pipeline
    pulse is ~0.3 ms; the rest of the force channel is noise), with and without an
    exponential window of decay 4.6 1/s (pyFRF's ``Exponential:0.01``: 1 % at the end).
    Hit 5 is used only for the evaluation.
-2. Identification over 50-11000 Hz (the band the coherence and the force spectrum
+2. First, the automatic rows: the H1 of hits 1-4 from ``frf_from_hammer`` with its
+   defaults (no windows), fitted by ``ModalFit(**est.fit_options())`` and nothing else
+   (the whole file: automatic band, segments), unweighted and with the response weights
+   of ``fit_options(weighted=True)``, and the latter with ``missed_modes="dense"``;
+   hit 5's force unwindowed. Then identification over 50-11000 Hz (the band the coherence and the force spectrum
    support; it holds all but ~0.01 % of the acceleration energy, and 5 % of it lies
    above 5 kHz), all with ``passive=False`` (not a driving point: several modes have
    negative modal masses), each reported on its own row:
@@ -243,6 +247,26 @@ def main():
     inband = (frf.freq_hz >= BAND[0]) & (frf.freq_hz <= BAND[1])
     pk, _ = find_peaks(np.log10(np.abs(frf.values[inband])), prominence=0.5)
     peaks_hz = frf.freq_hz[inband][pk]
+
+    # the automatic fits the issue names: the H1 of frf_from_hammer with its defaults (no
+    # force window, no exponential window), ModalFit(**est.fit_options()) and nothing else
+    est_auto = modalid.frf_from_hammer(force[:4], acc[:4], FS, response_type="acceleration")
+    auto_runs = [("ModalFit(**est.fit_options())", est_auto.fit_options()),
+                 ("ModalFit(**est.fit_options(weighted=True))",
+                  est_auto.fit_options(weighted=True)),
+                 ("same, missed_modes='dense'",
+                  dict(est_auto.fit_options(weighted=True), missed_modes="dense"))]
+    for label, options in auto_runs:
+        t0 = time.perf_counter()
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            fit = modalid.ModalFit(**options).fit(est_auto.frf)
+        times[label] = time.perf_counter() - t0
+        r = fit.report_
+        add(f"{label}, defaults", predict_from_accelerance(
+            model_accelerance(fit.model_), force[4], n_fft),
+            f"{r['n_modes']} modes, band {r['band_hz'][0]:g}-{r['band_hz'][1]:g} Hz, "
+            f"{r['segments']} segments, verdict {r['verdict']}; {len(caught)} warnings")
 
     modalfit_runs = [("ModalFit auto", dict()),
                      ("ModalFit n_modes=H1 peaks", dict(n_modes=list(peaks_hz)))]

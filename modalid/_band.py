@@ -53,9 +53,10 @@ def roughness(values) -> np.ndarray:
 
 def _low_cut(h, rough, coherence=None) -> tuple[int, str]:
     """How many of the lowest lines to drop, and what said so (``"roughness"`` or
-    ``"coherence"``): the larger of the two cuts that stand."""
+    ``"coherence"``): the larger of the two cuts that stand (``rough=None``: by
+    coherence only)."""
     n = h.size
-    by_roughness = _rough_low_cut(h, rough)
+    by_roughness = 0 if rough is None else _rough_low_cut(h, rough)
     by_coherence = 0
     if coherence is not None:
         # the noise as strong as the signal: coherence under 1/2 (running median of 3);
@@ -112,8 +113,9 @@ def choose_band(data: FRFData, *, low_end=True) -> tuple[tuple[float, float], st
     data : FRFData
         The measured FRF, lines above 0 Hz (any quantity; roughness is scale-free).
     low_end : bool
-        Whether the lowest lines may be dropped (not for data whose low end a model
-        describes, e.g. an exponential window's).
+        Whether the lowest lines may be dropped for their roughness (not for data whose
+        low end a model describes, e.g. an exponential window's). Lines of coherence
+        under 0.5 are dropped either way: they hold no information.
 
     Returns
     -------
@@ -130,7 +132,7 @@ def choose_band(data: FRFData, *, low_end=True) -> tuple[tuple[float, float], st
     """
     f, h, n = data.freq_hz, data.values, len(data)
     rough = roughness(h)
-    lo, why = _low_cut(h, rough, data.coherence) if low_end else (0, "")
+    lo, why = _low_cut(h, rough if low_end else None, data.coherence)
     reasons = []
     if lo and why == "coherence":
         reasons.append(f"dropped {lo} line{'s' * (lo > 1)} below {f[lo]:.6g} Hz (the "

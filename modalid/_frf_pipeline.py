@@ -112,7 +112,7 @@ class FRFPipeline:
         """Fit by segments (:mod:`modalid._segments`): a band of ``MIN_SEGMENTED`` lines,
         the mode count left to the data, no per-line weights, LSCF poles."""
         return (len(frf) >= MIN_SEGMENTED and not self._selection()
-                and self.weights is None and self.method == "lscf")
+                and self.method == "lscf")
 
     def _select_by_information(self, omega, h, w, clusters, cut, min_share=0.5):
         """Clusters in ``min_share`` of their band's orders, ranked by persistence; the
@@ -666,13 +666,21 @@ class FRFPipeline:
                 flexibility_std = float(extra[int(terms.rigid)])
         nrmse = float(np.linalg.norm(own) / np.linalg.norm(band.values))
         scatter = noise_level(band.values)               # the data's own, per line
+        # the lines the median error counts: all, or with per-line weights those that
+        # carry them (weighted data at least 1 % of its largest): a response-weighted fit
+        # leaves the lines it was told to neglect, and is judged where it was not
+        counted = np.ones(band.values.size, bool)
+        if getattr(self, "_band_weights", None) is not None:
+            carried = self._band_weights * np.abs(band.values)
+            counted = carried >= 0.01 * carried.max()
         self.report_ = fit_report(
             self.model_, kinds, info, notes, method=self.method, max_order=max_order,
             frf_nrmse=nrmse, frf_nrmse_data=nrmse,
             frf_nrmse_receptance=float(np.linalg.norm(fitted - h) / np.linalg.norm(h)),
             noise_estimate_data=float(np.linalg.norm(scatter) / np.linalg.norm(band.values)),
-            frf_median_relative_error=float(np.median(np.abs(own) / np.abs(band.values))),
-            noise_median_relative=float(np.median(scatter / np.abs(band.values))),
+            frf_median_relative_error=float(np.median((np.abs(own) / np.abs(band.values))[
+                counted])),
+            noise_median_relative=float(np.median((scatter / np.abs(band.values))[counted])),
             data_quantity=band.quantity,
             band_hz=(float(frf.freq_hz[0]), float(frf.freq_hz[-1])), segments=self._segment_count,
             vf_iterations=vf_iterations, modes=modes, inverse_mass_std=inverse_mass_std,

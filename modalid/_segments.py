@@ -66,8 +66,9 @@ def segment_poles(estimator, band):
     Parameters
     ----------
     estimator : ModalFit
-        Its settings, with the passivity and weighting it decided, are cloned for each
-        segment (``freq_range`` set to the segment).
+        Its settings, with the passivity and weighting it decided and its per-line
+        ``weights`` on the band, are cloned for each segment (``freq_range`` set to the
+        segment).
     band : FRFData
 
     Returns
@@ -86,7 +87,8 @@ def segment_poles(estimator, band):
     for start, stop, keep_from, keep_to in segment_edges(f.size):
         sub = clone(estimator).set_params(freq_range=(f[start], f[stop - 1]),
                                           passive=estimator._passive_on,
-                                          weighting=estimator._weighting_on)
+                                          weighting=estimator._weighting_on,
+                                          weights=estimator._band_weights)
         sub.__dict__["_segment_of"] = True       # its far pseudo-mode stays a stand-in
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")

@@ -397,6 +397,7 @@ class ModalFit(FRFPipeline, BaseEstimator):
             lo, hi = band
             given = given[(data.freq_hz >= lo) & (data.freq_hz <= hi)]
         data = data.band(band)
+        self._band_weights = given                    # per line of the band, or None
         # lines below the band were dropped by the user (the automatic band drops only
         # lines that scatter like noise: the data still reach below the first resonance)
         cut = self.freq_range is not None and bool(data.freq_hz[0] > first)

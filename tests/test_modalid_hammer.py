@@ -285,3 +285,29 @@ def test_real_hammer_records_show_the_documented_peaks(real_records):
                                force_window_length=0.01, exponential_decay=-np.log(0.01))
     assert np.median(windowed.coherence[band]) > 0.999        # measured: 0.9999
     assert windowed.window_decay_rate == pytest.approx(4.60517, rel=1e-5)
+
+
+def test_response_weighted_fit_options(truth):
+    """fit_options(weighted=True) adds weights sqrt(S_ff coherence), one per line of the
+    estimate (S_ff alone for one hit); ModalFit fits est.frf with them and finds the
+    truth's modes; the unweighted default is unchanged."""
+    from modalid import ModalFit
+
+    test = synthetic_hammer_test(truth, FS, 1.0, n_hits=4, pulse_width=PULSE,
+                                 noise=(0.0, 0.002), anti_alias=True, seed=3)
+    est = frf_from_hammer(test.force, test.response, FS)
+    options = est.fit_options(weighted=True)
+    assert set(options) == {"window_decay_rate", "record_length", "weights"}
+    np.testing.assert_allclose(
+        options["weights"], np.sqrt(est.force_spectrum * np.clip(est.coherence, 1e-3, 1)))
+    assert "weights" not in est.fit_options()
+    one = frf_from_hammer(test.force[:1], test.response[:1], FS)
+    np.testing.assert_allclose(one.fit_options(weighted=True)["weights"],
+                               np.sqrt(one.force_spectrum))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        fit = ModalFit(**options).fit(est.frf)
+    found = np.sort(fit.report_["modes"]["frequency_hz"].to_numpy())
+    exact = np.sort(truth.modes["frequency_hz"].to_numpy())
+    exact = exact[exact < fit.report_["band_hz"][1]]
+    assert np.all(np.min(np.abs(found[:, None] - exact), axis=0) < 1e-3 * exact)
