@@ -27,7 +27,7 @@ from threadpoolctl import threadpool_limits
 
 from ._checks import (as_choice, as_count, as_nonnegative_scalar, as_positive_scalar,
                       as_real_array)
-from ._band import choose_band, choose_weighting, noise_model
+from ._band import choose_band, choose_weighting, decimation, noise_model
 from ._era import identify_impulse, impulse_samples
 from ._frf_pipeline import FRFPipeline, ModalFitWarning
 from ._report import fit_report
@@ -397,6 +397,13 @@ class ModalFit(FRFPipeline, BaseEstimator):
             lo, hi = band
             given = given[(data.freq_hz >= lo) & (data.freq_hz <= hi)]
         data = data.band(band)
+        step, why = decimation(data.values)           # a very fine band: every step-th line
+        if step > 1:
+            data = data.select(slice(None, None, step))
+            given = None if given is None else given[::step]
+            self._band_reason = f"{self._band_reason}; {why}"
+        elif why:
+            self._band_reason = f"{self._band_reason}; {why}"
         self._band_weights = given                    # per line of the band, or None
         # lines below the band were dropped by the user (the automatic band drops only
         # lines that scatter like noise: the data still reach below the first resonance)

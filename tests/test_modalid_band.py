@@ -100,3 +100,23 @@ def test_the_weighting_follows_the_noise_model():
     floor, reason = choose_weighting(h + 0.05 * np.sqrt(np.mean(np.abs(h) ** 2)) * e)
     assert proportional == "relative" and floor == "noise" and "noise floor" in reason
     assert choose_weighting(h)[0] == "relative"
+
+
+def test_decimation_keeps_four_lines_across_the_sharpest_peak():
+    """A 200 000-line FRF whose sharpest peak spans ~100 lines at half power: every k-th
+    line is kept with 4 or more lines across it; bands of 50 000 lines or fewer, and
+    peaks too sharp to thin, keep every line."""
+    from data_synth import CantileverBeam
+    from modalid._band import MANY_LINES, decimation
+
+    truth = CantileverBeam(1.0, 1.0).modal_model(6, damping_ratio=0.01)
+    wn = truth.modes["omega_n"].to_numpy()
+    freq = np.linspace(0.2, 1.2, 200_000) * wn[3] / (2 * np.pi)
+    h = truth.frf(2 * np.pi * freq)
+    k, reason = decimation(h)
+    width = 2 * 0.01 * wn[1] / (2 * np.pi) / (freq[1] - freq[0])   # mode 2, in lines
+    assert 1 < k <= width / 4 and "every" in reason
+    assert decimation(h[:MANY_LINES]) == (1, "")
+    sharp = truth.frf(2 * np.pi * np.linspace(0.2, 1.2, 60_000) * wn[3] / (2 * np.pi))
+    sharp_k, why = decimation(np.where(np.arange(60_000) % 997 == 0, 50.0, 1.0) * sharp)
+    assert sharp_k == 1 and "kept" in why
