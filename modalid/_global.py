@@ -28,6 +28,7 @@ from ._checks import as_count
 from ._frf_pipeline import ModalFitWarning
 from ._report import fit_report
 from ._lm import bounded_lm, pole_limits
+from ._band import choose_band
 from ._lscf import lscf_subbands
 from ._lsfd import (Terms, _bounds, _Projection, _realify, _std, design_matrix, noise_level,
                     split_coefficients)
@@ -275,6 +276,24 @@ def _worst_pole(est, omega, h, w, coh, poles, xs, info, kinds, terms, dp):
     return None, None
 
 
+def _common_band(est, data: FRFSet):
+    """The automatic band of a set (:func:`modalid._band.choose_band` per row): the lines
+    every row vouches for (the highest low end, the lowest top); sets
+    ``est._band_reason``."""
+    windowed = bool(est.window_decay_rate) or est.record_length is not None
+    bands, reasons = [], []
+    for k, output in enumerate(data.outputs):
+        band, why = choose_band(data.row(k), low_end=not windowed)
+        bands.append(band)
+        if why != "all lines":
+            reasons.append(f"{output}: {why}")
+    lo, hi = max(b[0] for b in bands), min(b[1] for b in bands)
+    if hi <= lo:
+        raise ValueError(f"the rows of the FRFSet share no usable band: {'; '.join(reasons)}")
+    est._band_reason = "; ".join(reasons) or "all lines"
+    return lo, hi
+
+
 def fit_set(est, data: FRFSet):
     """``ModalFit.fit`` for an :class:`FRFSet`: common poles, residues per output."""
     dp = data.require_driving_point("ModalFit.fit with common poles")
@@ -285,7 +304,10 @@ def fit_set(est, data: FRFSet):
     first = data.freq_hz[0]
     if est.freq_range is not None:
         data = data.band(est.freq_range)
-    cut = bool(data.freq_hz[0] > first)           # lines below the band were dropped
+        est._band_reason = "freq_range"
+    else:
+        data = data.band(_common_band(est, data))
+    cut = est.freq_range is not None and bool(data.freq_hz[0] > first)
     est._data_band = est.data_ = data
     rec = data.to_receptance()
     omega, h = rec.omega, rec.values

@@ -261,10 +261,7 @@ class ModalFit(FRFPipeline, BaseEstimator):
         auto = isinstance(self.passive, str)
         self._passive_on = bool(self.passive) if not auto else True
         if isinstance(data, FRFSet):              # common poles: see modalid._global
-            from ._global import fit_set
-            with threadpool_limits(limits=1, user_api="blas"):
-                fit_set(self, data)
-            return self._judge(driving_point=True, reason="an FRFSet has a driving point")
+            return self._fit_set(data, auto)
         if self.method != "era" and not isinstance(data, FRFData):
             raise TypeError(f"data must be an FRFData or FRFSet for method={self.method!r}, "
                             f"got {type(data).__name__}")
@@ -300,6 +297,38 @@ class ModalFit(FRFPipeline, BaseEstimator):
                     "unconstrained one: not a passive driving point")
             self.__dict__.pop("_stabilization_cache", None)
             return self._judge(driving_point=driving, reason=reason)
+
+    def _fit_set(self, data: FRFSet, auto: bool):
+        """Common poles (:func:`modalid._global.fit_set`). ``weighting="auto"``: the
+        driving-point row's noise decides (:func:`modalid._band.choose_weighting`; a noise
+        floor calls for ``"noise"``, a set has no ``"mixed"``). ``passive="auto"``: an
+        unconstrained fit first; the passivity constraint on the driving-point row only
+        when its modes say it is one (:func:`modalid._verdict.driving_point_decision`)."""
+        from ._global import fit_set
+
+        dp = data.require_driving_point("ModalFit.fit with common poles")
+        if self.weighting == "auto":
+            row = data.row(dp).select(data.freq_hz > 0)
+            chosen, self._weighting_reason = choose_weighting(row.values)
+            self._weighting_on = "relative" if chosen == "relative" else "noise"
+        with threadpool_limits(limits=1, user_api="blas"):
+            if not auto:
+                fit_set(self, data)
+                return self._judge(driving_point=bool(self.passive),
+                                   reason=f"passive={self.passive!r} given")
+            self._passive_on = False
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always")
+                fit_set(self, data)
+            driving, reason = driving_point_decision(
+                self.report_["modes"], float(self.model_.inverse_mass[dp]))
+            if driving:
+                self._passive_on = True
+                fit_set(self, data)
+            else:
+                for w in caught:                  # the unconstrained fit stands
+                    warnings.warn(w.message, w.category, stacklevel=3)
+        return self._judge(driving_point=driving, reason=f"row {data.outputs[dp]!r}: {reason}")
 
     def _judge(self, *, driving_point, reason):
         """Add the driving-point decision, damping resolution and the quality verdict

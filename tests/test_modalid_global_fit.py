@@ -216,3 +216,25 @@ def test_measured_beam_three_points_common_poles():
     err = np.abs(misfit(x)).reshape(2, 6)
     assert err.max() < 0.15 and err[:, 1:].max() < 0.05, (x, err)
     assert np.all(np.diag(mac(ratios, free_free_shapes(x))) > 0.98)
+
+
+def test_measured_beam_common_poles_with_no_options():
+    """pyuff's three accelerances as a set with no options: the band each row vouches for,
+    the weighting from the driving-point row, and passive='auto' deciding from its modes
+    (signs alternate: not a passive driving point, so no constraint) give the six peaks
+    (51.52 Hz is the first resonance: the data change sign between its 51 and 52 Hz
+    lines) with a verdict of ok."""
+    data = read_frf_set([DATA / f"meas_point_{k}.txt" for k in (1, 2, 3)],
+                        format="complex-lines", freq_hz=np.arange(1001.0),
+                        quantity="accelerance", driving_point=0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        fit = ModalFit().fit(data)
+    freqs = fit.report_["modes"]["frequency_hz"].to_numpy()
+    np.testing.assert_allclose(freqs, [51.52, 142, 279, 460, 687, 959], rtol=5e-3)
+    assert fit.report_["verdict"] == "ok"
+    assert fit.report_["band_hz"][0] > 1.0 and "dropped" in fit.report_["band_reason"]
+    assert not fit._passive_on                     # decided: not a driving point
+    with pytest.raises(ValueError, match="driving point"):
+        ModalFit().fit(FRFSet(data.freq_hz, data.values, quantity="accelerance",
+                              driving_point=None))
