@@ -115,7 +115,7 @@ def _run_predict(args):
             pred = predict(args.body1, args.body2, velocity1=args.v1, velocity2=args.v2,
                            gap=args.gap, contact=args.contact, t_end=args.t_end, dt=args.dt,
                            method=args.method, continuation=args.continuation,
-                           uncertainty=args.uncertainty, fit_options=fit_options(args),
+                           uncertainty=args.uncertainty, fit_options=dict(fit_options(args), progress=True),
                            read_options=tuple(_body_read_options(args, spec)
                                               for spec in (args.body1, args.body2)),
                            check_passive=not args.no_passivity_check)

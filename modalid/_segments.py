@@ -20,6 +20,8 @@ one fit of the band costs ``O(n^2 L S)``; the final linear fit one ``O(n^2 L S)`
 
 from __future__ import annotations
 
+import sys
+import time
 import warnings
 
 import numpy as np
@@ -84,16 +86,23 @@ def segment_poles(estimator, band):
     f = band.freq_hz
     shift = float(estimator.window_decay_rate)
     poles, stds, fits = [], [], []
-    for start, stop, keep_from, keep_to in segment_edges(f.size):
+    edges = segment_edges(f.size)
+    began = time.perf_counter()
+    for number, (start, stop, keep_from, keep_to) in enumerate(edges, start=1):
         sub = clone(estimator).set_params(freq_range=(f[start], f[stop - 1]),
                                           passive=estimator._passive_on,
                                           weighting=estimator._weighting_on,
-                                          weights=estimator._band_weights)
+                                          weights=estimator._band_weights,
+                                          progress=False)
         sub.__dict__["_segment_of"] = True       # its far pseudo-mode stays a stand-in
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             sub.fit(band)
         fits.append(sub)
+        if estimator.progress:
+            print(f"modalid: segment {number}/{len(edges)} ({f[start]:.6g}-{f[stop - 1]:.6g} "
+                  f"Hz, {sub.report_['n_modes']} modes), {time.perf_counter() - began:.1f} s",
+                  file=sys.stderr, flush=True)
         p = sub.poles_
         fp = np.abs(p) / (2 * np.pi)
         top = f[keep_to - 1] if keep_to == f.size else f[keep_to]

@@ -66,7 +66,7 @@ def _cmd_fit(args) -> int:
     from .io import read_frf
 
     out = check_out_dir(args.out)                 # before any work
-    fit = ModalFit(**fit_options(args))
+    fit = ModalFit(progress=True, **fit_options(args))    # a wide band: one line a segment
     data = read_frf(args.file, **read_options(args, args.file))
     sign = check_sign(data)
     if sign.verdict != "ok":

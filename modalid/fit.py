@@ -134,15 +134,20 @@ class ModalFit(FRFPipeline, BaseEstimator):
         or acceleration there).
     missed_modes : {"strict", "dense"}
         How readily a peak of the fit's residual becomes a mode the pole estimator
-        missed. ``"strict"`` (default): when the mode halves the weighted cost (a band of
-        well separated modes; mains-hum lines and broad residual trends stay out).
+        missed. ``"strict"`` (default): when the mode halves the weighted residual on the
+        lines around it, by much more than the data's noise there (mains-hum lines, steps
+        in the data and broad residual trends stay out).
         ``"dense"``: when the information criterion supports it (the cost drops by more
         than ``4 ln(n)`` residual variances), the mode lies two lines or more from every
         other and its damping ratio (window removed) is under 0.1; up to 60 modes per
         pass, three rejected peaks in a row end the search. For measured bands with many
         weakly excited or close modes: on the real hammer test of
-        ``benchmarks/hammer_hit5.py`` it finds 30-32 modes where ``"strict"`` keeps 12;
+        ``benchmarks/hammer_hit5.py`` it adds 9 modes to the 47 of ``"strict"``;
         the run time grows with the modes found. FRFData and "lscf" or "vf" only.
+    progress : bool
+        Print one line per segment of a wide band (:mod:`modalid._segments`) to stderr:
+        the segment, its band and the time so far. Default False (the command line
+        turns it on).
 
     Attributes
     ----------
@@ -196,7 +201,7 @@ class ModalFit(FRFPipeline, BaseEstimator):
     def __init__(self, *, method="lscf", n_modes=None, max_order=None, freq_range=None,
                  rigid_body="auto", residuals=("lower", "upper"), passive="auto", refine=True,
                  weighting="auto", weights=None, max_real=None, window_decay_rate=0.0,
-                 record_length=None, missed_modes="strict"):
+                 record_length=None, missed_modes="strict", progress=False):
         self.method = method
         self.n_modes = n_modes
         self.max_order = max_order
@@ -211,6 +216,7 @@ class ModalFit(FRFPipeline, BaseEstimator):
         self.window_decay_rate = window_decay_rate
         self.record_length = record_length
         self.missed_modes = missed_modes
+        self.progress = progress
 
     # ------------------------------------------------------------------ fitting
     def fit(self, data):

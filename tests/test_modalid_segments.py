@@ -43,13 +43,16 @@ def test_segments_tile_the_band(n_lines):
         assert keep_to == n_lines or stop - keep_to >= SEGMENT_MARGIN
 
 
-def test_a_wide_hammer_like_band_finds_every_mode_and_no_other():
+def test_a_wide_hammer_like_band_finds_every_mode_and_no_other(capsys):
     data = hammer_like()
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        fit = ModalFit().fit(data)
+        fit = ModalFit(progress=True).fit(data)
     report = fit.report_
     assert report["segments"] > 1 and report["verdict"] == "ok" and not caught
+    err = capsys.readouterr().err                  # one line per segment, on stderr
+    assert err.count("modalid: segment ") == report["segments"]
+    assert f"segment {report['segments']}/{report['segments']} " in err
     assert report["driving_point"] is False
     modes = report["modes"]
     found = modes["frequency_hz"].to_numpy()
