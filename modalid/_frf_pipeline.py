@@ -17,13 +17,13 @@ import numpy as np
 import pandas as pd
 from scipy.signal import find_peaks
 
-from ._band import noise_model
 from ._checks import as_count
 from ._lscf import lscf_subbands
+from ._pole_checks import PoleChecks
 from ._report import fit_report, residual_correlation_inflation
 from ._segments import MIN_SEGMENTED, segment_poles
-from ._lsfd import (Terms, design_matrix, evaluate, mass_line_significant, noise_level, place_upper_modes,
-                    refine_varpro, release_gain, removal_cost, split_coefficients)
+from ._lsfd import (Terms, design_matrix, evaluate, mass_line_significant, noise_level,
+                    place_upper_modes, refine_varpro, release_gain, split_coefficients)
 from ._vf import vector_fit_poles
 from ._window import rigid_factor, truncation_factors, unwindow
 from .frf import FRFData
@@ -46,7 +46,7 @@ class ModalFitWarning(UserWarning):
     """The identification did not converge or found nothing; ``report_`` says what."""
 
 
-class FRFPipeline:
+class FRFPipeline(PoleChecks):
     """The FRF steps of :class:`modalid.fit.ModalFit` (see the module docstring)."""
 
     def _fit_frf(self, data: FRFData):
@@ -451,167 +451,6 @@ class FRFPipeline:
         info["quick"] = quick and relative
         self._iterations += n_iter
         return poles, x, info
-
-    def _missed_mode(self, omega, h, w, poles, kinds, x, info, terms, tried):
-        """Add a mode the pole estimator missed, where the weighted residual has a peak.
-
-        The residual power, averaged over 3 lines, must exceed 14 times its median (for
-        noise alone a 1e-9 event) at a frequency not ``tried`` before, away from the 2 %
-        of the lines at either end (the pseudo-modes' ground); a pole is placed there with
-        the residual peak's half-power width (:meth:`_peak_half_width`), refined quickly,
-        and kept when the new pole passes :meth:`_worst_pole`, lies two lines or more from
-        every other mode (closer ones cannot be resolved: a sharp peak's shape, not a
-        mode; a first pole of 1 % damping that fails is tried once more from the peak's
-        half-power width, where a lightly damped mode is not left stuck) and, with ``missed_modes="strict"``, the weighted residual around it halves
-        (:meth:`_explains_peak`: a resonance accounts for most of its own peak, whatever
-        else the band still misses, and for much more than the data's noise there); with
-        ``"dense"``, the cost drops by more than ``4 ln(n)`` residual variances (``n`` real
-        data, the variance the cost before it over ``n`` less four per pole: the
-        information criterion of the pole selection) and its damping ratio, the window's
-        removed, is under 0.1 (a resonance, not a broad trend of the residual).
-
-        Returns the poles, kinds, coefficients and information with the mode, or as they
-        were, and a list of notes: one note when a mode was added, empty when the peak's
-        mode was rejected (the caller may try the next peak), ``None`` when no peak is
-        left above the threshold.
-        """
-        r, _, u, d = split_coefficients(x, poles.size, terms)
-        resid = h - evaluate(omega, poles, r, (), (), u, d, terms.rigid_shift)
-        wm = self._model_weights(omega, poles, x, terms, w)
-        e2 = np.convolve(np.abs(resid * wm) ** 2, np.ones(3) / 3, mode="same")
-        e2 /= np.median(e2)
-        edge = int(0.02 * e2.size)       # the pseudo-modes' lines at both ends
-        e2[:edge] = 0.0
-        e2[e2.size - edge:] = 0.0
-        for wt in tried:
-            e2[np.abs(omega - wt) < 0.02 * wt] = 0.0
-        k = int(np.argmax(e2))
-        if e2[k] < 14.0:
-            return poles, kinds, x, info, None
-        wk = omega[k]
-        tried.append(wk)
-        # from 1 % damping; a sharp peak's mode can stay stuck there: then once more from
-        # the peak's own half-power width
-        narrow = self._peak_half_width(omega, resid, k)
-        starts = (0.01 * wk, narrow) if narrow < 0.005 * wk else (0.01 * wk,)
-        for decay in starts if self.missed_modes == "dense" else starts[::-1]:
-            out = self._trial_mode(omega, h, w, poles, kinds, terms, resid,
-                                   complex(-decay, wk))
-            if out is not None:
-                break
-        else:
-            return poles, kinds, x, info, []
-        note = f"added a mode the pole estimator missed, at {wk / (2 * np.pi):.6g} Hz"
-        return (*out, [note])
-
-    def _trial_mode(self, omega, h, w, poles, kinds, terms, resid, start):
-        """The model with a mode started at ``start`` added and refined quickly, as
-        ``(poles, kinds, x, info)``, if :meth:`_missed_mode`'s tests keep it; else None."""
-        trial = np.append(poles, start)
-        kinds_t = np.append(kinds, "mode")
-        order = np.argsort(np.where(kinds_t == "mode", np.abs(trial), np.inf), kind="stable")
-        trial, kinds_t = trial[order], kinds_t[order]
-        poles_t, x_t, info_t = self._refine(omega, h, w, trial, kinds_t, terms, quick=True)
-        new = int(np.flatnonzero(order == trial.size - 1)[0])
-        worst, _ = self._worst_pole(omega, h, w, poles_t, x_t, info_t, kinds_t, terms, only=new)
-        cost = np.sum(np.abs(resid * w) ** 2)
-        added = poles_t[new]
-        others = np.abs(np.delete(poles_t, new)[np.delete(kinds_t, new) == "mode"])
-        apart = not np.any(np.abs(others - abs(added)) < 2 * np.median(np.diff(omega)))
-        if self.missed_modes == "strict":
-            keep = (apart and info_t["cost"] < cost
-                    and self._explains_peak(omega, h, w, resid, poles_t, x_t, terms, new))
-        else:
-            n_real = 2 * omega.size
-            variance = cost / max(n_real - 4 * poles.size, 1)
-            keep = (info_t["cost"] <= cost - 4 * np.log(n_real) * variance and apart
-                    and (-added.real - self._shift) / abs(added) < 0.1)
-        if not keep or worst is not None:
-            return None
-        return poles_t, kinds_t, x_t, info_t
-
-    @staticmethod
-    def _peak_half_width(omega, resid, k):
-        """Half-power half-width (rad/s) of the residual's peak at line ``k``: where
-        ``|resid|`` first falls below ``1/sqrt(2)`` of the peak on either side, half the
-        distance between them; at least half a line, at most 1 % of the frequency (the
-        start of a missed mode's damping: a lightly damped mode refines from near its own
-        damping, where one of 1 % can stay stuck on a sharp peak)."""
-        mag = np.abs(resid)
-        below = mag < mag[k] / np.sqrt(2.0)
-        right = np.flatnonzero(below[k:])
-        left = np.flatnonzero(below[:k + 1][::-1])
-        hi = omega[k + right[0]] if right.size else omega[-1]
-        lo = omega[k - left[0]] if left.size else omega[0]
-        spacing = float(np.median(np.diff(omega)))
-        return float(np.clip(0.5 * (hi - lo), 0.5 * spacing, 0.01 * omega[k]))
-
-    def _explains_peak(self, omega, h, w, resid, poles, x, terms, new):
-        """Does the mode ``new`` of the trial model ``(poles, x)`` account for the residual
-        peak it was placed on? Over the lines within five half-power half-widths of it
-        (five lines at least) the weighted residual ``|w (h - model)|^2`` must fall to
-        half of what it was (``resid``: before the mode) or less, and by more than
-        ``16 ln(n)`` times the data's own noise variance there (``n`` real data): the
-        information criterion of the pole selection (``4 ln(n)``), judged on the lines the
-        mode acts on instead of a cost that all the band's remaining misfit dilutes, with
-        the noise's standard deviation allowed to be twice what
-        :func:`modalid._band.noise_model` says (a part proportional to ``|H|`` and a floor:
-        robust to the curvature of dense sharp resonances, but the floor is a low
-        percentile of the local scatter). A step in the data (a level that changes and
-        stays) or a ripple a few times the noise is not taken for a mode."""
-        p = poles[new]
-        spacing = float(np.median(np.diff(omega)))
-        near = np.abs(omega - p.imag) <= max(5.0 * spacing, 5.0 * abs(p.real))
-        r, _, u, d = split_coefficients(x, poles.size, terms)
-        after = h[near] - evaluate(omega[near], poles, r, (), (), u, d, terms.rigid_shift)
-        before = np.sum(np.abs(w[near] * resid[near]) ** 2)
-        gain = before - np.sum(np.abs(w[near] * after) ** 2)
-        if "_noise_lines" not in self._buffers:
-            sigma_rel, floor = noise_model(h)
-            self._buffers["_noise_lines"] = np.hypot(sigma_rel * np.abs(h), floor)
-        noise = np.sum((w[near] * self._buffers["_noise_lines"][near]) ** 2)
-        return bool(gain >= 0.5 * before and gain > 16 * np.log(2 * omega.size) * noise)
-
-    def _worst_pole(self, omega, h, w, poles, x, info, kinds, terms, only=None):
-        """The physical pole to drop first, and why (``(None, None)``: all are fine).
-
-        A physical pole must have a positive modal mass, stay in the band, not duplicate a
-        stronger one (half-power bands overlapping) and be significant, checked in that
-        order; the weakest offender goes. Significant: damping < 0.3 (the structure's, a
-        window's decay removed) and ``|r| > 6 std``, or else removing the mode (the rest
-        refitted linearly) raises the cost by more than ``4 ln(n)`` residual variances (a
-        sharp resonance on few lines has a poorly determined residue but is plainly
-        there).
-        """
-        r, *_ = split_coefficients(x, poles.size, terms)
-        std = info["std"]["modes"] if info["std"] is not None else np.zeros((poles.size, 4))
-        t = np.abs(r) / np.maximum(np.hypot(std[:, 2], std[:, 3]), 1e-300)
-        wn, zeta = np.abs(poles), -poles.real / np.abs(poles)
-        # significance judges the structure's damping: the window's decay removed
-        own = poles + self._shift
-        zeta_own = -own.real / np.abs(own)
-        mode = kinds == "mode"
-        if only is not None:
-            mode = mode & (np.arange(poles.size) == only)
-        overlap = np.abs(wn[:, None] - wn[None, :]) < zeta[:, None] * wn[:, None] + zeta * wn
-        weaker = overlap & mode[None, :] & (t[None, :] > t[:, None])
-        weak = mode & (t < 6.0) & (zeta_own <= 0.3)
-        if weak.any():
-            gain = removal_cost(omega, h, self._model_weights(omega, poles, x, terms, w),
-                                poles, terms, np.flatnonzero(weak), passive=self._passive_on,
-                                buffers=self._buffers)
-            weak[weak] = gain < 4 * np.log(2 * omega.size)
-        tests = [(self._passive_on & (r.imag >= 0), "no positive modal mass"),
-                 ((wn < omega[0]) | (wn > omega[-1]), "it left the band"),
-                 (weaker.any(axis=1), "it duplicates a stronger pole"),
-                 (weak | (zeta_own > 0.3), "not significant")]
-        for bad, reason in tests:
-            bad = bad & mode
-            if bad.any():
-                k = int(np.flatnonzero(bad)[np.argmin(t[bad])])
-                detail = f" (|r|/std = {t[k]:.3g}, damping {zeta_own[k]:.3g})"
-                return k, f"dropped the pole at {wn[k] / (2 * np.pi):.6g} Hz: {reason}{detail}"
-        return None, None
 
     # ------------------------------------------------------------------ results
     def _store(self, frf, poles, kinds, residues, u, d, info, notes, max_order,

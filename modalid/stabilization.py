@@ -108,7 +108,8 @@ def cluster_poles(table: pd.DataFrame, *, freq_tol=0.01, representative="median"
     that joins two poles is ``freq_tol`` of their frequency or eight lines, whichever is
     less: close modes (two lightly damped resonances 0.5 % apart on a 1 Hz grid at 4 kHz)
     stay two clusters instead of merging into one at their mean, while the poles of a
-    peak sharper than a line, which scatter by a line or two over the orders, stay one. Per cluster: ``frequency_hz``, ``omega_n``, ``damping_ratio`` (medians
+    peak sharper than a line, which scatter by a line or two over the orders, stay one.
+    Per cluster: ``frequency_hz``, ``omega_n``, ``damping_ratio`` (medians
     over the members of its best band, or with ``representative="last"`` its member of the
     highest order: exact data), ``size`` (orders it appears in, over all bands),
     ``share`` (in its best band, the fraction of that band's orders it appears in),
