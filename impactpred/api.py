@@ -275,8 +275,7 @@ def _exchangeable_energy(bodies, before: float, load_work: float) -> float:
 def _choose_method(bodies, contact, method):
     rational = all(b.is_rational for b in bodies)
     has_load = any(b.load is not None for b in bodies)
-    linear = isinstance(contact, Rigid) or (isinstance(contact, LinearSpring)
-                                            and contact.damping == 0.0)
+    linear = contact.is_linear
     outputs = any(b.outputs is not None for b in bodies)
     if method == "auto":
         if applies_closed_form(bodies, contact) and not outputs:

@@ -3,6 +3,16 @@
 The gap is ``g = y2 - y1 + g0`` (m); the compressive contact force ``f >= 0`` (N).
 Every law is unilateral: no tension, and no force while the gap is open.
 
+Each law says, once, how the solvers may treat it:
+
+* :attr:`ContactLaw.is_linear`: the force is a linear function of the state while the
+  contact is closed (``Rigid``, an undamped ``LinearSpring``), so the contact phase is a
+  closed-form linear phase of the exact engine (:mod:`impactpred.engine`) and
+  ``solve_impact`` may use its exact Laplace solver;
+* :attr:`ContactLaw.is_impulsive`: the law acts in zero time (``InstantaneousImpact``),
+  a velocity jump applied by the engine at the contact instant; it has no force history,
+  so the time-stepping solvers cannot take it.
+
 The time-stepping solvers hold the force constant over a step ``[t_n, t_n+1)``; the gap
 at the end of the step is then affine in that force, ``g_{n+1} = G + K0 f_n`` (``G``: the
 gap the step would end with at zero force, ``K0 > 0``: both bodies' step-response
@@ -17,14 +27,17 @@ import numpy as np
 
 from modalid._checks import as_nonnegative_scalar, as_positive_scalar, as_real_scalar
 
-__all__ = ["Rigid", "LinearSpring", "Hertz", "ContactLaw"]
+__all__ = ["Rigid", "LinearSpring", "Hertz", "InstantaneousImpact", "ContactLaw"]
 
 
 class ContactLaw:
     """Base class of the contact laws (for ``isinstance`` checks)."""
 
-    #: True when the law is linear while closed, so the exact Laplace solver applies.
+    #: True when the force is linear in the state while the contact is closed, so the
+    #: exact engine's closed-form contact phase (and the Laplace solver) applies.
     is_linear: bool = True
+    #: True when the law acts in zero time (a velocity jump, no force history).
+    is_impulsive: bool = False
 
     def step_force(self, G: float, K0: float, g_prev: float, dt: float) -> float:
         """Force (N) over one step such that the law holds at the step's end."""
@@ -59,6 +72,11 @@ class LinearSpring(ContactLaw):
     def __post_init__(self):
         object.__setattr__(self, "stiffness", as_positive_scalar("stiffness", self.stiffness))
         object.__setattr__(self, "damping", as_nonnegative_scalar("damping", self.damping))
+
+    @property
+    def is_linear(self) -> bool:
+        """Undamped only: with a dashpot the force is clipped where it would pull."""
+        return self.damping == 0.0
 
     def step_force(self, G, K0, g_prev, dt):
         """Implicit: ``f = k d_{n+1} + c (d_{n+1} - d_n)/dt`` with ``d = -g``, clipped at 0."""
@@ -139,11 +157,75 @@ class Hertz(ContactLaw):
         return f
 
 
+@dataclass(frozen=True)
+class InstantaneousImpact(ContactLaw):
+    """Instantaneous impact with a constant coefficient of restitution ``e``.
+
+    At contact the relative velocity ``v_rel`` (approaching, > 0) reverses times ``e`` in
+    zero time, through the impulse
+
+        P = (1 + e) v_rel / (1/m_d + 1/M_eff),
+
+    with ``1/M_eff`` the primary driving point's velocity jump per unit impulse (for
+    real normal modes the sum of the modal ``1/m_k``). The primary's flexibility term
+    (``ModalModel.flexibility``) is ignored at the impulse, since an impulse through a
+    pure flexibility would be a displacement jump; use ``Rigid()`` or a compliant law to
+    include it.
+
+    Parameters
+    ----------
+    restitution : float
+        ``0 <= e <= 1``.
+
+    Notes
+    -----
+    With ``e < 1`` a damper mass can come to rest against a stop through an infinite
+    sequence of ever smaller impacts (a Zeno sequence). Under a relative acceleration
+    ``a`` pushing it onto the stop, a rebound at ``u = e v`` (m/s) returns after
+    ``2 u / a``, and the flight times ``2 e^j u / a`` sum to the accumulation point
+
+        t_inf = t_k + 2 u / (a (1 - e)) = t_k + 2 e v_k / (a (1 - e)),
+
+    after which the mass moves with the primary. The engine closes the sequence (the
+    impact is taken as plastic, then the ``Rigid()`` law's stick-or-separate decision
+    applies: the mass sticks until the contact force turns tensile) as soon as a rebound
+    is not resolved (``impactpred.engine.cycle_loop.zeno_closes``):
+
+    * ``u`` below ``1e-6`` of the largest impact velocity so far (at least
+      ``clearance * Omega``);
+    * its height ``u^2 / (2 a)`` below the gap's resolution, ``1e-12`` of the terms of
+      the gap's closed form (the primary's motion among them, so it does not vanish with
+      the clearance);
+    * for ``e < 1``, the two stops closer than that resolution: a rebound is at once an
+      impact on the other stop, and the impacts ``v, e v, e^2 v, ...`` at one instant
+      sum to a plastic impact. At ``clearance = 0`` the damper mass therefore moves with
+      the primary for good, as with ``Rigid()``.
+
+    A sequence then takes at most about ``ln(1e12) / (2 ln(1/e))`` impacts (27 at
+    ``e = 0.6``, 1,400 at ``e = 0.99``). ``e = 1`` has no such limit: an impact at a
+    resolved velocity between stops that coincide to rounding makes the engine raise a
+    ``RuntimeError``, as do more than 100,000 impacts within one forcing period (elastic
+    bouncing between stops a tiny clearance apart).
+    """
+
+    restitution: float
+    is_linear = False
+    is_impulsive = True
+
+    def __post_init__(self):
+        e = as_real_scalar("restitution", self.restitution)
+        if not 0.0 <= e <= 1.0:
+            raise ValueError(f"restitution must lie in [0, 1], got {e!r}")
+        object.__setattr__(self, "restitution", e)
+
+
 def check_contact(contact) -> ContactLaw:
-    """Return ``contact`` if it is a contact law, else raise ``TypeError`` naming it."""
-    if not isinstance(contact, ContactLaw):
-        raise TypeError(f"contact must be Rigid(), LinearSpring(...) or Hertz(...), got "
-                        f"{contact!r}")
-    return contact
-
-
+    """Return ``contact`` if ``solve_impact`` can take it, else raise ``TypeError`` naming
+    it: a contact law with a force history (an impulsive law such as
+    ``InstantaneousImpact`` is for ``ImpactDamper``)."""
+    if isinstance(contact, ContactLaw) and not contact.is_impulsive:
+        return contact
+    why = (": an impulsive law has no force history (ImpactDamper takes it)"
+           if isinstance(contact, ContactLaw) else "")
+    raise TypeError(f"contact must be Rigid(), LinearSpring(...) or Hertz(...), got "
+                    f"{contact!r}{why}")

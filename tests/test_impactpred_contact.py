@@ -46,3 +46,31 @@ def test_hertz_from_materials_rejects_bad_values(kwargs, match):
     args.update(kwargs)
     with pytest.raises(ValueError, match=match):
         Hertz.from_materials(**args)
+
+
+def test_each_law_says_once_how_it_may_be_solved():
+    from impactpred import ContactLaw, InstantaneousImpact
+
+    laws = {Rigid(): (True, False), LinearSpring(1e5): (True, False),
+            LinearSpring(1e5, damping=3.0): (False, False), Hertz(1e9): (False, False),
+            InstantaneousImpact(0.5): (False, True)}
+    for law, (linear, impulsive) in laws.items():
+        assert isinstance(law, ContactLaw)
+        assert (law.is_linear, law.is_impulsive) == (linear, impulsive), law
+
+
+def test_solve_impact_chooses_by_is_linear_and_refuses_an_impulsive_law():
+    from data_synth import LumpedMass, SpringMass
+    from impactpred import Body, InstantaneousImpact, solve_impact
+
+    bodies = (Body(LumpedMass(1.0), velocity=1.0), Body(SpringMass(1.0, 1e4)))
+    assert solve_impact(*bodies, contact=LinearSpring(1e5), t_end=0.05).method == "laplace"
+    damped = solve_impact(*bodies, contact=LinearSpring(1e5, damping=3.0), t_end=0.05)
+    assert damped.method == "modal"
+    with pytest.raises(ValueError, match="linear contact"):
+        solve_impact(*bodies, contact=LinearSpring(1e5, damping=3.0), t_end=0.05,
+                     method="laplace")
+    with pytest.raises(TypeError, match="impulsive law"):
+        solve_impact(*bodies, contact=InstantaneousImpact(0.5), t_end=0.05)
+    with pytest.raises(TypeError, match=r"contact must be Rigid\(\)"):
+        solve_impact(*bodies, contact="rigid", t_end=0.05)

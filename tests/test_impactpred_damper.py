@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from data_synth import LumpedMass, SpringMass
+from data_synth import CantileverBeam, LumpedMass, SpringMass
 from impactpred import Body, LinearSpring, Rigid, solve_impact
 from impactpred.damper import (
     BaseExcitation,
@@ -323,8 +323,8 @@ def test_damped_linear_spring_grazing_does_not_stall_and_matches_solve_ivp():
 
 
 def test_compiled_cubic_min_matches_the_vectorised_one():
-    from impactpred.damper._engine_form import _cubic_min
-    from impactpred.damper._kernels import cubic_min
+    from impactpred.engine.phase import _cubic_min
+    from impactpred.engine.step_kernels import cubic_min
 
     rng = np.random.default_rng(3)
     fa, fb, da, db = rng.normal(size=(4, 500))
@@ -338,10 +338,11 @@ def test_compiled_cubic_min_matches_the_vectorised_one():
 def test_event_search_is_the_same_with_and_without_the_compiled_grids(monkeypatch):
     # the recurrence's rounding (1e-15 of the terms) is far under the search's zero
     # tolerance: the contact history is the same as with e^{lam tau} on every point
-    import impactpred.damper._engine_form as form
-    import impactpred.damper._engine_run as engine_run
+    import oracle_event_search as form
+    import impactpred.engine.cycle_run as engine_run
 
     monkeypatch.setattr(engine_run, "_COMPILED", False)     # the Python loop's search
+    monkeypatch.setattr(engine_run, "_SEARCH", form.first_event)
     _, d = _beam_tip_damper(damping_ratio=0.01, force=1.0, ratio=1.0)
     a = d.simulate(6)
     monkeypatch.setattr(form, "_MIN_KERNEL", 10 ** 9)
@@ -370,7 +371,7 @@ def test_rigid_contact_through_a_flexibility_conserves_energy(monkeypatch, clear
     ("events repeat") at these clearances. Undamped, nothing is lost: the input work is
     the energy stored in the modes, the damper mass and the flexibility, to rounding.
     """
-    from impactpred.damper import _engine_run
+    from impactpred.engine import cycle_run as _engine_run
 
     monkeypatch.setattr(_engine_run, "_COMPILED", compiled)
     model, d = _flexible_beam_damper(clearance)
@@ -388,3 +389,30 @@ def test_rigid_contact_through_a_flexibility_conserves_energy(monkeypatch, clear
     w_in = float(r.input_work[-1])
     assert w_in > 0
     assert abs(w_in - stored) < 1e-8 * w_in
+
+
+@pytest.mark.parametrize("residual", [False, True])
+def test_rank_one_contact_phases_match_the_matrix_exponential(residual):
+    """``Engine(rank_one=True)``: the stuck phases (relative degree 2 without a flexibility
+    term, 0 with one) split as the free flight plus the force feedback, exact to rounding."""
+    import scipy.linalg
+
+    from impactpred.damper._engine import Engine
+
+    model = CantileverBeam(1.0, 0.0559591).modal_model(20, damping_ratio=0.01,
+                                                       residual=residual)
+    exc = HarmonicForce(1.0, 10.0, phase=0.3)
+    eng = Engine(model, damper_mass=0.0125, clearance=0.02, contact=Rigid(), excitation=exc,
+                 base_spring=None, rank_one=True)
+    assert eng.rho == (0 if residual else 2)
+    rng = np.random.default_rng(5)
+    for s in (1, -1):
+        kind = eng.stuck(s)
+        assert kind.spectral.route == "rank-one update"
+        x = rng.normal(size=eng.n) * 1e-3
+        x[eng.i1] = 1.0
+        t0 = 0.37
+        for tau in (1e-3, 0.05, 0.3):
+            want = (scipy.linalg.expm(kind.M_aug * tau) @ eng.augmented(x, t0))[:eng.n]
+            got = kind.state(kind.start(x, t0), tau)
+            assert np.max(np.abs(got - want)) < 1e-9 * np.max(np.abs(want))

@@ -1,4 +1,4 @@
-"""Hertz contact phases of the impact-damper engine (impactpred.damper._engine_hertz)."""
+"""Hertz contact phases of the impact-damper engine (impactpred.engine.hertz)."""
 
 import math
 
@@ -8,7 +8,7 @@ import pytest
 from data_synth import LumpedMass, SpringMass
 from impactpred import Body, Hertz, solve_impact
 from impactpred.damper import DamperState, HarmonicForce, ImpactDamper
-from impactpred.damper import _engine_hertz as EH
+from impactpred.engine import hertz as EH
 
 
 def _start(damper, *, y_d, v_d):

@@ -1,5 +1,6 @@
 """The compiled event loop of the impact damper (Rigid / InstantaneousImpact contacts)
-against the Python loop it replaces (``impactpred.damper._engine_run._COMPILED``).
+against the Python loop and the Python event search it replaces
+(``impactpred.engine.cycle_run._COMPILED``, ``tests/oracle_event_search.py``).
 
 The two run the same rules and differ only in rounding (loops instead of BLAS products,
 Taylor sums on a phase's start grid). Where the motion is periodic they agree to
@@ -12,19 +13,21 @@ Python loop itself diverges the same way from a 1-ulp change of the force amplit
 """
 
 import numpy as np
+import oracle_event_search
 import pytest
 
 from data_synth import CantileverBeam, SpringMass
 from impactpred import Rigid
 from impactpred.damper import HarmonicForce, ImpactDamper, InstantaneousImpact
-from impactpred.damper import _engine_compiled as compiled
-from impactpred.damper import _engine_run as engine_run
+from impactpred.engine import cycle_compiled as compiled
+from impactpred.engine import cycle_run as engine_run
 
 
 def _both(damper, n_cycles, monkeypatch, **kwargs):
     fast = damper.simulate(n_cycles, **kwargs)
     with monkeypatch.context() as m:
         m.setattr(engine_run, "_COMPILED", False)
+        m.setattr(engine_run, "_SEARCH", oracle_event_search.first_event)
         slow = damper.simulate(n_cycles, **kwargs)
     return fast, slow
 
@@ -135,7 +138,7 @@ def test_chunks_give_the_run_itself_and_continuation_matches(monkeypatch):
 
 
 def test_progress_bar_is_drawn_between_chunks(capsys, monkeypatch):
-    from impactpred.damper import _engine_compiled
+    from impactpred.engine import cycle_compiled as _engine_compiled
 
     # a chunk per 2 cycles; a chunk ends at the first event after its end, and the first
     # free flight (no impact yet) may run past several chunk ends at once

@@ -3,9 +3,9 @@
 With restitution ``e < 1`` a damper mass pushed onto a stop by a relative acceleration
 ``a`` bounces with approach velocities ``v_j = e^j v_0`` at intervals ``2 e v_j / a``,
 which accumulate at ``t_inf = t_0 + 2 e v_0 / (a (1 - e))``; the engine closes the
-sequence into the Rigid law's sticking (``_loop_kernels.zeno_closes``). At zero clearance
-the two stops coincide and every impact is plastic, so the damper mass moves with the
-primary: a spring-mass primary then responds as the same spring-mass with the damper
+sequence into the Rigid law's sticking (``impactpred.engine.cycle_loop.zeno_closes``). At
+zero clearance the two stops coincide and every impact is plastic, so the damper mass moves
+with the primary: a spring-mass primary then responds as the same spring-mass with the damper
 mass added, in closed form. The tests with the ``loop`` fixture run both the compiled
 loop and the Python loop.
 """
@@ -13,13 +13,14 @@ loop and the Python loop.
 import math
 
 import numpy as np
+import oracle_event_search
 import pytest
 
 from data_synth import SpringMass
 from impactpred import Rigid
 from impactpred.damper import DamperState, HarmonicForce, ImpactDamper, InstantaneousImpact
-from impactpred.damper import _engine_compiled as compiled
-from impactpred.damper import _engine_run as engine_run
+from impactpred.engine import cycle_compiled as compiled
+from impactpred.engine import cycle_run as engine_run
 
 M, K, ZETA, MD, F0, FREQ = 1.0, (2 * np.pi * 5) ** 2, 0.02, 0.1, 5.0, 4.5
 C_VISC = 2 * ZETA * math.sqrt(K * M)        # the primary's viscous damping (N s/m)
@@ -28,6 +29,8 @@ C_VISC = 2 * ZETA * math.sqrt(K * M)        # the primary's viscous damping (N s
 @pytest.fixture(params=[True, False], ids=["compiled", "python"])
 def loop(request, monkeypatch):
     monkeypatch.setattr(engine_run, "_COMPILED", request.param)
+    if not request.param:       # the Python loop with the Python search (the oracle)
+        monkeypatch.setattr(engine_run, "_SEARCH", oracle_event_search.first_event)
     return request.param
 
 

@@ -7,15 +7,15 @@ import pytest
 import scipy.linalg
 
 from data_synth import LumpedMass, Rod
-from impactpred import Body, LinearSpring, solve_impact
-from impactpred.solvers import laplace
-from impactpred.solvers._exp_kernels import (
+from impactpred import Body, LinearSpring, Rigid, solve_impact
+from impactpred.engine import impact_run
+from impactpred.engine.exp_kernels import (
     first_crossing,
     phase_run,
     row_value,
     sample_rows,
 )
-from impactpred.solvers._spectral import SpectralPhase
+from impactpred.engine.spectral import SpectralPhase
 
 
 def _direct(lam, B, P, taus):
@@ -124,10 +124,11 @@ def test_compiled_and_matrix_exponential_paths_agree(monkeypatch, contact):
     """The compiled search and the matrix-exponential fallback apply the same rules."""
     bodies = (Body(LumpedMass(0.5), velocity=1.0),
               Body(Rod(1.0, 1.0, support="fixed").modal_model(12, residual=True)))
-    law = laplace.Rigid() if contact == "rigid" else LinearSpring(2e4)
+    law = Rigid() if contact == "rigid" else LinearSpring(2e4)
     # events do not depend on the output step: a coarse one keeps the expm path quick
     fast = solve_impact(*bodies, contact=law, t_end=6.0, dt=0.05, method="laplace")
-    monkeypatch.setattr(laplace, "_phase_form", lambda M, update_of=None: laplace._ExpmForm(M))
+    monkeypatch.setattr(impact_run, "_phase_form",
+                        lambda M, update_of=None: impact_run.ExpmForm(M))
     slow = solve_impact(*bodies, contact=law, t_end=6.0, dt=0.05, method="laplace")
     assert "matrix-exponential" in slow.notes[-1]
     assert len(fast.contact_intervals) == len(slow.contact_intervals) > 1

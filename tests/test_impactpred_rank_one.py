@@ -1,4 +1,5 @@
-"""The contact phase split as a rank-one update of the free flight (``_rank_one``).
+"""The contact phase split as a rank-one update of the free flight
+(``impactpred.engine.rank_one``).
 
 Checked against the general route (ordered Schur form) and against matrix exponentials:
 the same eigenvalues, and the same state at any time, on the exact solver's own phase
@@ -13,21 +14,22 @@ import scipy.linalg
 
 from data_synth import CantileverBeam, LumpedMass, Rod
 from impactpred import Body, LinearSpring, Rigid, solve_impact
-from impactpred.solvers import _spectral, laplace
-from impactpred.solvers._rank_one import rank_one_split
-from impactpred.solvers._spectral import SpectralPhase
+from impactpred.engine import spectral as _spectral
+from impactpred.engine import impact_run
+from impactpred.engine.rank_one import rank_one_split
+from impactpred.engine.spectral import SpectralPhase
 
 
 def _phase_matrices(monkeypatch, bodies, contact):
     """The free and contact phase matrices and the update ``(b, r)`` the solver builds."""
     seen = []
-    real = laplace._phase_form
+    real = impact_run._phase_form
 
     def spy(M, update_of=None):
         seen.append((M.copy(), update_of))
         return real(M, update_of)
 
-    monkeypatch.setattr(laplace, "_phase_form", spy)
+    monkeypatch.setattr(impact_run, "_phase_form", spy)
     solve_impact(*bodies, contact=contact, t_end=0.5, dt=0.1, method="laplace")
     (M_free, _), (M_con, (_, b, r)) = seen
     return M_free, M_con, b, r

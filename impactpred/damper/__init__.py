@@ -9,7 +9,7 @@ engine that is exact between events (closed-form phases, no time steps) for thou
 of forcing cycles.
 """
 
-from .contact import InstantaneousImpact
+from ..contact import InstantaneousImpact
 from .excitation import BaseExcitation, HarmonicForce
 from .masri_caughey import MasriCaugheySolution, masri_caughey, masri_caughey_curve
 from .result import DamperResult, DamperState

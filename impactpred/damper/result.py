@@ -10,7 +10,7 @@ import numpy as np
 import pandas as pd
 
 from ..result import _frozen
-from ._engine_form import _cubic_min
+from ..engine.phase import _cubic_min
 
 __all__ = ["DamperResult", "DamperState", "build_result"]
 

@@ -15,15 +15,15 @@ from modalid import ModalModel, MultiOutputModalModel
 from modalid._checks import as_count, as_nonnegative_scalar, as_positive_scalar
 
 from ..body import check_driving_point
-from ..contact import Hertz, LinearSpring, Rigid
+from ..contact import Hertz, InstantaneousImpact, LinearSpring, Rigid
+from ..engine.cycle_run import run
 from ._engine import Engine, EngineState
-from ._engine_run import run
-from .contact import InstantaneousImpact
 from .excitation import BaseExcitation, HarmonicForce
 from .result import DamperResult, DamperState, build_result
 
 __all__ = ["ImpactDamper"]
 
+#: the laws the two-sided engine runs (a ``ContactLaw`` it does not know is refused)
 _CONTACTS = (Rigid, LinearSpring, Hertz, InstantaneousImpact)
 
 
@@ -74,8 +74,8 @@ class ImpactDamper:
     -----
     Exact between events: every phase is a sum of exponentials, the excitation's
     harmonic and a polynomial (the damper mass's free flight), evaluated in closed form;
-    events are located by a certified search and Brent's method on the closed form
-    (:mod:`impactpred.damper._engine_form`). Only ``Hertz`` is time-stepped, during
+    events are located by a certified search and safeguarded Newton steps on the closed
+    form (:mod:`impactpred.engine.search`). Only ``Hertz`` is time-stepped, during
     contact only. The matrices and eigendecompositions are built once per damper, on the
     first :meth:`simulate`, and reused.
     """

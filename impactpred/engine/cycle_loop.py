@@ -1,9 +1,9 @@
-"""The impact-damper engine's event loop for rigid and instantaneous contacts, compiled.
+"""The two-sided (impact-damper) event loop for rigid and instantaneous contacts, compiled.
 
 :func:`rigid_loop` is the ``Rigid`` / ``InstantaneousImpact`` part of
-:func:`._engine_run.run` as one compiled call: per phase, the closed form's coordinates
-(:meth:`._engine_form.PhaseKind.start`), the event rows' coefficients, the certified
-event search (:func:`._search_kernels.first_event`), the output samples with the exact
+:func:`.cycle_run.run` as one compiled call: per phase, the closed form's coordinates
+(:meth:`.phase.PhaseKind.start`), the event rows' coefficients, the certified
+event search (:func:`.search.first_event`), the output samples with the exact
 input-work integrals, the contact impulse, the state at the event, and the event itself
 (the damper mass pinned on the stop, the plastic or restitution impulse, the Zeno rule
 :func:`zeno_closes` shared with the Python loop, the stick-or-separate decision), with a
@@ -14,17 +14,17 @@ products, the search's own sums): chattering runs, which amplify rounding, agree
 Python loop for tens of contacts and then in their statistics only (see
 ``tests/test_impactpred_damper_kernels``).
 
-A kind of phase is passed as the tuple built by :func:`._engine_compiled.kind_arrays`:
+A kind of phase is passed as the tuple built by :func:`.cycle_compiled.kind_arrays`:
 ``(lam, abs_lam, abs_lam4, order, V, Vinv, in0, S0P, X, ev_rv, ev_rp, ev_rx, out_rv,
-out_rp, out_rx)`` (see :class:`._engine_form.PhaseKind`). Units: times in s, the state in
+out_rp, out_rx)`` (see :class:`.phase.PhaseKind`). Units: times in s, the state in
 the primary's modal units with ``y_d`` in m and ``v_d`` in m/s, impulses in N s, the
-input work in J (its two integrals, see :func:`._engine_run._work`).
+input work in J (its two integrals, see :func:`.cycle_run._work`).
 
 Cost: a phase is O(terms x (states + rows x points searched)); on the benchmark's 20-mode
 beam ~27 us a phase on average, ~18 us of it the event search; no Python per phase.
 Compiled on first use (``cache=True``; ~40 s in a fresh environment, then loaded from
 numba's cache). numba's cache does not follow calls across modules: after editing
-:mod:`._search_kernels` alone, touch this module (or clear ``__pycache__``) so that
+:mod:`.search` alone, touch this module (or clear ``__pycache__``) so that
 :func:`rigid_loop` is recompiled.
 """
 
@@ -35,7 +35,7 @@ import math
 import numpy as np
 from numba import njit
 
-from ._search_kernels import cabs, first_event
+from .search import cabs, first_event
 
 __all__ = ["rigid_loop"]
 
@@ -174,7 +174,7 @@ def _integral(lam, b, poly, tau):  # pragma: no cover - compiled
 
 @njit(cache=True)
 def _decide(lam, b, poly, rtol, first):  # pragma: no cover - compiled
-    """Stick (True) or separate: :func:`._engine_run.decide` (four Taylor orders, from
+    """Stick (True) or separate: :func:`.cycle_run.decide` (four Taylor orders, from
     order ``first``: 1 where ``f(0) = 0`` by construction, relative degree 0)."""
     fact = 1.0
     lam_k = np.ones(lam.size, np.complex128)
@@ -373,7 +373,7 @@ def rigid_loop(free, stuck_p, stuck_m, x, t, mode, side, on_boundary, open_row,
                r0A, r0AA, A, bl, inv_mu, rho, restitution,
                decide_rtol):  # pragma: no cover - compiled
     """Phases from ``(x, t)`` until ``t >= t_stop`` (or ``t_end``, s) for a rigid or
-    instantaneous contact: :func:`._engine_run.run`'s loop (see the module docstring).
+    instantaneous contact: :func:`.cycle_run.run`'s loop (see the module docstring).
 
     Parameters
     ----------
@@ -397,10 +397,11 @@ def rigid_loop(free, stuck_p, stuck_m, x, t, mode, side, on_boundary, open_row,
     t0_run, dt_out, period : float
         Start of the run, output step and forcing period (s).
     iy, iv, c, omega, phi, r0, r0A, r0AA, A, bl, inv_mu, rho, restitution, decide_rtol
-        The engine (:class:`._engine.Engine`): indices of ``y_d``, ``v_d``, clearance
-        (m), excitation (rad/s, rad), the relative displacement / velocity / acceleration
-        rows, the free-flight matrix, the contact force's input ``Bl[:n]``, ``1/mu``
-        (1/kg), the relative degree, ``e`` (0 for ``Rigid``) and ``decide``'s tolerance.
+        The phases' builder (:class:`impactpred.damper._engine.Engine`): indices of
+        ``y_d``, ``v_d``, clearance (m), excitation (rad/s, rad), the relative
+        displacement / velocity / acceleration rows, the free-flight matrix, the contact
+        force's input ``Bl[:n]``, ``1/mu`` (1/kg), the relative degree, ``e`` (0 for
+        ``Rigid``) and ``decide``'s tolerance.
 
     Returns
     -------

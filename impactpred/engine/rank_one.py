@@ -288,7 +288,7 @@ def rank_one_split(M, free, b, r, *, tol, max_cond):
 
     Returns
     -------
-    The general route's tuple (see ``_spectral._split``), or None when a check fails:
+    The general route's tuple (see ``.spectral._split``), or None when a check fails:
     a simple free pole that the update leaves in place (``beta_i`` zero to rounding),
     repeated poles whose copies cancel, or poles close but not equal; no convergence, a
     root at zero, a residual of ``g`` above rounding, unpaired conjugates, an

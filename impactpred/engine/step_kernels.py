@@ -1,12 +1,12 @@
-"""Compiled kernels (numba) of the impact-damper engine's event search.
+"""Compiled kernels (numba) of the certified event search: per-step certification.
 
-The rows searched by :func:`._engine_form.first_event` are sums of exponentials
+The rows searched by :func:`.search.first_event` are sums of exponentials
 
     r(tau) = Re(sum_j B_j e^{lambda_j tau}) + sum_c P_c tau^c      (tau in s)
 
 (values and slopes: a slope row is the value row with ``B_j lambda_j`` and the
 polynomial's derivative). They are evaluated on uniform grids by the exact solver's
-:func:`impactpred.solvers._exp_kernels.sample_rows` (the exponentials advance by
+:func:`impactpred.engine.exp_kernels.sample_rows` (the exponentials advance by
 ``e^{lambda h}``, recomputed directly every 32 points and at the last one: an absolute
 error of a few ``1e-15`` of the terms' moduli, far under the search's zero tolerance,
 ``1e-12`` of them). This module holds the per-step tests of the certified search, with
@@ -22,7 +22,7 @@ import numpy as np
 from numba import njit
 
 # the grid evaluation and the Hermite minimum are the exact solver's (one implementation)
-from ..solvers._exp_kernels import hermite_min as cubic_min
+from .exp_kernels import hermite_min as cubic_min
 
 __all__ = ["crossing_steps", "cubic_min", "uncertified_steps"]
 

@@ -1,20 +1,30 @@
-"""The impact-damper engine's certified event search, compiled (numba).
+"""The exact engine's certified event search, compiled (numba).
 
-:func:`first_event` is :func:`._engine_form.first_event` as one compiled call: the same
-levels, the same certified multilevel search, the same last-level pieces, crossings (dips
-included), root location and geometric grid at a phase that starts on an event. Rows are
+The phase ends at the first ``tau`` where one of its event rows turns negative. The
+search (:func:`first_event`) is certified, multilevel: the terms are nested by
+``|lambda|``; a level resolves the slow ones on steps ``pi / (8 Lambda)`` and bounds the
+others by the sum of their moduli (``|e^{lambda tau}| <= 1`` since ``Re lambda <= 0``); a
+step is cleared when the cubic Hermite interpolant's minimum, less its error bound
+``h^4/384 sum |b| |lambda|^4``, less that sum, stays above the rounding level. Only the
+steps not cleared are searched at the next level (``_RATIO`` times finer), so the fast
+modes cost work only right at an event. At the last level (every term) a sign change
+brackets the root and a dip (slope from negative to positive) has its minimum located;
+a last-level span is evaluated in pieces, stopping at the first piece with an event; a
+phase that starts on an event is first searched on a geometric grid of its first fine
+step. Its Python twin, the oracle it is tested against, is ``tests/oracle_event_search.py``.
+Rows are
 
     r_i(tau) = Re(sum_j b_ij e^{lambda_j tau}) + sum_c poly_ic tau^c      (tau in s)
 
 given by their coefficients: ``b`` (K, m) complex, ``poly`` (K, k); values are in the rows'
 own units (m for the gaps, N for the contact force). The uniform grids are evaluated as
-by :func:`impactpred.solvers._exp_kernels.sample_rows` (recurrence ``e^{lambda h}``,
+by :func:`impactpred.engine.exp_kernels.sample_rows` (recurrence ``e^{lambda h}``,
 recomputed exactly every 32 points and at the first one; here with the terms
 kept fastest first, so that a level's terms are a contiguous tail, and no per-call
 copies), grids of fewer than ``_MIN_KERNEL`` points by direct exponentials, the
 geometric grid at a phase's start by Taylor sums (:func:`_taylor_rows`); roots are
 polished by safeguarded Newton steps on the closed form. Only rounding differs from the
-Python search (the order of the sums, the recurrence on the grids): all its decisions
+Python oracle (the order of the sums, the recurrence on the grids): all its decisions
 compare values with a zero tolerance ``1e-12`` of the rows' terms, far above it.
 
 Cost: per phase O(K m) per grid point searched; no Python, no allocation beyond the grids.
@@ -28,14 +38,14 @@ import math
 import numpy as np
 from numba import njit
 
-from ..solvers._exp_kernels import _polish, _value_slope, advance_exponentials, row_value
-from ._kernels import crossing_steps, cubic_min, uncertified_steps
+from .exp_kernels import _polish, _value_slope, grid_rows, row_value
+from .step_kernels import crossing_steps, cubic_min, uncertified_steps
 
 __all__ = ["cabs", "first_event"]
 
-# the search's constants, shared with the Python search (:mod:`._engine_form` imports
-# them): defined here, beside the compiled code that freezes them, so that numba's cache
-# (which tracks this file only) sees a change
+# the search's constants, shared with the Python oracle (tests/oracle_event_search.py):
+# defined here, beside the compiled code that freezes them, so that numba's cache (which
+# tracks this file only) sees a change
 #: fraction of a row's scale the fast terms may carry (bounded, not sampled)
 _ETA = 0.05
 #: search steps per radian of the fastest resolved term: step = pi / (8 |lambda|)
@@ -50,8 +60,6 @@ _H1 = 4.0 / 27.0
 _MIN_KERNEL = 8
 #: steps of the first piece of a last-level span (then doubling; the Python search: 64)
 _PIECE = 16
-#: exponentials of a uniform grid evaluated directly every this many points
-_ANCHOR = 32
 #: the geometric grid's rows are summed as Taylor series of this many terms where
 #: ``|lambda| tau`` stays within ``_TAYLOR_RADIUS`` (see :func:`_taylor_rows`)
 _TAYLOR_TERMS = 16
@@ -60,7 +68,7 @@ _TAYLOR_RADIUS = math.pi / 8.0 + 1e-12
 
 @njit(cache=True)
 def _levels(abs_lam, abs_lam4, order, amp, scale):  # pragma: no cover - compiled
-    """Levels of the search (see ``_engine_form._levels``).
+    """Levels of the search (see ``tests/oracle_event_search._levels``).
 
     Returns ``(cuts, tails, g4s, hs)``: level ``l`` resolves the terms ``order[cuts[l]:]``
     (the slowest), bounds the others by ``tails[l]`` (per row, row units), has the
@@ -161,44 +169,16 @@ def _taylor_rows(lam, b, poly, taus):  # pragma: no cover - compiled
     return out
 
 
-@njit(cache=True, fastmath=True)
+@njit(cache=True)
 def _ev(G, P, c0, taus, h, uniform, i_base=0):  # pragma: no cover - compiled
     """Values and slopes (2K x len(taus)) of the terms ``c0:`` (fastest first: those of a
-    level) and the polynomial ``P``. ``G = (lam, Br, Bi, zr, zi, wr, wi)``: the exponents
-    and the value and slope rows' coefficients in the search's term order, and work
-    space. ``uniform``: ``taus`` advances by ``h`` (s) but at its last point; the
-    exponentials then advance by ``e^{lambda h}`` and are evaluated directly every
-    ``_ANCHOR`` points, at the first point and off the step (as
-    :func:`impactpred.solvers._exp_kernels.sample_rows`, which also recomputes the last
-    point), else directly everywhere.
-    ``i_base > 0``: ``taus`` continues the previous call's grid from its last point, at
-    index ``i_base`` of it (the exponentials there and ``e^{lambda h}`` are reused).
+    level) and the polynomial ``P`` (:func:`impactpred.engine.exp_kernels.grid_rows`; ``G``
+    in the search's term order). ``uniform``: ``taus`` advances by ``h`` (s) but at its
+    last point (the recurrence serves grids of ``_MIN_KERNEL`` points or more), else the
+    exponentials are evaluated directly everywhere; ``i_base > 0``: ``taus`` continues
+    the previous call's grid from its last point, at index ``i_base`` of it.
     """
-    lam, Br, Bi, zr, zi, wr, wi = G
-    R, m = Br.shape
-    n = taus.size
-    out = np.empty((R, n))
-    rec = uniform and n >= _MIN_KERNEL
-    if rec and i_base == 0:
-        for j in range(c0, m):
-            w = np.exp(lam[j] * h)
-            wr[j], wi[j] = w.real, w.imag
-    for i in range(n):
-        tau = taus[i]
-        if not (i == 0 and i_base > 0):     # else: the previous call's last point
-            exact = (not rec or i == 0 or (i_base + i) % _ANCHOR == 0
-                     or abs(taus[i] - taus[i - 1] - h) > 1e-9 * h)
-            advance_exponentials(lam[c0:m], tau, exact, zr[c0:m], zi[c0:m], wr[c0:m],
-                                 wi[c0:m])
-        for r in range(R):
-            acc = 0.0
-            for j in range(c0, m):
-                acc += Br[r, j] * zr[j] - Bi[r, j] * zi[j]
-            p = 0.0
-            for q in range(P.shape[1] - 1, -1, -1):
-                p = p * tau + P[r, q]
-            out[r, i] = acc + p
-    return out
+    return grid_rows(G, P, c0, taus, h, uniform and taus.size >= _MIN_KERNEL, i_base, False)
 
 
 @njit(cache=True)
@@ -207,7 +187,7 @@ def _locate(lam, bi, pi, lo, hi, zero_tol_i, total_i, opened_i):  # pragma: no c
 
     Safeguarded Newton steps on the closed form; an open row still at rounding level at
     ``lo`` has its event where it leaves ``[-zero_tol, 0]``, or at its own root after a
-    low positive lobe found on a geometric grid of ``[0, hi]`` (``_engine_form``).
+    low positive lobe found on a geometric grid of ``[0, hi]`` (as the Python oracle).
     """
     shift = 0.0
     noise = 4e-16 * total_i
@@ -346,7 +326,7 @@ def first_event(lam, abs_lam, abs_lam4, order, b, poly, tau_max, scale, zero_tol
                 on_boundary, open_row):  # pragma: no cover - compiled
     """First ``tau`` in ``(0, tau_max]`` (s) where a row falls below ``-zero_tol``.
 
-    :func:`._engine_form.first_event` compiled (see there): ``lam`` (m,) complex,
+    The search of the module docstring: ``lam`` (m,) complex,
     ``abs_lam``, ``abs_lam4`` its moduli and their fourth powers, ``order`` the terms
     fastest first (``PhaseKind.order_desc``); ``b`` (K, m), ``poly`` (K, k); ``scale``,
     ``zero_tol`` (K,) in row units; ``open_row``: the row decided to open (-1: none).

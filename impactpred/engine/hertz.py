@@ -1,8 +1,8 @@
-"""Hertz contact phases of the impact-damper engine: exact modal discretisation.
+"""Hertz contact phases of the two-sided (impact-damper) runs: exact modal discretisation.
 
 During a Hertz contact at the stop ``s`` the engine's augmented state
 ``xa = [x, xh]`` (the primary's modal states, ``y_d`` (m), ``v_d`` (m/s), the constant
-1, and the harmonic pair ``xh``; see :mod:`._engine`) obeys
+1, and the harmonic pair ``xh``; see :mod:`impactpred.damper._engine`) obeys
 
     xa' = A xa + Bl lam(t),        lam = s f,     f = k d**n   (d > 0)
 
@@ -44,7 +44,7 @@ is continuous and vanishes at the exit, as the law requires), found by a bracket
 Illinois iteration on the exact step solution; the returned state is on the open
 side, with the gap at rounding level, so the exact free flight resumes from it.
 
-Input work (J, rows as in :mod:`._engine_run`: ``int F_eq v_p dt`` and
+Input work (J, rows as in :mod:`.cycle_run`: ``int F_eq v_p dt`` and
 ``int y_b' v_p dt``) is integrated over each step by Simpson's rule with the exact
 mid-step state of the discrete trajectory (``O(h^4)`` against that trajectory).
 """
@@ -207,7 +207,8 @@ class _Hertz:
         return float(self.vrow @ xa) + self.vB * lam + self.d_p * slope
 
     def outputs(self, xa, lam, slope):
-        """Output rows y_p, v_p, y_d, v_d, lam, excitation (as in ``_engine._kind``)."""
+        """Output rows y_p, v_p, y_d, v_d, lam, excitation (as the front end's
+        ``impactpred.damper._engine.Engine._kind``)."""
         return (float(self.yp0 @ xa) + self.d_p * lam, self.vp(xa, lam, slope),
                 float(xa[self.iy]), float(xa[self.iv]), lam,
                 float(self.exc_row @ xa[self.n:]))
@@ -267,7 +268,7 @@ def hertz_contact(eng, x, t, side, t_end, t0_run, dt_out):
 
     Parameters
     ----------
-    eng : _engine.Engine
+    eng : impactpred.damper._engine.Engine
         The damper's engine (``eng.contact`` is an :class:`impactpred.Hertz`).
     x : ndarray, shape (n,)
         Engine state at the contact's start (or at a run's start inside a contact).

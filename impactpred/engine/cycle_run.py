@@ -1,10 +1,11 @@
-"""The event loop of the impact-damper engine (see :mod:`._engine`).
+"""The two-sided (impact-damper) event loop, every contact law (phases built by
+:class:`impactpred.damper._engine.Engine`).
 
 One pass of the loop is one phase: start its closed form at the current state, find
-its first event (:func:`._engine_form.first_event`), sample the outputs on the output
+its first event (:func:`.phase.search_event`), sample the outputs on the output
 grid inside it, and apply the event (impulse, contact start, separation). Hertz
-contacts are time-stepped by :mod:`._engine_hertz`. Rigid and instantaneous contacts run
-the same loop compiled (:mod:`._loop_kernels`, driven by :mod:`._engine_compiled`) unless
+contacts are time-stepped by :mod:`.hertz`. Rigid and instantaneous contacts run
+the same loop compiled (:mod:`.cycle_loop`, driven by :mod:`.cycle_compiled`) unless
 ``_COMPILED`` is False; this Python loop is the reference it is tested against.
 
 Rigid (and low-restitution instantaneous) contacts: at a contact instant the damper
@@ -18,14 +19,14 @@ separations that advance time. A stuck phase ends where its force crosses zero; 
 free flight then starts open from the stop.
 
 Instantaneous impacts with restitution ``e``: the rebound ``u = e v`` is applied unless
-:func:`._loop_kernels.zeno_closes` finds it unresolved (the end of a Zeno sequence,
+:func:`.cycle_loop.zeno_closes` finds it unresolved (the end of a Zeno sequence,
 whose bounces under the relative acceleration ``a`` accumulate at
 ``t + 2 u / (a (1 - e))``; or stops that coincide to the gap's resolution, where the
 impacts ``v, e v, e^2 v, ...`` at one instant sum to a plastic one); the impact is then
 the Rigid law's plastic impact and decision above (the same code). The rule's scales do
 not vanish with the clearance: ``clearance = 0`` with ``e < 1`` is the Rigid law at
 ``clearance = 0``, the damper mass moving with the primary. Both loops raise a
-``RuntimeError`` after more than ``_engine_compiled.MAX_IMPACTS_PER_PERIOD`` impacts
+``RuntimeError`` after more than ``cycle_compiled.MAX_IMPACTS_PER_PERIOD`` impacts
 within one forcing period, so that a run's cost per cycle is bounded.
 
 Linear spring(-dashpot) contacts (``f = max(0, k d + c d')`` while the penetration
@@ -49,19 +50,20 @@ import sys
 
 import numpy as np
 
-from ..contact import LinearSpring, Rigid
-from ._engine import OUT_BV, OUT_FEQ, OUT_LAM, OUT_VP, EngineState
-from . import _engine_compiled
-from ._engine_compiled import run_compiled, runaway_error, stall_error
-from ._engine_form import evaluate, first_event
-from ._engine_hertz import hertz_contact
-from ._loop_kernels import _decide, zeno_closes
-from .contact import InstantaneousImpact
+from ..contact import InstantaneousImpact, LinearSpring, Rigid
+from . import cycle_compiled
+from .cycle_compiled import run_compiled, runaway_error, stall_error
+from .cycle_loop import STALL, _decide, zeno_closes
+from .cycle_state import OUT_BV, OUT_FEQ, OUT_LAM, OUT_VP, EngineState
+from .hertz import hertz_contact
+from .phase import evaluate, search_event
 
 __all__ = ["run"]
 
-_STALL = 50
-#: rigid and instantaneous contacts run in the compiled loop (:mod:`._loop_kernels`); False:
+_STALL = STALL       # phases in a row without time advancing (the compiled loop's rule)
+#: the event search of this loop (tests swap in the Python oracle of the compiled search)
+_SEARCH = search_event
+#: rigid and instantaneous contacts run in the compiled loop (:mod:`.cycle_loop`); False:
 #: this module's Python loop (the reference the compiled one is tested against)
 _COMPILED = True
 
@@ -188,7 +190,7 @@ def run(eng, *, start: EngineState, n_cycles, samples_per_cycle, progress):
     chunks_t, chunks_v, chunks_w, chunks_g = [], [], [], []
     work = np.zeros(2)
     v_max = eng.c * eng.omega       # the Zeno rule's velocity scale (m/s)
-    max_impacts = _engine_compiled.MAX_IMPACTS_PER_PERIOD
+    max_impacts = cycle_compiled.MAX_IMPACTS_PER_PERIOD
     on_boundary = mode != "free"
     open_row = None           # event row decided to open at the phase's start
     zero_open = False         # ... and 0 there by construction (spring contact)
@@ -333,7 +335,7 @@ def run(eng, *, start: EngineState, n_cycles, samples_per_cycle, progress):
         total = np.abs(b).sum(axis=1) + np.abs(poly).sum(axis=1)
         zero_tol = 1e-12 * total + 1e-300
         scale = np.full(total.shape, eng.c) if (mode == "free" and eng.c > 0) else total
-        tau, row = first_event(kind, b, poly, t_end - t, scale=scale, zero_tol=zero_tol,
+        tau, row = _SEARCH(kind, b, poly, t_end - t, scale=scale, zero_tol=zero_tol,
                                on_boundary=on_boundary,
                                open_rows=() if open_row is None else (open_row,))
         open_row, zero_open = None, False

@@ -1,7 +1,7 @@
-"""Driver of the compiled event loop (:mod:`._loop_kernels`) for rigid and instantaneous
+"""Driver of the compiled event loop (:mod:`.cycle_loop`) for rigid and instantaneous
 contacts: packs the engine's phase kinds into arrays, calls the loop on chunks of cycles
 (the progress bar is updated between chunks, and the samples of one chunk are all that is
-held in compiled arrays at once) and returns :func:`._engine_run.run`'s dict.
+held in compiled arrays at once) and returns :func:`.cycle_run.run`'s dict.
 
 A chunk boundary does not cut a phase: every event search looks up to the run's end and
 the loop stops at the first event after the chunk's end, so the chunks give exactly the
@@ -15,8 +15,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._engine import EngineState
-from ._loop_kernels import N_IMPACT_COLS, PAUSED, RUNAWAY, STALLED, rigid_loop
+from ..contact import InstantaneousImpact
+from .cycle_loop import N_IMPACT_COLS, PAUSED, RUNAWAY, STALLED, rigid_loop
+from .cycle_state import EngineState
 
 __all__ = ["kind_arrays", "run_compiled", "runaway_error", "stall_error"]
 
@@ -36,8 +37,6 @@ MAX_IMPACTS_PER_PERIOD = 100_000
 def stall_error(eng, t, phase):
     """The ``RuntimeError`` of contact events repeating without time advancing at ``t`` (s)
     in a ``phase`` ("free", "stuck", ...) phase."""
-    from .contact import InstantaneousImpact
-
     hint = ""
     if isinstance(eng.contact, InstantaneousImpact) and eng.contact.restitution == 1.0:
         hint = (f"; with restitution 1 an impact between stops that coincide to rounding "
@@ -51,8 +50,6 @@ def stall_error(eng, t, phase):
 def runaway_error(eng, t, v_rel, cap):
     """The ``RuntimeError`` of a run with more than ``cap`` impacts within one forcing period
     (before ``t``, s; ``v_rel``: the last approach velocity, m/s)."""
-    from .contact import InstantaneousImpact
-
     e = eng.contact.restitution if isinstance(eng.contact, InstantaneousImpact) else 0.0
     return RuntimeError(
         f"more than {cap} impacts within one forcing period (T = {eng.period!r} s) before "
@@ -63,7 +60,7 @@ def runaway_error(eng, t, v_rel, cap):
 
 
 def kind_arrays(kind):
-    """The arrays of a :class:`._engine_form.PhaseKind` as :func:`rigid_loop` takes them
+    """The arrays of a :class:`.phase.PhaseKind` as :func:`rigid_loop` takes them
     (built once per kind): ``(lam, abs_lam, abs_lam4, order, V, Vinv, in0, S0P, X, ev_rv,
     ev_rp, ev_rx, out_rv, out_rp, out_rx)``."""
     arrays = getattr(kind, "_compiled_arrays", None)
@@ -87,15 +84,13 @@ def kind_arrays(kind):
 
 
 def run_compiled(eng, *, start, n_cycles, samples_per_cycle, bar, decide_rtol):
-    """:func:`._engine_run.run` for ``Rigid`` / ``InstantaneousImpact`` contacts, compiled.
+    """:func:`.cycle_run.run` for ``Rigid`` / ``InstantaneousImpact`` contacts, compiled.
 
     ``bar``: the run's progress bar (``update(t)``); ``decide_rtol``: the contact
     decision's tolerance. Raises ``RuntimeError`` where contact events repeat without time
     advancing, or past ``MAX_IMPACTS_PER_PERIOD`` impacts within one forcing period (as
     the Python loop).
     """
-    from .contact import InstantaneousImpact
-
     T = eng.period
     dt_out = T / samples_per_cycle
     t0_run = start.time

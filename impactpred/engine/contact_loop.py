@@ -1,9 +1,10 @@
-"""The exact solver's event loop, compiled (numba): free flight and contact until ``t_end``.
+"""The contact rules and the one-clearance event loop, compiled (numba).
 
-:func:`event_loop` alternates the two phases of :mod:`.laplace` (each propagated in closed
-form by :func:`._exp_kernels.phase_run`) and applies the contact rules between them with
-:func:`contact_start`, which the matrix-exponential fallback in :mod:`.laplace` calls too,
-so both paths decide contacts identically. Cost: one compiled call per solve; per event
+:func:`relative_degree` (both front ends) says how a contact starts. :func:`event_loop`
+alternates the two phases of a one-clearance run (:mod:`.impact_run`; each propagated in
+closed form by :func:`.exp_kernels.phase_run`) and applies the contact rules between them
+with :func:`contact_start`, which the matrix-exponential fallback in :mod:`.impact_run`
+calls too, so both paths decide contacts identically. Cost: one compiled call per solve; per event
 O(terms x search points) plus O(states^2) for the contact decision.
 """
 
@@ -12,12 +13,29 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ._exp_kernels import phase_run
+from .exp_kernels import phase_run
 
-__all__ = ["contact_start", "free_lobe_height", "event_loop"]
+__all__ = ["relative_degree", "contact_start", "free_lobe_height", "event_loop"]
 
 #: an event loop that does not advance this many times in a row is stalled (grazing)
 MAX_STALLS = 50
+
+
+def relative_degree(c0, c1, c2, scale):
+    """Relative degree (0, 1 or 2) of a gap with respect to the contact force.
+
+    ``c0, c1, c2``: the force's coefficient in the gap, its first and its second
+    derivative (``D``, ``C B``, ``C A B`` of the phase's state space); ``scale`` (rad/s):
+    the fastest rate of the free flight. The first coefficient above ``1e-12`` of the
+    scaled sum decides (one rule for both front ends). Degree 2 (mass-like contact):
+    a contact starts with a Dirac impulse that zeroes the approach velocity.
+    """
+    ref = abs(c2) + abs(c1) * scale + abs(c0) * scale ** 2
+    if abs(c0) * scale ** 2 > 1e-12 * ref:
+        return 0
+    if abs(c1) * scale > 1e-12 * ref:
+        return 1
+    return 2
 
 
 @njit(cache=True)
@@ -99,7 +117,7 @@ def event_loop(free, stuck, xa0, in_contact, t_end, step, out_step, tol_g, rho, 
     free, stuck : tuple
         Each phase as ``(rates, modes_r, modes_i, proj_r, proj_i, in0, s0_powers,
         out_poly_m, out_expo_m, ev_poly_m, ev_expo_m, event_row, search_step)`` (see
-        :func:`._exp_kernels.phase_run`).
+        :func:`.exp_kernels.phase_run`).
     xa0 : ndarray, shape (n + 2,)
         Augmented initial state ``[X, 1, J]``.
     in_contact : bool

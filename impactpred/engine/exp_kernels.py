@@ -4,7 +4,7 @@ A phase of the exact solver gives every output as
 
     r(tau) = Re(sum_j b_j e^{lambda_j tau}) + sum_j p_j tau^j        (tau >= 0, s)
 
-(:class:`._spectral.SpectralPhase`). These kernels evaluate such rows on uniform grids
+(:class:`.spectral.SpectralPhase`). These kernels evaluate such rows on uniform grids
 and find where one first turns negative, with a loop body of O(terms) and no Python per
 grid point. Nothing is approximated: on a uniform grid the exponentials advance by the
 exact factor ``e^{lambda h}`` and are recomputed from ``e^{lambda tau}`` every
@@ -21,7 +21,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["sample_rows", "first_crossing", "row_value", "phase_run", "hermite_min"]
+__all__ = ["grid_rows", "sample_rows", "first_crossing", "row_value", "phase_run",
+           "hermite_min"]
 
 #: exponentials recomputed exactly every this many grid points
 _ANCHOR = 32
@@ -62,43 +63,59 @@ def advance_exponentials(lam, tau, exact, zr, zi, wr, wi):
 
 
 @njit(cache=True, fastmath=True)
+def grid_rows(G, P, c0, taus, h, rec, i_base, exact_last):
+    """Rows ``Re(B e^{lambda tau}) + P tau^j`` at ``taus`` (R x len(taus)), terms ``c0:``.
+
+    ``G = (lam, Br, Bi, zr, zi, wr, wi)``: the exponents (m,), the rows' coefficients'
+    real and imaginary parts (R, m) and work space (m,) each. ``rec``: ``taus`` advances by
+    ``h`` (s) but where it does not; the exponentials then advance by ``e^{lambda h}``
+    and are evaluated directly every ``_ANCHOR`` points, at the first point, off the step
+    and (``exact_last``) at the last point: an absolute error of order
+    ``_ANCHOR eps sum |B|``. Else they are evaluated directly everywhere. ``i_base > 0``:
+    ``taus`` continues the previous call's grid from its last point, at index ``i_base``
+    of it (the exponentials there and ``e^{lambda h}`` are reused). Real and imaginary
+    parts are kept in separate arrays so the term loops vectorise. Both event loops'
+    grids are evaluated here (the search's and the samples').
+    """
+    lam, Br, Bi, zr, zi, wr, wi = G
+    R, m = Br.shape
+    n = taus.size
+    out = np.empty((R, n))
+    if rec and i_base == 0:
+        for j in range(c0, m):
+            w = np.exp(lam[j] * h)
+            wr[j], wi[j] = w.real, w.imag
+    for i in range(n):
+        tau = taus[i]
+        if not (i == 0 and i_base > 0):     # else: the previous call's last point
+            exact = (not rec or i == 0 or (i_base + i) % _ANCHOR == 0
+                     or abs(taus[i] - taus[i - 1] - h) > 1e-9 * h
+                     or (exact_last and i == n - 1))
+            advance_exponentials(lam[c0:m], tau, exact, zr[c0:m], zi[c0:m], wr[c0:m],
+                                 wi[c0:m])
+        for r in range(R):
+            acc = 0.0
+            for j in range(c0, m):
+                acc += Br[r, j] * zr[j] - Bi[r, j] * zi[j]
+            p = 0.0
+            for q in range(P.shape[1] - 1, -1, -1):
+                p = p * tau + P[r, q]
+            out[r, i] = acc + p
+    return out
+
+
+@njit(cache=True)
 def sample_rows(lam, B, P, taus, h):
     """Rows ``Re(B e^{lambda tau}) + P tau^j`` at ``taus`` (R x len(taus)).
 
     Where ``taus`` advances by ``h`` (s) the exponentials advance by ``e^{lambda h}``;
     every ``_ANCHOR`` points, where it does not (a phase's first point) and at the last
-    point they are evaluated directly: an absolute error of order ``_ANCHOR eps sum |B|``.
-    Real and imaginary parts are kept in separate arrays so the term loops vectorise.
+    point they are evaluated directly (:func:`grid_rows`).
     """
-    n_rows, m = B.shape
-    n = taus.size
-    out = np.zeros((n_rows, n))
-    zr, zi = np.empty(m), np.empty(m)
-    w = np.exp(lam * h)
-    wr, wi = w.real.copy(), w.imag.copy()
-    br, bi = np.ascontiguousarray(B.real), np.ascontiguousarray(B.imag)
-    # rows without exponential terms (a rigid body's displacement, the force in free
-    # flight) skip the sum; rows identically zero stay zero
-    has_exp = np.zeros(n_rows, np.bool_)
-    for r in range(n_rows):
-        for j in range(m):
-            if B[r, j] != 0:
-                has_exp[r] = True
-    for i in range(n):
-        off_grid = i > 0 and abs(taus[i] - taus[i - 1] - h) > 1e-9 * h
-        exact = i % _ANCHOR == 0 or off_grid or i == n - 1
-        advance_exponentials(lam, taus[i], exact, zr, zi, wr, wi)
-        tau = taus[i]
-        for r in range(n_rows):
-            s = 0.0
-            if has_exp[r]:
-                for j in range(m):      # (a fixed range: it vectorises)
-                    s += br[r, j] * zr[j] - bi[r, j] * zi[j]
-            acc = 0.0
-            for q in range(P.shape[1] - 1, -1, -1):
-                acc = acc * tau + P[r, q]
-            out[r, i] = s + acc
-    return out
+    m = lam.size
+    G = (np.ascontiguousarray(lam), np.ascontiguousarray(B.real),
+         np.ascontiguousarray(B.imag), np.empty(m), np.empty(m), np.empty(m), np.empty(m))
+    return grid_rows(G, P, 0, taus, h, True, 0, True)
 
 
 @njit(cache=True)
@@ -286,7 +303,7 @@ def phase_run(rates, modes_r, modes_i, proj_r, proj_i, in0, s0_powers, out_poly_
               zero_tol, relative):
     """One phase of the exact solver from state ``x`` at ``t0``: its event, samples and end state.
 
-    The phase's split form (:class:`._spectral.SpectralPhase`: ``rates`` (m,), ``modes``
+    The phase's split form (:class:`.spectral.SpectralPhase`: ``rates`` (m,), ``modes``
     (n, m) and ``proj`` (m, n) as real and imaginary parts, ``in0`` (k, n), ``s0_powers``
     (k, n, k)) and the projections
     of its output rows (``out_poly_m`` (R, k, k), ``out_expo_m`` (R, m)) and event row

@@ -19,7 +19,7 @@ import numpy as np
 import scipy.linalg
 from numba import njit
 
-from ._rank_one import rank_one_split
+from .rank_one import rank_one_split
 
 __all__ = ["SpectralPhase", "DefectiveSpectrum"]
 
@@ -217,7 +217,7 @@ class SpectralPhase:
     A block-diagonal ``M`` (up to a permutation of the states: uncoupled modes, the free
     flight of two bodies) is decomposed block by block, which gives the same form.
     ``update_of=(free, b, r)``: ``M = free's matrix + outer(b, r)`` (a contact phase), split
-    through ``free``'s form in O(n^2 m) (:mod:`._rank_one`) when its checks pass, else by
+    through ``free``'s form in O(n^2 m) (:mod:`.rank_one`) when its checks pass, else by
     the general route. :attr:`route` says which was taken.
     """
 

@@ -1,0 +1,340 @@
+"""The exact engine's run of one contact with one clearance (``solve_impact``'s Laplace
+method): free flight and contact phases in closed form, events found on the closed form.
+
+The front end (:mod:`impactpred.solvers.laplace`) builds the two phases (:class:`Phase`:
+the phase matrix on the augmented state ``[X, 1, J]``, its output rows and its event row)
+and the contact rules' data; :func:`run_contact` runs them from ``t = 0`` to ``t_end``:
+
+* free flight ends where the gap turns negative beyond rounding (``tol_g``), contact where
+  the force turns negative;
+* at a contact start the rules of :func:`impactpred.engine.contact_loop.contact_start`
+  apply (a Dirac impulse where the gap has relative degree 2, then hold or release);
+* the phases' spectral forms (:class:`impactpred.engine.spectral.SpectralPhase`) run in
+  the compiled loop (:func:`impactpred.engine.contact_loop.event_loop`); a phase matrix
+  too close to defective falls back to matrix exponentials (:class:`ExpmForm`) and the
+  same rules in Python (events bracketed on chunks of search steps, dips between samples
+  located, roots polished by Brent's method on the closed form).
+
+Times in s, states in the bodies' modal units, forces in N, impulses in N s.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import scipy.linalg
+from scipy.optimize import brentq
+
+from .contact_loop import MAX_STALLS, contact_start, event_loop
+from .spectral import DefectiveSpectrum, SpectralPhase
+
+__all__ = ["Phase", "ExpmForm", "ContactRules", "RawRun", "run_contact", "search_step",
+           "grazing_error", "insert_exact_peak"]
+
+
+class ExpmForm:
+    """Fallback with :class:`SpectralPhase`'s interface, by matrix exponentials.
+
+    Used when the phase matrix is too close to defective for an eigendecomposition.
+    """
+
+    def __init__(self, M):
+        self.M = M
+        self.max_rate = float(np.max(np.abs(np.linalg.eigvals(M)))) if M.size else 0.0
+
+    def coordinates(self, x):
+        return x
+
+    def output_coefficients(self, rows, coords):
+        return np.atleast_2d(rows), coords
+
+    def evaluate(self, coefficients, taus, derivative=0):
+        rows, x = coefficients
+        M_d = np.linalg.matrix_power(self.M, derivative)
+        cols = [M_d @ (scipy.linalg.expm(self.M * tau) @ x) for tau in np.atleast_1d(taus)]
+        return rows @ np.array(cols).T
+
+    def evaluate_orders(self, coefficients, taus, derivatives=(0, 1)):
+        return [self.evaluate(coefficients, taus, d) for d in derivatives]
+
+    def scalar(self, coefficients, tau, derivative=0):
+        return float(self.evaluate(coefficients, [tau], derivative)[0, 0])
+
+    def state(self, coords, tau):
+        return scipy.linalg.expm(self.M * tau) @ coords
+
+
+def _phase_form(M, update_of=None):
+    if update_of is not None and not isinstance(update_of[0], SpectralPhase):
+        update_of = None
+    try:
+        return SpectralPhase(M, update_of=update_of)
+    except DefectiveSpectrum:
+        return ExpmForm(M)
+
+
+class Phase:
+    """One kind of phase (free flight or stuck contact): its propagator and its rows.
+
+    ``update_of=(free_form, b, r)``: ``M`` is the free flight's matrix plus ``outer(b, r)``
+    (the contact force fed back), split through the free flight's form.
+    """
+
+    def __init__(self, M, rows, event_row, contact, *, update_of=None):
+        self.form = _phase_form(M, update_of)
+        self.M = M
+        self.rows = rows            # force, y1, y2, gap (4 x n_aug)
+        self.event_row = event_row  # event when it turns negative
+        self.contact = contact
+
+    def kernel_data(self, t_end):
+        """The phase as :func:`.contact_loop.event_loop` takes it (spectral form only).
+
+        Its event search step resolves its own fastest pole: ``pi/(8 |lambda|max)``.
+
+        Its output rows leave out the gap (row 3): it is ``y2 - y1 + gap0`` by definition
+        (the flexibility terms included), so the caller forms it from the samples.
+        """
+        f = self.form
+        poly_o, expo_o = f.project(np.delete(self.rows, 3, axis=0))
+        poly_e, expo_e = f.project(self.event_row)
+        return (f.rates, f._modes.real.copy(), f._modes.imag.copy(), f._proj.real.copy(),
+                f._proj.imag.copy(), f.in0, f._s0_powers, poly_o, expo_o, poly_e, expo_e,
+                np.asarray(self.event_row, dtype=float), search_step(f.max_rate, t_end))
+
+
+class ContactRules:
+    """The data of the contact-start rules (:func:`.contact_loop.contact_start`).
+
+    ``rho``: relative degree of the gap w.r.t. the force (0, 1, 2; -1 for a spring law),
+    ``coef`` its coefficient; ``bf`` the force's input vector (shape (n,)), ``jdx`` the
+    index of the impulse integral ``J`` in the augmented state; ``force_row``,
+    ``force_rate_row`` the force and its rate in the contact phase (shape (n + 2,));
+    ``cg_powers`` (3, n): the gap row times ``A``, ``A^2``, ``A^3``; ``tol_g`` (m) the
+    gap's rounding level.
+    """
+
+    __slots__ = ("rho", "coef", "bf", "jdx", "force_row", "force_rate_row", "cg_powers",
+                 "tol_g")
+
+    def __init__(self, rho, coef, bf, jdx, force_row, force_rate_row, cg_powers, tol_g):
+        self.rho, self.coef, self.bf, self.jdx = int(rho), float(coef), bf, int(jdx)
+        self.force_row, self.force_rate_row = force_row, force_rate_row
+        self.cg_powers, self.tol_g = cg_powers, float(tol_g)
+
+    def start(self, xa, step):
+        """Apply any Dirac impulse to ``xa`` in place; ``(impulse, holds)``."""
+        impulse, holds = contact_start(xa, self.rho, self.coef, self.bf, self.jdx,
+                                       self.force_row, self.force_rate_row, self.cg_powers,
+                                       step, self.tol_g)
+        return float(impulse), bool(holds)
+
+
+class RawRun:
+    """What :func:`run_contact` returns: samples ``T`` (s), ``V`` (rows x len(T)), the
+    contact intervals and Dirac impulses ``(t, P)``, the first contact phase ``(phase, t0,
+    coords)`` (or None), the final augmented state, the impulse of the first contact, and
+    which propagation ran (``"spectral"`` or ``"matrix-exponential"``)."""
+
+    __slots__ = ("T", "V", "intervals", "diracs", "first_phase", "x_end", "first_impulse",
+                 "kind")
+
+    def __init__(self, T, V, intervals, diracs, first_phase, x_end, first_impulse, kind):
+        self.T, self.V, self.intervals, self.diracs = T, V, intervals, diracs
+        self.first_phase, self.x_end = first_phase, x_end
+        self.first_impulse, self.kind = first_impulse, kind
+
+
+def run_contact(free, stuck, xa, *, in_contact, rules, t_end, step, out_step, gap0):
+    """Run the free-flight and contact phases from ``t = 0`` (state ``xa``) to ``t_end``.
+
+    ``in_contact``: the contact starts at ``t = 0`` (touching and approaching); ``step``
+    (s): the event search step; ``out_step`` (s): the output grid. Raises
+    ``RuntimeError`` (:func:`grazing_error`) where events repeat without time advancing.
+    """
+    tol_g, jdx = rules.tol_g, rules.jdx
+    if all(isinstance(p.form, SpectralPhase) for p in (free, stuck)):
+        (status, t_stall, T, V, iv, dv, x_end, first_impulse, first_t0,
+         first_x) = event_loop(free.kernel_data(t_end), stuck.kernel_data(t_end), xa,
+                               in_contact, t_end, step, out_step, tol_g, rules.rho,
+                               rules.coef, rules.bf, jdx, rules.force_row,
+                               rules.force_rate_row, rules.cg_powers, float(gap0))
+        if status:
+            raise grazing_error(t_stall)
+        first = ((stuck, first_t0, stuck.form.coordinates(first_x)) if first_t0 >= 0.0
+                 else None)
+        return RawRun(T, V, [tuple(r) for r in iv.tolist()],
+                      [tuple(r) for r in dv.tolist()], first, x_end, float(first_impulse),
+                      "spectral")
+
+    samples = []          # (times, rows x k values) blocks
+    intervals, diracs = [], []
+    phase_log = []        # (phase, t0, coords) of the first contact phase
+
+    def start_contact(t, Xa):
+        """Apply any Dirac impulse; return (Xa, holds) with holds False if f < 0 at once."""
+        Xa = Xa.copy()
+        impulse, holds = rules.start(Xa, step)
+        if impulse != 0.0:
+            diracs.append((t, impulse))
+        return Xa, holds
+
+    def emit(phase, coeffs, t0, t_from, t_to, inclusive_end):
+        """Output samples of ``phase`` on the output grid in (t_from, t_to)."""
+        k_lo = int(math.floor(t_from / out_step + 1e-9)) + 1
+        k_hi = int(math.ceil(t_to / out_step - 1e-9)) - 1
+        grid = out_step * np.arange(k_lo, k_hi + 1) if k_hi >= k_lo else np.zeros(0)
+        grid = grid[(grid > t_from) & (grid < t_to)]
+        times = np.concatenate([grid, [t_to]]) if inclusive_end else grid
+        if times.size:
+            samples.append((times, phase.form.evaluate(coeffs, times - t0)))
+
+    def run_phase(phase, t0, Xa):
+        """Propagate from (t0, Xa) to the phase's first event or t_end.
+
+        Contact: the event is the force turning negative. Free flight: the gap turning
+        negative beyond rounding (``tol_g``); if it is not positive at the start of a
+        search step, the contact starts there. The event function is evaluated on
+        chunks of search steps at once and its root polished by Brent's method on the
+        closed form.
+        """
+        form = phase.form
+        coords = form.coordinates(Xa)
+        out_coeffs = form.output_coefficients(phase.rows, coords)
+        ev_coeffs = form.output_coefficients(phase.event_row, coords)
+        if phase.contact and not phase_log:
+            phase_log.append((phase, t0, coords))
+        samples.append((np.array([t0]), form.evaluate(out_coeffs, [0.0])))
+        threshold = 0.0 if phase.contact else -tol_g
+
+        def event(x):
+            return form.scalar(ev_coeffs, x)
+
+        def rate(x):
+            return form.scalar(ev_coeffs, x, derivative=1)
+
+        tau, e_prev, chunk = 0.0, float(phase.event_row @ Xa), 32
+        de_prev = rate(0.0)
+        while t0 + tau < t_end * (1 - 1e-15):
+            taus = tau + step * np.arange(1, chunk + 1)
+            if t0 + taus[-1] >= t_end:  # the last chunk ends exactly at t_end
+                taus = np.append(taus[t0 + taus < t_end], t_end - t0)
+            e, de = (row[0] for row in form.evaluate_orders(ev_coeffs, taus, (0, 1)))
+            # a dip between samples (falling, then rising) may cross and come back: find
+            # its minimum exactly and, if it crosses, cut the samples there
+            starts = np.concatenate([[tau], taus[:-1]])
+            e_starts = np.concatenate([[e_prev], e[:-1]])
+            de_starts = np.concatenate([[de_prev], de[:-1]])
+            dips = np.flatnonzero((de_starts < 0) & (de > 0) & (e_starts >= threshold)
+                                  & (e >= threshold))
+            for d in dips:
+                t_min = brentq(rate, starts[d], taus[d], xtol=1e-15 * max(taus[d], 1e-300))
+                if event(t_min) < threshold:
+                    taus, e = np.append(taus[:d], t_min), np.append(e[:d], event(t_min))
+                    break
+            crossed = e < threshold
+            if np.any(crossed):
+                i = int(np.argmax(crossed))
+                a, b = (taus[i - 1] if i else tau), taus[i]
+                e_a = e[i - 1] if i else e_prev
+                # rounding-level values count as zero
+                zero_tol = tol_g if not phase.contact else 1e-12 * float(np.max(np.abs(e)))
+                if e_a <= zero_tol and a == 0.0:
+                    # the phase starts at an event (e = 0): the event function may open a
+                    # short positive lobe before it turns negative; look for it
+                    fine = np.geomspace(b * 1e-9, b, 256)
+                    e_fine = form.evaluate(ev_coeffs, fine)[0]
+                    positive = np.flatnonzero(e_fine > zero_tol)
+                    if positive.size and np.any(e_fine[positive[0]:] < threshold):
+                        j = positive[0] + int(np.argmax(e_fine[positive[0]:] < threshold))
+                        a, b, e_a = fine[j - 1], fine[j], e_fine[j - 1]
+                if e_a <= zero_tol:
+                    root = a
+                else:
+                    root = brentq(event, a, b, xtol=1e-15 * max(b, 1e-300),
+                                  rtol=4 * np.finfo(float).eps)
+                emit(phase, out_coeffs, t0, t0, t0 + root, True)
+                return t0 + root, form.state(coords, root), True
+            tau, e_prev, de_prev = float(taus[-1]), float(e[-1]), float(de[-1])
+            chunk = min(2 * chunk, 4096)
+        emit(phase, out_coeffs, t0, t0, t_end, True)
+        return t_end, form.state(coords, t_end - t0), False
+
+    t = 0.0
+    Xa = xa
+    contact_at = 0.0
+    first_impulse = None
+    if in_contact:
+        Xa, in_contact = start_contact(0.0, Xa)
+        if not in_contact:
+            intervals.append((0.0, 0.0))
+    stalled = 0
+    while t < t_end * (1 - 1e-15):
+        t_ev, Xa, happened = run_phase(stuck if in_contact else free, t, Xa)
+        stalled = stalled + 1 if t_ev == t else 0
+        if stalled > MAX_STALLS:
+            raise grazing_error(t)
+        t = t_ev
+        if not happened:
+            break
+        if in_contact:  # separation
+            intervals.append((contact_at, t))
+            in_contact = False
+        else:  # contact
+            contact_at = t
+            Xa, in_contact = start_contact(t, Xa)
+            if not in_contact:
+                intervals.append((t, t))
+        if first_impulse is None and intervals:
+            first_impulse = float(Xa[jdx])
+    if in_contact:
+        intervals.append((contact_at, t_end))
+    if first_impulse is None:
+        first_impulse = float(Xa[jdx])
+
+    T = np.concatenate([blk[0] for blk in samples])
+    V = np.concatenate([blk[1] for blk in samples], axis=1)
+    return RawRun(T, V, intervals, diracs, phase_log[0] if phase_log else None, Xa,
+                  first_impulse, "matrix-exponential")
+
+
+def search_step(rate, t_end):
+    """Event-search step (s) resolving the fastest pole ``rate`` (rad/s): ``pi/(8 rate)``."""
+    return min(np.pi / (8 * rate) if rate > 0 else t_end / 1000, t_end / 20)
+
+
+def grazing_error(t):
+    """The ``RuntimeError`` of contact events repeating without time advancing at ``t`` (s)."""
+    return RuntimeError(f"contact events repeat without time advancing at t = {t!r} s: the "
+                        "contact state cannot be decided (grazing); use method='modal'")
+
+
+def insert_exact_peak(T, V, intervals, first_phase):
+    """Insert the exact maximum of the first contact's force (a root of ``f'``) as a sample."""
+    if not intervals or intervals[0][1] <= intervals[0][0] or first_phase is None:
+        return T, V
+    start, end = intervals[0]
+    phase, t0, coords = first_phase
+    inside = np.flatnonzero((T > start) & (T < end))
+    if inside.size < 1:
+        return T, V
+    i = inside[np.argmax(V[0, inside])]
+    form = phase.form
+    coeffs = form.output_coefficients(phase.event_row, coords)
+
+    def rate(x):
+        return form.evaluate(coeffs, [x - t0], derivative=1)[0, 0]
+
+    lo, hi = (T[i - 1] if i > 0 else start), (T[i + 1] if i + 1 < T.size else end)
+    lo, hi = max(lo, start), min(hi, end)
+    for a, b in ((lo, T[i]), (T[i], hi)):
+        if b > a and rate(a) > 0 >= rate(b):
+            t_peak = brentq(rate, a, b, xtol=1e-15 * max(b, 1e-300))
+            values = form.evaluate(form.output_coefficients(phase.rows, coords), [t_peak - t0])
+            k = int(np.searchsorted(T, t_peak))
+            T_out, V_out = np.empty(T.size + 1), np.empty((V.shape[0], T.size + 1))
+            T_out[:k], T_out[k], T_out[k + 1:] = T[:k], t_peak, T[k:]
+            V_out[:, :k], V_out[:, k], V_out[:, k + 1:] = V[:, :k], values[:, 0], V[:, k:]
+            return T_out, V_out
+    return T, V
