@@ -166,8 +166,11 @@ def _print_summary(pred, summary) -> None:
             print("peaks at the output points (body, point):")
             print(res.point_peaks().to_string())
         if pred.uncertainty is not None:
-            print("uncertainty band (re-identified on 60 % and 80 % of each band, parameter "
-                  "draws, widened by the truncation and tail errors they imply):")
+            level = pred.uncertainty.level
+            print("uncertainty band (" + (f"stated level {level:.0%} for the four figures "
+                                          "together: " if level is not None else "")
+                  + "parameter draws, widened by the truncation error of a re-identification "
+                  "on 80 % of each band and the tail's):")
             print(pred.uncertainty.table())
 
 
@@ -218,12 +221,14 @@ def _cmd_predict(args) -> int:
 def _cmd_benchmark(args) -> int:
     import pandas as pd
 
-    from .benchmark import markdown_table, run_benchmark
+    from .benchmark import error_table, markdown_table, run_benchmark
 
     check_out_dir(args.out)
     table = run_benchmark(quick=args.quick, out=args.out, progress=True,
-                          bands=tuple(args.bands), noises=tuple(n / 100 for n in args.noise))
+                          bands=tuple(args.bands), noises=tuple(n / 100 for n in args.noise),
+                          workers=args.workers)
     print(markdown_table(table))
+    print(error_table(table))
     with pd.option_context("display.width", 140):
         print(table.attrs["targets"].to_string(index=False))
     print(f"total {table.attrs['seconds']:.0f} s; "
@@ -291,8 +296,11 @@ def build_parser() -> argparse.ArgumentParser:
                                              "prediction, against the exact answers")
     bench.add_argument("--quick", action="store_true",
                        help="10 modes, 1 %% noise, two cases (seconds)")
-    bench.add_argument("--bands", type=int, nargs="+", default=[5, 10, 20],
+    bench.add_argument("--bands", type=int, nargs="+", default=[10, 20, 40],
                        help="modes covered by the measured band")
+    bench.add_argument("--workers", type=int, default=2,
+                       help="processes (2 cases at one band each); the numbers do not "
+                            "depend on it")
     bench.add_argument("--noise", type=float, nargs="+", default=[1.0, 5.0],
                        help="noise levels in per cent")
     bench.add_argument("--out", help="folder for the CSV and markdown tables and the figures")

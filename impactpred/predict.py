@@ -319,10 +319,12 @@ class Prediction:
         than the narrowest band's resolution ``1/(2 f_top)`` merged; None without an
         identified body (use ``result``'s own figures then).
     uncertainty : UncertaintyBand or None
-        With ``predict(..., uncertainty=True)``: the spread of those figures over the
-        bodies re-identified on 60 % and 80 % of their band and over draws of the fits'
-        parameters, widened by the truncation error the cut bands imply and the tail's
-        (``uncertainty.low``, ``uncertainty.high``, ``uncertainty.table()``).
+        With ``predict(..., uncertainty=True)``: an interval for each of those figures,
+        meant to hold the four together with probability 0.9 (``uncertainty.level``):
+        the nominal figure -+ the draws' spread (the fits' parameters), the truncation
+        error a re-identification on 80 % of each band implies and the tail's
+        (``uncertainty.low``, ``uncertainty.high``, ``uncertainty.table()``; see
+        :func:`impactpred.uncertainty.uncertainty_band`).
     continuation : tuple of str
         Per identified body, whether its model was continued above its band: ``"on,
         above <top> Hz"``, ``"off"``, ``"not possible (<why>)"``, with the share of the
@@ -447,9 +449,10 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
         band holding no mode to continue from goes without (a
         :class:`ContinuationWarning`). ``Prediction.continuation`` says what was done.
     uncertainty : bool
-        Attach an :class:`~impactpred.uncertainty.UncertaintyBand` (re-identification on
-        60 % and 80 % of each band, ``uncertainty_draws`` parameter draws with ``seed``,
-        the truncation error the cut bands imply and the continuation's).
+        Attach an :class:`~impactpred.uncertainty.UncertaintyBand` (stated level 0.9 for
+        the four figures together: ``uncertainty_draws`` parameter draws with ``seed``,
+        re-identification on 80 % of each band, the truncation error it implies and the
+        continuation's).
     fit_options : dict, optional
         Keyword options of the :class:`modalid.ModalFit` each FRF file is identified with,
         e.g. ``HammerFRF.fit_options()`` (``window_decay_rate``, ``record_length``) for FRFs

@@ -6,12 +6,14 @@ import pytest
 from scipy.integrate import trapezoid
 
 from data_synth import CantileverBeam, LumpedMass, Rod, lightly_damped
+from data_synth.reference_impacts import mass_on_fixed_rod
 from impactpred import Body, solve_impact
 from impactpred.truncation import (
     continue_above_band,
     high_frequency_conductance,
     identified_model,
     impact_figures,
+    pattern_share,
     smooth_tail_design,
 )
 
@@ -150,6 +152,66 @@ def test_thinning_modes_scale_the_tail_and_keep_static_flexibility():
     assert out.static_flexibility() == pytest.approx(model.static_flexibility(), rel=1e-9)
     assert out.impulse_response(np.array([0.0]))[0] == pytest.approx(
         info.scale * info.conductance, rel=1e-9)
+
+
+@pytest.mark.parametrize("n", [5, 10, 20, 40])
+def test_pattern_share_is_the_omitted_modes_compliance(n):
+    """The top modes' pattern gives the compliance of the modes above the band: exactly
+    the uniform continuum's for a rod, a beam's sum over k > n (to 0.3 % at 5 modes)."""
+    beam = CantileverBeam(10.0, 4.0)
+    exact = beam.modal_model(n + 1, residual=True)
+    w = np.sort(exact.modes["omega_n"].to_numpy())
+    top_hz = 0.5 * (w[n - 1] + w[n]) / (2 * np.pi)
+    model = beam.modal_model(n, residual=True)
+    G, omega_top, dw, mk = high_frequency_conductance(model, top_hz)
+    omega_a = omega_top + 0.5 * dw
+    continuum = 2.0 * G / (np.pi * omega_a)
+    share = pattern_share(w[n - 3:n], omega_a, dw)
+    # the omitted modes' compliance of the exact beam: its residual flexibility
+    assert share == pytest.approx(model.flexibility / continuum, rel=5e-3)
+    assert 0.4 < share < 2.0 / 3.0
+    rod = Rod(1.0, 1.0).modal_model(n + 1)
+    wr = np.sort(rod.modes["omega_n"].to_numpy())
+    assert pattern_share(wr[-3:], wr[-1] + np.pi / 2, np.pi) == 1.0
+    assert pattern_share(wr[-2:], wr[-1] + np.pi / 2, np.pi) == 1.0     # < 3 modes
+
+
+def test_short_upper_flexibility_keeps_the_tail_and_its_h0():
+    """A fit whose upper residual flexibility is 8 % short (noise) no longer scales the
+    tail's conductance down (h(0+) stays G, no dip after it): the static flexibility
+    grows by the shortfall instead."""
+    model, top = _free_rod_truth(n=20)
+    short = model.replace(flexibility=0.92 * model.flexibility)
+    out, info = continue_above_band(short, top, return_info=True)
+    ref = continue_above_band(model, top)
+    assert info.scale == 1.0
+    t = np.linspace(1e-5, 1.9, 20000)
+    assert out.impulse_response(np.array([0.0]))[0] == pytest.approx(1.0, rel=1e-3)
+    assert np.max(np.abs(out.impulse_response(t) - ref.impulse_response(t))) < 1e-3
+    assert np.min(out.impulse_response(t)) > 0.97
+    mass = Body(LumpedMass(1.0), velocity=1.0)
+    fixed = Rod(1.0, 1.0, support="fixed").modal_model(20, residual=True)
+    out_f = continue_above_band(fixed.replace(flexibility=0.92 * fixed.flexibility),
+                                _band_top(20))
+    assert out_f.static_flexibility() == pytest.approx(fixed.static_flexibility(), rel=1e-3)
+    res = solve_impact(mass, Body(out_f), t_end=12.0, method="laplace")
+    first = impact_figures(res, resolution=0.5 / _band_top(20))
+    grid = np.linspace(0.0, 12.0, 20001)
+    exact = mass_on_fixed_rod(1.0, 1.0, 1.0, 1.0, grid)
+    peak = float(np.max(exact.force[grid <= exact.separation_time]))
+    # within 5 % (the tail scaled to 0.92 G: +9 %)
+    assert first["peak_force"] == pytest.approx(peak, rel=0.05)
+    assert res.restitution == pytest.approx(EXACT_E, rel=5e-3)
+
+
+def test_tail_extent_holds_the_synthesized_modes_to_sqrt_n():
+    from impactpred.truncation import tail_extent
+
+    assert tail_extent(5) == tail_extent(10) == 16.0
+    assert tail_extent(40) == pytest.approx(8.0, rel=1e-12)
+    assert tail_extent(20) == pytest.approx(16.0 / np.sqrt(2.0), rel=1e-12)
+    # synthesized modes ~ n extend: sqrt(n) growth
+    assert 40 * tail_extent(40) == pytest.approx(2 * 10 * tail_extent(10), rel=1e-12)
 
 
 def test_unknown_tail_is_rejected():
