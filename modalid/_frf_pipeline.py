@@ -110,7 +110,8 @@ class FRFPipeline(PoleChecks):
 
     def _segmented(self, frf) -> bool:
         """Fit by segments (:mod:`modalid._segments`): a band of ``MIN_SEGMENTED`` lines,
-        the mode count left to the data, no per-line weights, LSCF poles."""
+        the mode count left to the data, LSCF poles (per-line weights are sliced for
+        each segment)."""
         return (len(frf) >= MIN_SEGMENTED and not self._selection()
                 and self.method == "lscf")
 
@@ -509,7 +510,7 @@ class FRFPipeline(PoleChecks):
         # carry them (weighted data at least 1 % of its largest): a response-weighted fit
         # leaves the lines it was told to neglect, and is judged where it was not
         counted = np.ones(band.values.size, bool)
-        if getattr(self, "_band_weights", None) is not None:
+        if self._band_weights is not None:
             carried = self._band_weights * np.abs(band.values)
             counted = carried >= 0.01 * carried.max()
         self.report_ = fit_report(

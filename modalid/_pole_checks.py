@@ -142,10 +142,10 @@ class PoleChecks:
         after = h[near] - evaluate(omega[near], poles, r, (), (), u, d, terms.rigid_shift)
         before = np.sum(np.abs(w[near] * resid[near]) ** 2)
         gain = before - np.sum(np.abs(w[near] * after) ** 2)
-        if "_noise_lines" not in self._buffers:
-            sigma_rel, floor = noise_model(h)
-            self._buffers["_noise_lines"] = np.hypot(sigma_rel * np.abs(h), floor)
-        noise = np.sum((w[near] * self._buffers["_noise_lines"][near]) ** 2)
+        if self._noise is None:                  # the mixed weighting's, or computed once
+            self._noise = noise_model(h)
+        sigma_rel, floor = self._noise
+        noise = np.sum((w[near] * np.hypot(sigma_rel * np.abs(h[near]), floor[near])) ** 2)
         return bool(gain >= 0.5 * before and gain > 16 * np.log(2 * omega.size) * noise)
 
     def _worst_pole(self, omega, h, w, poles, x, info, kinds, terms, only=None):

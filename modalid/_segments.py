@@ -27,10 +27,11 @@ import warnings
 import numpy as np
 from sklearn.base import clone
 
-__all__ = ["SEGMENT_LINES", "SEGMENT_MARGIN", "MIN_SEGMENTED", "segment_edges", "segment_poles"]
+__all__ = ["SEGMENT_LINES", "SEGMENT_MARGIN", "MIN_SEGMENTED", "segment_edges",
+           "segment_poles"]
 
 SEGMENT_LINES = 1600     # lines per segment
-SEGMENT_MARGIN = 200     # lines at a segment's inner edges whose poles it leaves to its neighbour
+SEGMENT_MARGIN = 200     # lines at a segment's inner edges: their poles are its neighbour's
 MIN_SEGMENTED = 8000     # bands of this many lines and more are fitted by segments
 
 

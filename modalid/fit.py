@@ -436,8 +436,7 @@ class ModalFit(FRFPipeline, BaseEstimator):
         if step > 1:
             data = data.select(slice(None, None, step))
             given = None if given is None else given[::step]
-            self._band_reason = f"{self._band_reason}; {why}"
-        elif why:
+        if why:
             self._band_reason = f"{self._band_reason}; {why}"
         self._band_weights = given                    # per line of the band, or None
         # lines below the band were dropped by the user (the automatic band drops only
@@ -448,6 +447,7 @@ class ModalFit(FRFPipeline, BaseEstimator):
             self._weighting_on, self._weighting_reason = choose_weighting(data.values)
         frf = data.to_receptance()
         mag = np.abs(frf.values)
+        self._noise = None          # noise_model(frf.values), when a step needs it
         if self._weighting_on == "relative":
             w = 1.0 / np.maximum(mag, 1e-12 * mag.max())
         elif self._weighting_on == "noise":
