@@ -280,10 +280,9 @@ def _common_band(est, data: FRFSet):
     """The automatic band of a set (:func:`modalid._band.choose_band` per row): the lines
     every row vouches for (the highest low end, the lowest top); sets
     ``est._band_reason``."""
-    windowed = bool(est.window_decay_rate) or est.record_length is not None
     bands, reasons = [], []
     for k, output in enumerate(data.outputs):
-        band, why = choose_band(data.row(k), low_end=not windowed)
+        band, why = choose_band(data.row(k), low_end=not est._windowed)
         bands.append(band)
         if why != "all lines":
             reasons.append(f"{output}: {why}")

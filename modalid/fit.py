@@ -253,7 +253,7 @@ class ModalFit(FRFPipeline, BaseEstimator):
                      "data_", "impulse_", "mode_shapes_", "_stabilization_cache", "_probe"):
             self.__dict__.pop(name, None)         # a second fit starts afresh
         self._check_window()
-        windowed = self.window_decay_rate != 0.0 or self.record_length is not None
+        windowed = self._windowed
         if isinstance(data, FRFSet) and (self.weights is not None
                                          or self.max_real is not None or windowed):
             raise ValueError("weights, max_real, window_decay_rate and record_length apply "
@@ -389,6 +389,12 @@ class ModalFit(FRFPipeline, BaseEstimator):
         self.__dict__["_passive_now"] = bool(value)
 
     @property
+    def _windowed(self) -> bool:
+        """An exponential window or a record's end to model (``window_decay_rate``,
+        ``record_length``)."""
+        return bool(self.window_decay_rate) or self.record_length is not None
+
+    @property
     def _shift(self) -> float:
         """The window's decay rate: the rigid line is ``1/(s + _shift)^2``."""
         return float(self.window_decay_rate)
@@ -424,8 +430,7 @@ class ModalFit(FRFPipeline, BaseEstimator):
         data = data.select(data.freq_hz > 0)
         first = data.freq_hz[0]
         if self.freq_range is None:                   # the lines the data can vouch for
-            windowed = bool(self.window_decay_rate) or self.record_length is not None
-            band, self._band_reason = choose_band(data, low_end=not windowed)
+            band, self._band_reason = choose_band(data, low_end=not self._windowed)
         else:
             band, self._band_reason = self.freq_range, "freq_range"
         if given is not None:
