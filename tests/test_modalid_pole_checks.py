@@ -1,0 +1,51 @@
+"""The noise the missed-mode test judges a trial mode against (modalid._pole_checks)."""
+
+import numpy as np
+
+from modalid import FRFData, ModalFit, ModalModel
+
+F_MODES = np.array([810., 851.5, 900., 1300., 1518., 1700., 1850.])
+
+
+def varying_noise_data(seed=3):
+    """Transfer accelerance, 600-2000 Hz at 1 Hz: 0.3 % noise below 1100 Hz, 3 % above
+    (the noisier strong modes dominate the strongest lines), with the coherence of that
+    noise for one average."""
+    mass = np.array([1.0, 2.0, 0.25, 0.05, -0.05, 0.05, 0.05])
+    truth = ModalModel.from_modes(2 * np.pi * F_MODES, np.full(F_MODES.size, 1.1e-3), mass)
+    rng = np.random.default_rng(seed)
+    freq = np.arange(600.0, 2001.0)
+    h = truth.frf(2 * np.pi * freq, quantity="accelerance")
+    noise = (rng.normal(size=freq.size) + 1j * rng.normal(size=freq.size)) / np.sqrt(2)
+    sigma = np.where(freq < 1100, 0.003, 0.03)
+    coherence = 1.0 / (1.0 + 2.0 * sigma**2)          # (1 - g)/g = 2 sigma^2
+    return freq, sigma, h * (1 + sigma * noise), coherence
+
+
+def line_noise(fit, data):
+    """The fitted estimator's per-line noise on ``data``'s band (receptance)."""
+    band = data.to_receptance()
+    fit._noise = None
+    return fit._line_noise(band.values)
+
+
+def test_line_noise_follows_the_coherence_where_the_data_are_quieter():
+    freq, sigma, values, coherence = varying_noise_data()
+    with_coherence = FRFData(freq, values, quantity="accelerance", coherence=coherence)
+    fit = ModalFit(passive=False).fit(with_coherence)
+    std, measured = line_noise(fit, with_coherence)
+    assert measured
+    mag = np.abs(with_coherence.to_receptance().values)
+    quiet = (freq < 1100) & (mag > np.quantile(mag[freq < 1100], 0.5))
+    # the coherence's bound for one average, sqrt(2) sigma |H|, and the floor
+    ratio = std[quiet] / (sigma[quiet] * mag[quiet])
+    assert np.all(ratio >= 1.0) and np.median(ratio) < 2.0
+    # without the coherence the strongest lines' scatter (the noisy band's) is used
+    # everywhere, several times the quiet lines' noise, and the criterion is stricter
+    without = FRFData(freq, values, quantity="accelerance")
+    fit_plain = ModalFit(passive=False).fit(without)
+    std_plain, measured_plain = line_noise(fit_plain, without)
+    assert not measured_plain
+    assert np.median(std_plain[quiet] / (sigma[quiet] * mag[quiet])) > 3.0
+    np.testing.assert_allclose(np.sort(fit.report_["modes"]["frequency_hz"]), F_MODES,
+                               rtol=1e-4)
