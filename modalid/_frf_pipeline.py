@@ -36,9 +36,10 @@ __all__ = ["FRFPipeline", "ModalFitWarning", "fit_report"]
 
 _FAR = 2.0          # the held upper pseudo-mode sits at twice the top of the band
 # missed modes: per stage at most this many added, and the search stops after this many
-# residual peaks rejected in a row ("strict": sparse bands; "dense": many weak modes)
+# residual peaks rejected in a row ("strict": sparse bands; "dense": many weak modes;
+# one miss was too few on a real hammer test: hold-out error 3.5 % against 2.7 % with 3)
 _MAX_ADDED = {"strict": 4, "dense": 60}
-_MAX_MISSES = {"strict": 1, "dense": 3}
+_MAX_MISSES = {"strict": 3, "dense": 3}
 _MAX_DROPS = 8      # non-physical poles dropped one at a time (each drop refits)
 
 
