@@ -312,10 +312,10 @@ class FRFPipeline(PoleChecks):
                     notes += found
                     start = poles
                     added, misses = added + 1, 0
-                if stage == 0 and info.get("quick"):
-                    poles, x, info = self._refine(omega, h, w, poles, kinds, terms)
-                else:
+                if not info.get("quick"):
                     break
+                # the quick pass, or a mode added by the second search: refine in full
+                poles, x, info = self._refine(omega, h, w, poles, kinds, terms)
             # drop the worst non-physical pole, refine again from the start without it
             for _ in range(0 if self._selection() or self.__dict__.get("_probe")
                            else _MAX_DROPS):
