@@ -268,19 +268,37 @@ class FRFPipeline(PoleChecks):
         """Refine ``poles`` into the model of ``frf`` and store it (``_store``).
         ``segment_std``: the poles come from segment fits (:mod:`modalid._segments`)
         with these standard deviations: they are held, and only the linear unknowns of
-        the whole band are fitted (:meth:`_assemble`)."""
+        the whole band are fitted (:meth:`_assemble`); else :meth:`_refine_poles`."""
         omega, h = frf.omega, frf.values
         notes = []
         if segment_std is not None:
             poles, kinds, terms = self._start(omega, h, w, poles, cut)
-            self._buffers = {}
+            self._iterations, self._buffers = 0, {}
             poles, x, info = self._assemble(omega, h, w, poles, kinds, terms, segment_std)
-            residues, _, u, d = split_coefficients(x, poles.size, terms)
-            info["n_iter_total"] = 0
-            self._store(frf, poles, kinds, residues, u, d, info, notes, max_order,
-                        vf_iterations, terms)
-            del self._buffers
-            return self
+        else:
+            poles, kinds, x, info, terms = self._refine_poles(omega, h, w, poles, cut, notes)
+        # unconverged: stop if more steps would not move the poles, else refine on
+        for _ in range(0 if self.__dict__.get("_probe") or not self.refine else 2):
+            if info["converged"] or self._settled(omega, h, poles, kinds, terms, info):
+                break
+            poles, x, info = self._refine(omega, h, w, poles, kinds, terms)
+        residues, _, u, d = split_coefficients(x, poles.size, terms)
+        info["n_iter_total"] = self._iterations
+        if not info["converged"] and not self.__dict__.get("_probe"):
+            warnings.warn(f"the refinement did not converge: {info['message']}",
+                          ModalFitWarning, stacklevel=4)
+        if not np.any(kinds == "mode") and not self.__dict__.get("_probe"):
+            warnings.warn("no resonance found in the band: the model holds only residual "
+                          "terms; see stabilization_", ModalFitWarning, stacklevel=4)
+        self._store(frf, poles, kinds, residues, u, d, info, notes, max_order, vf_iterations,
+                    terms)
+        del self._buffers
+        return self
+
+    def _refine_poles(self, omega, h, w, poles, cut, notes):
+        """The nonlinear refinement of one band: a quick pass, the modes the estimator
+        missed, the non-physical poles dropped, the far pseudo-mode released. Appends
+        what it did to ``notes``; returns ``(poles, kinds, x, info, terms)``."""
         low = None if self._selection() else self._low_resonance(omega, h, poles)
         if low is not None:
             poles = np.append(poles, low)
@@ -340,23 +358,7 @@ class FRFPipeline(PoleChecks):
                                            max_iter=0, max_real=self.max_real)
             self._final_weights = w
             info.update(converged=True, message="linear least squares (refine=False)")
-        # unconverged: stop if more steps would not move the poles, else refine on
-        for _ in range(0 if self.__dict__.get("_probe") or not self.refine else 2):
-            if info["converged"] or self._settled(omega, h, poles, kinds, terms, info):
-                break
-            poles, x, info = self._refine(omega, h, w, poles, kinds, terms)
-        residues, _, u, d = split_coefficients(x, poles.size, terms)
-        info["n_iter_total"] = self._iterations
-        if not info["converged"] and not self.__dict__.get("_probe"):
-            warnings.warn(f"the refinement did not converge: {info['message']}",
-                          ModalFitWarning, stacklevel=4)
-        if not np.any(kinds == "mode") and not self.__dict__.get("_probe"):
-            warnings.warn("no resonance found in the band: the model holds only residual "
-                          "terms; see stabilization_", ModalFitWarning, stacklevel=4)
-        self._store(frf, poles, kinds, residues, u, d, info, notes, max_order, vf_iterations,
-                    terms)
-        del self._buffers
-        return self
+        return poles, kinds, x, info, terms
 
     def _assemble(self, omega, h, w, poles, kinds, terms, mode_std):
         """The whole band's linear unknowns for held poles (segment fits' poles, the

@@ -121,3 +121,17 @@ def test_per_line_weights_reach_every_segment():
     assert fit.report_["frf_median_relative_error"] < 0.02
     with pytest.raises(ValueError, match="weights must be"):
         ModalFit(weights=weights[:-1]).fit(data)
+
+
+def test_a_wide_band_without_resonance_says_so():
+    """A free mass's accelerance over 9000 lines (segmented): no mode, and the warning
+    every fit gives when it finds no resonance (the segmented path gave none)."""
+    rng = np.random.default_rng(0)
+    freq = np.arange(1.0, 9001.0)
+    noise = (rng.normal(size=freq.size) + 1j * rng.normal(size=freq.size)) / np.sqrt(2)
+    data = FRFData(freq, 0.5 * (1 + 0.001 * noise), quantity="accelerance")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        fit = ModalFit().fit(data)
+    assert fit.report_["segments"] > 1 and fit.report_["n_modes"] == 0
+    assert any("no resonance found" in str(c.message) for c in caught)
