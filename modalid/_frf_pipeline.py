@@ -315,7 +315,7 @@ class FRFPipeline(PoleChecks):
             tried = []
             # (segments searched their own lines for missed modes already)
             search = not self._selection() and self._segment_count == 1
-            for stage in range(0 if self.__dict__.get("_probe") else 2):
+            for _ in range(0 if self.__dict__.get("_probe") else 2):
                 added = misses = 0
                 while search and added < _MAX_ADDED[self.missed_modes]:
                     poles, kinds, x, info, found = self._missed_mode(

@@ -1,11 +1,86 @@
-"""The report of a modal fit: the figures every method shares, and the widening of its
-standard deviations for correlated residuals."""
+"""The report of a modal fit: the figures every method shares, held in a read-only
+:class:`FitReport`, and the widening of its standard deviations for correlated
+residuals."""
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 import numpy as np
 
-__all__ = ["fit_report", "residual_correlation_inflation"]
+__all__ = ["FitReport", "fit_report", "residual_correlation_inflation"]
+
+
+class FitReport(Mapping):
+    """What a fit found and decided: read-only, by key or by attribute.
+
+    ``report["verdict"]`` and ``report.verdict`` are the same entry; ``list(report)``
+    names them all. The entries every fit has: ``method``, ``converged``, ``message``,
+    ``n_iterations``, ``max_order``, ``n_modes``, ``modes`` (a DataFrame, one row per
+    physical mode: frequency, damping, residue, modal mass, their standard deviations,
+    ``damping_resolved``), ``lower_residual_mode``, ``upper_residual_modes``,
+    ``rigid_body``, ``inverse_mass`` (1/kg), ``rigid_mass`` (kg), ``effective_mass``,
+    ``effective_mass_physical`` (kg), ``residual_flexibility`` (m/N), ``notes``,
+    ``verdict`` (``"ok"``, ``"suspect"`` or ``"failed"``) and ``verdict_reasons``; an FRF
+    fit adds its band (``band_hz``, ``band_reason``), weighting, driving-point decision
+    and errors (``frf_nrmse`` in the data's own quantity, ...). The ``modes`` table is a
+    copy per report; changing it changes nothing else.
+
+    Parameters
+    ----------
+    entries : mapping
+        The entries, by name.
+    """
+
+    __slots__ = ("_entries",)
+
+    def __init__(self, entries):
+        object.__setattr__(self, "_entries", dict(entries))
+
+    def __getitem__(self, key):
+        return self._entries[key]
+
+    def __iter__(self):
+        return iter(self._entries)
+
+    def __len__(self) -> int:
+        return len(self._entries)
+
+    def __getattr__(self, name):
+        if name.startswith("_"):                  # not an entry (copy, pickle, ...)
+            raise AttributeError(name)
+        try:
+            return self._entries[name]
+        except KeyError:
+            raise AttributeError(f"FitReport has no entry {name!r}") from None
+
+    def __reduce__(self):
+        return FitReport, (self._entries,)
+
+    def __setattr__(self, name, value):
+        raise AttributeError("a FitReport is read-only; FitReport.replace makes a new one")
+
+    def __dir__(self):
+        return sorted(set(super().__dir__()) | set(self._entries))
+
+    def replace(self, **changes) -> FitReport:
+        """A new report with ``changes`` (entries added or replaced).
+
+        Parameters
+        ----------
+        **changes
+            Entries by name.
+
+        Returns
+        -------
+        FitReport
+        """
+        return FitReport({**self._entries, **changes})
+
+    def __repr__(self) -> str:
+        shown = ", ".join(f"{k}={self._entries[k]!r}" for k in
+                          ("method", "n_modes", "verdict") if k in self._entries)
+        return f"FitReport({shown}; {len(self)} entries)"
 
 
 def residual_correlation_inflation(residual) -> float:
@@ -41,11 +116,11 @@ def fit_report(model, kinds, info, notes, *, method, max_order, **extra):
     n_modes = int(np.sum(kinds == "mode"))
     if n_modes == 0:
         notes = notes + ["no resonance in the band: the model holds only residual terms"]
-    return {"method": method, "converged": bool(info["converged"]),
+    return FitReport({"method": method, "converged": bool(info["converged"]),
             "message": str(info["message"]), "n_iterations": int(info.get("n_iter_total", 0)),
             "max_order": int(max_order), "n_modes": n_modes,
             "lower_residual_mode": bool(np.any(kinds == "lower")),
             "upper_residual_modes": int(np.sum((kinds == "upper") | (kinds == "far"))),
             "rigid_body": model.inverse_mass > 0, "inverse_mass": model.inverse_mass,
             "rigid_mass": 1.0 / model.inverse_mass if model.inverse_mass > 0 else np.inf,
-            **_high_frequency(model, kinds == "mode"), "notes": notes, **extra}
+            **_high_frequency(model, kinds == "mode"), "notes": notes, **extra})

@@ -23,6 +23,7 @@ import warnings
 
 import numpy as np
 from sklearn.base import BaseEstimator
+from sklearn.exceptions import NotFittedError
 from threadpoolctl import threadpool_limits
 
 from ._checks import (as_choice, as_count, as_nonnegative_scalar, as_positive_scalar,
@@ -165,11 +166,12 @@ class ModalFit(FRFPipeline, BaseEstimator):
     data_ : FRFData
         The same band in the data's own quantity (what a re-fit with the same settings
         takes: a windowed fit's terms depend on what was recorded).
-    report_ : dict
-        ``converged``, ``message``, ``n_iterations``; ``n_modes`` and ``modes`` (the
-        physical modes: frequency, damping, residue, modal mass and their standard
-        deviations); ``rigid_body``, ``rigid_mass``, ``inverse_mass`` and the standard
-        deviations ``inverse_mass_std`` and ``flexibility_std`` (of the constant term;
+    report_ : FitReport
+        Read-only, by key or attribute (:class:`modalid.FitReport`): ``converged``,
+        ``message``, ``n_iterations``; ``n_modes`` and ``modes`` (the physical modes:
+        frequency, damping, residue, modal mass and their standard deviations);
+        ``rigid_body``, ``rigid_mass``, ``inverse_mass`` and the standard deviations
+        ``inverse_mass_std`` and ``flexibility_std`` (of the constant term;
         NaN when not estimated, or when a lower or upper pseudo-mode trades against the
         term: its marginal std is then meaningless);
         ``lower_residual_mode``, ``upper_residual_modes``; the high-frequency behaviour:
@@ -233,6 +235,11 @@ class ModalFit(FRFPipeline, BaseEstimator):
             physical modes' residue rows divided by the driving point's, and ``report_``
             gives ``frf_nrmse``, ``frf_nrmse_data`` and ``noise_estimate_data`` (the
             data's own scatter, relative) per output.
+
+        Returns
+        -------
+        ModalFit
+            ``self``, fitted.
         """
         as_choice("method", self.method, ("lscf", "vf", "era"))
         as_choice("weighting", self.weighting, ("auto", "relative", "mixed", "noise", "uniform"))
@@ -340,7 +347,7 @@ class ModalFit(FRFPipeline, BaseEstimator):
         """Add the driving-point decision, damping resolution and the quality verdict
         to ``report_``; warn (:class:`ModalFitWarning`) unless the verdict is ``"ok"``."""
         report = self.report_
-        modes = report["modes"]
+        modes = report["modes"].copy()
         frf = getattr(self, "frf_", None)
         if isinstance(frf, FRFData):
             spacing = float(np.median(np.diff(frf.freq_hz)))
@@ -362,11 +369,12 @@ class ModalFit(FRFPipeline, BaseEstimator):
                                            relative_noise=relative[1],
                                            rigid_body=bool(report["rigid_body"]),
                                            finite=finite)
-        if not isinstance(model, MultiOutputModalModel):    # a set's is the row's index
-            report.update(driving_point=driving_point, driving_point_reason=reason)
-        report.update(weighting=self._weighting_on, weighting_reason=self._weighting_reason,
-                      verdict=verdict, verdict_reasons=reasons,
-                      band_reason=getattr(self, "_band_reason", None))
+        decision = ({} if isinstance(model, MultiOutputModalModel)   # a set's: the row's
+                    else {"driving_point": driving_point, "driving_point_reason": reason})
+        self.report_ = report.replace(
+            modes=modes, **decision, weighting=self._weighting_on,
+            weighting_reason=self._weighting_reason, verdict=verdict,
+            verdict_reasons=reasons, band_reason=getattr(self, "_band_reason", None))
         if verdict != "ok":
             warnings.warn(f"the fit is {verdict}: " + "; ".join(reasons), ModalFitWarning,
                           stacklevel=3)
@@ -497,17 +505,38 @@ class ModalFit(FRFPipeline, BaseEstimator):
     # ------------------------------------------------------------------ use
     def _check_fitted(self):
         if not hasattr(self, "model_"):
-            raise ValueError("this ModalFit is not fitted yet: call fit(data) first")
+            raise NotFittedError("this ModalFit is not fitted yet: call fit(data) first")
 
     def predict(self, omega) -> np.ndarray:
         """Receptance (m/N) of the identified model at ``omega`` (rad/s); shape
-        ``(n_outputs,) + omega.shape`` after fitting an FRFSet."""
+        ``(n_outputs,) + omega.shape`` after fitting an FRFSet.
+
+        Parameters
+        ----------
+        omega : array_like of float
+            Angular frequencies (rad/s).
+
+        Returns
+        -------
+        numpy.ndarray of complex
+        """
         self._check_fitted()
         return self.model_.frf(omega)
 
     def score(self, data) -> float:
         """``1 - ||H - H_model||^2 / ||H - mean H||^2`` in the data's own quantity (for an
-        FRFSet: the mean over its rows, each against its own mean)."""
+        FRFSet: the mean over its rows, each against its own mean).
+
+        Parameters
+        ----------
+        data : FRFData or FRFSet
+            The data to score the model on.
+
+        Returns
+        -------
+        float
+            1 for a perfect fit.
+        """
         self._check_fitted()
         data = data.select(data.freq_hz > 0)
         fitted = self._fitted_values(data)
@@ -528,7 +557,17 @@ class ModalFit(FRFPipeline, BaseEstimator):
         return receptance_to(data.quantity, h, data.omega)
 
     def plot_stabilization(self, ax=None):
-        """Stabilization diagram with the selected poles; returns the Axes."""
+        """Stabilization diagram with the selected poles; returns the Axes.
+
+        Parameters
+        ----------
+        ax : matplotlib.axes.Axes, optional
+            Where to draw (a new figure when None).
+
+        Returns
+        -------
+        matplotlib.axes.Axes
+        """
         self._check_fitted()
         return plot_stabilization(self.stabilization_, selected=self.poles_, ax=ax)
 
@@ -538,6 +577,19 @@ class ModalFit(FRFPipeline, BaseEstimator):
         FRF fits: magnitudes against frequency (Hz); ERA: impulse responses against time.
         After fitting an FRFSet: the row ``output`` (index or label; default the driving
         point).
+
+        Parameters
+        ----------
+        ax : matplotlib.axes.Axes, optional
+            Where to draw (a new figure when None).
+        data : FRFData, optional, keyword-only
+            Other data to draw the model against.
+        output : int or str, optional, keyword-only
+            The row of an FRFSet fit.
+
+        Returns
+        -------
+        matplotlib.axes.Axes
         """
         self._check_fitted()
         if data is None and self.method == "era":

@@ -260,7 +260,7 @@ def verdict(monkeypatch):
 
     def judged(self, *args, **kwargs):
         out = fit(self, *args, **kwargs)
-        self.report_.update(report)
+        self.report_ = self.report_.replace(**report)
         return out
 
     monkeypatch.setattr(ModalFit, "fit", judged)
