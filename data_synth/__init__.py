@@ -11,6 +11,14 @@ frequencies and a truncated :class:`modalid.ModalModel` (method.md section 2):
 * :func:`example_data_path` - the measured example files of ``tests/data``, from any directory.
 """
 
+from importlib.metadata import PackageNotFoundError as _NotInstalled
+from importlib.metadata import version as _version
+
+try:  # one version, pyproject.toml's, for the three packages of the distribution
+    __version__ = _version("impactpred")
+except _NotInstalled:  # pragma: no cover - imported from a source tree never installed
+    __version__ = "0+unknown"
+
 from ._base import ExactModel
 from ._files import example_data_path
 from .beam import CantileverBeam

@@ -13,9 +13,10 @@ import abc
 import numpy as np
 
 from modalid import ModalModel
-from modalid._checks import (as_choice, as_complex_array, as_count, as_nonnegative_scalar,
+from modalid.validation import (as_choice, as_complex_array, as_count, as_nonnegative_scalar,
                              as_real_array)
 from modalid.quantities import QUANTITIES, receptance_to
+from modalid.receptance import TimeScale
 
 __all__ = ["ExactModel"]
 
@@ -82,17 +83,39 @@ class ExactModel(abc.ABC):
 
     @abc.abstractmethod
     def impulse_response(self, t) -> np.ndarray:
-        """Unit impulse response ``h(t)`` (m/(N s)) at times ``t`` (s), 0 for ``t < 0``."""
+        """Unit impulse response ``h(t)`` (m/(N s)) at times ``t`` (s), 0 for ``t < 0``.
+
+        Parameters
+        ----------
+        t : array_like of float
+            Times (s), any shape.
+        """
 
     @abc.abstractmethod
     def step_response(self, t) -> np.ndarray:
-        """Step response ``S(t) = integral_0^t h`` (m/N) at times ``t`` (s), 0 for ``t < 0``."""
+        """Step response ``S(t) = integral_0^t h`` (m/N) at times ``t`` (s), 0 for ``t < 0``.
+
+        Parameters
+        ----------
+        t : array_like of float
+            Times (s), any shape.
+        """
 
     def elastic_receptance(self, s) -> np.ndarray:
         """Elastic part ``H(s) - inverse_mass / s**2`` (m/N) at complex ``s`` (rad/s).
 
         Finite at ``s = 0``, where it equals :attr:`static_flexibility`. For a grounded
         model it is :meth:`receptance` itself.
+
+        Parameters
+        ----------
+        s : array_like of complex
+            Laplace variable (rad/s), any shape.
+
+        Returns
+        -------
+        numpy.ndarray of complex
+            Same shape as ``s``.
         """
         return self.receptance(s)
 
@@ -150,6 +173,49 @@ class ExactModel(abc.ABC):
         ``H(0)`` of a grounded model; ``lim_{s->0} (H(s) - inverse_mass / s**2)`` of a
         free one.
         """
+
+    # ------------------------------------------ receptance interface (modalid.receptance)
+    def elastic_flexibility(self) -> float:
+        """:attr:`static_flexibility` (m/N), under the receptance interface's name.
+
+        Returns
+        -------
+        float
+        """
+        return float(self.static_flexibility)
+
+    def time_scales(self) -> tuple:
+        """``1/omega_1`` (s) of the first elastic mode: kind ``"modal"`` for a rational
+        model, ``"continuum"`` otherwise; ``()`` without elastic modes.
+
+        Returns
+        -------
+        tuple of modalid.receptance.TimeScale
+        """
+        if self._mode_count() == 0:
+            return ()
+        omega_1 = float(self._modes(1)[0][0])
+        return (TimeScale(1.0 / omega_1, "modal" if self.is_rational else "continuum"),)
+
+    def modal_form(self, n_modes=None) -> ModalModel:
+        """The exact :meth:`modal_model` of a rational model (every mode; ``n_modes``
+        ignored), else ``modal_model(n_modes, residual=True)``; ``ValueError`` when a
+        model with infinitely many modes gets ``n_modes=None``.
+
+        Parameters
+        ----------
+        n_modes : int, optional
+            Modes of a continuum's truncated form (ignored by rational models).
+
+        Returns
+        -------
+        modalid.ModalModel
+        """
+        if self.is_rational:
+            return self.modal_model(self._mode_count())
+        if n_modes is None:
+            raise ValueError(f"a {type(self).__name__} needs n_modes to become a ModalModel")
+        return self.modal_model(n_modes, residual=True)
 
     def jump_times(self, t_end) -> np.ndarray:
         """Times ``0 < t <= t_end`` (s) where :meth:`impulse_response` is discontinuous.

@@ -18,6 +18,16 @@ def example_data_path(name: str) -> Path:
     looked for in the source tree this package was imported from (an editable install or a
     checkout on ``sys.path``), then in the current directory and each of its parents.
 
+    Parameters
+    ----------
+    name : str
+        File name inside ``tests/data``, e.g. ``"case1.mat"``.
+
+    Returns
+    -------
+    pathlib.Path
+        The absolute path of the file.
+
     Raises
     ------
     FileNotFoundError

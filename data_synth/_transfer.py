@@ -20,7 +20,7 @@ import math
 import numpy as np
 
 from modalid import MultiOutputModalModel
-from modalid._checks import as_real_array
+from modalid.validation import as_real_array
 
 from ._base import _as_damping_ratio, _as_flag
 

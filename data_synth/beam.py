@@ -22,7 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from modalid._checks import as_count, as_positive_scalar
+from modalid.validation import as_count, as_positive_scalar
 
 from ._base import ExactModel, _check_s, _check_times, _reciprocal
 from ._beam_transfer import _shape_ratios, _transfer, _weighted_series
@@ -186,6 +186,16 @@ class CantileverBeam(ExactModel, _TransferMixin):
         ``s = 0`` (Taylor series in ``e^4 = -s^2 T^2`` for ``|sT| < 1``; ``H(0) = 1/(3K)``).
         For large ``|s|`` off the imaginary axis ``H ~ sqrt(2) / (K (sT)^(3/2))``. ``inf``
         at an exact pole, never ``nan``.
+
+        Parameters
+        ----------
+        s : array_like of complex
+            Laplace variable (rad/s), any shape.
+
+        Returns
+        -------
+        numpy.ndarray of complex
+            Same shape as ``s``.
         """
         s = _check_s(s)
         return _dimensionless_receptance(s * self.time_scale) / self.stiffness
@@ -196,6 +206,15 @@ class CantileverBeam(ExactModel, _TransferMixin):
 
         ``(4T/m) sum_{k > N} eps_k^-2`` (the tail of the absolutely convergent series),
         ``~ 4T/(pi^2 m N)``.
+
+        Parameters
+        ----------
+        n_terms : int
+            Modes summed.
+
+        Returns
+        -------
+        float
         """
         n = as_count("n_terms", n_terms)
         return 4.0 * self.time_scale / self.mass * _power_tail(n, 2)
@@ -206,6 +225,15 @@ class CantileverBeam(ExactModel, _TransferMixin):
         Every omitted term ``(4T^2/m) 2 sin^2(.)/eps_k^4`` lies in
         ``[0, 8 T^2/(m eps_k^4)]``, so ``0 <= S - S_N <= (8T^2/m) sum_{k > N} eps_k^-4``
         ``~ 8T^2/(3 pi^4 m N^3)``.
+
+        Parameters
+        ----------
+        n_terms : int
+            Modes summed.
+
+        Returns
+        -------
+        float
         """
         n = as_count("n_terms", n_terms)
         return 8.0 * self.time_scale**2 / self.mass * _power_tail(n, 4)

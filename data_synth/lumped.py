@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from modalid._checks import as_positive_scalar
+from modalid.validation import as_positive_scalar
 
 from ._base import ExactModel, _as_damping_ratio, _check_s, _check_times, _reciprocal
 
@@ -42,7 +42,18 @@ class LumpedMass(ExactModel):
     # ------------------------------------------------------------------ responses
     def receptance(self, s) -> np.ndarray:
         """Exact ``H(s) = 1/(m s^2)`` (m/N), shape of ``s``; ``inf`` at ``s = 0`` (and where
-        it overflows), never ``nan``."""
+        it overflows), never ``nan``.
+
+        Parameters
+        ----------
+        s : array_like of complex
+            Laplace variable (rad/s), any shape.
+
+        Returns
+        -------
+        numpy.ndarray of complex
+            Same shape as ``s``.
+        """
         s = _check_s(s)
         big = np.abs(s) >= 1.0
         with np.errstate(under="ignore"):
@@ -51,16 +62,49 @@ class LumpedMass(ExactModel):
             return np.where(big, r * r / self.mass, _reciprocal(self.mass * small * small))
 
     def elastic_receptance(self, s) -> np.ndarray:
-        """Elastic part of the receptance: identically 0 (m/N). Shape of ``s``."""
+        """Elastic part of the receptance: identically 0 (m/N). Shape of ``s``.
+
+        Parameters
+        ----------
+        s : array_like of complex
+            Laplace variable (rad/s), any shape.
+
+        Returns
+        -------
+        numpy.ndarray of complex
+            Same shape as ``s``.
+        """
         return np.zeros(_check_s(s).shape, dtype=complex)
 
     def impulse_response(self, t) -> np.ndarray:
-        """Exact ``h(t) = t/m`` (m/(N s)) for ``t >= 0``, 0 before. Shape of ``t``."""
+        """Exact ``h(t) = t/m`` (m/(N s)) for ``t >= 0``, 0 before. Shape of ``t``.
+
+        Parameters
+        ----------
+        t : array_like of float
+            Times (s), any shape.
+
+        Returns
+        -------
+        numpy.ndarray of float
+            Same shape as ``t``.
+        """
         t = _check_times(t)
         return np.where(t >= 0.0, t / self.mass, 0.0)
 
     def step_response(self, t) -> np.ndarray:
-        """Exact ``S(t) = t^2/(2m)`` (m/N) for ``t >= 0``, 0 before. Shape of ``t``."""
+        """Exact ``S(t) = t^2/(2m)`` (m/N) for ``t >= 0``, 0 before. Shape of ``t``.
+
+        Parameters
+        ----------
+        t : array_like of float
+            Times (s), any shape.
+
+        Returns
+        -------
+        numpy.ndarray of float
+            Same shape as ``t``.
+        """
         t = _check_times(t)
         with np.errstate(over="ignore"):
             return np.where(t >= 0.0, 0.5 * t * t / self.mass, 0.0)
@@ -149,6 +193,16 @@ class SpringMass(ExactModel):
 
         Evaluated as ``1/(k (u^2 + 2 zeta u + 1))``, ``u = s/w_n``, or for ``|u| > 1`` as
         ``v^2/(k (1 + 2 zeta v + v^2))``, ``v = 1/u``. ``inf`` at an exact pole.
+
+        Parameters
+        ----------
+        s : array_like of complex
+            Laplace variable (rad/s), any shape.
+
+        Returns
+        -------
+        numpy.ndarray of complex
+            Same shape as ``s``.
         """
         s = _check_s(s)
         u = s / self.natural_frequency
@@ -162,7 +216,18 @@ class SpringMass(ExactModel):
         return np.where(big, high, low)
 
     def impulse_response(self, t) -> np.ndarray:
-        """Exact ``h(t) = exp(-zeta w_n t) sin(w_d t)/(m w_d)`` (m/(N s)), 0 for ``t < 0``."""
+        """Exact ``h(t) = exp(-zeta w_n t) sin(w_d t)/(m w_d)`` (m/(N s)), 0 for ``t < 0``.
+
+        Parameters
+        ----------
+        t : array_like of float
+            Times (s), any shape.
+
+        Returns
+        -------
+        numpy.ndarray of float
+            Same shape as ``t``.
+        """
         t = _check_times(t)
         tp = np.maximum(t, 0.0)
         wn, wd = self.natural_frequency, self.damped_frequency
@@ -177,6 +242,16 @@ class SpringMass(ExactModel):
         ``f = k S`` (``f'' + 2 zeta f' + f = 1``, ``f(0) = f'(0) = 0``) summed to below
         rounding; for ``x >= 1`` ``f = -expm1(-a) cos b + 2 sin^2(b/2) - e^{-a} zeta/d sin b``
         with ``a = zeta x``, ``b = d x``, ``d = sqrt(1 - zeta^2)``.
+
+        Parameters
+        ----------
+        t : array_like of float
+            Times (s), any shape.
+
+        Returns
+        -------
+        numpy.ndarray of float
+            Same shape as ``t``.
         """
         t = _check_times(t)
         x = np.maximum(t, 0.0) * self.natural_frequency

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from modalid import FRFData, ModalModel
-from modalid._checks import (as_choice, as_count, as_nonnegative_scalar, as_positive_scalar,
+from modalid.validation import (as_choice, as_count, as_nonnegative_scalar, as_positive_scalar,
                              as_real_array)
 from modalid.hammer import RESPONSE_TYPES
 from modalid.quantities import QUANTITIES
@@ -132,6 +132,11 @@ def lightly_damped(model, n_modes, damping_ratio, *, residual=True) -> ModalMode
         Keep the omitted modes' static flexibility as the model's ``flexibility``
         (default True). An accelerance hammer test needs ``residual=False`` (see
         :func:`synthetic_hammer_test`).
+
+    Returns
+    -------
+    modalid.ModalModel
+        ``n_modes`` damped modes (and the residual flexibility with ``residual``).
     """
     _check_model(model, (ExactModel,))
     return model.modal_model(n_modes, damping_ratio=damping_ratio, residual=residual)
@@ -227,7 +232,17 @@ class HammerTest:
         return RESPONSE_TYPES[self.response_type]
 
     def true_frf(self, freq_hz) -> FRFData:
-        """Exact FRF of :attr:`model` in :attr:`quantity` at ``freq_hz`` (Hz)."""
+        """Exact FRF of :attr:`model` in :attr:`quantity` at ``freq_hz`` (Hz).
+
+        Parameters
+        ----------
+        freq_hz : array_like of float
+            Frequency lines (Hz).
+
+        Returns
+        -------
+        modalid.FRFData
+        """
         return synthetic_frf(self.model, freq_hz, quantity=self.quantity)
 
     def __repr__(self) -> str:

@@ -60,7 +60,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from modalid._checks import as_choice, as_positive_scalar, as_real_array, as_real_scalar
+from modalid.validation import as_choice, as_positive_scalar, as_real_array, as_real_scalar
 
 from ._characteristics import _energy_after, _FixedRodSolution
 
@@ -167,7 +167,8 @@ class MassOnFixedRodResult:
     contacts: str
 
 
-def mass_on_fixed_rod(mass, rod_mass, transit_time, velocity, t, *, contacts="all"):
+def mass_on_fixed_rod(mass, rod_mass, transit_time, velocity, t, *,
+                      contacts="all") -> MassOnFixedRodResult:
     """Rigid mass striking the free end of a fixed-free elastic rod at rest (exact).
 
     Saint-Venant's solution by the method of characteristics: the force is
@@ -305,7 +306,7 @@ def _check_approach(v10: float, v20: float) -> float:
     return v12
 
 
-def two_free_rods_equal_transit(m1, m2, transit_time, v10, v20, t):
+def two_free_rods_equal_transit(m1, m2, transit_time, v10, v20, t) -> TwoFreeRodsResult:
     """Two free-free rods with equal transit times colliding end to end (exact).
 
     Paper eqs. 19-22 as corrected in ``method.md`` 3(a). With ``M = m1 + m2``,
@@ -408,7 +409,18 @@ class TwoRigidMassesResult:
     energy_lost: float
 
     def displacements(self, t):
-        """Displacements ``(y1, y2)`` (m) of the two masses at times ``t`` (s)."""
+        """Displacements ``(y1, y2)`` (m) of the two masses at times ``t`` (s).
+
+        Parameters
+        ----------
+        t : array_like of float
+            Times (s), any shape.
+
+        Returns
+        -------
+        tuple of numpy.ndarray
+            ``(y1, y2)``, each the shape of ``t``.
+        """
         tt = _as_times(t)
         v10, v20 = self.velocities_before
         u = self.common_velocity
@@ -417,7 +429,7 @@ class TwoRigidMassesResult:
         return _frozen(y1), _frozen(y2)
 
 
-def two_rigid_masses(m1, m2, v10, v20):
+def two_rigid_masses(m1, m2, v10, v20) -> TwoRigidMassesResult:
     """Two rigid masses in rigid contact (exact): a perfectly plastic impact.
 
     The force is the Dirac impulse ``J delta(t)``, ``J = m1 m2 v12 / (m1 + m2)``,

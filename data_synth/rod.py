@@ -20,7 +20,8 @@ from fractions import Fraction
 import numpy as np
 from scipy.special import polygamma
 
-from modalid._checks import as_choice, as_nonnegative_scalar, as_positive_scalar
+from modalid.validation import as_choice, as_nonnegative_scalar, as_positive_scalar
+from modalid.receptance import TimeScale
 
 from ._base import ExactModel, _check_s, _check_times, _reciprocal
 from ._transfer import _check_xi, _rod_transfer, _rod_waves, _TransferMixin
@@ -177,6 +178,16 @@ class Rod(ExactModel, _TransferMixin):
         (``inf`` at 0). ``eps = sT``. ``np.tanh`` saturates to ``+-1`` for large
         ``|Re eps|`` without overflow, and ``tanh(eps)/eps`` has no cancellation near 0;
         at an exact pole the result is ``inf``, never ``nan``.
+
+        Parameters
+        ----------
+        s : array_like of complex
+            Laplace variable (rad/s), any shape.
+
+        Returns
+        -------
+        numpy.ndarray of complex
+            Same shape as ``s``.
         """
         s = _check_s(s)
         eps = s * self.transit_time
@@ -194,6 +205,16 @@ class Rod(ExactModel, _TransferMixin):
 
         The free form is a Taylor series for ``|eps| < 1`` (``1/(3K)`` at 0) and
         ``(coth eps - 1/eps)/(K eps)`` elsewhere.
+
+        Parameters
+        ----------
+        s : array_like of complex
+            Laplace variable (rad/s), any shape.
+
+        Returns
+        -------
+        numpy.ndarray of complex
+            Same shape as ``s``.
         """
         if self.support == "fixed":
             return self.receptance(s)
@@ -201,7 +222,18 @@ class Rod(ExactModel, _TransferMixin):
         return _elastic_free(s * self.transit_time) / self.stiffness
 
     def impulse_response(self, t) -> np.ndarray:
-        """Exact impulse response ``h(t)`` (m/(N s)), 0 for ``t < 0``; see the class notes."""
+        """Exact impulse response ``h(t)`` (m/(N s)), 0 for ``t < 0``; see the class notes.
+
+        Parameters
+        ----------
+        t : array_like of float
+            Times (s), any shape.
+
+        Returns
+        -------
+        numpy.ndarray of float
+            Same shape as ``t``.
+        """
         t = _check_times(t)
         T, m = self.transit_time, self.mass
         n = _period_index(t, 2.0 * T)
@@ -217,6 +249,16 @@ class Rod(ExactModel, _TransferMixin):
         Vectorised closed forms (no loop over reflections): fixed
         ``(T/m) min(u, 4T - u)`` with ``u = t mod 4T``; free
         ``(2T^2/m) n^2 + (T/m)(2n+1)(t - 2nT)``, ``n = floor(t/2T)``.
+
+        Parameters
+        ----------
+        t : array_like of float
+            Times (s), any shape.
+
+        Returns
+        -------
+        numpy.ndarray of float
+            Same shape as ``t``.
         """
         t = _check_times(t)
         T, m = self.transit_time, self.mass
@@ -339,10 +381,29 @@ class Rod(ExactModel, _TransferMixin):
         """The transit time ``T`` (s)."""
         return self.transit_time
 
+    def time_scales(self) -> tuple:
+        """``(TimeScale(T, "transit"),)``: the wave transit time (s).
+
+        Returns
+        -------
+        tuple of modalid.receptance.TimeScale
+        """
+        return (TimeScale(self.transit_time, "transit"),)
+
     def jump_times(self, t_end) -> np.ndarray:
         """Jump times ``2T j`` (``j >= 1``) of :meth:`impulse_response` up to ``t_end`` (s).
 
         The fixed rod's ``h`` jumps by ``-+2T/m``, the free rod's by ``+2T/m``, at each.
+
+        Parameters
+        ----------
+        t_end : float
+            The end of the times of interest (s).
+
+        Returns
+        -------
+        numpy.ndarray of float
+            The jump times (s), ascending.
         """
         t_end = as_nonnegative_scalar("t_end", t_end)
         period = 2.0 * self.transit_time

@@ -18,7 +18,7 @@ import math
 import numpy as np
 from scipy.special import polygamma
 
-from modalid._checks import as_count
+from modalid.validation import as_count
 
 __all__ = ["cantilever_roots"]
 

@@ -8,13 +8,11 @@ import warnings
 
 import numpy as np
 
-from data_synth import ExactModel, Rod
-from modalid import ModalModel
-from modalid._checks import as_choice, as_positive_scalar, as_real_scalar
+from modalid.validation import as_choice, as_positive_scalar, as_real_scalar
 
 from .body import Body, SampledResponse
 from .contact import Hertz, LinearSpring, Rigid, check_contact
-from .result import EnergyAudit, EnergyWarning
+from .result import EnergyAudit, EnergyWarning, ImpactResult
 from .solvers.closed_form import applies_closed_form, solve_closed_form
 from .solvers.convolution import solve_convolution
 from .solvers.laplace import solve_laplace
@@ -42,7 +40,7 @@ _EXACT = ("closed_form", "laplace")
 
 
 def solve_impact(body1: Body, body2: Body, *, gap: float = 0.0, contact=Rigid(),
-                 t_end: float, dt: float | None = None, method: str = "auto"):
+                 t_end: float, dt: float | None = None, method: str = "auto") -> ImpactResult:
     """Predict the impact of two bodies touching at one point each.
 
     Parameters
@@ -302,24 +300,26 @@ def _choose_method(bodies, contact, method):
     return method
 
 
+#: steps per time scale of each kind (``modalid.receptance.TIME_SCALE_KINDS``): modes
+#: are discretised exactly; a continuum's response and a wave front only by the grid; a
+#: sampled record gives its own step
+_STEPS_BY_KIND = {"modal": 50, "continuum": _STEPS_PER_SCALE, "transit": _STEPS_PER_SCALE,
+                  "sample": 1}
+
+
 def _time_scales(body):
     """(time scale s, steps per scale) pairs of one body's own dynamics."""
-    model = body.model
-    if isinstance(model, SampledResponse):
-        return [(float(np.min(np.diff(model.t))), 1)]
-    if isinstance(model, ModalModel):
-        # modes are discretised exactly: a few dozen steps per 1/omega_max suffice
-        poles = np.concatenate([np.abs(model.poles), np.abs(model.real_poles)])
-        return [(1.0 / float(np.max(poles)), 50)] if poles.size else []
-    if isinstance(model, Rod):
-        return [(model.transit_time, _STEPS_PER_SCALE)]
-    if isinstance(model, ExactModel):
-        try:
-            omega_1 = float(model.natural_frequencies(1)[0])
-        except ValueError:  # a lumped mass: no elastic time scale of its own
-            return []
-        return [(1.0 / omega_1, 50 if model.is_rational else _STEPS_PER_SCALE)]
-    return []
+    scales = tuple(body.model.time_scales())
+    for ts in scales:
+        if ts.kind not in _STEPS_BY_KIND:
+            raise ValueError(f"{type(body.model).__name__}.time_scales() gives a time scale "
+                             f"of kind {ts.kind!r}: not one of {tuple(_STEPS_BY_KIND)}")
+    return [(ts.seconds, _STEPS_BY_KIND[ts.kind]) for ts in scales]
+
+
+def _scales_of_kind(bodies, kind):
+    """The time scales (s) of the given kind of all the bodies' models."""
+    return [ts.seconds for b in bodies for ts in b.model.time_scales() if ts.kind == kind]
 
 
 def choose_dt(bodies, contact, *, t_end, method="convolution") -> float:
@@ -342,6 +342,22 @@ def choose_dt(bodies, contact, *, t_end, method="convolution") -> float:
     fastest time scale (about 50 per period) and at least 200 over ``t_end``; the first
     contact's exact peak is added. For both exact solvers the samples are at most
     4,000,000 over ``t_end``.
+
+    Parameters
+    ----------
+    bodies : sequence of Body
+        The bodies of the impact (their models' time scales decide).
+    contact : ContactLaw
+        The contact law (a compliant contact adds its own time scale).
+    t_end : float, keyword-only
+        End of the simulation (s).
+    method : str, keyword-only
+        The solver the step is for (see :data:`METHODS`).
+
+    Returns
+    -------
+    float
+        The time step (s).
     """
     pairs = [p for b in bodies for p in _time_scales(b)]
     contact_scale = _contact_time_scale(bodies, contact)
@@ -353,10 +369,9 @@ def choose_dt(bodies, contact, *, t_end, method="convolution") -> float:
     if method == "laplace":
         return max(min(min(s for s, _ in pairs) / _LAPLACE_SAMPLES_PER_SCALE, t_end / 200),
                    t_end / _MAX_STEPS)
-    sampled = [float(np.min(np.diff(b.model.t))) for b in bodies
-               if isinstance(b.model, SampledResponse)]
+    sampled = _scales_of_kind(bodies, "sample")
     dt = min(sampled) if sampled else min(s / n for s, n in pairs)
-    rods = [b.model.transit_time for b in bodies if isinstance(b.model, Rod)]
+    rods = _scales_of_kind(bodies, "transit")
     if rods and not sampled:
         dt = _aligned_step(rods, dt)
     return max(dt, t_end / _MAX_STEPS) if method == "closed_form" else dt
@@ -376,9 +391,10 @@ def _aligned_step(transit_times, dt):
 def _effective_inverse_mass(body):
     """High-frequency ``1/m`` seen at the contact point (1/kg); 0 for a pure compliance."""
     model = body.model
-    if isinstance(model, SampledResponse):
+    try:
+        modal = model.modal_form(20)
+    except ValueError:      # no pole-residue form (a sampled record): no modes to read
         return 0.0
-    modal = body.modal_model(20) if not isinstance(model, ModalModel) else model
     inverse_masses = -2.0 * modal.poles.imag * modal.residues.imag   # 1/modal_mass
     return modal.inverse_mass + float(np.sum(inverse_masses[inverse_masses > 0]))
 
@@ -401,6 +417,7 @@ def _contact_time_scale(bodies, contact):
         depth = (5 * m_eff * v**2 / (4 * contact.stiffness)) ** (1 / (contact.exponent + 1))
         return depth / v
     # rounding-level flexibilities (e.g. left by a continuation) are no compliance
-    flex = sum(b.model.flexibility for b in bodies if isinstance(b.model, ModalModel)
-               and b.model.flexibility > 1e-9 * abs(b.model.static_flexibility()))
+    rational = [b.model.modal_form() for b in bodies if b.model.is_rational]
+    flex = sum(m.flexibility for m in rational
+               if m.flexibility > 1e-9 * abs(m.static_flexibility()))
     return math.sqrt(m_eff * flex) if flex > 0 else None

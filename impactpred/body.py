@@ -7,9 +7,9 @@ from typing import Any
 
 import numpy as np
 
-from data_synth import CantileverBeam, ExactModel, Rod
 from modalid import ModalModel, MultiOutputModalModel
-from modalid._checks import as_real_array, as_real_scalar
+from modalid.receptance import Receptance, TimeScale
+from modalid.validation import as_real_array, as_real_scalar
 
 __all__ = ["Body", "SampledResponse", "check_driving_point", "driving_point_problems"]
 
@@ -74,8 +74,46 @@ class SampledResponse:
         """Length of the record (s)."""
         return float(self.t[-1])
 
+    # ----------------------------------------- receptance interface (modalid.receptance)
+    is_rational = property(lambda self: False, doc="Always False: no poles are known.")
+
+    def elastic_flexibility(self) -> float:
+        """Not known from a finite record: raises ``ValueError``."""
+        raise ValueError("a SampledResponse has no static flexibility: the record does not "
+                         "reach s = 0")
+
+    def time_scales(self) -> tuple:
+        """``(TimeScale(smallest sample step, "sample"),)`` (s).
+
+        Returns
+        -------
+        tuple of modalid.receptance.TimeScale
+        """
+        return (TimeScale(float(np.min(np.diff(self.t))), "sample"),)
+
+    def modal_form(self, n_modes=None):
+        """Raises ``ValueError``: a sampled response has no pole-residue form.
+
+        Parameters
+        ----------
+        n_modes : int, optional
+            Ignored.
+        """
+        raise ValueError("a SampledResponse has no modal model: identify one with modalid")
+
     def step_response(self, t) -> np.ndarray:
-        """Trapezoidal step response (m/N) at ``t`` (s); 0 before 0, error past the record."""
+        """Trapezoidal step response (m/N) at ``t`` (s); 0 before 0, error past the record.
+
+        Parameters
+        ----------
+        t : array_like of float
+            Times (s), any shape.
+
+        Returns
+        -------
+        numpy.ndarray of float
+            Same shape as ``t``.
+        """
         t = as_real_array("t", t)
         if np.any(t > self.t[-1] * (1 + 1e-12)):
             raise ValueError(f"the sampled response covers 0 to {self.t[-1]:.6g} s, asked for "
@@ -86,7 +124,7 @@ class SampledResponse:
         tau = tc - self.t[i]
         dt = self.t[i + 1] - self.t[i]
         slope = (self.impulse_response[i + 1] - self.impulse_response[i]) / dt
-        out = self._step[i] + tau * (self.impulse_response[i] + 0.5 * slope * tau)
+        out = self._step[i] + tau * (self.impulse_response[i] + 0.5 * slope * tau)  # type: ignore[attr-defined]
         return np.where(t > 0, out, 0.0)
 
 
@@ -151,9 +189,10 @@ class Body:
     def __init__(self, model, *, velocity=0.0, displacement=0.0, vibration=None, load=None,
                  outputs=None, check_passive=True):
         model, outputs = _split_outputs(model, outputs)
-        if not isinstance(model, (ModalModel, ExactModel, SampledResponse)):
+        if not isinstance(model, Receptance):
             raise TypeError(f"model must be a ModalModel, a MultiOutputModalModel, a data_synth "
-                            f"model or a SampledResponse, got {type(model).__name__}")
+                            f"model or a SampledResponse (a modalid.receptance.Receptance), got "
+                            f"{type(model).__name__}")
         if not isinstance(check_passive, bool):
             raise TypeError(f"check_passive must be True or False, got {check_passive!r}")
         if check_passive and isinstance(model, ModalModel):
@@ -208,44 +247,65 @@ class Body:
     @property
     def is_rational(self) -> bool:
         """True when the model is a finite pole-residue receptance (Laplace solver applies)."""
-        return (isinstance(self.model, ModalModel)
-                or bool(getattr(self.model, "is_rational", False)))
+        return bool(self.model.is_rational)
 
     def modal_model(self, n_modes: int | None = None) -> ModalModel:
         """The body's model as a ``ModalModel`` (exact for rational models).
 
         For a continuum, ``n_modes`` modes plus the residual flexibility are used.
+
+        Parameters
+        ----------
+        n_modes : int, optional
+            Modes of a continuum's truncated form (ignored by rational models).
+
+        Returns
+        -------
+        modalid.ModalModel
         """
-        if isinstance(self.model, ModalModel):
-            return self.model
-        if isinstance(self.model, SampledResponse):
-            raise ValueError("a SampledResponse has no modal model: identify one with modalid")
-        if self.is_rational:
-            return self.model.modal_model(_rational_order(self.model))
-        if n_modes is None:
-            raise ValueError(f"a {type(self.model).__name__} needs n_modes to become a ModalModel")
-        return self.model.modal_model(n_modes, residual=True)
+        return self.model.modal_form(n_modes)
 
     def step_response(self, t) -> np.ndarray:
-        """Exact step response (m/N) of the model (``S(0+)`` includes any flexibility)."""
+        """Exact step response (m/N) of the model (``S(0+)`` includes any flexibility).
+
+        Parameters
+        ----------
+        t : array_like of float
+            Times (s), any shape.
+
+        Returns
+        -------
+        numpy.ndarray of float
+            Same shape as ``t``.
+        """
         return self.model.step_response(t)
 
     def vibration_modes(self) -> ModalModel | None:
-        """Modal model of the modes that carry :attr:`vibration` (None without vibration)."""
+        """Modal model of the modes that carry :attr:`vibration` (None without vibration).
+
+        Returns
+        -------
+        modalid.ModalModel or None
+        """
         if self.vibration is None:
             return None
         n = self.vibration.shape[0]
-        if isinstance(self.model, ModalModel):
-            if n > self.model.n_modes:
-                raise ValueError(f"vibration gives {n} modes but the model has "
-                                 f"{self.model.n_modes}")
-            return self.model.truncate(n).without_rigid_body().replace(
-                flexibility=0.0, real_poles=(), real_residues=())
-        return self.model.modal_model(n).without_rigid_body().replace(flexibility=0.0)
+        modes = self.model.modal_form(n)
+        if n > modes.n_modes:
+            raise ValueError(f"vibration gives {n} modes but the model has {modes.n_modes}")
+        return modes.truncate(n).without_rigid_body().replace(
+            flexibility=0.0, real_poles=(), real_residues=())
 
-    def initial_modal_states(self) -> np.ndarray | None:
+    def initial_modal_states(self) -> tuple | None:
         """Complex modal states ``z_k`` (``z' = p z + u``, ``y = 2 Re(r z)``) of
-        :attr:`vibration`."""
+        :attr:`vibration`.
+
+        Returns
+        -------
+        tuple of numpy.ndarray or None
+            ``(p, r, z)``: the vibrating modes' poles (rad/s), residues and states; None
+            without vibration.
+        """
         modes = self.vibration_modes()
         if modes is None:
             return None
@@ -262,7 +322,13 @@ class Body:
         return p, r, x1 + 1j * x2
 
     def vibration_energy(self) -> float:
-        """Energy (J) of the initial vibration: ``sum 1/2 m_k (qdot^2 + omega_k^2 q^2)``."""
+        """Energy (J) of the initial vibration: ``sum 1/2 m_k (qdot^2 + omega_k^2 q^2)``.
+
+        Returns
+        -------
+        float
+            Energy (J).
+        """
         modes = self.vibration_modes()
         if modes is None:
             return 0.0
@@ -275,6 +341,16 @@ class Body:
         """Contact-point displacement (m) with no contact force and no load, at ``t`` (s).
 
         Rigid translation plus the free decay of :attr:`vibration`, in closed form.
+
+        Parameters
+        ----------
+        t : array_like of float
+            Times (s), any shape.
+
+        Returns
+        -------
+        numpy.ndarray of float
+            Same shape as ``t``.
         """
         t = np.asarray(t, dtype=float)
         y = self.displacement + self.velocity * t
@@ -285,7 +361,18 @@ class Body:
         return y
 
     def load_samples(self, t) -> np.ndarray:
-        """External force (N) at times ``t``; zeros without a load."""
+        """External force (N) at times ``t``; zeros without a load.
+
+        Parameters
+        ----------
+        t : array_like of float
+            Times (s), any shape.
+
+        Returns
+        -------
+        numpy.ndarray of float
+            Same shape as ``t``.
+        """
         t = np.asarray(t, dtype=float)
         if self.load is None:
             return np.zeros_like(t)
@@ -392,7 +479,7 @@ def _split_outputs(model, outputs):
         return model.driving, model
     if outputs is None:
         return model, None
-    if not isinstance(model, (Rod, CantileverBeam)):
+    if not hasattr(model, "transfer_step_response"):
         raise TypeError(f"outputs (positions xi along the length) apply to a data_synth Rod or "
                         f"CantileverBeam, got a {type(model).__name__}: for a modal model give "
                         "a modalid.MultiOutputModalModel with one row per output point")
@@ -408,13 +495,6 @@ def _split_outputs(model, outputs):
     xi = np.array(xi)
     xi.setflags(write=False)
     return model, xi
-
-
-def _rational_order(model) -> int:
-    try:
-        return len(model.natural_frequencies(1))
-    except ValueError:
-        return 0
 
 
 def _as_load(load):

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from modalid._checks import as_nonnegative_scalar, as_positive_scalar, as_real_scalar
+from modalid.validation import as_nonnegative_scalar, as_positive_scalar, as_real_scalar
 
 __all__ = ["Rigid", "LinearSpring", "Hertz", "InstantaneousImpact", "ContactLaw"]
 
@@ -40,7 +40,19 @@ class ContactLaw:
     is_impulsive: bool = False
 
     def step_force(self, G: float, K0: float, g_prev: float, dt: float) -> float:
-        """Force (N) over one step such that the law holds at the step's end."""
+        """Force (N) over one step such that the law holds at the step's end.
+
+        Parameters
+        ----------
+        G : float
+            The gap (m) at the step's end with no force over the step.
+        K0 : float
+            The gap's change (m/N) per unit force over the step (> 0).
+        g_prev : float
+            The gap (m) at the step's start.
+        dt : float
+            The step (s).
+        """
         raise NotImplementedError
 
 
@@ -48,8 +60,25 @@ class ContactLaw:
 class Rigid(ContactLaw):
     """Rigid (impenetrable) contact: ``f >= 0, g >= 0, f g = 0`` (the paper's law)."""
 
-    def step_force(self, G, K0, g_prev, dt):
-        """Linear complementarity: ``f = max(0, -G/K0)``, which makes ``g_{n+1} = max(G, 0)``."""
+    def step_force(self, G, K0, g_prev, dt) -> float:
+        """Linear complementarity: ``f = max(0, -G/K0)``, which makes ``g_{n+1} = max(G, 0)``.
+
+        Parameters
+        ----------
+        G : float
+            The gap (m) at the step's end with no force over the step.
+        K0 : float
+            The gap's change (m/N) per unit force over the step (> 0).
+        g_prev : float
+            The gap (m) at the step's start.
+        dt : float
+            The step (s).
+
+        Returns
+        -------
+        float
+            The contact force (N), >= 0.
+        """
         return -G / K0 if G < 0.0 else 0.0
 
 
@@ -74,12 +103,29 @@ class LinearSpring(ContactLaw):
         object.__setattr__(self, "damping", as_nonnegative_scalar("damping", self.damping))
 
     @property
-    def is_linear(self) -> bool:
+    def is_linear(self) -> bool:  # type: ignore[override]
         """Undamped only: with a dashpot the force is clipped where it would pull."""
         return self.damping == 0.0
 
-    def step_force(self, G, K0, g_prev, dt):
-        """Implicit: ``f = k d_{n+1} + c (d_{n+1} - d_n)/dt`` with ``d = -g``, clipped at 0."""
+    def step_force(self, G, K0, g_prev, dt) -> float:
+        """Implicit: ``f = k d_{n+1} + c (d_{n+1} - d_n)/dt`` with ``d = -g``, clipped at 0.
+
+        Parameters
+        ----------
+        G : float
+            The gap (m) at the step's end with no force over the step.
+        K0 : float
+            The gap's change (m/N) per unit force over the step (> 0).
+        g_prev : float
+            The gap (m) at the step's start.
+        dt : float
+            The step (s).
+
+        Returns
+        -------
+        float
+            The contact force (N), >= 0.
+        """
         k, c = self.stiffness, self.damping
         f = (-k * G - c * (G - g_prev) / dt) / (1.0 + K0 * (k + c / dt))
         return f if (f > 0.0 and G + K0 * f < 0.0) else 0.0
@@ -118,6 +164,22 @@ class Hertz(ContactLaw):
         ``1/R* = 1/R1 + 1/R2``; radii in m, moduli in Pa. A steel ball of radius 5 mm on a
         steel beam: ``Hertz.from_materials(radius1=5e-3, youngs_modulus1=210e9,
         poisson1=0.3, youngs_modulus2=210e9, poisson2=0.3)``, ``k ~ 1.1e10 N/m^1.5``.
+
+        Parameters
+        ----------
+        radius1 : float, keyword-only
+            Radius of body 1's sphere (m).
+        youngs_modulus1, poisson1 : float, keyword-only
+            Its Young's modulus (Pa) and Poisson's ratio.
+        youngs_modulus2, poisson2 : float, keyword-only
+            Body 2's.
+        radius2 : float, keyword-only
+            Radius of body 2's sphere (m); ``inf`` for a flat.
+
+        Returns
+        -------
+        Hertz
+            Exponent 3/2, stiffness ``k`` (N/m^1.5).
         """
         r1 = as_positive_scalar("radius1", radius1)
         r2 = np.inf if radius2 == np.inf else as_positive_scalar("radius2", radius2)
@@ -132,9 +194,26 @@ class Hertz(ContactLaw):
         r_star = 1.0 / (1.0 / r1 + 1.0 / r2)
         return cls(4.0 / 3.0 * e_star * np.sqrt(r_star), 1.5)
 
-    def step_force(self, G, K0, g_prev, dt):
+    def step_force(self, G, K0, g_prev, dt) -> float:
         """Root of ``phi(f) = f - k (-(G + K0 f))**n`` on ``[0, -G/K0]`` (unique, phi
-        increasing)."""
+        increasing).
+
+        Parameters
+        ----------
+        G : float
+            The gap (m) at the step's end with no force over the step.
+        K0 : float
+            The gap's change (m/N) per unit force over the step (> 0).
+        g_prev : float
+            The gap (m) at the step's start.
+        dt : float
+            The step (s).
+
+        Returns
+        -------
+        float
+            The contact force (N), >= 0.
+        """
         if G >= 0.0:
             return 0.0
         k, n = self.stiffness, self.exponent

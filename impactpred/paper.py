@@ -14,7 +14,7 @@ import pandas as pd
 
 from data_synth import CantileverBeam, LumpedMass, Rod
 
-from modalid._checks import as_positive_scalar
+from modalid.validation import as_positive_scalar
 
 from .api import _MAX_STEPS, solve_impact
 from .body import Body
@@ -65,7 +65,19 @@ def check_paper_dt(dt, *, t_end: float = 8.0) -> None:
 
 @dataclass(frozen=True)
 class PaperCase:
-    """One case: a label, a description and the two bodies."""
+    """One case: a label, a description and the two bodies.
+
+    Parameters
+    ----------
+    key : str
+        The case's label (``"a"``, ``"b_equal_mass"``, ...).
+    description : str
+        One line saying what it is.
+    body1, body2 : Body
+        The two bodies, with their velocities.
+    t_end : float
+        End of the simulation (s).
+    """
 
     key: str
     description: str
@@ -75,7 +87,13 @@ class PaperCase:
 
 
 def paper_cases() -> list[PaperCase]:
-    """The paper's Fig. 4 cases; (b) in both readings of its unstated masses."""
+    """The paper's Fig. 4 cases; (b) in both readings of its unstated masses.
+
+    Returns
+    -------
+    list of PaperCase
+        Cases ``a``, ``b_equal_mass``, ``b_equal_material``, ``c`` and ``d``.
+    """
     v0 = 1.0
     return [
         PaperCase("a", "two identical free rods (T1 = T2 = 1), speeds +v0 and -v0",
@@ -103,6 +121,20 @@ def run_paper_cases(out_dir=None, *, dt=None, plot=True) -> pd.DataFrame:
     Returns the table: duration, peak force, impulse, restitution (first contact and after
     all contacts), vibration energy share, contacts, method and step, per case. A ``dt``
     (s) the cases cannot take is refused first (:func:`check_paper_dt`).
+
+    Parameters
+    ----------
+    out_dir : str or Path, optional
+        Folder for the figures and the table (created if missing); None writes nothing.
+    dt : float, optional, keyword-only
+        Time step (s) for every case; None chooses it per case.
+    plot : bool, keyword-only
+        Write the figures (with ``out_dir``).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per case, indexed by its key.
     """
     cases = paper_cases()
     check_paper_dt(dt, t_end=max(case.t_end for case in cases))

@@ -98,6 +98,10 @@ class PointResponse:
         One row per point (index ``point``); columns ``peak_displacement`` (m),
         ``t_peak_displacement`` (s), and likewise for velocity (m/s) and acceleration
         (m/s^2). Sampled values: Dirac parts of the acceleration are not in them.
+
+        Returns
+        -------
+        pandas.DataFrame
         """
         rows = {}
         for i, label in enumerate(self.labels):
@@ -113,7 +117,12 @@ class PointResponse:
         return table
 
     def to_pandas(self) -> pd.DataFrame:
-        """All histories, indexed by time (s), columns ``(quantity, point)`` (a MultiIndex)."""
+        """All histories, indexed by time (s), columns ``(quantity, point)`` (a MultiIndex).
+
+        Returns
+        -------
+        pandas.DataFrame
+        """
         data = {(q, label): getattr(self, q)[i]
                 for q in QUANTITIES for i, label in enumerate(self.labels)}
         frame = pd.DataFrame(data, index=pd.Index(self.t, name="t"))
@@ -121,7 +130,19 @@ class PointResponse:
         return frame
 
     def plot(self, ax=None, quantity: str = "acceleration"):
-        """One quantity of every point against time; returns the Axes."""
+        """One quantity of every point against time; returns the Axes.
+
+        Parameters
+        ----------
+        ax : matplotlib.axes.Axes, optional
+            Where to draw (a new figure when None).
+        quantity : {"displacement", "velocity", "acceleration"}
+            What to draw.
+
+        Returns
+        -------
+        matplotlib.axes.Axes
+        """
         import matplotlib.pyplot as plt
 
         if quantity not in QUANTITIES:

@@ -22,6 +22,13 @@ class BodyEnergy:
     ``vibration_after`` is the vibration energy left at ``t_end``; for a damped body it
     also contains what the body's own damping dissipated when the solver obtains it by
     an energy balance (time-stepping solvers on continua).
+
+    Parameters
+    ----------
+    rigid_before, vibration_before : float
+        Rigid-body kinetic and vibration energy (J) before the impact.
+    rigid_after, vibration_after : float
+        The same at the end of the solve (J).
     """
 
     rigid_before: float
@@ -130,8 +137,8 @@ class ImpactResult:
         (time s, impulse N s) of every Dirac part of the force.
     velocities_before, velocities_after : tuple of float
         Rigid-body velocities (m/s) of the two bodies before and after all contacts.
-    energy : tuple of BodyEnergy
-        Per body.
+    energy_by_body : tuple of BodyEnergy
+        Per body (the :attr:`energy` property tabulates them).
     method : str
         The solver used; ``dt`` the step (s) it used (or its output step).
     first_contact_impulse, total_impulse : float
@@ -146,6 +153,10 @@ class ImpactResult:
     energy_audit : EnergyAudit or None
         The energy balance (``energy_audit.ok``, ``.created``, ``.relative``), set by
         :func:`impactpred.solve_impact`; None on a result built by a solver directly.
+
+    Derived: :attr:`success` and :attr:`message` (whether the result can be trusted and
+    why not), :attr:`energy` (a table of ``energy_by_body``), the headline figures
+    (:meth:`headline`).
     """
 
     t: np.ndarray
@@ -176,6 +187,20 @@ class ImpactResult:
         object.__setattr__(self, "points", points)
 
     # ------------------------------------------------------------- derived figures
+    @property
+    def success(self) -> bool:
+        """True unless the :attr:`energy_audit` flags the result (a solve that cannot
+        decide or finish raises instead of returning)."""
+        return self.energy_audit is None or self.energy_audit.ok
+
+    @property
+    def message(self) -> str:
+        """One line: ``"ok"``, ``"not audited"`` (no :attr:`energy_audit`), or the
+        audit's reasons."""
+        if self.energy_audit is None:
+            return "not audited"
+        return "ok" if self.energy_audit.ok else "; ".join(self.energy_audit.reasons)
+
     @property
     def n_contacts(self) -> int:
         """Number of contact intervals."""
@@ -265,6 +290,10 @@ class ImpactResult:
         ``contact_duration_first_s`` is the first contact's duration,
         ``total_contact_time_s`` the sum over all contacts; restitutions are None without
         contact. The ``energy_*`` entries are the :attr:`energy_audit` (None without one).
+
+        Returns
+        -------
+        dict
         """
         audit = self.energy_audit
         return {"method": self.method, "dt_s": self.dt, "n_contacts": self.n_contacts,
@@ -287,6 +316,10 @@ class ImpactResult:
 
         ``contact_duration`` and ``peak_force`` are the first contact's; see
         :meth:`headline` for the figures named for what they are, with units.
+
+        Returns
+        -------
+        dict
         """
         return {"method": self.method, "dt": self.dt, "n_contacts": self.n_contacts,
                 "contact_duration": self.contact_duration, "peak_force": self.peak_force,
@@ -299,6 +332,10 @@ class ImpactResult:
         """Peaks of every output point of both bodies (see :meth:`PointResponse.peaks`).
 
         Index ``(body, point)`` with ``body`` 1 or 2; empty without output points.
+
+        Returns
+        -------
+        pandas.DataFrame
         """
         tables = {i + 1: p.peaks() for i, p in enumerate(self.points) if p is not None}
         if not tables:
@@ -307,12 +344,28 @@ class ImpactResult:
         return pd.concat(tables, names=["body", "point"])
 
     def to_pandas(self) -> pd.DataFrame:
-        """Time histories as a DataFrame indexed by time (s)."""
+        """Time histories as a DataFrame indexed by time (s).
+
+        Returns
+        -------
+        pandas.DataFrame
+        """
         return pd.DataFrame({"force": self.force, "y1": self.y1, "y2": self.y2,
                              "gap": self.gap}, index=pd.Index(self.t, name="t"))
 
     def plot(self, ax=None):
-        """Force, gap and displacements on one time axis; returns the force Axes."""
+        """Force, gap and displacements on one time axis; returns the force Axes.
+
+        Parameters
+        ----------
+        ax : matplotlib.axes.Axes, optional
+            Where to draw (a new figure when None).
+
+        Returns
+        -------
+        matplotlib.axes.Axes
+            The force's axes.
+        """
         import matplotlib.pyplot as plt
 
         if ax is None:

@@ -20,6 +20,7 @@ import pandas as pd
 from ._checks import (as_choice, as_complex_array, as_count, as_real_array, as_real_scalar)
 from .quantities import QUANTITIES, receptance_to
 from ._statespace import pole_residue_from_statespace, pole_residue_to_statespace
+from .receptance import modal_time_scales
 
 __all__ = ["ModalModel", "read_model_json", "RECEPTANCE_UNITS"]
 
@@ -195,6 +196,12 @@ class ModalModel:
 
     __slots__ = ("_poles", "_residues", "_real_poles", "_real_residues",
                  "_inverse_mass", "_flexibility")
+    _poles: np.ndarray
+    _residues: np.ndarray
+    _real_poles: np.ndarray
+    _real_residues: np.ndarray
+    _inverse_mass: float
+    _flexibility: float
 
     def __init__(self, *, poles=(), residues=(), real_poles=(), real_residues=(),
                  inverse_mass=0.0, flexibility=0.0):
@@ -271,6 +278,10 @@ class ModalModel:
             :meth:`is_passive`.
         inverse_mass, flexibility : float
             As in the constructor.
+
+        Returns
+        -------
+        ModalModel
         """
         omega_n = as_real_array("omega_n", omega_n)
         if omega_n.ndim > 1:
@@ -305,6 +316,15 @@ class ModalModel:
         (poles with ``Re p <= 0``; a double pole at 0 is the rigid-body term). A simple
         pole at 0, a repeated non-zero pole, an improper or MIMO system raise
         ``ValueError``.
+
+        Parameters
+        ----------
+        sys : control.StateSpace or control.TransferFunction
+            A SISO system from force (N) to displacement (m).
+
+        Returns
+        -------
+        ModalModel
         """
         import control
 
@@ -334,6 +354,16 @@ class ModalModel:
         """Exact receptance ``H(s)`` (m/N) at complex ``s`` (rad/s), any shape.
 
         ``H(0)`` of a free body is ``inf`` (its rigid-body term), never ``nan``.
+
+        Parameters
+        ----------
+        s : array_like of complex
+            Laplace variable (rad/s), any shape.
+
+        Returns
+        -------
+        numpy.ndarray of complex
+            Same shape as ``s``.
         """
         s = as_complex_array("s", s)
         out = np.full(s.shape, self._flexibility, dtype=complex)
@@ -356,6 +386,18 @@ class ModalModel:
         """FRF at angular frequencies ``omega`` (rad/s) as receptance, mobility or accelerance.
 
         The accelerance of a free body at ``omega = 0`` is its finite limit ``inverse_mass``.
+
+        Parameters
+        ----------
+        omega : array_like of float
+            Angular frequencies (rad/s), any shape.
+        quantity : {"receptance", "mobility", "accelerance"}, keyword-only
+            What to return (m/N, m/(N s) or m/(N s^2)).
+
+        Returns
+        -------
+        numpy.ndarray of complex
+            Same shape as ``omega``.
         """
         as_choice("quantity", quantity, QUANTITIES)
         omega = as_real_array("omega", omega)
@@ -370,6 +412,16 @@ class ModalModel:
         ``h = inverse_mass * t + sum 2 Re(r_k exp(p_k t)) + sum a_j exp(sigma_j t)`` for
         ``t >= 0`` and 0 for ``t < 0``. The flexibility term adds ``flexibility * delta(t)``,
         which is not in the returned samples (it is in :meth:`step_response`).
+
+        Parameters
+        ----------
+        t : array_like of float
+            Times (s), any shape.
+
+        Returns
+        -------
+        numpy.ndarray of float
+            Same shape as ``t``.
         """
         t = as_real_array("t", t)
         tk = t[..., None]
@@ -381,7 +433,18 @@ class ModalModel:
         return np.where(t >= 0, out, 0.0)
 
     def step_response(self, t) -> np.ndarray:
-        """Step response ``S(t) = flexibility + integral_0^t h`` (m/N) for ``t >= 0``, 0 before."""
+        """Step response ``S(t) = flexibility + integral_0^t h`` (m/N) for ``t >= 0``, 0 before.
+
+        Parameters
+        ----------
+        t : array_like of float
+            Times (s), any shape.
+
+        Returns
+        -------
+        numpy.ndarray of float
+            Same shape as ``t``.
+        """
         t = as_real_array("t", t)
         tk = t[..., None]
         out = self._flexibility + 0.5 * self._inverse_mass * t**2
@@ -394,9 +457,50 @@ class ModalModel:
         return np.where(t >= 0, out, 0.0)
 
     def static_flexibility(self) -> float:
-        """Elastic flexibility at ``s = 0`` (m/N): ``H(0)`` less the rigid-body term."""
+        """Elastic flexibility at ``s = 0`` (m/N): ``H(0)`` less the rigid-body term.
+
+        Returns
+        -------
+        float
+        """
         value = self._flexibility - 2.0 * np.sum((self._residues / self._poles).real)
         return float(value - np.sum(self._real_residues / self._real_poles))
+
+    # ------------------------------------------------- receptance interface (.receptance)
+    is_rational = property(lambda self: True, doc="Always True: finitely many poles.")
+
+    def elastic_flexibility(self) -> float:
+        """:meth:`static_flexibility` (m/N), under the receptance interface's name.
+
+        Returns
+        -------
+        float
+        """
+        return self.static_flexibility()
+
+    def time_scales(self) -> tuple:
+        """``(TimeScale(1/|p|max, "modal"),)`` of the fastest pole, ``()`` without poles.
+
+        Returns
+        -------
+        tuple of TimeScale
+        """
+        return modal_time_scales(self._poles, self._real_poles)
+
+    def modal_form(self, n_modes=None) -> ModalModel:
+        """The model itself (it is its own pole-residue form; ``n_modes`` is ignored).
+
+        Parameters
+        ----------
+        n_modes : int, optional
+            Ignored (the receptance interface's signature).
+
+        Returns
+        -------
+        ModalModel
+            ``self``.
+        """
+        return self
 
     # ----------------------------------------------------------------- conversions
     def to_statespace(self):
@@ -407,6 +511,10 @@ class ModalModel:
         per real pole, then ``[[0, 1], [0, 0]]`` for the rigid body (states: rigid
         displacement in m and velocity in m/s, ``B = [0, inverse_mass]``).
         ``D = flexibility``.
+
+        Returns
+        -------
+        control.StateSpace
         """
         import control
 
@@ -416,7 +524,12 @@ class ModalModel:
         return control.ss(a, b[:, None], c[None, :], [[d]])
 
     def to_transfer_function(self):
-        """``control.TransferFunction`` (low orders only: polynomials lose poles at high order)."""
+        """``control.TransferFunction`` (low orders only: polynomials lose poles at high order).
+
+        Returns
+        -------
+        control.TransferFunction
+        """
         import control
 
         with _quiet_polynomial_trimming():
@@ -427,6 +540,16 @@ class ModalModel:
         """The model as a JSON text (also written to ``path`` when given).
 
         Complex numbers are stored as ``[re, im]`` pairs; units are SI with s in rad/s.
+
+        Parameters
+        ----------
+        path : str or os.PathLike, optional
+            A file to write the text to.
+
+        Returns
+        -------
+        str
+            The JSON text.
         """
         payload = {
             "format": _FORMAT, "version": 1,
@@ -449,6 +572,15 @@ class ModalModel:
         Parsing JSON never executes anything; every field is validated by the constructor.
         A ``units`` field other than SI is honoured where known (see
         :func:`read_model_json`) and refused otherwise; errors name the file.
+
+        Parameters
+        ----------
+        source : str or os.PathLike
+            A JSON text, or the path of a file holding one.
+
+        Returns
+        -------
+        ModalModel
         """
         payload, label = read_model_json(source, formats=(_FORMAT,))
         return cls._from_payload(payload, label)
@@ -492,6 +624,17 @@ class ModalModel:
 
         With ``residual=True`` the dropped modes' static flexibility ``-2 Re(r/p)`` is added
         to ``flexibility``, so the static flexibility is unchanged.
+
+        Parameters
+        ----------
+        n : int
+            Complex modes to keep.
+        residual : bool, keyword-only
+            Add the dropped modes' static flexibility.
+
+        Returns
+        -------
+        ModalModel
         """
         n = as_count("n", n)
         order = np.argsort(np.abs(self._poles), kind="stable")
@@ -503,7 +646,12 @@ class ModalModel:
                              flexibility=flexibility)
 
     def without_rigid_body(self) -> ModalModel:
-        """The same model with ``inverse_mass = 0``."""
+        """The same model with ``inverse_mass = 0``.
+
+        Returns
+        -------
+        ModalModel
+        """
         return self.replace(inverse_mass=0.0)
 
     def is_stable(self) -> bool:
@@ -511,6 +659,10 @@ class ModalModel:
 
         Undamped modes (``Re p = 0``) count as stable (Lyapunov), as the rigid-body
         double pole at 0 does for a free body.
+
+        Returns
+        -------
+        bool
         """
         return bool(np.all(self._poles.real <= 0) and np.all(self._real_poles < 0))
 
@@ -519,13 +671,27 @@ class ModalModel:
 
         Checks every modal mass > 0, ``inverse_mass >= 0``, ``flexibility >= 0`` and real
         residues >= 0 (each real-pole term then has a positive-real mobility).
+
+        Returns
+        -------
+        bool
         """
         modal_mass = self.modes["modal_mass"].to_numpy()
         return bool(self.is_stable() and np.all(modal_mass > 0) and self._flexibility >= 0
                     and self._inverse_mass >= 0 and np.all(self._real_residues >= 0))
 
     def replace(self, **changes) -> ModalModel:
-        """A copy with some constructor fields changed (validated like the constructor)."""
+        """A copy with some constructor fields changed (validated like the constructor).
+
+        Parameters
+        ----------
+        **changes
+            Constructor fields (keyword arguments) and their new values.
+
+        Returns
+        -------
+        ModalModel
+        """
         fields = self._fields()
         fields.update(changes)
         return ModalModel(**fields)
@@ -544,4 +710,4 @@ class ModalModel:
                 and self._inverse_mass == other._inverse_mass
                 and self._flexibility == other._flexibility)
 
-    __hash__ = None
+    __hash__ = None  # type: ignore[assignment]  # mutable-free but compared by value

@@ -23,6 +23,7 @@ from ._checks import as_choice, as_complex_array, as_real_array
 from ._statespace import pole_residue_from_statespace, pole_residue_to_statespace
 from .model import ModalModel, _frozen, _rebuild
 from .quantities import QUANTITIES
+from .receptance import modal_time_scales
 
 __all__ = ["MultiOutputModalModel"]
 
@@ -72,6 +73,14 @@ class MultiOutputModalModel:
 
     __slots__ = ("_poles", "_residues", "_real_poles", "_real_residues", "_inverse_mass",
                  "_flexibility", "_driving_point", "_outputs")
+    _poles: np.ndarray
+    _residues: np.ndarray
+    _real_poles: np.ndarray
+    _real_residues: np.ndarray
+    _inverse_mass: np.ndarray
+    _flexibility: np.ndarray
+    _driving_point: int
+    _outputs: tuple
 
     def __init__(self, *, poles=(), residues=None, real_poles=(), real_residues=None,
                  inverse_mass=0.0, flexibility=0.0, driving_point=0, outputs=None):
@@ -156,7 +165,17 @@ class MultiOutputModalModel:
 
     # ------------------------------------------------------------------- rows
     def index(self, output) -> int:
-        """Row index of ``output``: an int row index or an output label."""
+        """Row index of ``output``: an int row index or an output label.
+
+        Parameters
+        ----------
+        output : int or str
+            Row index or output label.
+
+        Returns
+        -------
+        int
+        """
         if isinstance(output, str):
             if output not in self._outputs:
                 raise ValueError(f"no output labelled {output!r}; outputs are {self._outputs}")
@@ -169,7 +188,17 @@ class MultiOutputModalModel:
         return int(output) % self.n_outputs
 
     def row(self, output) -> ModalModel:
-        """The receptance to one output (index or label) as a :class:`ModalModel`."""
+        """The receptance to one output (index or label) as a :class:`ModalModel`.
+
+        Parameters
+        ----------
+        output : int or str
+            Row index or output label.
+
+        Returns
+        -------
+        ModalModel
+        """
         i = self.index(output)
         return ModalModel(poles=self._poles, residues=self._residues[i],
                           real_poles=self._real_poles, real_residues=self._real_residues[i],
@@ -180,12 +209,63 @@ class MultiOutputModalModel:
         """The driving-point receptance: the model the impact solver uses."""
         return self.row(self._driving_point)
 
+    # The receptance interface (modalid.receptance) through the driving-point row; its
+    # inverse_mass and step_response are per output, so a body takes :attr:`driving`.
+    is_rational = property(lambda self: True, doc="Always True: finitely many poles.")
+
+    def elastic_flexibility(self) -> float:
+        """The driving-point row's static flexibility (m/N).
+
+        Returns
+        -------
+        float
+        """
+        return self.driving.static_flexibility()
+
+    def time_scales(self) -> tuple:
+        """The time scales of the (shared) poles (see ``ModalModel.time_scales``).
+
+        Returns
+        -------
+        tuple of TimeScale
+        """
+        return modal_time_scales(self._poles, self._real_poles)
+
+    def modal_form(self, n_modes=None) -> ModalModel:
+        """The driving-point row (:attr:`driving`); ``n_modes`` is ignored.
+
+        Parameters
+        ----------
+        n_modes : int, optional
+            Ignored (the receptance interface's signature).
+
+        Returns
+        -------
+        ModalModel
+        """
+        return self.driving
+
     @classmethod
     def from_rows(cls, rows, *, driving_point=0, outputs=None, rtol=1e-12):
         """Stack :class:`ModalModel` rows that share their poles (to ``rtol``).
 
         The rows' poles are matched to the first row's by nearest value, so their order may
         differ; a row whose poles differ raises ``ValueError`` naming it.
+
+        Parameters
+        ----------
+        rows : sequence of ModalModel
+            One receptance per output, with the same poles.
+        driving_point : int, keyword-only
+            Row of the driving point.
+        outputs : sequence of str, optional, keyword-only
+            Output labels.
+        rtol : float, keyword-only
+            Relative tolerance of the poles' match.
+
+        Returns
+        -------
+        MultiOutputModalModel
         """
         rows = list(rows)
         if not rows or not all(isinstance(m, ModalModel) for m in rows):
@@ -212,6 +292,16 @@ class MultiOutputModalModel:
         """Exact receptances (m/N) at complex ``s`` (rad/s): shape ``(n_outputs,) + s.shape``.
 
         A row with a rigid-body term is ``inf`` at ``s = 0``.
+
+        Parameters
+        ----------
+        s : array_like of complex
+            Laplace variable (rad/s), any shape.
+
+        Returns
+        -------
+        numpy.ndarray of complex
+            Shape ``(n_outputs,) + s.shape``.
         """
         s = as_complex_array("s", s)
         sk = s[..., None]
@@ -238,6 +328,18 @@ class MultiOutputModalModel:
 
         ``quantity`` is receptance (m/N), mobility (m/(N s)) or accelerance (m/(N s^2));
         at ``omega = 0`` an accelerance row takes its finite limit ``inverse_mass_i``.
+
+        Parameters
+        ----------
+        omega : array_like of float
+            Angular frequencies (rad/s), any shape.
+        quantity : {"receptance", "mobility", "accelerance"}, keyword-only
+            What to return (m/N, m/(N s) or m/(N s^2)).
+
+        Returns
+        -------
+        numpy.ndarray of complex
+            Shape ``(n_outputs,) + omega.shape``.
         """
         as_choice("quantity", quantity, QUANTITIES)
         omega = as_real_array("omega", omega)
@@ -249,12 +351,33 @@ class MultiOutputModalModel:
 
         The ``flexibility_i * delta(t)`` terms are not in the samples (see
         :meth:`step_response`).
+
+        Parameters
+        ----------
+        t : array_like of float
+            Times (s), any shape.
+
+        Returns
+        -------
+        numpy.ndarray of float
+            Shape ``(n_outputs,) + t.shape``.
         """
         t = as_real_array("t", t)
         return np.stack([self.row(i).impulse_response(t) for i in range(self.n_outputs)])
 
     def step_response(self, t) -> np.ndarray:
-        """Each output's step response (m/N): shape ``(n_outputs,) + t.shape``."""
+        """Each output's step response (m/N): shape ``(n_outputs,) + t.shape``.
+
+        Parameters
+        ----------
+        t : array_like of float
+            Times (s), any shape.
+
+        Returns
+        -------
+        numpy.ndarray of float
+            Shape ``(n_outputs,) + t.shape``.
+        """
         t = as_real_array("t", t)
         return np.stack([self.row(i).step_response(t) for i in range(self.n_outputs)])
 
@@ -266,13 +389,23 @@ class MultiOutputModalModel:
         as :meth:`ModalModel.to_statespace` (modes, real poles, rigid body), all outputs on
         the same states; the rigid block's states are the displacement and velocity per
         unit ``1/M`` (``b = [0, 1]``, ``C[i] = [inverse_mass_i, 0]``).
+
+        Returns
+        -------
+        tuple of numpy.ndarray
+            ``(A, b, C, d)``.
         """
         return pole_residue_to_statespace(self._poles, self._residues, self._real_poles,
                                           self._real_residues, self._inverse_mass,
                                           self._flexibility)
 
     def to_statespace(self):
-        """One ``control.StateSpace`` with one input and ``n_outputs`` outputs (exact)."""
+        """One ``control.StateSpace`` with one input and ``n_outputs`` outputs (exact).
+
+        Returns
+        -------
+        control.StateSpace
+        """
         import control
 
         a, b, c, d = self.statespace_matrices()
@@ -285,6 +418,19 @@ class MultiOutputModalModel:
 
         The same rules as :meth:`ModalModel.from_control` apply to every output; ``outputs``
         defaults to the system's output names.
+
+        Parameters
+        ----------
+        sys : control.StateSpace
+            Single input (force, N), any number of outputs (displacements, m).
+        driving_point : int, keyword-only
+            Row of the driving point.
+        outputs : sequence of str, optional, keyword-only
+            Output labels.
+
+        Returns
+        -------
+        MultiOutputModalModel
         """
         import control
 
@@ -324,6 +470,15 @@ class MultiOutputModalModel:
         (1 at the driving point). ``scaling="mass"``: unit modal mass,
         ``phi_d = sqrt(2 i w_d r_d)`` at the driving point and
         ``phi_i = 2 i w_d r_i / phi_d`` (real for real normal modes with ``phi_d > 0``).
+
+        Parameters
+        ----------
+        scaling : {"driving_point", "mass"}, keyword-only
+            The normalisation.
+
+        Returns
+        -------
+        numpy.ndarray of complex, shape (n_outputs, n_modes)
         """
         as_choice("scaling", scaling, ("driving_point", "mass"))
         order = np.argsort(np.abs(self._poles), kind="stable")
@@ -340,7 +495,18 @@ class MultiOutputModalModel:
 
     # -------------------------------------------------------------------- persistence
     def to_json(self, path=None) -> str:
-        """The model as a JSON text (also written to ``path`` when given); see ModalModel."""
+        """The model as a JSON text (also written to ``path`` when given); see ModalModel.
+
+        Parameters
+        ----------
+        path : str or os.PathLike, optional
+            A file to write the text to.
+
+        Returns
+        -------
+        str
+            The JSON text.
+        """
         def pairs(z):
             return [[float(v.real), float(v.imag)] for v in np.ravel(z)]
 
@@ -361,7 +527,17 @@ class MultiOutputModalModel:
 
     @classmethod
     def from_json(cls, source) -> MultiOutputModalModel:
-        """Read a model written by :meth:`to_json` (a JSON text or a path); never executes it."""
+        """Read a model written by :meth:`to_json` (a JSON text or a path); never executes it.
+
+        Parameters
+        ----------
+        source : str or os.PathLike
+            A JSON text, or the path of a file holding one.
+
+        Returns
+        -------
+        MultiOutputModalModel
+        """
         text = str(source)
         if not text.lstrip().startswith("{"):
             text = Path(source).read_text()
@@ -392,7 +568,17 @@ class MultiOutputModalModel:
 
     # ------------------------------------------------------------------------ misc
     def replace(self, **changes) -> MultiOutputModalModel:
-        """A copy with some constructor fields changed (validated like the constructor)."""
+        """A copy with some constructor fields changed (validated like the constructor).
+
+        Parameters
+        ----------
+        **changes
+            Constructor fields (keyword arguments) and their new values.
+
+        Returns
+        -------
+        MultiOutputModalModel
+        """
         fields = self._fields()
         fields.update(changes)
         return MultiOutputModalModel(**fields)
@@ -410,7 +596,7 @@ class MultiOutputModalModel:
                         for k in ("_poles", "_residues", "_real_poles", "_real_residues",
                                   "_inverse_mass", "_flexibility")))
 
-    __hash__ = None
+    __hash__ = None  # type: ignore[assignment]  # compared by value
 
 
 def _match(reference, values, rtol, what) -> np.ndarray:

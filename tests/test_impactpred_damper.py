@@ -416,3 +416,15 @@ def test_rank_one_contact_phases_match_the_matrix_exponential(residual):
             want = (scipy.linalg.expm(kind.M_aug * tau) @ eng.augmented(x, t0))[:eng.n]
             got = kind.state(kind.start(x, t0), tau)
             assert np.max(np.abs(got - want)) < 1e-9 * np.max(np.abs(want))
+
+
+def test_a_multi_output_primary_gives_its_driving_row():
+    # the driving row is a property of MultiOutputModalModel (it was called as a method)
+    from modalid import MultiOutputModalModel
+
+    row = ModalModel.from_modes([60.0], 0.02, [1.0])
+    multi = MultiOutputModalModel.from_rows([row.replace(residues=0.5 * row.residues), row],
+                                            driving_point=1)
+    d = ImpactDamper(multi, damper_mass=0.05, clearance=0.01,
+                     excitation=HarmonicForce(1.0, 60.0 / (2 * np.pi)))
+    assert d.model == row

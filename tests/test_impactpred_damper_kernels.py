@@ -65,6 +65,7 @@ def _bench_beam():
                         excitation=HarmonicForce(1.0, f1))
 
 
+@pytest.mark.slow
 def test_beam_matches_the_python_loop_until_the_chatter_amplifies_rounding(monkeypatch):
     d = _bench_beam()
     fast, slow = _both(d, 9, monkeypatch)       # the first macroscopic impacts (22 contacts)

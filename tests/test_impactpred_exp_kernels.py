@@ -1,4 +1,5 @@
-"""The compiled exponential-sum kernels against closed forms and matrix exponentials."""
+"""The compiled exponential-sum kernels against closed forms and matrix exponentials, and
+the certified event search as the one-clearance loop calls it (one row)."""
 
 import math
 
@@ -9,13 +10,24 @@ import scipy.linalg
 from data_synth import LumpedMass, Rod
 from impactpred import Body, LinearSpring, Rigid, solve_impact
 from impactpred.engine import impact_run
-from impactpred.engine.exp_kernels import (
-    first_crossing,
-    phase_run,
-    row_value,
-    sample_rows,
-)
+from impactpred.engine.contact_loop import phase_run
+from impactpred.engine.exp_kernels import row_value, sample_rows
+from impactpred.engine.search import first_event
 from impactpred.engine.spectral import SpectralPhase
+
+
+def first_crossing(lam, b, poly, tau_max, zero_tol, on_boundary):
+    """:func:`first_event` on one row: ``tau`` where it falls below ``-zero_tol``, or -1."""
+    lam = np.asarray(lam, complex)
+    if lam.size == 0:       # a polynomial alone: one null term sets the search's step
+        lam, b = np.array([-8.0 / tau_max + 0j]), np.zeros(1, complex)
+    abs_lam = np.abs(lam)
+    order = np.argsort(-abs_lam, kind="stable").astype(np.int64)
+    b, poly = np.asarray(b, complex)[None, :], np.asarray(poly, float)[None, :]
+    total = np.abs(b).sum() + np.abs(poly).sum()
+    tau, _ = first_event(lam, abs_lam, abs_lam**4, order, b, poly, tau_max,
+                         np.array([total]), np.array([zero_tol]), on_boundary, -1)
+    return tau
 
 
 def _direct(lam, B, P, taus):
@@ -42,20 +54,21 @@ def test_first_crossing_finds_the_root_to_rounding():
     # cos(w tau) - 0.5: first root pi / (3 w)
     w = 7.0
     lam, b, poly = np.array([1j * w]), np.array([1.0 + 0j]), np.array([-0.5])
-    tau = first_crossing(lam, b, poly, 0.5, 0.0, 0.05, 0.0, 10.0, 0.0, 1e-12, False)
+    tau = first_crossing(lam, b, poly, 10.0, 1e-12, False)
     assert tau == pytest.approx(math.pi / (3 * w), rel=4e-16)
 
 
 def test_first_crossing_sees_a_dip_between_samples():
-    # cos(w tau) + 0.999 is negative only on |w tau - pi| < 0.0447; no sample lands there
-    w = 1.0
-    lam, b, poly = np.array([1j * w]), np.array([1.0 + 0j]), np.array([0.999])
-    step = 0.37
-    assert not np.any(np.abs(step * np.arange(30) - math.pi) < 0.0448)
-    tau = first_crossing(lam, b, poly, 1.999, 0.0, step, 0.0, 10.0, 0.0, 1e-12, True)
-    assert tau == pytest.approx(math.acos(-0.999), rel=1e-14)
-    # and the threshold only detects: the same dip not reaching -0.01 is no event
-    tau = first_crossing(lam, b, poly, 1.999, 0.0, step, 0.0, 10.0, -0.01, 1e-12, True)
+    # cos(w tau + phi) + 0.999 is negative only on |w tau + phi - pi| < 0.0447; no sample
+    # of the search's grid (step pi/(8 w)) lands there
+    w, phi = 1.0, 0.2
+    lam, b, poly = np.array([1j * w]), np.array([np.exp(1j * phi)]), np.array([0.999])
+    step = math.pi / 8 / w
+    assert not np.any(np.abs(w * step * np.arange(30) + phi - math.pi) < 0.0448)
+    tau = first_crossing(lam, b, poly, 10.0, 1e-12, False)
+    assert tau == pytest.approx((math.acos(-0.999) - phi) / w, rel=1e-14)
+    # and the tolerance only detects: the same dip not reaching -0.01 is no event
+    tau = first_crossing(lam, b, poly, 10.0, 0.01, False)
     assert tau == -1.0
 
 
@@ -64,17 +77,16 @@ def test_first_crossing_looks_for_a_short_lobe_at_the_start():
     # tau - 100 tau^2 (root 0.01), searched with step 1
     lam, b = np.zeros(0, complex), np.zeros(0, complex)
     poly = np.array([0.0, 1.0, -100.0])
-    tau = first_crossing(lam, b, poly, 0.0, 1.0, 1.0, 0.0, 5.0, 0.0, 1e-12, True)
+    tau = first_crossing(lam, b, poly, 5.0, 1e-12, True)
     assert tau == pytest.approx(0.01, rel=1e-14)
     # a row at rounding level that does not open: the event is at once
     poly = np.array([-1e-20, -1.0])
-    assert first_crossing(lam, b, poly, -1e-20, -1.0, 1.0, 0.0, 5.0, 0.0, 1e-12,
-                          True) == 0.0
+    assert first_crossing(lam, b, poly, 5.0, 1e-12, True) == 0.0
 
 
 def test_first_crossing_reports_no_event_before_the_end():
     lam, b, poly = np.array([-1.0 + 3j]), np.array([0.2 + 0j]), np.array([1.0])
-    assert first_crossing(lam, b, poly, 1.2, -0.2, 0.1, 2.0, 7.0, 0.0, 1e-12, False) == -1.0
+    assert first_crossing(lam, b, poly, 5.0, 1e-12, False) == -1.0
 
 
 def test_row_value_derivatives_match_finite_differences():
@@ -104,11 +116,13 @@ def test_phase_run_matches_the_matrix_exponential():
     x[0] = 2.0
     (po, eo), (pe, ee) = sp.project(rows), sp.project(event_row)
     e0 = float(event_row @ x)
-    tau, x_end, times, values = phase_run(sp.rates, sp._modes.real.copy(),
-                                          sp._modes.imag.copy(), sp._proj.real.copy(),
-                                          sp._proj.imag.copy(), sp.in0, sp._s0_powers, po, eo,
-                                          pe, ee, x, e0, 0.3, 2.3, 1e-3, 0.01, 0.0, 1e-12,
-                                          True)
+    abs_r = np.abs(sp.rates)
+    order = np.argsort(-abs_r, kind="stable").astype(np.int64)
+    tau, x_end, times, values = phase_run(sp.rates, abs_r, abs_r**4, order,
+                                          sp._modes.real.copy(), sp._modes.imag.copy(),
+                                          sp._proj.real.copy(), sp._proj.imag.copy(), sp.in0,
+                                          sp._s0_powers, po, eo, pe, ee, x, 0.3, 2.3, 0.01,
+                                          1e-12, True, False)
     t_stop = tau if tau >= 0 else 2.0
     assert x_end == pytest.approx(scipy.linalg.expm(M * t_stop) @ x, rel=1e-11, abs=1e-11)
     assert times[0] == 0.3 and times[-1] == pytest.approx(0.3 + t_stop, rel=1e-15)

@@ -36,16 +36,19 @@ __all__ = ["Engine", "EngineState"]
 class Engine:
     """Matrices and phase kinds of one damper, built once (see the module docstring).
 
-    ``rank_one=True`` splits the contact phases (stuck, spring) as the free flight plus the
-    rank-one force feedback (:mod:`impactpred.engine.rank_one`, as ``solve_impact``'s exact
-    method does; ~7x faster on a 20-mode primary, as accurate or more). Off by default for
-    now: it changes the rounding of a run, and chattering runs amplify rounding into
-    different (equally valid) contact histories, which ``tests/test_impactpred_damper_kernels``'s
-    statistics check at 100 cycles of the benchmark beam does not tolerate.
+    ``rank_one=True`` (default) splits the stuck phases (``Rigid``, ``InstantaneousImpact``)
+    as the free flight plus the rank-one force feedback (:mod:`impactpred.engine.rank_one`,
+    as ``solve_impact``'s exact method does; ~7x faster on a 20-mode primary, as accurate
+    or more against ``expm``); ``False``: the general eigendecomposition. The two round
+    differently, and chattering runs amplify rounding into different (equally valid)
+    contact histories: compare them by statistics, not sample by sample. Spring-dashpot
+    phases always take the general route: split by rank one, a dashpot's phase lost two
+    orders of accuracy in ``tests/test_impactpred_damper.py``'s grazing check (5e-8
+    against 2e-10 of the motion).
     """
 
     def __init__(self, model, *, damper_mass, clearance, contact, excitation, base_spring,
-                 rank_one=False):
+                 rank_one=True):
         a_p, b_p, c_p, d_p = pole_residue_to_statespace(
             model.poles, model.residues, model.real_poles, model.real_residues, 0.0,
             model.flexibility)
@@ -117,7 +120,7 @@ class Engine:
     def _kind(self, M, lam_row, event_rows, name, *, contact=False):
         """A phase kind; ``contact``: ``M`` is the free flight's plus ``outer(Bl, lam_row)``
         (the contact force fed back), split by the rank-one route through the free
-        flight's form when :attr:`rank_one` (else by the general route)."""
+        flight's form (else by the general route)."""
         n = self.n
         yp = self.yp0 + self.d_p * lam_row
         exc_row, fvec, bv_row = self.rows_extra
@@ -131,8 +134,7 @@ class Engine:
         ey[self.iy], ev[self.iv] = 1.0, 1.0
         out = np.vstack([yp, yp @ M, ey, ev, lam_row, harm(exc_row), harm(fvec), harm(bv_row)])
         kind = PhaseKind(M, self.h, self.omega, np.vstack(event_rows), out, name=name,
-                         update_of=((self.free, self.Bl, lam_row) if contact and self.rank_one
-                                    else None))
+                         update_of=(self.free, self.Bl, lam_row) if contact else None)
         kind.M_lam = lam_row
         return kind
 
@@ -149,7 +151,8 @@ class Engine:
             else:
                 lam = (r0 - s * self.c * self.e1) / d_p
             M = self.A + np.outer(self.Bl, lam)
-            self._stuck[key] = self._kind(M, lam, [lam, -lam], "stuck-contact", contact=True)
+            self._stuck[key] = self._kind(M, lam, [lam, -lam], "stuck-contact",
+                                          contact=self.rank_one)
         return self._stuck[key]
 
     def spring(self, s):
@@ -164,7 +167,7 @@ class Engine:
                 f = k * pen / (1.0 + k * d_p)
             lam = s * f
             M = self.A + np.outer(self.Bl, lam)
-            self._spring[s] = self._kind(M, lam, [f], f"spring-contact({s:+d})", contact=True)
+            self._spring[s] = self._kind(M, lam, [f], f"spring-contact({s:+d})")
             self._spring[s].event_row = f
             q = k * pen + cd * pen @ self.A
             self._pen[s] = self._kind(self.A, np.zeros(self.n + 2), [-q, pen],

@@ -11,7 +11,7 @@ import dataclasses
 import math
 from dataclasses import dataclass, field
 
-from modalid._checks import as_nonnegative_scalar, as_positive_scalar, as_real_scalar
+from modalid.validation import as_nonnegative_scalar, as_positive_scalar, as_real_scalar
 
 __all__ = ["HarmonicForce", "BaseExcitation"]
 

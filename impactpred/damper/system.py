@@ -12,7 +12,7 @@ import numpy as np
 
 from data_synth import SpringMass
 from modalid import ModalModel, MultiOutputModalModel
-from modalid._checks import as_count, as_nonnegative_scalar, as_positive_scalar
+from modalid.validation import as_count, as_nonnegative_scalar, as_positive_scalar
 
 from ..body import check_driving_point
 from ..contact import Hertz, InstantaneousImpact, LinearSpring, Rigid
@@ -33,7 +33,7 @@ def _primary_model(primary):
         k, m = primary.stiffness, primary.mass
         return primary.modal_model(1), (k, 2.0 * primary.damping_ratio * math.sqrt(k * m))
     if isinstance(primary, MultiOutputModalModel):
-        model = primary.driving()
+        model = primary.driving
     elif isinstance(primary, ModalModel):
         model = primary
     else:
@@ -143,6 +143,11 @@ class ImpactDamper:
 
         ``|H(i Omega)| F0`` for a force; ``Y |k + i c Omega| / |k - m Omega^2 + i c Omega|``
         (absolute displacement) for a base excitation of a ``SpringMass``.
+
+        Returns
+        -------
+        float
+            Amplitude (m).
         """
         exc = self.excitation
         om = exc.omega
@@ -154,11 +159,26 @@ class ImpactDamper:
 
     def replace(self, **changes) -> ImpactDamper:
         """A validated copy with some of ``primary, damper_mass, clearance, contact,
-        excitation`` changed."""
+        excitation`` changed.
+
+        Parameters
+        ----------
+        **changes
+            The fields to change and their new values.
+
+        Returns
+        -------
+        ImpactDamper
+        """
         return dataclasses.replace(self, **changes)
 
     def engine(self) -> Engine:
-        """The damper's engine (matrices, decompositions), built once and cached."""
+        """The damper's engine (matrices, decompositions), built once and cached.
+
+        Returns
+        -------
+        impactpred.damper._engine.Engine
+        """
         if self._engine_cache is None:
             object.__setattr__(self, "_engine_cache", Engine(
                 self._model, damper_mass=self.damper_mass, clearance=self.clearance,

@@ -15,13 +15,14 @@ Modules, bottom up (no module imports one above it):
   ``H1 + H2``), used by both front ends' contact phases.
 * :mod:`.exp_kernels`: compiled evaluation of sums of exponentials on uniform grids, the
   Hermite bound, root polishing; :mod:`.step_kernels`, :mod:`.search`: the certified
-  multilevel event search (compiled; its Python oracle is in ``tests/``).
+  multilevel event search, the one event search of both loops (compiled; its Python
+  oracle is in ``tests/``).
 * :mod:`.phase`: a phase with a harmonic load (particular solution) and
   :func:`.phase.search_event`.
 * One-sided runs (one clearance, no load): :mod:`.contact_loop` (the relative-degree
-  rule both front ends use, the contact-start rules: Dirac impulse, hold or release, and
-  the compiled loop), :mod:`.impact_run` (the phases, the matrix-exponential fallback, the
-  exact force peak).
+  rule both front ends use, the contact-start rules: Dirac impulse, hold or release, a
+  phase's run and the compiled loop), :mod:`.impact_run` (the phases, the
+  matrix-exponential fallback, the exact force peak).
 * Two-sided runs (two stops, harmonic load): :mod:`.cycle_state` (the state and the
   output rows), :mod:`.cycle_loop` (compiled loop for rigid and instantaneous
   contacts, the Zeno rule, the stick-or-separate decision), :mod:`.cycle_compiled` (its

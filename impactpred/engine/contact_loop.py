@@ -2,10 +2,14 @@
 
 :func:`relative_degree` (both front ends) says how a contact starts. :func:`event_loop`
 alternates the two phases of a one-clearance run (:mod:`.impact_run`; each propagated in
-closed form by :func:`.exp_kernels.phase_run`) and applies the contact rules between them
-with :func:`contact_start`, which the matrix-exponential fallback in :mod:`.impact_run`
-calls too, so both paths decide contacts identically. Cost: one compiled call per solve; per event
-O(terms x search points) plus O(states^2) for the contact decision.
+closed form by :func:`phase_run`, its event found by the certified search
+:func:`.search.first_event` that the two-stop loop uses too) and applies the contact rules
+between them with :func:`contact_start`, which the matrix-exponential fallback in
+:mod:`.impact_run` calls too, so both paths decide contacts identically. Cost: one
+compiled call per solve; per event O(terms x search points) plus O(states^2) for the
+contact decision. numba's cache does not follow calls across modules: after editing
+:mod:`.search` or :mod:`.exp_kernels` alone, touch this module (and
+:mod:`.cycle_loop`) so that the loops are recompiled.
 """
 
 from __future__ import annotations
@@ -13,9 +17,10 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .exp_kernels import phase_run
+from .exp_kernels import sample_rows
+from .search import cabs, first_event
 
-__all__ = ["relative_degree", "contact_start", "free_lobe_height", "event_loop"]
+__all__ = ["relative_degree", "contact_start", "free_lobe_height", "phase_run", "event_loop"]
 
 #: an event loop that does not advance this many times in a row is stalled (grazing)
 MAX_STALLS = 50
@@ -94,6 +99,126 @@ def contact_start(xa, rho, coef, bf, jdx, force_row, force_rate_row, cg_powers, 
 
 
 @njit(cache=True)
+def phase_run(rates, abs_rates, abs_rates4, order, modes_r, modes_i, proj_r, proj_i, in0,
+              s0_powers, out_poly_m, out_expo_m, ev_poly_m, ev_expo_m, x, t0, t_end,
+              out_step, zero_tol, relative, on_boundary):
+    """One phase of the exact solver from state ``x`` at ``t0``: its event, samples and end state.
+
+    The phase's split form (:class:`.spectral.SpectralPhase`: ``rates`` (m,) with their
+    moduli, fourth powers and the order fastest first, ``modes`` (n, m) and ``proj``
+    (m, n) as real and imaginary parts, ``in0`` (k, n), ``s0_powers`` (k, n, k)) and the
+    projections of its output rows (``out_poly_m`` (R, k, k), ``out_expo_m`` (R, m)) and
+    event row (``ev_*``, one row) give every coefficient. The event is where the event
+    row falls below ``-zero_tol`` (``relative``: ``zero_tol`` times the sum of the row's
+    terms), located at the row's own zero by :func:`.search.first_event`;
+    ``on_boundary``: the phase starts where the loop has decided it (a contact start or
+    end): the event row is open there, and an event only where it leaves its rounding
+    level (or after a short positive lobe, at its zero).
+
+    Returns
+    -------
+    tau : float
+        Time of the event after ``t0`` (s), or ``-1.0`` if none before ``t_end``.
+    x_end : ndarray, shape (n,)
+        The state at the event (or at ``t_end``).
+    times : ndarray, shape (N,)
+        ``t0``, the output grid ``j * out_step`` strictly inside the phase, and its end.
+    values : ndarray, shape (R, N)
+        The output rows at ``times``.
+    """
+    n = x.size
+    m = rates.size
+    k = in0.shape[0]
+    c1 = np.zeros(m, np.complex128)
+    for j in range(m):
+        acc_re, acc_im = 0.0, 0.0
+        for q in range(n):
+            acc_re += proj_r[j, q] * x[q]
+            acc_im += proj_i[j, q] * x[q]
+        c1[j] = complex(acc_re, acc_im)
+    c0 = np.zeros(k)
+    for j in range(k):
+        acc_r = 0.0
+        for q in range(n):
+            acc_r += in0[j, q] * x[q]
+        c0[j] = acc_r
+    # the event row's coefficients, as the search takes them (one row)
+    b_ev = np.empty((1, m), np.complex128)
+    p_ev = np.zeros((1, k))
+    total = 0.0
+    for j in range(m):
+        b_ev[0, j] = ev_expo_m[0, j] * c1[j]
+        total += cabs(b_ev[0, j])
+    for j in range(k):
+        for q in range(k):
+            p_ev[0, j] += ev_poly_m[0, j, q] * c0[q]
+        total += abs(p_ev[0, j])
+    tol = np.empty(1)
+    tol[0] = (zero_tol * total if relative else zero_tol) + 1e-300
+    scale = np.empty(1)
+    scale[0] = total
+    open_row = 0 if on_boundary else -1
+    if m:
+        tau, _ = first_event(rates, abs_rates, abs_rates4, order, b_ev, p_ev, t_end - t0,
+                             scale, tol, on_boundary, open_row)
+    else:   # a polynomial alone (rigid bodies in free flight): one null term sets the step
+        slow = np.full(1, complex(-8.0 / max(t_end - t0, 1e-300), 0.0))
+        tau, _ = first_event(slow, np.abs(slow), np.abs(slow) ** 4, np.zeros(1, np.int64),
+                             np.zeros((1, 1), np.complex128), p_ev, t_end - t0, scale, tol,
+                             on_boundary, open_row)
+    tau_end = tau if tau >= 0.0 else t_end - t0
+    # output rows on t0, the grid inside the phase, and its end
+    t_to = t0 + tau_end
+    k_lo = int(np.floor(t0 / out_step + 1e-9)) + 1
+    k_hi = int(np.ceil(t_to / out_step - 1e-9)) - 1
+    n_grid = 0
+    for kk in range(k_lo, k_hi + 1):
+        tg = out_step * kk
+        if t0 < tg < t_to:
+            n_grid += 1
+    times = np.empty(n_grid + 2)
+    times[0] = t0
+    i = 1
+    for kk in range(k_lo, k_hi + 1):
+        tg = out_step * kk
+        if t0 < tg < t_to:
+            times[i] = tg
+            i += 1
+    times[i] = t_to
+    R = out_expo_m.shape[0]
+    B = np.empty((R, m), np.complex128)
+    for r in range(R):
+        for j in range(m):
+            B[r, j] = out_expo_m[r, j] * c1[j]
+    P = np.zeros((R, k))
+    for r in range(R):
+        for j in range(k):
+            for q in range(k):
+                P[r, j] += out_poly_m[r, j, q] * c0[q]
+    values = sample_rows(rates, B, P, times - t0, out_step)
+    # the state at the end
+    zr, zi = np.empty(m), np.empty(m)
+    for j in range(m):
+        z = np.exp(rates[j] * tau_end) * c1[j]
+        zr[j], zi[j] = z.real, z.imag
+    x_end = np.zeros(n)
+    for q in range(n):
+        acc_r = 0.0
+        for j in range(m):
+            acc_r += modes_r[q, j] * zr[j] - modes_i[q, j] * zi[j]
+        x_end[q] = acc_r
+    power = 1.0
+    for j in range(k):
+        for q in range(n):
+            acc_r = 0.0
+            for p in range(k):
+                acc_r += s0_powers[j, q, p] * c0[p]
+            x_end[q] += power * acc_r
+        power *= tau_end
+    return tau, x_end, times, values
+
+
+@njit(cache=True)
 def _grow_rows(a, need):
     out = np.empty((a.shape[0], max(need, 2 * a.shape[1])))
     out[:, :a.shape[1]] = a
@@ -116,8 +241,8 @@ def event_loop(free, stuck, xa0, in_contact, t_end, step, out_step, tol_g, rho, 
     ----------
     free, stuck : tuple
         Each phase as ``(rates, modes_r, modes_i, proj_r, proj_i, in0, s0_powers,
-        out_poly_m, out_expo_m, ev_poly_m, ev_expo_m, event_row, search_step)`` (see
-        :func:`.exp_kernels.phase_run`).
+        out_poly_m, out_expo_m, ev_poly_m, ev_expo_m, event_row, abs_rates, abs_rates4,
+        order)`` (see :func:`phase_run`).
     xa0 : ndarray, shape (n + 2,)
         Augmented initial state ``[X, 1, J]``.
     in_contact : bool
@@ -181,12 +306,10 @@ def event_loop(free, stuck, xa0, in_contact, t_end, step, out_step, tol_g, rho, 
         ph = stuck if in_contact else free
         if in_contact and first_t0 < 0.0:
             first_t0, first_x = t, xa.copy()
-        e0 = np.dot(ph[11], xa)
-        tau, x_end, ts, vs = phase_run(ph[0], ph[1], ph[2], ph[3], ph[4], ph[5], ph[6],
-                                       ph[7], ph[8], ph[9], ph[10], xa, e0, t, t_end, ph[12],
-                                       out_step,
-                                       0.0 if in_contact else -tol_g,
-                                       1e-12 if in_contact else tol_g, in_contact)
+        tau, x_end, ts, vs = phase_run(ph[0], ph[12], ph[13], ph[14], ph[1], ph[2], ph[3],
+                                       ph[4], ph[5], ph[6], ph[7], ph[8], ph[9], ph[10], xa,
+                                       t, t_end, out_step, 1e-12 if in_contact else tol_g,
+                                       in_contact, True)
         if used + ts.size > times.size:
             need = used + ts.size
             grown = np.empty(max(need, 2 * times.size))

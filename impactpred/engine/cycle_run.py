@@ -46,7 +46,6 @@ decision cannot flip back at the same instant (two phases' closed forms round th
 from __future__ import annotations
 
 import math
-import sys
 
 import numpy as np
 
@@ -148,22 +147,27 @@ def decide_row(row, M, xa, *, first=0, orders=4):
 
 
 class _Progress:
+    """The run's tqdm bar in cycles, "impact damper [###...] 40% (16/40 cycles)" on stderr."""
+
     def __init__(self, enabled, n_cycles, t_start, period):
         self.enabled, self.n, self.t0, self.T = enabled, n_cycles, t_start, period
-        self.shown = -1
+        self.bar = None
 
     def update(self, t):
         if not self.enabled:
             return
         done = min(self.n, int((t - self.t0) / self.T + 1e-9))
-        pct = int(100 * done / self.n)
-        if pct != self.shown:
-            self.shown = pct
-            bar = "#" * (pct // 4) + "." * (25 - pct // 4)
-            sys.stderr.write(f"\rimpact damper [{bar}] {pct:3d}% ({done}/{self.n} cycles)")
-            if done >= self.n:
-                sys.stderr.write("\n")
-            sys.stderr.flush()
+        if self.bar is None:
+            from ..parallel import progress_bar
+
+            self.bar = progress_bar(self.n, desc="impact damper", mininterval=0.0, miniters=1,
+                                    bar_format="{desc} [{bar:25}] {percentage:3.0f}% "
+                                               "({n}/{total} cycles)")
+        if done > self.bar.n:
+            self.bar.update(done - self.bar.n)
+        if done >= self.n:
+            self.bar.close()
+            self.enabled = False
 
 
 def run(eng, *, start: EngineState, n_cycles, samples_per_cycle, progress):

@@ -91,7 +91,8 @@ class Phase:
     def kernel_data(self, t_end):
         """The phase as :func:`.contact_loop.event_loop` takes it (spectral form only).
 
-        Its event search step resolves its own fastest pole: ``pi/(8 |lambda|max)``.
+        The certified search (:func:`.search.first_event`) takes the rates' moduli,
+        their fourth powers and their order, fastest first.
 
         Its output rows leave out the gap (row 3): it is ``y2 - y1 + gap0`` by definition
         (the flexibility terms included), so the caller forms it from the samples.
@@ -101,7 +102,7 @@ class Phase:
         poly_e, expo_e = f.project(self.event_row)
         return (f.rates, f._modes.real.copy(), f._modes.imag.copy(), f._proj.real.copy(),
                 f._proj.imag.copy(), f.in0, f._s0_powers, poly_o, expo_o, poly_e, expo_e,
-                np.asarray(self.event_row, dtype=float), search_step(f.max_rate, t_end))
+                np.asarray(self.event_row, dtype=float), *_search_terms(f.rates))
 
 
 class ContactRules:
@@ -297,6 +298,14 @@ def run_contact(free, stuck, xa, *, in_contact, rules, t_end, step, out_step, ga
     V = np.concatenate([blk[1] for blk in samples], axis=1)
     return RawRun(T, V, intervals, diracs, phase_log[0] if phase_log else None, Xa,
                   first_impulse, "matrix-exponential")
+
+
+def _search_terms(rates):
+    """``(|rates|, |rates|^4, order fastest first)`` as :func:`.search.first_event` takes
+    them (the order as :class:`.phase.PhaseKind`'s ``order_desc``)."""
+    abs_rates = np.ascontiguousarray(np.abs(rates))
+    order = np.ascontiguousarray(np.argsort(-abs_rates, kind="stable"), dtype=np.int64)
+    return abs_rates, abs_rates ** 4, order
 
 
 def search_step(rate, t_end):

@@ -158,13 +158,6 @@ def evaluate(lam, b, poly, taus, derivatives=(0,)):
     return out
 
 
-def _scalar(lam, b_row, poly_row, tau, d=0):
-    value = float(np.dot(b_row * lam ** d if d else b_row, np.exp(lam * tau)).real)
-    for j in range(d, poly_row.size):
-        value += poly_row[j] * math.perm(j, d) * tau ** (j - d)
-    return value
-
-
 def _cubic_min(fa, fb, da, db, h):
     """Minimum over the step of the cubic Hermite interpolant (arrays of any shape)."""
     delta = fb - fa
