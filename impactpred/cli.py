@@ -115,7 +115,8 @@ def _run_predict(args):
             pred = predict(args.body1, args.body2, velocity1=args.v1, velocity2=args.v2,
                            gap=args.gap, contact=args.contact, t_end=args.t_end, dt=args.dt,
                            method=args.method, continuation=args.continuation,
-                           uncertainty=args.uncertainty, fit_options=dict(fit_options(args), progress=True),
+                           uncertainty=args.uncertainty,
+                           fit_options=dict(fit_options(args), progress=True),
                            read_options=tuple(_body_read_options(args, spec)
                                               for spec in (args.body1, args.body2)),
                            check_passive=not args.no_passivity_check)
@@ -224,9 +225,22 @@ def _cmd_benchmark(args) -> int:
     from .benchmark import error_table, markdown_table, run_benchmark
 
     check_out_dir(args.out)
-    table = run_benchmark(quick=args.quick, out=args.out, progress=True,
-                          bands=tuple(args.bands), noises=tuple(n / 100 for n in args.noise),
-                          workers=args.workers)
+    client = None
+    if args.scheduler:                   # a Dask cluster's scheduler (dask is optional)
+        try:
+            from dask.distributed import Client
+        except ImportError as exc:
+            raise ValueError("--scheduler needs Dask: pip install 'impactpred[distributed]'"
+                             ) from exc
+        client = Client(args.scheduler)
+    try:
+        table = run_benchmark(quick=args.quick, out=args.out, progress=True,
+                              bands=tuple(args.bands),
+                              noises=tuple(n / 100 for n in args.noise),
+                              workers=args.workers, executor=client)
+    finally:
+        if client is not None:
+            client.close()
     print(markdown_table(table))
     print(error_table(table))
     with pd.option_context("display.width", 140):
@@ -301,6 +315,9 @@ def build_parser() -> argparse.ArgumentParser:
     bench.add_argument("--workers", type=int, default=2,
                        help="processes (2 cases at one band each); the numbers do not "
                             "depend on it")
+    bench.add_argument("--scheduler", metavar="ADDRESS", default=None,
+                       help="run the tasks on a Dask cluster instead (its scheduler's "
+                            "address, e.g. tcp://host:8786; needs impactpred[distributed])")
     bench.add_argument("--noise", type=float, nargs="+", default=[1.0, 5.0],
                        help="noise levels in per cent")
     bench.add_argument("--out", help="folder for the CSV and markdown tables and the figures")
@@ -309,7 +326,18 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv=None) -> int:
-    """Entry point of the ``impactpred`` console script."""
+    """Entry point of the ``impactpred`` console script.
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        Command-line arguments without the program name; ``None`` reads ``sys.argv``.
+
+    Returns
+    -------
+    int
+        The exit status: 0 on success, 2 for a refused input.
+    """
     return run_command(build_parser(), argv)
 
 

@@ -15,19 +15,22 @@ A body is given as
 
 from __future__ import annotations
 
+import functools
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
-from data_synth import CantileverBeam, ExactModel, LumpedMass, Rod, SpringMass
+from data_synth import CantileverBeam, LumpedMass, Rod, SpringMass
 from modalid import ModalFit, ModalModel, MultiOutputModalModel
 from modalid.io import check_sign, read_frf
 from modalid.model import read_model_json
+from modalid.receptance import Receptance
 
 from .api import solve_impact
-from .body import Body, SampledResponse, check_driving_point
+from .body import Body, check_driving_point
 from .contact import ContactLaw, Hertz, LinearSpring, Rigid
 from .result import ImpactResult
 from .truncation import band_resolution, identified_model, impact_figures
@@ -198,7 +201,7 @@ def _identify(spec, *, quantity=None, fit=None, read_options=None, check_passive
               label=""):
     """``(model, None)`` of a spec, saved model or model object; ``(None, fitted
     ModalFit)`` of an FRF file."""
-    if isinstance(spec, (ModalModel, MultiOutputModalModel, ExactModel, SampledResponse)):
+    if isinstance(spec, (Receptance, MultiOutputModalModel)):
         return spec, None
     if not isinstance(spec, (str, Path)):
         raise TypeError(f"a body must be a file, a spec string or a model, got "
@@ -282,13 +285,25 @@ def parse_body(spec, *, quantity=None, fit=None, continuation=True, read_options
 def parse_contact(spec) -> ContactLaw:
     """``rigid``, ``spring:stiffness=..[,damping=..]``, ``hertz:stiffness=..[,exponent=..]``
     or ``hertz-sphere:radius1=..,youngs_modulus1=..,poisson1=..,youngs_modulus2=..,
-    poisson2=..[,radius2=..]``; a ``ContactLaw`` passes through."""
+    poisson2=..[,radius2=..]``; a ``ContactLaw`` passes through.
+
+    Parameters
+    ----------
+    spec : str or ContactLaw
+        The spec string, SI units (N/m, N/m^1.5, m, Pa).
+
+    Returns
+    -------
+    ContactLaw
+        ``Rigid``, ``LinearSpring`` or ``Hertz``.
+    """
     if isinstance(spec, ContactLaw):
         return spec
     if not isinstance(spec, str):
         raise TypeError(f"contact must be a ContactLaw or a spec string, got {spec!r}")
     kind, _, rest = spec.partition(":")
-    laws = {"spring": (LinearSpring, ("stiffness", "damping")),
+    laws: dict[str, tuple[Any, tuple[str, ...]]] = {
+            "spring": (LinearSpring, ("stiffness", "damping")),
             "hertz": (Hertz, ("stiffness", "exponent")),
             "hertz-sphere": (Hertz.from_materials, ("radius1", "youngs_modulus1", "poisson1",
                                                     "youngs_modulus2", "poisson2", "radius2"))}
@@ -388,7 +403,7 @@ def _bodies(specs, *, quantity, fit_options, read_options, check_passive):
 def _band_reach(result, fits, notes, band_tolerance) -> list:
     """Per identified body, the share of the force's energy above its band (a
     :class:`BandWarning` above ``band_tolerance``); None for the others."""
-    reach = []
+    reach: list[float | None] = []
     for i, (fit, note) in enumerate(zip(fits, notes)):
         if fit is None:
             reach.append(None)
@@ -415,10 +430,19 @@ def _as_pair(read_options):
     return read_options, read_options
 
 
+def _solve_pair(model1, model2, *, velocity1, velocity2, check_passive, gap, contact, t_end,
+                dt, method):
+    """The impact of two models (``predict``'s solves)."""
+    return solve_impact(Body(model1, velocity=velocity1, check_passive=check_passive),
+                        Body(model2, velocity=velocity2, check_passive=check_passive),
+                        gap=gap, contact=contact, t_end=t_end, dt=dt, method=method)
+
+
 def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rigid",
             t_end, dt=None, method="auto", quantity=None, band_tolerance=0.01,
             continuation="auto", uncertainty=False, uncertainty_draws=4,
-            seed=0, fit_options=None, read_options=None, check_passive=True) -> Prediction:
+            seed=0, fit_options=None, read_options=None, check_passive=True,
+            executor=None) -> Prediction:
     """Predict the impact of two bodies given as files, specs or models.
 
     Parameters
@@ -453,6 +477,9 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
         the four figures together: ``uncertainty_draws`` parameter draws with ``seed``,
         re-identification on 80 % of each band, the truncation error it implies and the
         continuation's).
+    executor : None, concurrent.futures.Executor or dask.distributed.Client
+        Where the uncertainty band's re-identifications and solves run (``None``: here,
+        one after the other); the band does not depend on it.
     fit_options : dict, optional
         Keyword options of the :class:`modalid.ModalFit` each FRF file is identified with,
         e.g. ``HammerFRF.fit_options()`` (``window_decay_rate``, ``record_length``) for FRFs
@@ -465,6 +492,10 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
     check_passive : bool
         Refuse models that are not stable, passive driving points (see :class:`Body`),
         and FRF files whose sign says they are not (see :func:`modalid.io.check_sign`).
+
+    Returns
+    -------
+    Prediction
 
     Raises
     ------
@@ -488,10 +519,10 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
                            read_options=read_options, check_passive=check_passive)
     law = parse_contact(contact)
 
-    def solve(model1, model2):
-        return solve_impact(Body(model1, velocity=velocity1, check_passive=check_passive),
-                            Body(model2, velocity=velocity2, check_passive=check_passive),
-                            gap=gap, contact=law, t_end=t_end, dt=dt, method=method)
+    # a partial of a module-level function: it pickles, for the band's process pools
+    solve = functools.partial(_solve_pair, velocity1=velocity1, velocity2=velocity2,
+                              check_passive=check_passive, gap=gap, contact=law,
+                              t_end=t_end, dt=dt, method=method)
 
     notes = [None if fit is None else "off" for fit in fits]
     result = None
@@ -511,8 +542,8 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
             if wanted[i]:
                 models[i], notes[i] = _continued(fit, label=f"body {i + 1}: ")
                 if shares[i] is not None:
-                    notes[i] += (f" (auto: {100 * shares[i]:.2f} % of the force's energy lay "
-                                 "above the band without it)")
+                    notes[i] += (f" (auto: {100 * shares[i]:.2f} % of the force's "  # type: ignore[operator]
+                                 "energy lay above the band without it)")
                 _check_model(models[i], specs[i], i + 1, check_passive)
         result = solve(*models)
     elif result is None:
@@ -524,7 +555,7 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
     if uncertainty and identified:
         continued = any(n is not None and n.startswith("on") for n in notes)
         band = uncertainty_band(models, fits, solve, n_draws=uncertainty_draws, seed=seed,
-                                continuation=continued, nominal=result)
+                                continuation=continued, nominal=result, executor=executor)
     reach = _band_reach(result, fits, notes, band_tolerance)
     return Prediction(result=result, fits=tuple(fits), band_reach=tuple(reach),
                       figures=figures, uncertainty=band, continuation=tuple(notes))

@@ -1,4 +1,4 @@
-"""Design sweeps of an impact damper, run in parallel through any ``concurrent.futures.Executor``.
+"""Design sweeps of an impact damper, run in parallel on any executor or Dask cluster, resumable.
 
 :func:`sweep` runs :meth:`ImpactDamper.simulate` over the Cartesian product of up to four
 axes (excitation frequency, mass ratio, clearance, contact stiffness) and returns one row
@@ -18,15 +18,16 @@ import itertools
 import math
 import os
 import pickle
-import sys
-import time
 import traceback
-from concurrent.futures import FIRST_COMPLETED, Executor, ProcessPoolExecutor, wait
+from contextlib import closing
 
 import numpy as np
 import pandas as pd
 
-from modalid._checks import as_count
+from modalid.validation import as_count
+
+from ..parallel import check_executor, progress_bar, resolve_executor
+from ._sweep_store import SweepStore
 
 __all__ = ["SweepError", "optimum_clearance", "plot_optimum_clearance", "sweep"]
 
@@ -167,46 +168,63 @@ def _run_chunk(damper, items, n_cycles):
 
 
 # ----------------------------------------------------------------------------- progress
-class _Progress:
-    """A one-line progress bar on stderr (redrawn in place on a terminal, else every 10 %)."""
+#: the bar: "sweep  40%|####      | 8/20 combinations [00:03<00:04]"
+_BAR = ("{desc} {percentage:3.0f}%|{bar:30}| {n_fmt}/{total_fmt} combinations "
+        "[{elapsed}<{remaining}]")
 
-    def __init__(self, total, enabled, stream=None):
-        self.total, self.enabled = total, enabled
-        self.stream = sys.stderr if stream is None else stream
-        self.tty = bool(getattr(self.stream, "isatty", lambda: False)())
-        self.start = time.perf_counter()
-        self.last_decile = -1
-        self.done = 0
 
-    def update(self, n):
-        self.done += n
-        if not self.enabled:
-            return
-        decile = int(10 * self.done / self.total)
-        if not self.tty and decile == self.last_decile and self.done < self.total:
-            return
-        self.last_decile = decile
-        elapsed = time.perf_counter() - self.start
-        width = 30
-        filled = round(width * self.done / self.total)
-        left = elapsed / self.done * (self.total - self.done) if self.done else float("nan")
-        text = (f"sweep [{'#' * filled}{'.' * (width - filled)}] {self.done}/{self.total} "
-                f"combinations, {elapsed:.1f} s" + (f", ~{left:.0f} s left"
-                                                   if self.done < self.total else ""))
-        self.stream.write(("\r" + text) if self.tty else (text + "\n"))
-        if self.tty and self.done >= self.total:
-            self.stream.write("\n")
-        self.stream.flush()
+def _progress(total, enabled, stream=None, initial=0):
+    """The sweep's tqdm bar on ``stream`` (stderr), counting combinations."""
+    bar = progress_bar(total, enabled=enabled, desc="sweep", bar_format=_BAR, file=stream)
+    if initial:
+        bar.update(initial)
+    return bar
 
-    def close(self):
-        if self.enabled and self.tty and self.done < self.total:
-            self.stream.write("\n")
-            self.stream.flush()
+
+def _run_items(damper, items, combinations, rows, n_cycles, executor, chunksize, store,
+               bar):
+    """Run ``items`` ([(position, combination)]) in tasks; fill ``rows``, the store, the bar."""
+    with resolve_executor(executor) as pool:
+        if chunksize is None:
+            chunksize = max(1, math.ceil(len(items) / (_CHUNKS_PER_WORKER * pool.workers)))
+        # strided, not contiguous: each task gets a spread of the grid (the cost of a run
+        # varies strongly along an axis, e.g. near resonance), so no task is a straggler
+        n_chunks = math.ceil(len(items) / chunksize)
+        chunks = [items[i::n_chunks] for i in range(n_chunks)]
+        tasks = [(damper, chunk, n_cycles) for chunk in chunks]
+        with closing(pool.as_completed(_run_chunk, tasks)) as finished:
+            for index, future in finished:
+                chunk = chunks[index]
+                try:
+                    out = future.result()
+                except Exception as exc:
+                    cases = [c for _, c in chunk]
+                    shown = "; ".join(_describe(c) for c in cases[:3])
+                    more = f" and {len(cases) - 3} more" if len(cases) > 3 else ""
+                    raise SweepError(
+                        f"sweep: the executor failed the task of {len(cases)} "
+                        f"combination(s) ({shown}{more}): {type(exc).__name__}: {exc}",
+                        cases) from exc
+                if isinstance(out, _Failure):
+                    combination = combinations[out.position]
+                    raise SweepError(
+                        f"sweep: the combination {_describe(combination)} failed: "
+                        f"{type(out.exc).__name__}: {out.exc}", [combination]) from out.exc
+                if len(out) != len(chunk):
+                    raise SweepError(f"sweep: a task returned {len(out)} rows for "
+                                     f"{len(chunk)} combinations",
+                                     [c for _, c in chunk])
+                for (position, _), row in zip(chunk, out):
+                    rows[position] = row
+                if store is not None:
+                    store.append([(combination, row)
+                                  for (_, combination), row in zip(chunk, out)])
+                bar.update(len(chunk))
 
 
 # -------------------------------------------------------------------------------- sweep
 def sweep(damper, *, freq_hz=None, mass_ratio=None, clearance=None, contact_stiffness=None,
-          n_cycles=200, executor=None, progress=True, chunksize=None):
+          n_cycles=200, executor=None, progress=True, chunksize=None, store=None):
     """Primary amplitude (and the rest of the summary) over a grid of damper designs.
 
     Every combination of the given axes (their Cartesian product) is simulated from rest
@@ -229,21 +247,29 @@ def sweep(damper, *, freq_hz=None, mass_ratio=None, clearance=None, contact_stif
         ``ValueError`` if ``damper.contact`` has none (``Rigid``, ``InstantaneousImpact``).
     n_cycles : int, keyword-only
         Forcing cycles of each run (>= 1), from rest.
-    executor : concurrent.futures.Executor or None, keyword-only
-        Where the runs go. ``None``: a ``ProcessPoolExecutor(max_workers=os.cpu_count())``
-        created and shut down inside this call. Any ``Executor`` works: a
-        ``ThreadPoolExecutor`` (no pickling, but the GIL serialises most of the work), a
-        process pool of your own (reused across sweeps), or a Dask cluster's
-        ``client.get_executor()`` (``dask.distributed``) when one machine is not enough.
-        A user executor is left running.
+    executor : None, int, concurrent.futures.Executor or dask.distributed.Client, keyword-only
+        Where the runs go (:func:`impactpred.parallel.resolve_executor`). ``None``: a
+        ``ProcessPoolExecutor(max_workers=os.cpu_count())`` created and shut down inside
+        this call; an integer ``n``: ``n`` processes so (1: in this process). Any
+        ``Executor`` works: a ``ThreadPoolExecutor`` (no pickling, but the GIL serialises
+        most of the work), a process pool of your own (reused across sweeps), a Dask
+        ``Client`` or its ``client.get_executor()`` when one machine is not enough. A
+        user executor or client is left running. The table does not depend on it.
     progress : bool, keyword-only
-        Show a progress bar on stderr, updated as tasks complete.
+        Show a tqdm progress bar on stderr, counting combinations as tasks complete.
     chunksize : int or None, keyword-only
         Combinations per task (at most). ``None``: about 8 tasks per worker (fewer,
         larger tasks cost less overhead; more, smaller ones balance the load and update
-        the bar more often). Each task takes every ``n_tasks``-th combination, so that
-        expensive regions of the grid are shared out. Use larger chunks on a
-        distributed cluster.
+        the bar and the store more often). Each task takes every ``n_tasks``-th
+        combination, so that expensive regions of the grid are shared out.
+    store : str, os.PathLike or None, keyword-only
+        A CSV file the sweep writes each finished row to, as its task comes back (flushed
+        and synced), and resumes from: rows already there are not run again, and the
+        table is bit-identical to an uninterrupted sweep's. Created when absent; a store
+        written by another base damper, ``n_cycles`` or set of axes is refused. Format:
+        :mod:`impactpred.damper._sweep_store` (``pandas.read_csv(store, comment="#")``
+        reads it). A sweep interrupted by a kill, a failure or Ctrl-C loses only the
+        tasks in flight.
 
     Returns
     -------
@@ -264,7 +290,8 @@ def sweep(damper, *, freq_hz=None, mass_ratio=None, clearance=None, contact_stif
     SweepError
         A combination failed (``simulate`` raised, or the executor failed its task): the
         message names the combination, the original exception is chained. Pending tasks
-        are cancelled; no partial table is returned.
+        are cancelled; no partial table is returned (with ``store``, the rows finished
+        so far are in it, and a new call resumes from them).
 
     Notes
     -----
@@ -272,7 +299,10 @@ def sweep(damper, *, freq_hz=None, mass_ratio=None, clearance=None, contact_stif
     model object, not something holding open files. With a process pool, pin BLAS to one
     thread per worker (``OPENBLAS_NUM_THREADS=1`` before Python starts): the engine's
     small matrix products are slower multi-threaded, and the workers already use every
-    core.
+    core. On Dask, start the workers without the ``MALLOC_TRIM_THRESHOLD_=65536`` Dask's
+    nannies set by default (configuration ``distributed.nanny.pre-spawn-environ``) and
+    with the profiler off (``distributed.worker.profile.enabled: false``): with them a
+    damper run costs about 1.6 times the CPU (``benchmarks/bench_scaling.py``).
 
     Examples
     --------
@@ -280,11 +310,12 @@ def sweep(damper, *, freq_hz=None, mass_ratio=None, clearance=None, contact_stif
     ...               clearance=np.geomspace(1e-4, 1e-2, 20))      # doctest: +SKIP
     >>> plot_optimum_clearance(table)                                # doctest: +SKIP
 
-    On a Dask cluster::
+    On a Dask cluster, resumable::
 
         from dask.distributed import Client
         client = Client("scheduler-address:8786")
-        table = sweep(damper, freq_hz=f, clearance=c, executor=client.get_executor())
+        table = sweep(damper, freq_hz=f, clearance=c, executor=client,
+                      store="study.csv")
     """
     given = {name: value for name, value in zip(AXES, (freq_hz, mass_ratio, clearance,
                                                        contact_stiffness))
@@ -299,9 +330,10 @@ def sweep(damper, *, freq_hz=None, mass_ratio=None, clearance=None, contact_stif
             and any(f.name == "stiffness" for f in dataclasses.fields(damper.contact))):
         raise ValueError(f"contact_stiffness can only be swept for a contact law with a "
                          f"stiffness (LinearSpring, Hertz), got contact={damper.contact!r}")
-    if executor is not None and not isinstance(executor, Executor):
-        raise TypeError(f"executor must be a concurrent.futures.Executor or None, got "
-                        f"{type(executor).__name__}")
+    check_executor(executor)
+    if store is not None and not isinstance(store, (str, os.PathLike)):
+        raise TypeError(f"store must be a file path (str or os.PathLike) or None, got "
+                        f"{store!r}")
     if chunksize is not None:
         chunksize = as_count("chunksize", chunksize, minimum=1)
     combinations = _grid(axes)
@@ -313,61 +345,23 @@ def sweep(damper, *, freq_hz=None, mass_ratio=None, clearance=None, contact_stif
             raise SweepError(f"sweep: the combination {_describe(combination)} is invalid: "
                              f"{type(exc).__name__}: {exc}", [combination]) from exc
 
-    own = executor is None
-    if own:
-        executor = ProcessPoolExecutor(max_workers=os.cpu_count() or 1)
-    workers = getattr(executor, "_max_workers", None) or os.cpu_count() or 1
-    if chunksize is None:
-        chunksize = max(1, math.ceil(len(combinations) / (_CHUNKS_PER_WORKER * workers)))
-    items = list(enumerate(combinations))
-    # strided, not contiguous: each task gets a spread of the grid (the cost of a run
-    # varies strongly along an axis, e.g. near resonance), so no task is a straggler
-    n_chunks = math.ceil(len(items) / chunksize)
-    chunks = [items[i::n_chunks] for i in range(n_chunks)]
     rows = [None] * len(combinations)
-    bar = _Progress(len(combinations), bool(progress))
-    futures = {}
+    store = None if store is None else SweepStore(
+        store, axes=list(axes), result_columns=RESULT_COLUMNS, n_cycles=n_cycles,
+        damper=damper)
+    if store is not None:
+        done = store.open()
+        for position, combination in enumerate(combinations):
+            rows[position] = done.get(tuple(combination.values()))
+    items = [(position, combination) for position, combination in enumerate(combinations)
+             if rows[position] is None]
+    bar = _progress(len(combinations), bool(progress), initial=len(combinations) - len(items))
     try:
-        for chunk in chunks:
-            futures[executor.submit(_run_chunk, damper, chunk, n_cycles)] = chunk
-        pending = set(futures)
-        while pending:
-            done, pending = wait(pending, return_when=FIRST_COMPLETED)
-            for future in done:
-                chunk = futures[future]
-                try:
-                    out = future.result()
-                except Exception as exc:
-                    cases = [c for _, c in chunk]
-                    shown = "; ".join(_describe(c) for c in cases[:3])
-                    more = f" and {len(cases) - 3} more" if len(cases) > 3 else ""
-                    raise SweepError(
-                        f"sweep: the executor failed the task of {len(cases)} "
-                        f"combination(s) ({shown}{more}): {type(exc).__name__}: {exc}",
-                        cases) from exc
-                if isinstance(out, _Failure):
-                    combination = combinations[out.position]
-                    raise SweepError(
-                        f"sweep: the combination {_describe(combination)} failed: "
-                        f"{type(out.exc).__name__}: {out.exc}", [combination]) from out.exc
-                for (position, _), row in zip(chunk, out):
-                    rows[position] = row
-                if len(out) != len(chunk):
-                    raise SweepError(f"sweep: a task returned {len(out)} rows for "
-                                     f"{len(chunk)} combinations",
-                                     [c for _, c in chunk])
-                bar.update(len(chunk))
-    except BaseException:
-        for future in futures:
-            future.cancel()
-        if own:
-            executor.shutdown(wait=False, cancel_futures=True)
-            own = False
-        raise
+        if items:
+            _run_items(damper, items, combinations, rows, n_cycles, executor, chunksize,
+                       store, bar)
     finally:
         bar.close()
-        if own:
-            executor.shutdown(wait=True)
 
     missing = [combinations[i] for i, row in enumerate(rows) if row is None]
     if missing:  # cannot happen through the loop above; never return a table with holes
