@@ -1,7 +1,8 @@
 """Impact predictions from synthetic hammer tests against the exact continuum answers.
 
 Run:  python benchmarks/synthetic.py [--quick] [--workers 2] [--out DIR]
-      (10, 20 and 40 modes x 1 and 5 % noise, a band for every row: about 5 min on 2 cores)
+      (10, 20 and 40 modes x 1 and 5 % noise, a band for every row: 334 s of CPU, about
+      3 min on 2 free cores, 5 min at load 4-5; the rod-cantilever is not run at 40 modes)
 
 Everything is defined in :mod:`impactpred.benchmark`; this script runs it
 (``run_benchmark``) and prints the table, the targets and PASS/MISS per target cell.
@@ -26,10 +27,11 @@ Data: each rod or beam is measured by a synthetic hammer test of its truth
 ``lightly_damped(body, n + 10, zeta = 1e-4)`` (metals: 1e-4..1e-3), velocity response,
 5 hits, anti-aliasing filter, white noise ``noise x rms(record)`` on force and response
 (the H1 estimates then carry about ``noise`` of error per line, reported per row), record
-``min(50 / f1, 4000 / f_top)``, exponential window ending at 1 %; H1 by
+``min(50 / f1, max(4000 / f_top, 5 / f1))``, exponential window ending at 1 %; H1 by
 ``frf_from_hammer``; ``ModalFit(weighting="noise", **est.fit_options())`` on the band up to
 ``f_top`` (midway between elastic modes n and n + 1, n = 10, 20, 40; the stabilization
-diagram to order ``4 n + 16`` above 26 modes, ``fit_max_order``), which models the
+diagram to order ``4 n + 16`` above 26 modes unless fitted by segments,
+``fit_max_order``), which models the
 windowed, truncated FRF exactly and returns the structure's model; noise 1 % and 5 %. A
 mass or ball is known exactly. Prediction: ``identified_model`` (normal modes, continued
 above the band to ``tail_extent(n)`` times its top: 16 up to 10 modes, ``16 sqrt(10/n)``

@@ -29,14 +29,36 @@ BAND_TARGET = 0.9
 
 
 def targets_at(noise: float) -> dict:
-    """The |error| targets (%) at a noise level: :data:`TARGETS` up to 1 %, else
-    :data:`TARGETS_5`."""
+    """The ``|error|`` targets (%) at a noise level: :data:`TARGETS` up to 1 %, else
+    :data:`TARGETS_5`.
+
+    Parameters
+    ----------
+    noise : float
+        Noise level (a share, 0.01 for 1 %).
+
+    Returns
+    -------
+    dict
+        The target (%) of each figure.
+    """
     return TARGETS if noise <= 0.01 + 1e-12 else TARGETS_5
 def check_targets(table: pd.DataFrame) -> pd.DataFrame:
     """PASS/MISS per target and configuration (#19): at every band and noise, every case's
     four errors within :func:`targets_at` (1 %: e and impulse 1 %, duration 2 %, peak 10 %;
     5 %: 2 / 2 / 4 / 20 %); the band containing all four exact figures in at least
-    :data:`BAND_TARGET` of the cases; ``e <= 1`` for every row."""
+    :data:`BAND_TARGET` of the cases; ``e <= 1`` for every row.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        The benchmark's rows (:func:`run_benchmark`'s table).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per target and configuration: ``target``, ``worst``, ``result``, ``misses``.
+    """
     rows = []
     cols = [f"in_band_{_SHORT[k]}" for k in FIGURES]
     for (n, noise), sel in table.groupby(["n_modes", "noise"], sort=True):
@@ -46,10 +68,12 @@ def check_targets(table: pd.DataFrame) -> pd.DataFrame:
         for k, t in tol.items():
             err = sel[f"{_SHORT[k]}_err_%"].abs().to_numpy()
             ok &= err <= t                       # NaN (a failed row) misses
-            worst.append(f"{_SHORT[k]} {np.nanmax(err) if np.isfinite(err).any() else math.nan:.3g}")
+            largest = np.nanmax(err) if np.isfinite(err).any() else math.nan
+            worst.append(f"{_SHORT[k]} {largest:.3g}")
         rows.append({"target": f"{n} modes, {100 * noise:g} %: every case within "
                      + "/".join(f"{t:g}" for t in tol.values()) + " % (e/J/D/P)",
-                     "worst": f"{int(ok.sum())}/{len(sel)} cases pass; worst % " + ", ".join(worst),
+                     "worst": f"{int(ok.sum())}/{len(sel)} cases pass; worst % "
+                              + ", ".join(worst),
                      "result": "PASS" if ok.all() and len(sel) else "MISS",
                      "misses": ", ".join(c for c, good in zip(sel.case, ok) if not good)})
         banded = sel.dropna(subset=cols)
@@ -73,7 +97,18 @@ def check_targets(table: pd.DataFrame) -> pd.DataFrame:
 
 def markdown_table(table: pd.DataFrame) -> str:
     """The benchmark table in markdown, errors in % of the exact value, PASS/MISS marks
-    against :func:`targets_at` in every cell, the band's half-widths in %."""
+    against :func:`targets_at` in every cell, the band's half-widths in %.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        The benchmark's rows (:func:`run_benchmark`'s table).
+
+    Returns
+    -------
+    str
+        Markdown.
+    """
     def mark(r, k, v):
         return f"{v:+.2f} {'PASS' if abs(v) <= targets_at(r['noise'])[k] else 'MISS'}"
 
@@ -94,8 +129,9 @@ def markdown_table(table: pd.DataFrame) -> str:
         banded = not (inb is None or (isinstance(inb, float) and math.isnan(inb)))
         contains = "/".join("y" if d[f"in_band_{_SHORT[k]}"] else "n" for k in FIGURES) \
             if banded else "-"
-        widths = "/".join(f"{0.5 * (d[f'band_hi_{_SHORT[k]}_%'] - d[f'band_lo_{_SHORT[k]}_%']):.2g}"
-                          for k in FIGURES) if banded else "-"
+        widths = "/".join(
+            format(0.5 * (d[f"band_hi_{_SHORT[k]}_%"] - d[f"band_lo_{_SHORT[k]}_%"]), ".2g")
+            for k in FIGURES) if banded else "-"
         noise = f"{100 * d['noise']:g} %" + (f" ({d['frf_noise_%']})"
                                              if d.get("frf_noise_%") else "")
         lines.append(f"| {d['case']} | {d['n_modes']} | {noise} | "
@@ -108,7 +144,18 @@ def markdown_table(table: pd.DataFrame) -> str:
 
 
 def error_table(table: pd.DataFrame) -> str:
-    """Markdown: per case and noise, each figure's |error| (%) at every band, side by side."""
+    """Markdown: per case and noise, each figure's ``|error|`` (%) at every band, side by side.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        The benchmark's rows (:func:`run_benchmark`'s table).
+
+    Returns
+    -------
+    str
+        Markdown.
+    """
     bands = sorted(table.n_modes.unique())
     head = ("| case | noise | " + " | ".join(f"{_SHORT[k]} % at {'/'.join(map(str, bands))}"
                                              for k in FIGURES) + " |")

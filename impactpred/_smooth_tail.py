@@ -58,7 +58,12 @@ class TailDesign:
     x_max: float
 
     def compliance(self) -> float:
-        """Static compliance in units of ``G/omega_a`` (``2/pi`` by construction)."""
+        """Static compliance in units of ``G/omega_a`` (``2/pi`` by construction).
+
+        Returns
+        -------
+        float
+        """
         nodes, w = np.asarray(self.nodes), np.asarray(self.weights)
         return (float(np.dot(w, _hat_compliance(nodes))) if nodes.size else 0.0) + sum(
             c / u**2 for u, _, c in self.modes) + sum(c / s for s, c in self.poles)

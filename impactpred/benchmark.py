@@ -19,10 +19,13 @@ Measurement (:class:`Measurement`, the defaults are the benchmark's):
   H1 estimates then carry about ``noise`` of error per line, the ``frf_noise_%`` column;
   ``"max"`` gave them 8-9 times that); ``f_top`` is midway between elastic modes ``n``
   and ``n + 1`` (the band covers ``n`` modes);
-* record ``min(50 / f1, 4000 / f_top)`` long (50 periods of the first elastic mode, at
-  most 4000 lines in the band), an exponential window ending at 1 % (``sigma_w = 4.6 /
-  duration``) so the record needs not outlast the ``1/(zeta w1)`` decay: the resolution
-  needed is then the *windowed* half-power bandwidth ``2 (zeta w + sigma_w)``;
+* record ``min(50 / f1, max(4000 / f_top, 5 / f1))`` long (50 periods of the first
+  elastic mode, at most 4000 lines in the band unless fewer than 5 periods of mode 1
+  fit: a beam's ``f_top / f1`` grows like ``n**2``, 5600 lines at 20 modes and 22 500 at
+  40; with 3.6 periods mode 1 came out 1.4 % high, with 5 to 0.005 %), an exponential
+  window ending at 1 % (``sigma_w = 4.6 / duration``) so the record needs not outlast
+  the ``1/(zeta w1)`` decay: the resolution needed is then the *windowed* half-power
+  bandwidth ``2 (zeta w + sigma_w)``;
 * ``modalid.frf_from_hammer`` (force window, exponential window), the band from one line
   spacing to ``f_top``, ``ModalFit(weighting="noise", **est.fit_options())``: the
   windowed, truncated FRF modelled exactly (poles moved by ``-sigma_w``, each residue
@@ -31,16 +34,20 @@ Measurement (:class:`Measurement`, the defaults are the benchmark's):
 
 Identification: ``ModalFit(weighting="noise", max_order=fit_max_order(n), ...)``: above
 26 modes the stabilization diagram goes to order ``4 n + 16`` (``ModalFit``'s default caps
-it at 120, which found 9 of a fixed rod's 40 modes).
+it at 120, which found 9 of a fixed rod's 40 modes), except for bands of 8000 lines or more,
+fitted by segments of a few modes each (:func:`fit_max_order`).
 
 Prediction: ``identified_model`` (normal modes, ``continue_above_band`` to
-``tail_extent(n)`` times the band top), ``solve_impact(method="laplace")`` (``"modal"``
-with ``dt = dt_exact`` for Hertz contact); figures by ``impact_figures`` with contacts
-closer than ``1/(2 f_top)`` merged (ringing after a separation aside). Uncertainty, at
-every band: ``uncertainty_band`` (stated level 0.9 for the four figures together: 4 draws
-of the fits' parameters, re-identification on 80 % of each band, the tail to half its
-extent). Targets: :data:`TARGETS` (1 % noise), :data:`TARGETS_5` (5 %) for every case
-and band, :data:`BAND_TARGET`.
+``tail_extent(n)`` times the band top), ``solve_impact(method="laplace")`` with at most
+200 000 output samples (``"modal"`` with ``dt = dt_exact`` for Hertz contact); figures by
+``impact_figures`` with contacts closer than ``1/(2 f_top)`` merged (ringing after a
+separation aside). Uncertainty, at every band: ``uncertainty_band`` (stated level 0.9 for
+the four figures together: 4 draws of the fits' parameters, re-identification on 80 % of
+each band, the tail to half its extent). :func:`run_benchmark` identifies each measured
+body once per band and noise (with its cut-band re-identification) and computes each exact
+reference once, then predicts each case at each band in a task of its own. Targets:
+:data:`TARGETS` (1 % noise), :data:`TARGETS_5` (5 %) for every case and band,
+:data:`BAND_TARGET`.
 
 Exact references (:func:`exact_reference`): ``mass_on_fixed_rod`` (closed form, every
 contact) and ``two_free_rods_equal_transit`` (closed form); otherwise ``solve_impact(...,
@@ -52,8 +59,10 @@ peak force by 0.14 %).
 from __future__ import annotations
 
 import math
+import sys
 import time
 import warnings
+from contextlib import closing
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -66,9 +75,10 @@ from data_synth.reference_impacts import mass_on_fixed_rod, two_free_rods_equal_
 from modalid import ModalFit
 from modalid.hammer import frf_from_hammer
 
-from .api import solve_impact
+from .api import choose_dt, solve_impact
 from .body import Body
 from .contact import Hertz, Rigid
+from .parallel import check_executor, progress_bar, resolve_executor
 from .truncation import (
     FIGURES,
     band_resolution,
@@ -77,11 +87,10 @@ from .truncation import (
     impact_figures,
     tail_extent,
 )
-from .uncertainty import uncertainty_band
+from .uncertainty import refit_on_cut_band, uncertainty_band
 from ._benchmark_report import (
     _SHORT,
     BAND_TARGET,
-    TARGET_FAMILIES,
     TARGETS,
     TARGETS_5,
     _markdown,
@@ -107,6 +116,30 @@ class Case:
 
     ``reference`` names how the exact answer is computed: ``"mass_on_fixed_rod"``,
     ``"two_free_rods"`` or ``"convolution"`` (then with step ``dt_exact``).
+
+    Parameters
+    ----------
+    key : str
+        The case's label.
+    family : str
+        Its family (``"mass-rod"``, ``"rod-rod"``, ...).
+    description : str
+        One line saying what it is.
+    body1, body2 : object
+        The exact models (``data_synth``) of the two bodies.
+    velocity1, velocity2 : float
+        Their velocities before the impact (m/s).
+    t_end : float
+        End of the simulation (s).
+    reference : str
+        How the exact answer is computed (above).
+    dt_exact : float, optional
+        The convolution reference's step (s).
+    contact : ContactLaw
+        The contact law (default rigid).
+    max_modes : int, optional
+        The widest band predicted (None: every band). A wider band's rows are reported
+        as not run (``failure``; they count as misses).
     """
 
     key: str
@@ -120,6 +153,7 @@ class Case:
     reference: str
     dt_exact: float | None = None
     contact: object = field(default_factory=Rigid)
+    max_modes: int | None = None
 
 
 def _steel_ball(radius):
@@ -132,7 +166,12 @@ _STRIP_T = math.sqrt(_STRIP_MASS / (210e9 * 40e-3 * 10e-3**3 / 12.0 / 0.5**3))
 
 
 def benchmark_cases() -> list[Case]:
-    """The benchmark's cases (units SI; rods of mass 1 kg and transit time 1 s unless said)."""
+    """The benchmark's cases (units SI; rods of mass 1 kg and transit time 1 s unless said).
+
+    Returns
+    -------
+    list of Case
+    """
     fixed = Rod(1.0, 1.0, support="fixed")
     cases = []
     for ratio in (0.5, 1.0, 2.0, 4.0):
@@ -156,7 +195,11 @@ def benchmark_cases() -> list[Case]:
     cases.append(Case("rod-cantilever", "rod-beam",
                       "free rod at 1 m/s on the tip of a cantilever at rest (mass 10 kg, time "
                       "scale 4 s; paper d)", Rod(1.0, 1.0), CantileverBeam(10.0, 4.0), 1.0, 0.0,
-                      8.0, "convolution", dt_exact=1.0 / 2000))
+                      8.0, "convolution", dt_exact=1.0 / 2000,
+                      # at 40 modes (the beam's band top 628 Hz, the rod's 20 Hz) one exact
+                      # solve over the 8 s ran > 150 s CPU without finishing (event search;
+                      # a row needs 9): benchmarks/README.md, "Runtime"
+                      max_modes=20))
     ball = _steel_ball(0.005)
     cases.append(Case("ball-cantilever Hertz", "ball-beam",
                       f"steel ball R = 5 mm ({1e3 * ball.mass:.2f} g) at 1 m/s, Hertz contact, "
@@ -172,7 +215,21 @@ def benchmark_cases() -> list[Case]:
 # --------------------------------------------------------------------- references
 @dataclass(frozen=True)
 class Reference:
-    """Exact answer of a case: figures (see :data:`FIGURES`), force history, how, seconds."""
+    """Exact answer of a case: figures (see :data:`FIGURES`), force history, how, seconds.
+
+    Parameters
+    ----------
+    figures : dict
+        The exact figures (see :data:`FIGURES`).
+    t : numpy.ndarray
+        Times (s).
+    force : numpy.ndarray
+        The exact contact force (N) at ``t``.
+    how : str
+        How it was computed.
+    seconds : float
+        How long that took (s).
+    """
 
     figures: dict
     t: np.ndarray
@@ -182,7 +239,17 @@ class Reference:
 
 
 def exact_reference(case: Case) -> Reference:
-    """The exact figures and force history of ``case`` on its exact models."""
+    """The exact figures and force history of ``case`` on its exact models.
+
+    Parameters
+    ----------
+    case : Case
+        The case.
+
+    Returns
+    -------
+    Reference
+    """
     t0 = time.perf_counter()
     grid = np.linspace(0.0, case.t_end, 20001)
     if case.reference == "mass_on_fixed_rod":
@@ -218,7 +285,32 @@ def exact_reference(case: Case) -> Reference:
 # -------------------------------------------------------------------- measurement
 @dataclass(frozen=True)
 class Measurement:
-    """How each continuum is measured (see the module docstring)."""
+    """How each continuum is measured (see the module docstring).
+
+    Parameters
+    ----------
+    damping_ratio : float
+        Viscous damping ratio of every mode of the measured truth.
+    n_hits : int
+        Hammer hits averaged.
+    response : str
+        The measured response (``"velocity"``, ...).
+    noise_reference : str
+        What the noise level is relative to (``"rms"``: each record's RMS).
+    periods : float
+        Record length in periods of the first elastic mode.
+    max_lines : int
+        Most lines in the band, unless ``min_periods`` needs more.
+    min_periods : float
+        Fewest periods of the first mode in a record (a beam's ``f_top / f1`` grows like
+        ``n**2``: 5 periods take 5600 lines at 20 modes, 22 500 at 40).
+    window_end : float
+        The exponential window's value at the record's end.
+    fs_factor : float
+        Sampling rate over the band's top frequency.
+    extra_modes : int
+        Modes of the truth above the band.
+    """
 
     damping_ratio: float = 1e-4
     n_hits: int = 5
@@ -226,6 +318,7 @@ class Measurement:
     noise_reference: str = "rms"
     periods: float = 50.0
     max_lines: int = 4000
+    min_periods: float = 5.0
     window_end: float = 0.01
     fs_factor: float = 5.0
     extra_modes: int = 10
@@ -245,13 +338,30 @@ class Identified:
     frf_noise: float = 0.0
 
 
-def fit_max_order(n_modes: int) -> int | None:
-    """The stabilization diagram's largest order for a band of ``n_modes`` modes: None
-    (``ModalFit``'s default, ``4 n_peaks + 16`` capped at 120) up to 26 modes, else
-    ``4 n_modes + 16``. The cap found 9 of a fixed rod's 40 modes (1 % noise, verdict
-    "failed", modal masses 0.69 for 0.5); order 176 finds all 40 (masses within 0.6 %)."""
+def fit_max_order(n_modes: int, n_lines: int = 0) -> int | None:
+    """The stabilization diagram's largest order for a band of ``n_modes`` modes in
+    ``n_lines`` lines: None (``ModalFit``'s default, ``4 n_peaks + 16`` capped at 120) up to
+    26 modes, else ``4 n_modes + 16``. The cap found 9 of a fixed rod's 40 modes (1 %
+    noise, verdict "failed", modal masses 0.69 for 0.5); order 176 finds all 40 (masses
+    within 0.6 %). A band of ``modalid._segments.MIN_SEGMENTED`` lines or more is fitted
+    by segments of a few modes each, for which the default suits: order 176 there gave a
+    beam's 40 modes plus 72 spurious ones, in three times the time (22 500 lines).
+
+    Parameters
+    ----------
+    n_modes : int
+        Modes in the band.
+    n_lines : int
+        Lines in the band.
+
+    Returns
+    -------
+    int or None
+    """
+    from modalid._segments import MIN_SEGMENTED
+
     order = 4 * int(n_modes) + 16
-    return order if order > 120 else None
+    return order if order > 120 and n_lines < MIN_SEGMENTED else None
 
 
 def measure_body(body, n_modes, noise, *, seed, measurement=Measurement(),
@@ -263,6 +373,26 @@ def measure_body(body, n_modes, noise, *, seed, measurement=Measurement(),
     first), else the fit's own estimate of the data's scatter (``report_
     ["noise_median_relative"]``; 0.94 % where the exact figure is 1.2 %, fixed rod, 10
     modes, 1 % noise).
+
+    Parameters
+    ----------
+    body : object
+        An exact model (``data_synth``).
+    n_modes : int
+        Elastic modes the band covers.
+    noise : float
+        Noise level (a share, 0.01 for 1 %).
+    seed : int, keyword-only
+        The hammer test's seed (:func:`body_seed`).
+    measurement : Measurement, keyword-only
+        How it is measured.
+    exact_noise : bool, keyword-only
+        Measure ``frf_noise`` against a noise-free test (twice the cost).
+
+    Returns
+    -------
+    Identified
+        The fit, its model and the measurement's figures.
     """
     ms = measurement
     t0 = time.perf_counter()
@@ -270,7 +400,11 @@ def measure_body(body, n_modes, noise, *, seed, measurement=Measurement(),
     w = np.sort(truth.modes["omega_n"].to_numpy())
     w = w[w > 0]
     top = 0.5 * (w[n_modes - 1] + w[n_modes]) / (2 * math.pi)
-    duration = min(ms.periods * 2 * math.pi / w[0], ms.max_lines / top)
+    # 50 periods of the first mode, at most 4000 lines, but at least 5 periods: a beam's
+    # f_top/f1 grows like n^2 (3.6 periods in 4000 lines at 20 modes: mode 1 1.4 % high,
+    # at 40 modes 0.9: modes 1-3 missed); a tester lengthens the record to resolve mode 1
+    duration = min(ms.periods * 2 * math.pi / w[0],
+                   max(ms.max_lines / top, ms.min_periods * 2 * math.pi / w[0]))
     fs = ms.fs_factor * top
     decay = -math.log(ms.window_end) / duration
 
@@ -294,7 +428,7 @@ def measure_body(body, n_modes, noise, *, seed, measurement=Measurement(),
     t2 = time.perf_counter()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        fit = ModalFit(weighting="noise", max_order=fit_max_order(n_modes),
+        fit = ModalFit(weighting="noise", max_order=fit_max_order(n_modes, frf.freq_hz.size),
                        **est.fit_options()).fit(frf)
     t3 = time.perf_counter()
     if frf_noise is None:
@@ -312,13 +446,30 @@ def _force_error(result, ref: Reference) -> float:
     return float(np.linalg.norm(fp - fe) / np.linalg.norm(fe))
 
 
+#: most output samples of an exact (Laplace) prediction over ``t_end``
+_MAX_OUTPUT_SAMPLES = 200_000
+
+
 def _solver(case, dt=None):
+    """``solve(model1, model2) -> ImpactResult`` of ``case``: the exact solver for a linear
+    contact, else ``"modal"`` at ``case.dt_exact``. The exact solver's output step is its
+    automatic one (``choose_dt``: 8 samples per ``1/omega`` of the fastest pole), but at
+    most ``_MAX_OUTPUT_SAMPLES`` samples over ``t_end``: the continuation's fastest pole
+    asked for 4e6 samples of every state on a beam at 40 modes (gigabytes), while the
+    figures do not depend on the grid from 200 000 samples on (events, impulse and the
+    first peak are exact; rod-cantilever at 10 modes: the same four figures at 200 000
+    and at the automatic 510 000 samples; at 20 000 the peak came out 1.6 % lower: the
+    ringing's crest falls between samples)."""
     method = "laplace" if case.contact.is_linear else "modal"
-    dt = case.dt_exact if method == "modal" else dt
 
     def solve(m1, m2):
-        return solve_impact(Body(m1, velocity=case.velocity1), Body(m2, velocity=case.velocity2),
-                            contact=case.contact, t_end=case.t_end, dt=dt, method=method)
+        b1, b2 = Body(m1, velocity=case.velocity1), Body(m2, velocity=case.velocity2)
+        step = case.dt_exact if method == "modal" else dt
+        if step is None:
+            step = max(choose_dt((b1, b2), case.contact, t_end=case.t_end, method=method),
+                       case.t_end / _MAX_OUTPUT_SAMPLES)
+        return solve_impact(b1, b2, contact=case.contact, t_end=case.t_end, dt=step,
+                            method=method)
     return solve
 
 
@@ -332,7 +483,24 @@ def _is_measured(body):
 
 def body_seed(body, n_modes, noise, run=0) -> int:
     """The hammer test's seed of ``body`` at ``n_modes`` and ``noise`` in run ``run`` (0:
-    the benchmark's; the coverage study's runs 1, 2, ...)."""
+    the benchmark's; the coverage study's runs 1, 2, ...).
+
+    Parameters
+    ----------
+    body : object
+        An exact model of the benchmark.
+    n_modes : int
+        Modes in the band.
+    noise : float
+        Noise level (a share, 0.01 for 1 %).
+    run : int
+        The run (0: the benchmark's).
+
+    Returns
+    -------
+    int
+        The seed.
+    """
     return sum(map(ord, repr(body))) * 1000 + n_modes * 10 + int(100 * noise) + 7919 * run
 
 
@@ -347,8 +515,11 @@ def run_case(case, n_modes, noise, *, reference, cache=None, uncertainty=True, n
     reference : Reference
         From :func:`exact_reference`.
     cache : dict, optional
-        Identifications by ``(repr(body), n_modes, noise, run)`` and the damped truth's
-        figures by ``(case.key, n_modes)``, shared across cases.
+        Identifications by ``(repr(body), n_modes, noise, run)`` (their continued models
+        by ``("model", ...)`` of the same), the damped truth's figures by ``("damped
+        truth", case.key, n_modes)`` and the cut-band re-identifications under
+        ``"refits"`` (see :func:`~impactpred.uncertainty.uncertainty_band`), shared across
+        cases.
     uncertainty, n_draws, measurement
         Compute the uncertainty band (with ``n_draws`` parameter draws); the measurement.
     run : int
@@ -364,7 +535,7 @@ def run_case(case, n_modes, noise, *, reference, cache=None, uncertainty=True, n
     cache = {} if cache is None else cache
     seconds = {"hammer": 0.0, "frf": 0.0, "identify": 0.0}
     fits, models, truths, tops, lines, frf_noises = [], [], [], [], [], []
-    for i, body in enumerate((case.body1, case.body2)):
+    for _i, body in enumerate((case.body1, case.body2)):
         if not _is_measured(body):
             fits.append(None)
             models.append(body)
@@ -384,7 +555,9 @@ def run_case(case, n_modes, noise, *, reference, cache=None, uncertainty=True, n
         lines.append(ident.n_lines)
         frf_noises.append(ident.frf_noise)
         t0 = time.perf_counter()
-        models.append(identified_model(ident.fit))
+        if ("model",) + key not in cache:       # one continued model per identification
+            cache[("model",) + key] = identified_model(ident.fit)
+        models.append(cache[("model",) + key])
         seconds["continue"] = seconds.get("continue", 0.0) + time.perf_counter() - t0
     solve = _solver(case)
     t0 = time.perf_counter()
@@ -472,43 +645,83 @@ def run_case(case, n_modes, noise, *, reference, cache=None, uncertainty=True, n
     return row, result
 
 
-def _run_task(cases, n, noises, band, measurement, progress, start, level):
+#: the cut bands of the band's re-identifications (``uncertainty_band``'s default)
+_FRACTIONS = (0.8,)
+
+
+def _identify_task(body, n, noise, run, measurement, fractions):
+    """Stage one: ``body`` measured and identified at band ``n`` and ``noise`` (seed of run
+    ``run``), and re-identified on each of ``fractions`` of its band:
+    ``(Identified, {fraction: ModalFit}, seconds)``. Each body is identified once however
+    many cases use it (a fixed rod: four, the unit free rod: five)."""
+    t0 = time.perf_counter()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        ident = measure_body(body, n, noise, seed=body_seed(body, n, noise, run),
+                             measurement=measurement)
+        refits = {f: refit_on_cut_band(ident.fit, f) for f in fractions}
+    return ident, refits, time.perf_counter() - t0
+
+
+def _reference_task(case):
+    """Stage one: the exact reference of ``case`` (once per case, not per band)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        return exact_reference(case)
+
+
+def _runs_at(case, n_modes):
+    """Whether ``case`` is predicted at a band of ``n_modes`` modes (``Case.max_modes``)."""
+    return case.max_modes is None or n_modes <= case.max_modes
+
+
+def _first_stage_task(kind, *args):
+    """A stage-one task: ``("reference", case)`` or ``("identify", body, n, noise, run,
+    measurement, fractions)``."""
+    return _reference_task(*args) if kind == "reference" else _identify_task(*args)
+
+
+def _run_task(cases, n, noises, band, measurement, progress, start, level, refs=None,
+              idents=None):
     """One band ``n`` of some cases at every noise: ``(rows, {(key, noise): (t, force)})``
-    (a process of its own under ``workers > 1``; identifications shared inside)."""
+    (a process of its own under ``workers > 1``; identifications shared inside).
+
+    ``refs``: exact references by case key (else computed here); ``idents``: stage one's
+    ``{(repr(body), n, noise, run): (Identified, {fraction: refit}, seconds)}`` (else each
+    body is identified here, once per task)."""
     rows, curves, cache = [], {}, {}
+    for key, (ident, refits, _) in (idents or {}).items():
+        cache[key] = ident
+        for fraction, refit in refits.items():
+            cache.setdefault("refits", {})[(id(ident.fit), fraction)] = (ident.fit, refit)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)
         for case in cases:
-            ref = exact_reference(case)
+            ref = exact_reference(case) if refs is None else refs[case.key]
             for noise in noises:
                 row, res = run_case(case, n, noise, reference=ref, cache=cache,
                                     uncertainty=band, measurement=measurement, level=level)
                 rows.append(row)
                 if res is not None:
                     curves[(case.key, noise)] = (np.asarray(res.t), np.asarray(res.force))
-                if not progress:
-                    continue
-                head = (f"[{time.perf_counter() - start:6.1f} s] {case.key:<26} {n:>2} modes "
-                        f"{100 * noise:g} % noise: ")
-                if row["failure"]:
-                    print(head + f"FAILED {row['failure']}", flush=True)
-                else:
-                    print(head + f"e {row['e_err_%']:+.2f} %, J {row['impulse_err_%']:+.2f} %, "
-                          f"D {row['duration_err_%']:+.2f} %, P {row['peak_err_%']:+.2f} %"
-                          + ("" if row["in_band_e"] is None else ", band holds D/P/J/e "
-                             + "/".join("y" if row[f"in_band_{_SHORT[k]}"] else "n"
-                                        for k in FIGURES)), flush=True)
     return rows, curves
 
 
-def _chunks(cases, size=2):
-    """The cases in groups of ``size`` (in order): the tasks' units."""
-    return [cases[i:i + size] for i in range(0, len(cases), size)]
+def _progress_line(row, start):
+    """The line printed for a finished row (case, band, noise: errors, band)."""
+    head = (f"[{time.perf_counter() - start:6.1f} s] {row['case']:<26} {row['n_modes']:>2} "
+            f"modes {100 * row['noise']:g} % noise: ")
+    if row["failure"]:
+        return head + f"FAILED {row['failure']}"
+    return (head + f"e {row['e_err_%']:+.2f} %, J {row['impulse_err_%']:+.2f} %, "
+            f"D {row['duration_err_%']:+.2f} %, P {row['peak_err_%']:+.2f} %"
+            + ("" if row["in_band_e"] is None else ", band holds D/P/J/e "
+               + "/".join("y" if row[f"in_band_{_SHORT[k]}"] else "n" for k in FIGURES)))
 
 
 def run_benchmark(*, cases=None, bands=(10, 20, 40), noises=(0.01, 0.05), quick=False,
                   out=None, progress=True, band_modes=None, workers=2, level=0.9,
-                  measurement=Measurement()) -> pd.DataFrame:
+                  measurement=Measurement(), executor=None) -> pd.DataFrame:
     """Run the benchmark; write ``synthetic_benchmark.csv``, ``.md`` and figures to ``out``.
 
     Parameters
@@ -526,13 +739,19 @@ def run_benchmark(*, cases=None, bands=(10, 20, 40), noises=(0.01, 0.05), quick=
     out : str or Path, optional
         Output directory (created); nothing is written without it.
     progress : bool
-        Print one line per case and configuration.
+        Print one line per case and configuration (stdout) as its task finishes, under a
+        tqdm bar of the tasks (stderr).
     band_modes : sequence of int, optional
         The bands (mode counts) whose rows get an uncertainty band; default every band,
         ``()`` for none.
     workers : int
-        Processes (each runs two cases at one band, all noises); 1 runs in this process.
-        The numbers do not depend on it (every hammer test has its own seed).
+        Processes; 1 runs in this process. Stage one identifies every measured body at
+        every band and noise once (with its cut-band re-identification) and computes each
+        case's exact reference once; stage two runs one case at one band (all noises) per
+        task. The numbers do not depend on it (every hammer test has its own seed).
+    executor : None, concurrent.futures.Executor or dask.distributed.Client
+        Where the tasks run instead (:func:`impactpred.parallel.resolve_executor`; a
+        caller's executor or client is left running); ``None``: ``workers`` decides.
     level : float
         The uncertainty band's stated coverage (all four figures together).
     measurement : Measurement
@@ -558,34 +777,63 @@ def run_benchmark(*, cases=None, bands=(10, 20, 40), noises=(0.01, 0.05), quick=
     if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
         raise ValueError(f"workers must be an integer >= 1, got {workers!r}")
     band_modes = tuple(bands) if band_modes is None else tuple(band_modes)
-    # the widest bands first: the longest tasks start first
-    tasks = [(chunk, n) for n in sorted(bands, reverse=True) for chunk in _chunks(chosen)]
-    args = [(chunk, n, tuple(noises), n in band_modes, measurement, progress, start, level)
-            for chunk, n in tasks]
-    if workers == 1 or len(tasks) == 1:
-        outputs = [_run_task(*a) for a in args]
-    else:
-        from concurrent.futures import ProcessPoolExecutor
-
-        with ProcessPoolExecutor(max_workers=workers) as pool:
-            outputs = list(pool.map(_run_task, *zip(*args)))
+    check_executor(executor, counts=False)
+    # stage one: each case's exact reference and each measured body's identification at
+    # each band and noise (with its cut-band re-identification where a band is wanted),
+    # once each, the longest first (the widest band, the beams: their records are longest)
+    first = {("reference", c.key): ("reference", c) for c in chosen}
+    for n in sorted(bands, reverse=True):
+        for body in sorted({repr(b): b for c in chosen if _runs_at(c, n)
+                            for b in (c.body1, c.body2) if _is_measured(b)}.values(),
+                           key=lambda b: not isinstance(b, CantileverBeam)):
+            for noise in noises:
+                first[(repr(body), n, noise, 0)] = (
+                    "identify", body, n, noise, 0, measurement,
+                    _FRACTIONS if n in band_modes else ())
+    # stage two: one task per case and band (every noise), the widest band and the costliest
+    # solves (a rod on a beam, two rods) first
+    rank = {"rod-beam": 0, "rod-rod": 1, "ball-beam": 2, "mass-rod": 3}
+    tasks = [([c], n) for n in sorted(bands, reverse=True)
+             for c in sorted(chosen, key=lambda c: rank.get(c.family, 4)) if _runs_at(c, n)]
+    outputs = [None] * len(tasks)
+    with progress_bar(len(first) + len(tasks), enabled=progress, desc="benchmark",
+                      unit="task") as bar, \
+            resolve_executor(executor, default=1 if len(tasks) == 1 else workers) as pool:
+        done = dict(zip(first, pool.map(_first_stage_task, list(first.values()),
+                                        progress=bar)))
+        refs = {key[1]: v for key, v in done.items() if key[0] == "reference"}
+        args = [(chunk, n, tuple(noises), n in band_modes, measurement, False, start, level,
+                 {c.key: refs[c.key] for c in chunk},
+                 {k: done[k] for c in chunk for b in (c.body1, c.body2) if _is_measured(b)
+                  for k in [(repr(b), n, noise, 0) for noise in noises]})
+                for chunk, n in tasks]
+        with closing(pool.as_completed(_run_task, args)) as finished:
+            for index, future in finished:
+                outputs[index] = future.result()
+                for row in outputs[index][0] if progress else ():
+                    bar.write(_progress_line(row, start), file=sys.stdout)
+                bar.update(1)
     order = {c.key: i for i, c in enumerate(chosen)}
     rows = [r for rs, _ in outputs for r in rs]
+    rows += [{"case": c.key, "family": c.family, "n_modes": n, "noise": noise,
+              "failure": f"not run: the case's widest band is {c.max_modes} modes"}
+             for n in bands for c in chosen if not _runs_at(c, n) for noise in noises]
     rows.sort(key=lambda r: (order[r["case"]], r["n_modes"], r["noise"]))
     table = pd.DataFrame(rows)
     targets = check_targets(table)
     table.attrs["targets"] = targets
     table.attrs["seconds"] = time.perf_counter() - start
+    table.attrs["identify_seconds"] = sum(v[2] for k, v in done.items() if k[0] != "reference")
     if out is not None:
         out = Path(out)
         out.mkdir(parents=True, exist_ok=True)
         curves = {}
-        for (chunk, n), (_, c) in zip(tasks, outputs):
+        for (_chunk, n), (_, c) in zip(tasks, outputs):
             for (key, noise), curve in c.items():
                 curves.setdefault(key, {})[(n, noise)] = curve
         for case in chosen:
             got = {k: v for k, v in curves.get(case.key, {}).items() if k[1] == min(noises)}
-            _plot(out, case, exact_reference(case), got)
+            _plot(out, case, refs[case.key], got)
         table.to_csv(out / "synthetic_benchmark.csv", index=False)
         (out / "synthetic_benchmark.md").write_text(
             markdown_table(table) + "\n\n" + error_table(table) + "\n\n" + _markdown(targets)

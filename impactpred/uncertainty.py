@@ -2,14 +2,15 @@
 
 :func:`uncertainty_band` gives each of duration, peak, impulse and restitution an interval
 meant to hold the four exact figures together with a stated probability (``level``, 0.9
-by default): ``nominal -+ (z k sigma + truncation + tail)``, where ``sigma`` is the
+by default): ``nominal -+ (z k sigma + a truncation + b tail)``, where ``sigma`` is the
 figure's rms change over draws of the fits' parameters (residues, rigid mass, residual
 flexibility) from their reported standard deviations, ``truncation`` the error a
 re-identification on 80 % of each band implies at the full band (:func:`truncation_error`:
 a figure converging like ``1/band``, four times its change), ``tail`` the change when the
 continuation runs half as far, ``z`` the normal quantile of the level shared by the four
-figures (Bonferroni) and ``k`` (:data:`SPREAD_FACTOR`) a widening of the draws calibrated
-by the coverage study ``benchmarks/coverage.py`` on seeds other than those it reports.
+figures (Bonferroni) and ``k``, ``a``, ``b`` (:data:`SPREAD_FACTOR`,
+:data:`TRUNCATION_FACTOR`, :data:`TAIL_FACTOR`) the parts' factors calibrated by the coverage
+study ``benchmarks/coverage.py`` on seeds other than those it reports.
 The band spans the identification's scatter, the band's truncation and the tail's extent;
 a bias of the fit shows only as far as the cut band or the draws move with it.
 """
@@ -24,6 +25,7 @@ import numpy as np
 
 from modalid import ModalModel
 
+from .parallel import check_executor, resolve_executor
 from .truncation import FIGURES, band_resolution, identified_model, impact_figures, tail_extent
 
 __all__ = ["UncertaintyBand", "perturb_residues", "refit_on_cut_band", "truncation_error",
@@ -39,8 +41,8 @@ class UncertaintyBand:
     nominal : dict
         Figures of the nominal prediction (see :func:`impact_figures`).
     low, high : dict
-        Bounds of each figure in :data:`FIGURES`: ``nominal -+ (z SPREAD_FACTOR spread +
-        truncation + tail)`` (see :func:`uncertainty_band`).
+        Bounds of each figure in :data:`FIGURES`: ``nominal -+ (z k spread + a
+        truncation + b tail)`` (see :func:`uncertainty_band`).
     variants : tuple of (str, dict)
         Each variant's label (``"body2 band 60%"``, ``"draw 1"``) and figures.
     truncation : dict or None
@@ -67,12 +69,31 @@ class UncertaintyBand:
     level: float | None = None
 
     def contains(self, name: str, value: float, *, rel: float = 0.0) -> bool:
-        """Whether ``value`` lies in ``[low, high]`` of figure ``name`` (widened by ``rel``)."""
+        """Whether ``value`` lies in ``[low, high]`` of figure ``name`` (widened by ``rel``).
+
+        Parameters
+        ----------
+        name : str
+            A figure: ``contact_duration``, ``peak_force``, ``impulse`` or ``restitution``.
+        value : float
+            The value to test (the figure's unit).
+        rel : float, keyword-only
+            Widen the interval by this share of the nominal.
+
+        Returns
+        -------
+        bool
+        """
         lo, hi = self.low[name], self.high[name]
         return lo * (1 - rel) <= value <= hi * (1 + rel) if lo >= 0 else lo <= value <= hi
 
     def table(self) -> str:
-        """A short text table: figure, nominal, low, high."""
+        """A short text table: figure, nominal, low, high.
+
+        Returns
+        -------
+        str
+        """
         lines = [f"{'figure':<18}{'nominal':>14}{'low':>14}{'high':>14}"]
         for name in FIGURES:
             lines.append(f"{name:<18}{self.nominal[name]:>14.6g}{self.low[name]:>14.6g}"
@@ -81,7 +102,20 @@ class UncertaintyBand:
 
 
 def refit_on_cut_band(fit, fraction: float):
-    """A new ``ModalFit`` like ``fit``, on the lines up to ``fraction`` of its band top."""
+    """A new ``ModalFit`` like ``fit``, on the lines up to ``fraction`` of its band top.
+
+    Parameters
+    ----------
+    fit : ModalFit
+        A fitted estimator (its ``data_`` and options are reused).
+    fraction : float
+        Share of the band top to keep, in (0, 1].
+
+    Returns
+    -------
+    ModalFit
+        The new, fitted estimator.
+    """
     low, top = fit.report_["band_hz"]
     params = fit.get_params()
     params["freq_range"] = (low, fraction * top)
@@ -107,6 +141,18 @@ def perturb_residues(fit, rng) -> ModalModel:
     reflected back (``Im r -> -Im r``), so that the draw stays a passive driving point
     (a modal mass of the wrong sign would be refused by the passivity check) and the
     draw sequence stays the same.
+
+    Parameters
+    ----------
+    fit : ModalFit
+        A fitted estimator with standard deviations in its report.
+    rng : numpy.random.Generator
+        The draws' source.
+
+    Returns
+    -------
+    ModalModel
+        The drawn model.
     """
     model = fit.model_
     modes = fit.report_["modes"]
@@ -143,6 +189,20 @@ def truncation_error(nominal: dict, cut: dict, fraction: float) -> dict:
     exact) has ``|F(1) - F_inf| = |F(1) - F(f)| f / (1 - f)``: 4 times the change from
     80 %, 1.5 times the change from 60 %. An estimate, like Richardson's, not a bound.
     A figure missing (None) on either side gives 0.
+
+    Parameters
+    ----------
+    nominal : dict
+        Each figure at the full band.
+    cut : dict
+        The same figures from the re-identification on ``fraction`` of it.
+    fraction : float
+        The band fraction of ``cut``, in (0, 1).
+
+    Returns
+    -------
+    dict
+        The estimated error of each figure (its units).
     """
     if not 0.0 < fraction < 1.0:
         raise ValueError(f"fraction must lie in (0, 1), got {fraction!r}")
@@ -150,14 +210,24 @@ def truncation_error(nominal: dict, cut: dict, fraction: float) -> dict:
                 else abs(nominal[k] - cut[k]) * fraction / (1.0 - fraction)) for k in FIGURES}
 
 
-#: the draws' spread is widened by this factor before it is scaled to the stated level: the
-#: fits' reported standard deviations are optimistic on the benchmark (the free rods' masses
-#: at 5 % noise off by 3x their std), 4 draws estimate a spread to +-35 %, and the draws
-#: stand in for biases the cut band and the tail's estimate miss. Calibrated by
-#: ``benchmarks/coverage.py`` on seed runs 21-28 (the smallest factor holding all four
-#: figures in 90 % of the rows at 1 % and at 5 % noise, 10 modes); on runs 1-20 it holds
-#: them in 80.5 % (1 %) and 95.0 % (5 %) of 200 rows each (benchmarks/README.md)
-SPREAD_FACTOR = 2.7
+#: the factors of the band's three parts, ``z SPREAD_FACTOR sigma + TRUNCATION_FACTOR
+#: truncation + TAIL_FACTOR tail``, calibrated together by ``benchmarks/coverage.py`` on seed
+#: runs 21-28 (10 modes, 160 rows: the narrowest band at 1 % noise, by its largest median
+#: half-width ratio to the band before #19, that holds all four figures in 90 % of the rows
+#: at 1 % and at 5 % noise). Each part is widened only as far as it was measured to be
+#: optimistic: the draws' spread is not (k < 1: 4 draws of the fits' standard deviations
+#: suffice where the error is random); the cut band's Richardson estimate a little
+#: (a figure does not converge exactly like 1/band); the tail's change at half its extent
+#: most (a wave front's Gibbs overshoot converges slower than 1/extent: the equal rods'
+#: peak at 40 modes changes by 1.8 % from 4 to 8 band tops, by 4.6 % from 8 to 16). On
+#: runs 1-20 (200 rows per noise level) the band holds all four in 85.5 % (1 %) and 92.0 %
+#: (5 %) of the rows, at median half-widths 1.9-2.3 times those before #19 at 1 % (with
+#: ``k = 2.7`` alone, 80.5 % and 95.0 % at 1.4-4.6 times): benchmarks/README.md
+SPREAD_FACTOR = 0.9
+#: see :data:`SPREAD_FACTOR`
+TRUNCATION_FACTOR = 1.25
+#: see :data:`SPREAD_FACTOR`
+TAIL_FACTOR = 2.5
 
 #: the variants are solved with the tail to half as far when the widest band holds more
 #: than this many modes (the solve's cost grows like the square of the modes the tail
@@ -176,11 +246,12 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
                      seed: int = 0, continuation: bool = True, n_top: int = 3,
                      extend: float | None = None, nominal=None, level: float = 0.9,
                      cheap_variants: bool | None = None,
-                     refits: dict | None = None) -> UncertaintyBand:
+                     refits: dict | None = None, executor=None) -> UncertaintyBand:
     """An interval for each of duration, peak, impulse and restitution, meant to hold all
     four exact figures together with probability ``level``.
 
-    Each figure's interval is ``nominal -+ (z SPREAD_FACTOR sigma + truncation + tail)``:
+    Each figure's interval is ``nominal -+ (z k sigma + a truncation + b tail)`` (``k, a,
+    b``: :data:`SPREAD_FACTOR`, :data:`TRUNCATION_FACTOR`, :data:`TAIL_FACTOR`):
 
     * ``sigma``: the root-mean-square change of the figure over ``n_draws`` draws of every
       identified body's parameters from their reported standard deviations
@@ -193,7 +264,7 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
 
     The two error estimates are added in full (bias estimates, not random). The level is
     stated, not guaranteed: it is verified by the coverage study (``benchmarks/
-    coverage.py``), which calibrated :data:`SPREAD_FACTOR`.
+    coverage.py``), which calibrated ``k``, ``a`` and ``b``.
 
     Parameters
     ----------
@@ -225,6 +296,12 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
     refits : dict, optional
         A cache of the cut-band re-identifications, by ``(id(fit), fraction)`` (the caller
         keeps the fits alive): one body in several impacts is re-identified once.
+    executor : None, concurrent.futures.Executor or dask.distributed.Client
+        Where the re-identifications and the variants' solves run
+        (:func:`impactpred.parallel.resolve_executor`; ``None``: in this process, one
+        after the other; an executor of the caller's is left running). Under processes
+        ``solve`` must pickle (a module-level function or a ``functools.partial`` of one;
+        a Dask client also ships closures). The band does not depend on it.
 
     Returns
     -------
@@ -246,6 +323,7 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
             raise ValueError(f"fractions must lie in (0, 1), got {fraction!r}")
     if not (isinstance(level, (int, float)) and 0.0 < level < 1.0):
         raise ValueError(f"level must lie in (0, 1), got {level!r}")
+    check_executor(executor, counts=False)
     if cheap_variants is None:
         cheap_variants = _bands_modes(fits) > CHEAP_VARIANTS_ABOVE
     models = list(models)
@@ -264,6 +342,14 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
         return identified_model(fit if of is None else of, continuation=continuation,
                                 n_top=n_top, extend=share * extent(fit), **kw)
 
+    # the re-identifications on the cut bands start first: they run while the tail solves
+    pool = resolve_executor(executor, default=1)
+    pending = {}
+    for fit in fits:
+        for fraction in fractions if fit is not None else ():
+            key = (id(fit), fraction)
+            if key not in pending and (refits is None or key not in refits):
+                pending[key] = pool.submit(refit_on_cut_band, fit, fraction)
     # the tail's own extent: synthesized modes to half as far; the change, taken as the
     # error left (as for an error ~ 1/extend), is a heuristic that errs wide: a peak's
     # change from 8x to 16x exceeded its change from 16x to 32x by 2x on a rod
@@ -271,8 +357,8 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
     half = None
     if continuation and measured and all(f is None or extent(f) > 1.0 for f in fits):
         try:
-            half = solve(*[m if f is None else continued(f, 0.5)
-                           for f, m in zip(fits, models)])
+            half = pool.submit(solve, *[m if f is None else continued(f, 0.5)
+                                        for f, m in zip(fits, models)]).result()
         except (ValueError, MemoryError, np.linalg.LinAlgError):
             half = None
         if half is not None:
@@ -283,17 +369,18 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
     # the variants' reference: the nominal models with the variants' extent
     share = 0.5 if (cheap_variants and continuation and half is not None) else 1.0
     reference = half if share < 1.0 else nominal
-    cuts = []
+    cuts, cut_jobs = [], []
     for i, fit in enumerate(fits):
         if fit is None:
             continue
         for fraction in fractions:
-            if refits is None:
-                refit = refit_on_cut_band(fit, fraction)
+            key = (id(fit), fraction)
+            if refits is None or key not in refits:
+                refit = pending[key].result()
+                if refits is not None:
+                    refits[key] = (fit, refit)
             else:
-                if (id(fit), fraction) not in refits:
-                    refits[(id(fit), fraction)] = (fit, refit_on_cut_band(fit, fraction))
-                refit = refits[(id(fit), fraction)][1]
+                refit = refits[key][1]
             trial = list(models)
             try:
                 trial[i] = continued(fit, share, of=refit)
@@ -303,26 +390,32 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
             if share < 1.0:
                 trial = [t if j == i or f is None else continued(f, share)
                          for j, (t, f) in enumerate(zip(trial, fits))]
-            try:
-                res = solve(*trial)
-            except (ValueError, MemoryError, np.linalg.LinAlgError):
-                continue                 # a degenerate re-identification: no figure
-            cut_resolution = band_resolution(cut_fits)
-            figs = impact_figures(res, resolution=cut_resolution)
-            variants.append((f"body{i + 1} band {100 * fraction:.0f}%", figs))
-            # compared with the reference at the same resolution (the same merging)
-            cuts.append((fraction, figs, impact_figures(reference, resolution=cut_resolution)))
+            cut_jobs.append((i, fraction, cut_fits, pool.submit(solve, *trial)))
     rng = np.random.default_rng(seed)
     ref_figs = impact_figures(reference, resolution=resolution)
-    changes = {k: [] for k in FIGURES}
+    changes: dict[str, list] = {k: [] for k in FIGURES}
+    draw_jobs = []     # the draws made here, in order (one generator); their solves pooled
     if measured:
         for d in range(n_draws):
             trial = list(models)
             for i, fit in enumerate(fits):
                 if fit is not None:
                     trial[i] = continued(fit, share, model=perturb_residues(fit, rng))
+            draw_jobs.append((d, pool.submit(solve, *trial)))
+    for i, fraction, cut_fits, job in cut_jobs:
+        try:
+            res = job.result()
+        except (ValueError, MemoryError, np.linalg.LinAlgError):
+            continue                 # a degenerate re-identification: no figure
+        cut_resolution = band_resolution(cut_fits)
+        figs = impact_figures(res, resolution=cut_resolution)
+        variants.append((f"body{i + 1} band {100 * fraction:.0f}%", figs))
+        # compared with the reference at the same resolution (the same merging)
+        cuts.append((fraction, figs, impact_figures(reference, resolution=cut_resolution)))
+    if measured:
+        for d, job in draw_jobs:
             try:
-                figs = impact_figures(solve(*trial), resolution=resolution)
+                figs = impact_figures(job.result(), resolution=resolution)
             except (ValueError, MemoryError, np.linalg.LinAlgError):
                 continue
             variants.append((f"draw {d + 1}", figs))
@@ -336,12 +429,14 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
         for k, r in truncation_error(same, figs, fraction).items():
             trunc[k] = max(trunc[k], r)
     z = float(norm.ppf(1.0 - (1.0 - level) / 8.0))
-    low, high = {}, {}
+    low: dict[str, float | None] = {}
+    high: dict[str, float | None] = {}
     for k in FIGURES:
         if base[k] is None:
             low[k] = high[k] = None
             continue
-        half_width = z * SPREAD_FACTOR * spread[k] + trunc[k] + tail[k]
+        half_width = (z * SPREAD_FACTOR * spread[k] + TRUNCATION_FACTOR * trunc[k]
+                      + TAIL_FACTOR * tail[k])
         low[k], high[k] = base[k] - half_width, base[k] + half_width
     return UncertaintyBand(nominal=base, low=low, high=high, variants=tuple(variants),
                            truncation=trunc, tail=tail, spread=spread, level=level)

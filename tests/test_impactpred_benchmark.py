@@ -98,6 +98,26 @@ def test_seeds_differ_by_run_and_wide_bands_get_a_higher_order():
     assert len(seeds) == 3 * 2 * 30
     assert fit_max_order(10) is None and fit_max_order(26) is None
     assert fit_max_order(40) == 176
+    # a band fitted by segments (8000 lines or more) keeps ModalFit's default order
+    assert fit_max_order(40, 7999) == 176 and fit_max_order(40, 22500) is None
+
+
+def test_records_hold_five_periods_of_the_first_mode():
+    """A beam's f_top/f1 grows like n^2: at 20 modes its record grows past 4000 lines to
+    hold 5 periods of mode 1, which is then identified to 0.5 % (0.3 % with this seed;
+    3.6 periods in 4000 lines: 1.4 % high)."""
+    import numpy as np
+
+    from data_synth import CantileverBeam
+
+    beam = CantileverBeam(10.0, 4.0)
+    ident = measure_body(beam, 20, 0.01, seed=body_seed(beam, 20, 0.01))
+    w = np.sort(ident.truth.modes["omega_n"].to_numpy())
+    f1 = w[w > 0][0] / (2 * math.pi)
+    assert ident.duration * f1 == pytest.approx(Measurement().min_periods)
+    assert ident.n_lines > 5000
+    found = ident.fit.report_["modes"]["frequency_hz"].to_numpy()
+    assert np.min(np.abs(found - f1)) < 5e-3 * f1
 
 
 def test_measurement_noise_level_is_the_frf_noise():
@@ -109,3 +129,18 @@ def test_measurement_noise_level_is_the_frf_noise():
     assert Measurement().noise_reference == "rms"
     assert 0.004 < ident.frf_noise < 0.03
     assert abs(ident.fit.report_["rigid_mass"] - 1.0) < 0.02
+
+
+def test_bands_wider_than_a_cases_widest_are_reported_as_not_run():
+    """Case.max_modes: a wider band's rows are in the table as failures (not run), and its
+    accuracy target misses; the narrower band runs as usual."""
+    import dataclasses
+
+    case = dataclasses.replace(_case("mass-rod M/m=1"), max_modes=5)
+    table = run_benchmark(cases=(case,), bands=(5, 8), noises=(0.01,), band_modes=(),
+                          progress=False, workers=1)
+    assert list(table.n_modes) == [5, 8]
+    assert table.failure.iloc[0] == "" and math.isfinite(table["e_err_%"].iloc[0])
+    assert table.failure.iloc[1].startswith("not run") and math.isnan(table["e_err_%"].iloc[1])
+    got = dict(zip(table.attrs["targets"].target, table.attrs["targets"].result))
+    assert got["8 modes, 1 %: every case within 1/1/2/10 % (e/J/D/P)"] == "MISS"

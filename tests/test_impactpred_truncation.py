@@ -330,3 +330,24 @@ def test_identified_model_folds_a_multi_output_fits_pseudo_modes():
     assert np.max(np.abs(res.points[1].displacement[:, 0])) < 1e-15
     with pytest.raises(ValueError, match="continuation=False"):
         identified_model(fit)
+
+
+def test_a_weakly_coupled_mode_stays_out_of_the_top_modes_pattern():
+    """A noise pole of large modal mass between the top modes (a steel beam's fit at 5 %
+    noise: 41 kg for 0.39) changes neither the conductance nor the continuation's pattern;
+    it stays in the model."""
+    from modalid import ModalModel
+
+    from impactpred.truncation import continue_above_band
+
+    w = 2 * np.pi * np.arange(1, 11)
+    clean = ModalModel.from_modes(w, 1e-3, 0.5)
+    weak = ModalModel.from_modes(np.r_[w, 2 * np.pi * 9.6], 1e-3, np.r_[[0.5] * 10, 50.0])
+    top_hz = 10.5
+    assert high_frequency_conductance(weak, top_hz) == pytest.approx(
+        high_frequency_conductance(clean, top_hz), rel=1e-12)
+    assert high_frequency_conductance(clean, top_hz)[0] == pytest.approx(
+        np.pi / (2 * 0.5 * 2 * np.pi), rel=1e-12)
+    a, b = (continue_above_band(m, top_hz, extend=4.0) for m in (clean, weak))
+    assert len(b.poles) == len(a.poles) + 1
+    assert np.sort(np.abs(b.poles))[-1] == pytest.approx(np.sort(np.abs(a.poles))[-1])

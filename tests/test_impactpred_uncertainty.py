@@ -73,12 +73,12 @@ def _solve_mass_on(m1, m2):
 
 
 def test_band_of_a_mass_on_a_measured_rod_is_built_from_its_components():
-    """nominal -+ (z k sigma + truncation + tail): sigma the draws' rms change, the tail's
+    """nominal -+ (z k sigma + a truncation + b tail): sigma the draws' rms change, the tail's
     estimate the change at half the extent, z the Bonferroni quantile of the level."""
     from scipy.stats import norm
 
     from impactpred.truncation import FIGURES, band_resolution, identified_model
-    from impactpred.uncertainty import SPREAD_FACTOR
+    from impactpred.uncertainty import SPREAD_FACTOR, TAIL_FACTOR, TRUNCATION_FACTOR
 
     fit = _measured_fixed_rod()
     models = [LumpedMass(1.0), identified_model(fit)]
@@ -95,7 +95,8 @@ def test_band_of_a_mass_on_a_measured_rod_is_built_from_its_components():
         changes = [variants[f"draw {d}"][k] - band.nominal[k] for d in (1, 2, 3)]
         assert band.spread[k] == pytest.approx(np.sqrt(np.mean(np.square(changes))),
                                                rel=1e-12)
-        half = z * SPREAD_FACTOR * band.spread[k] + band.truncation[k] + band.tail[k]
+        half = (z * SPREAD_FACTOR * band.spread[k] + TRUNCATION_FACTOR * band.truncation[k]
+                + TAIL_FACTOR * band.tail[k])
         assert band.low[k] == pytest.approx(band.nominal[k] - half, rel=1e-12)
         assert band.high[k] == pytest.approx(band.nominal[k] + half, rel=1e-12)
         assert band.truncation[k] >= 0 and band.spread[k] > 0
@@ -121,6 +122,7 @@ def test_cheap_variants_are_measured_against_the_nominal_at_half_the_tail():
     extent and compared with the nominal solved the same way (the tail's estimate): no
     draws, the spread is 0 and the band's width is the truncation and tail estimates."""
     from impactpred.truncation import identified_model
+    from impactpred.uncertainty import TAIL_FACTOR, TRUNCATION_FACTOR
 
     fit = _measured_fixed_rod()
     models = [LumpedMass(1.0), identified_model(fit)]
@@ -138,8 +140,8 @@ def test_cheap_variants_are_measured_against_the_nominal_at_half_the_tail():
     assert first.low == again.low == band.low and first.high == band.high
     assert all(v == 0.0 for v in band.spread.values())
     for k in band.truncation:
-        assert band.high[k] - band.nominal[k] == pytest.approx(band.truncation[k]
-                                                               + band.tail[k], rel=1e-12)
+        assert band.high[k] - band.nominal[k] == pytest.approx(
+            TRUNCATION_FACTOR * band.truncation[k] + TAIL_FACTOR * band.tail[k], rel=1e-12)
 
 
 @pytest.mark.parametrize("kwargs, match", [
