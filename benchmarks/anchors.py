@@ -320,7 +320,7 @@ def run(seeds, noises=(0.0, 0.05), quick=False, out=print):
                         with warnings.catch_warnings():
                             warnings.simplefilter("ignore")
                             p, r, sec = runner(d)
-                    except Exception as exc:  # an anchor that crashes is a result too
+                    except Exception as exc:  # noqa: BLE001 - an anchor that crashes is a result too
                         fails += 1
                         out(f"  [{label} {name} noise={noise} seed={seed}] failed: "
                             f"{type(exc).__name__}: {exc}")
@@ -373,7 +373,8 @@ def main(argv=None):
     print(f"seeds 0..{n_seeds - 1}; BLAS threads {os.environ.get('OPENBLAS_NUM_THREADS')}, "
           f"cpus {os.cpu_count()}, load average {os.getloadavg()[0]:.2f}")
     print("errors: worst mode of each run (relative, %), then median / max over seeds; "
-          "counts summed over seeds (noise 0: one run, the data do not depend on the seed); a true mode is missed when no pole is within "
+          "counts summed over seeds (noise 0: one run, the data do not depend on the seed); "
+          "a true mode is missed when no pole is within "
           "1 % of it (its errors are then not in the worst); spurious = unmatched poles "
           "in band; unstable (Re p > 0) and neg. mass (-1/(2 Im p Im r) < 0) count poles in band")
     print("FRF anchors: make_case (4000 lines, 8 modes in band, told the 8 modes); "

@@ -15,7 +15,8 @@ is 5 % of it, ``m_d = 0.0125 kg``, ``Rigid()`` contact on both stops, harmonic f
 vibrate at ``|H(i 2 pi F1)| F0 = 50.7 mm``). The clearance (on each side) is picked by the
 script from ``CLEARANCES`` with the exact engine (100 cycles each): the one whose last
 10 cycles have the number of impacts per cycle (clusters, see below) closest to 2, ties
-going to the fewest contact intervals per cycle; ``--clearance`` fixes it instead. The timed run is 1,000 forcing cycles from rest (100 s of motion).
+going to the fewest contact intervals per cycle; ``--clearance`` fixes it instead. The timed
+run is 1,000 forcing cycles from rest (100 s of motion).
 
 What "Rigid" means here, and why the baseline needs care
 --------------------------------------------------------

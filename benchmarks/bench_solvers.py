@@ -460,8 +460,8 @@ def main(argv=None):
     print(f"  {'rtol':>7s} {'time (s)':>9s} {'nfev':>7s} {'starts':>6s} {header}  target")
     ladder = []
     for rtol in RTOL_LADDER:
-        el, res = timed_once(lambda: penalty_lsoda(models, velocities, T_END, rtol=rtol,
-                                                   atol=1e-3 * rtol))
+        el, res = timed_once(lambda: penalty_lsoda(models, velocities, T_END,  # noqa: B023
+                                                   rtol=rtol, atol=1e-3 * rtol))  # noqa: B023
         acc = accuracy(res["restitution"], res["intervals"], e_ex, iv_ex)
         ladder.append((rtol, el, res, acc))
         print(f"  {rtol:7.0e} {el:9.3f} {res['nfev']:7d} {res['starts']:6d} "
@@ -548,7 +548,7 @@ def main(argv=None):
     modal = []
     for n in (MODAL_N_FULL if args.full else MODAL_N):
         el, res = timed_once(lambda: solve_quiet(striker, rod_body, t_end=T_END,
-                                                 method="modal", dt=T / n))
+                                                 method="modal", dt=T / n))  # noqa: B023
         acc = accuracy(res.restitution, res.contact_intervals, e_ex, iv_ex)
         modal.append((n, el, acc))
         print(f"  {n:7d} {el:9.3f} {fmt_acc(acc, n_ex)}  "

@@ -18,9 +18,9 @@ Pipeline
    defaults (no windows), fitted by ``ModalFit(**est.fit_options())`` and nothing else
    (the whole file: automatic band, segments), unweighted and with the response weights
    of ``fit_options(weighted=True)``, and the latter with ``missed_modes="dense"``;
-   hit 5's force unwindowed. Then identification over 50-11000 Hz (the band the coherence and the force spectrum
-   support; it holds all but ~0.01 % of the acceleration energy, and 5 % of it lies
-   above 5 kHz), all with ``passive=False`` (not a driving point: several modes have
+   hit 5's force unwindowed. Then identification over 50-11000 Hz (the band the coherence and
+   the force spectrum support; it holds all but ~0.01 % of the acceleration energy, and 5 %
+   of it lies above 5 kHz), all with ``passive=False`` (not a driving point: several modes have
    negative modal masses), each reported on its own row:
    * ``ModalFit`` with its own weighting (``"relative"``), on the H1 without exponential
      window: automatic, and with ``n_modes`` = the H1 peaks (left out by ``--quick``);
@@ -76,7 +76,8 @@ import modalid
 from modalid._lsfd import Terms, refine_varpro, split_coefficients
 from modalid._vf import vector_fit_poles
 
-DATA = Path(__file__).resolve().parents[2] / "shared" / "data" / "measured" / "pyfrf_hammer_impacts"
+DATA = (Path(__file__).resolve().parents[2] / "shared" / "data" / "measured"
+        / "pyfrf_hammer_impacts")
 FS = 25600.0
 FORCE_WINDOW = 0.002            # s
 DECAY = np.log(100.0)           # 1/s: exponential window ending at 1 % after 1 s
@@ -330,7 +331,8 @@ def main():
         weights = np.sqrt(e.force_spectrum * np.clip(e.coherence, 1e-3, 1))
         model, info = output_error_fit(e.frf, weights, peaks_hz)
         times[f"output-error fit, {label}"] = time.perf_counter() - t0
-        note = f"{model.n_modes - 3} modes + 3 pseudo; FRF nrmse {info['acc_nrmse']:.4f}; nfev {info['nfev']}"
+        note = (f"{model.n_modes - 3} modes + 3 pseudo; FRF nrmse {info['acc_nrmse']:.4f}; "
+                f"nfev {info['nfev']}")
         if e.window_decay_rate:
             add(f"output-error model, {label}, corrected", predict_from_accelerance(
                 model_accelerance(e.correct(model)), f5, n_fft), note)

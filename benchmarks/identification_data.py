@@ -210,7 +210,10 @@ def mode_errors(truth_modes, poles, residues, *, band_hz=None, tol=MATCH_TOL) ->
         re_.append(abs(r[k] - rt) / abs(rt))
     with np.errstate(divide="ignore", invalid="ignore"):
         modal_mass = -1.0 / (2.0 * p.imag * r.imag)
-    worst = (lambda v: float(np.max(v)) if v else float("nan"))
+
+    def worst(v):
+        return float(np.max(v)) if v else float("nan")
+
     return {
         "freq_err": worst(fe),
         "damp_err": worst(de),

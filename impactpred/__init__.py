@@ -4,6 +4,14 @@ The core is the Laplace-transform method: while the bodies touch, the contact fo
 ``F(s) = (Y10 - Y20)/(H1 + H2)``; its time-domain twin is a convolution equation.
 """
 
+from importlib.metadata import PackageNotFoundError as _NotInstalled
+from importlib.metadata import version as _version
+
+try:  # one version, pyproject.toml's, for the three packages of the distribution
+    __version__ = _version("impactpred")
+except _NotInstalled:  # pragma: no cover - imported from a source tree never installed
+    __version__ = "0+unknown"
+
 from .api import METHODS, choose_dt, solve_impact
 from .body import Body, SampledResponse
 from .contact import ContactLaw, Hertz, LinearSpring, Rigid

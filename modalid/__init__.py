@@ -4,6 +4,15 @@ The single model object of the project is :class:`ModalModel`; identification fr
 measured FRFs builds on it.
 """
 
+from importlib.metadata import PackageNotFoundError as _NotInstalled
+from importlib.metadata import version as _version
+
+try:  # one version, pyproject.toml's, for the three packages of the distribution
+    __version__ = _version("impactpred")
+except _NotInstalled:  # pragma: no cover - imported from a source tree never installed
+    __version__ = "0+unknown"
+
+from ._report import FitReport
 from .fit import ModalFit, ModalFitWarning
 from .frf import FRFData
 from .frf_set import FRFSet
@@ -20,5 +29,5 @@ __all__ = ["ModalFit", "ModalFitWarning", "FRFData", "ModalModel", "QUANTITIES",
            "to_receptance", "read_frf", "write_frf"]
 __all__ += ["HammerFRF", "DoubleHitWarning", "frf_from_hammer", "find_double_hits",
             "correct_exponential_window"]
-__all__ += ["MultiOutputModalModel"]
+__all__ += ["MultiOutputModalModel", "FitReport"]
 __all__ += ["FRFSet", "read_frf_set", "mac"]

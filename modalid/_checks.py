@@ -28,7 +28,19 @@ def _describe(value) -> str:
 
 
 def as_real_scalar(name: str, value) -> float:
-    """Return ``value`` as a finite Python float, or raise naming ``name``."""
+    """Return ``value`` as a finite Python float, or raise naming ``name``.
+
+    Parameters
+    ----------
+    name : str
+        The argument's name, for the message.
+    value : float
+        The value given.
+
+    Returns
+    -------
+    float
+    """
     if isinstance(value, bool) or not isinstance(value, (numbers.Real, np.floating, np.integer)):
         if isinstance(value, np.ndarray) and value.ndim == 0 and np.isrealobj(value):
             value = value.item()
@@ -42,7 +54,19 @@ def as_real_scalar(name: str, value) -> float:
 
 
 def as_positive_scalar(name: str, value) -> float:
-    """Return ``value`` as a finite float > 0, or raise naming ``name``."""
+    """Return ``value`` as a finite float > 0, or raise naming ``name``.
+
+    Parameters
+    ----------
+    name : str
+        The argument's name, for the message.
+    value : float
+        The value given.
+
+    Returns
+    -------
+    float
+    """
     out = as_real_scalar(name, value)
     if out <= 0.0:
         raise ValueError(f"{name} must be positive, got {out!r}")
@@ -50,7 +74,19 @@ def as_positive_scalar(name: str, value) -> float:
 
 
 def as_nonnegative_scalar(name: str, value) -> float:
-    """Return ``value`` as a finite float >= 0, or raise naming ``name``."""
+    """Return ``value`` as a finite float >= 0, or raise naming ``name``.
+
+    Parameters
+    ----------
+    name : str
+        The argument's name, for the message.
+    value : float
+        The value given.
+
+    Returns
+    -------
+    float
+    """
     out = as_real_scalar(name, value)
     if out < 0.0:
         raise ValueError(f"{name} must be non-negative, got {out!r}")
@@ -77,7 +113,21 @@ def _as_array(name: str, value, dtype) -> np.ndarray:
 
 
 def as_real_array(name: str, value, *, ndim: int | None = None) -> np.ndarray:
-    """Return a finite float array (copy-free when possible), or raise naming ``name``."""
+    """Return a finite float array (copy-free when possible), or raise naming ``name``.
+
+    Parameters
+    ----------
+    name : str
+        The argument's name, for the message.
+    value : array_like
+        The value given.
+    ndim : int, optional, keyword-only
+        The number of dimensions required.
+
+    Returns
+    -------
+    numpy.ndarray of float
+    """
     arr = _as_array(name, value, float)
     if ndim is not None and arr.ndim != ndim:
         raise ValueError(f"{name} must be {ndim}-D, got shape {arr.shape}")
@@ -85,7 +135,21 @@ def as_real_array(name: str, value, *, ndim: int | None = None) -> np.ndarray:
 
 
 def as_complex_array(name: str, value, *, ndim: int | None = None) -> np.ndarray:
-    """Return a finite complex array, or raise naming ``name``."""
+    """Return a finite complex array, or raise naming ``name``.
+
+    Parameters
+    ----------
+    name : str
+        The argument's name, for the message.
+    value : array_like
+        The value given.
+    ndim : int, optional, keyword-only
+        The number of dimensions required.
+
+    Returns
+    -------
+    numpy.ndarray of complex
+    """
     arr = _as_array(name, value, complex)
     if ndim is not None and arr.ndim != ndim:
         raise ValueError(f"{name} must be {ndim}-D, got shape {arr.shape}")
@@ -93,7 +157,21 @@ def as_complex_array(name: str, value, *, ndim: int | None = None) -> np.ndarray
 
 
 def as_choice(name: str, value, choices) -> str:
-    """Return ``value`` if it is one of the strings ``choices``, or raise naming ``name``."""
+    """Return ``value`` if it is one of the strings ``choices``, or raise naming ``name``.
+
+    Parameters
+    ----------
+    name : str
+        The argument's name, for the message.
+    value : str
+        The value given.
+    choices : sequence of str
+        The allowed values.
+
+    Returns
+    -------
+    str
+    """
     if not isinstance(value, str):
         raise TypeError(f"{name} must be one of {sorted(choices)}, got {_describe(value)}")
     if value not in choices:
@@ -102,7 +180,21 @@ def as_choice(name: str, value, choices) -> str:
 
 
 def as_count(name: str, value, *, minimum: int = 0) -> int:
-    """Return ``value`` as an int >= ``minimum``, or raise naming ``name``."""
+    """Return ``value`` as an int >= ``minimum``, or raise naming ``name``.
+
+    Parameters
+    ----------
+    name : str
+        The argument's name, for the message.
+    value : int
+        The value given (a bool is refused).
+    minimum : int, keyword-only
+        The smallest allowed.
+
+    Returns
+    -------
+    int
+    """
     if isinstance(value, bool) or not isinstance(value, (numbers.Integral, np.integer)):
         raise TypeError(f"{name} must be an integer, got {_describe(value)}")
     out = int(value)

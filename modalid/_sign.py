@@ -60,7 +60,17 @@ class SignCheck:
 
     def problem(self, source) -> str:
         """One sentence naming ``source``, what is wrong and the reading option that fixes
-        it (as ``read_options={...}``; the command line's ``--conjugate``/``--negate``)."""
+        it (as ``read_options={...}``; the command line's ``--conjugate``/``--negate``).
+
+        Parameters
+        ----------
+        source : str
+            The file (or data) the check was made on, for the message.
+
+        Returns
+        -------
+        str
+        """
         if self.verdict == "conjugate":
             return (f"{source}: its resonances turn counter-clockwise in the complex plane "
                     f"(turning score {self.turning:+.2f}; a causal FRF's turn clockwise, "

@@ -228,6 +228,13 @@ def _add_hammer_parser(sub) -> None:
 
 
 def build_parser() -> argparse.ArgumentParser:
+    """The ``modalid`` command line's parser.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        With its ``fit`` and ``hammer`` commands.
+    """
     parser = argparse.ArgumentParser(prog="modalid", description="Identify pole-residue "
                                      "modal models from measured FRFs.")
     sub = parser.add_subparsers(dest="command", metavar="command")
@@ -237,7 +244,18 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv=None) -> int:
-    """Entry point of the ``modalid`` console script."""
+    """Entry point of the ``modalid`` console script.
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        Command-line arguments without the program name; ``None`` reads ``sys.argv``.
+
+    Returns
+    -------
+    int
+        The exit status: 0 on success, 2 for a refused input, 3 for a failed fit.
+    """
     return run_command(build_parser(), argv)
 
 

@@ -35,6 +35,10 @@ class FRFData:
     """
 
     __slots__ = ("_freq_hz", "_values", "_quantity", "_coherence")
+    _freq_hz: np.ndarray
+    _values: np.ndarray
+    _quantity: str
+    _coherence: np.ndarray | None
 
     def __init__(self, freq_hz, values, *, quantity="receptance", coherence=None):
         freq_hz = as_real_array("freq_hz", freq_hz, ndim=1)
@@ -99,6 +103,15 @@ class FRFData:
 
         Dividing by ``i omega`` is undefined at 0 Hz: a 0 Hz line is dropped, with a
         ``UserWarning`` saying so, when converting towards receptance.
+
+        Parameters
+        ----------
+        quantity : {"receptance", "mobility", "accelerance"}
+            The quantity to convert to.
+
+        Returns
+        -------
+        FRFData
         """
         as_choice("quantity", quantity, QUANTITIES)
         if quantity == self._quantity:
@@ -114,18 +127,43 @@ class FRFData:
                        quantity=quantity, coherence=data._coherence)
 
     def to_receptance(self) -> FRFData:
-        """The FRF as receptance (m/N); see :meth:`convert` for the 0 Hz line."""
+        """The FRF as receptance (m/N); see :meth:`convert` for the 0 Hz line.
+
+        Returns
+        -------
+        FRFData
+        """
         return self.convert("receptance")
 
     def select(self, index) -> FRFData:
-        """A subset of the lines (slice, boolean mask or indices)."""
+        """A subset of the lines (slice, boolean mask or indices).
+
+        Parameters
+        ----------
+        index : slice, array_like of bool or array_like of int
+            The lines to keep.
+
+        Returns
+        -------
+        FRFData
+        """
         coherence = None if self._coherence is None else self._coherence[index]
         return FRFData(self._freq_hz[index], self._values[index], quantity=self._quantity,
                        coherence=coherence)
 
     def band(self, freq_range) -> FRFData:
         """The lines with ``fmin <= freq_hz <= fmax`` (Hz; ``fmax`` may be ``numpy.inf``);
-        an empty band is an error."""
+        an empty band is an error.
+
+        Parameters
+        ----------
+        freq_range : tuple of float
+            ``(fmin, fmax)`` (Hz).
+
+        Returns
+        -------
+        FRFData
+        """
         try:
             fmin, fmax = freq_range
         except (TypeError, ValueError) as exc:
@@ -146,7 +184,21 @@ class FRFData:
 
     # ---------------------------------------------------------------------- plots
     def plot(self, ax=None, *, label=None, **kwargs):
-        """Magnitude against frequency (Hz) on a log axis; returns the Axes."""
+        """Magnitude against frequency (Hz) on a log axis; returns the Axes.
+
+        Parameters
+        ----------
+        ax : matplotlib.axes.Axes, optional
+            Where to draw (a new figure when None).
+        label : str, optional, keyword-only
+            Legend label.
+        **kwargs
+            Passed to ``ax.plot``.
+
+        Returns
+        -------
+        matplotlib.axes.Axes
+        """
         import matplotlib.pyplot as plt
 
         if ax is None:
@@ -158,7 +210,19 @@ class FRFData:
         return ax
 
     def plot_phase(self, ax=None, **kwargs):
-        """Phase (degrees) against frequency (Hz); returns the Axes."""
+        """Phase (degrees) against frequency (Hz); returns the Axes.
+
+        Parameters
+        ----------
+        ax : matplotlib.axes.Axes, optional
+            Where to draw (a new figure when None).
+        **kwargs
+            Passed to ``ax.plot``.
+
+        Returns
+        -------
+        matplotlib.axes.Axes
+        """
         import matplotlib.pyplot as plt
 
         if ax is None:

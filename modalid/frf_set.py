@@ -83,6 +83,12 @@ class FRFSet:
 
     __slots__ = ("_freq_hz", "_values", "_quantity", "_coherence", "_outputs",
                  "_driving_point")
+    _freq_hz: np.ndarray
+    _values: np.ndarray
+    _quantity: str
+    _coherence: np.ndarray | None
+    _outputs: tuple
+    _driving_point: int | None
 
     def __init__(self, freq_hz, values, *, quantity="receptance", coherence=None,
                  outputs=None, driving_point=0):
@@ -162,18 +168,48 @@ class FRFSet:
 
     # ------------------------------------------------------------------ rows
     def index(self, output) -> int:
-        """Row index of ``output`` (int index or label); ``ValueError`` if out of range."""
+        """Row index of ``output`` (int index or label); ``ValueError`` if out of range.
+
+        Parameters
+        ----------
+        output : int or str
+            Row index or output label.
+
+        Returns
+        -------
+        int
+        """
         return _row_index(output, self._outputs)
 
     def row(self, output) -> FRFData:
-        """One row (index or label) as an :class:`FRFData`."""
+        """One row (index or label) as an :class:`FRFData`.
+
+        Parameters
+        ----------
+        output : int or str
+            Row index or output label.
+
+        Returns
+        -------
+        FRFData
+        """
         i = self.index(output)
         coherence = None if self._coherence is None else self._coherence[i]
         return FRFData(self._freq_hz, self._values[i], quantity=self._quantity,
                        coherence=coherence)
 
     def require_driving_point(self, purpose="this") -> int:
-        """The driving point's row index; ``ValueError`` saying why when it is None."""
+        """The driving point's row index; ``ValueError`` saying why when it is None.
+
+        Parameters
+        ----------
+        purpose : str
+            What needs the driving point, for the message.
+
+        Returns
+        -------
+        int
+        """
         if self._driving_point is None:
             raise ValueError(f"{purpose} needs a driving point (the row measured at the "
                              f"excitation point) but this FRFSet has driving_point=None; its "
@@ -193,6 +229,19 @@ class FRFSet:
         Different grids are refused (``ValueError`` naming the rows and how they differ):
         resample them yourself if that is what you mean, this never interpolates.
         Coherence is kept when every row has it.
+
+        Parameters
+        ----------
+        frfs : sequence of FRFData
+            One FRF per output, same quantity and frequency lines.
+        driving_point : int or None, keyword-only
+            Row of the driving point (None: no row is).
+        outputs : sequence of str, optional, keyword-only
+            One label per row (default ``"0"``, ``"1"``, ...).
+
+        Returns
+        -------
+        FRFSet
         """
         frfs = list(frfs) if not isinstance(frfs, FRFData) else [frfs]
         if not frfs:
@@ -223,7 +272,17 @@ class FRFSet:
 
     def convert(self, quantity: str) -> FRFSet:
         """The same FRFs as another quantity (a 0 Hz line is dropped towards receptance,
-        with a ``UserWarning``, as :meth:`FRFData.convert`)."""
+        with a ``UserWarning``, as :meth:`FRFData.convert`).
+
+        Parameters
+        ----------
+        quantity : {"receptance", "mobility", "accelerance"}
+            The quantity to convert to.
+
+        Returns
+        -------
+        FRFSet
+        """
         as_choice("quantity", quantity, QUANTITIES)
         if quantity == self._quantity:
             return self
@@ -238,24 +297,63 @@ class FRFSet:
                          quantity, data._coherence)
 
     def to_receptance(self) -> FRFSet:
-        """The FRFs as receptance (m/N); see :meth:`convert` for the 0 Hz line."""
+        """The FRFs as receptance (m/N); see :meth:`convert` for the 0 Hz line.
+
+        Returns
+        -------
+        FRFSet
+        """
         return self.convert("receptance")
 
     def select(self, index) -> FRFSet:
-        """A subset of the frequency lines (slice, boolean mask or indices), all rows."""
+        """A subset of the frequency lines (slice, boolean mask or indices), all rows.
+
+        Parameters
+        ----------
+        index : slice, array_like of bool or array_like of int
+            The lines to keep.
+
+        Returns
+        -------
+        FRFSet
+        """
         coherence = None if self._coherence is None else self._coherence[:, index]
         return self._new(self._freq_hz[index], self._values[:, index], self._quantity,
                          coherence)
 
     def band(self, freq_range) -> FRFSet:
-        """The lines with ``fmin <= freq_hz <= fmax`` (Hz), all rows."""
+        """The lines with ``fmin <= freq_hz <= fmax`` (Hz), all rows.
+
+        Parameters
+        ----------
+        freq_range : tuple of float
+            ``(fmin, fmax)`` (Hz).
+
+        Returns
+        -------
+        FRFSet
+        """
         mask = np.isin(self._freq_hz, self.row(0).band(freq_range).freq_hz)
         return self.select(mask)
 
     # ---------------------------------------------------------------------- plots
     def plot(self, ax=None, *, outputs=None, **kwargs):
         """Magnitudes against frequency (Hz), one line per row (or the ``outputs`` given);
-        returns the Axes. The driving point is drawn thicker."""
+        returns the Axes. The driving point is drawn thicker.
+
+        Parameters
+        ----------
+        ax : matplotlib.axes.Axes, optional
+            Where to draw (a new figure when None).
+        outputs : sequence of int or str, optional, keyword-only
+            The rows to draw (all when None).
+        **kwargs
+            Passed to ``ax.plot``.
+
+        Returns
+        -------
+        matplotlib.axes.Axes
+        """
         import matplotlib.pyplot as plt
 
         if ax is None:

@@ -159,6 +159,19 @@ def read_complex_lines(path, *, freq_hz, quantity) -> FRFData:
     Lines are parsed by :class:`complex` (never ``eval``); blank lines and ``#`` comments
     are skipped. The file holds no frequencies: ``freq_hz`` gives one per value line
     (for the pyuff beam files, line k is k Hz: ``freq_hz=np.arange(1001)``).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file.
+    freq_hz : array_like of float, keyword-only
+        One frequency (Hz) per value line.
+    quantity : {"receptance", "mobility", "accelerance"}, keyword-only
+        What the values are.
+
+    Returns
+    -------
+    FRFData
     """
     path = _as_path(path)
     freq_hz = as_real_array("freq_hz", freq_hz, ndim=1)
@@ -350,7 +363,7 @@ def read_frfs(path, *, format=None, quantity=None, columns=None) -> list[FRFData
     ``(unit)`` read when it is Hz, rad/s, deg, rad or dB: frequency ``f``, ``freq``,
     ``frequency`` (Hz unless rad/s is said), ``omega``/``w`` (rad/s); ``re``/``real`` and
     ``im``/``imag``; ``mag``/``magnitude``/``abs``/``amplitude`` (linear, or dB =
-    20 log10 |H| when the name says dB) with ``phase``/``arg``/``angle`` + ``deg`` or
+    ``20 log10 |H|`` when the name says dB) with ``phase``/``arg``/``angle`` + ``deg`` or
     ``rad`` (a phase without unit is refused); ``coh``/``coherence``. An ``H`` word is
     ignored (``H_real``, ``|H| (dB)``); a quantity word (``accelerance_real``) states the
     quantity. With both real/imag and magnitude/phase, real/imag are used. Separator:
@@ -444,6 +457,19 @@ def describe_frfs(path, *, format=None, columns=None):
     Columns: ``quantity`` (as the file states it, else None), ``n_lines``, ``fmin_hz``,
     ``fmax_hz``, ``coherence`` (bool), and for UFF ``response_node``, ``response_dir``,
     ``reference_node``, ``reference_dir``, ``name`` (ID line 1).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file.
+    format : str, optional, keyword-only
+        As in :func:`read_frfs`.
+    columns : dict, optional, keyword-only
+        As in :func:`read_frfs`.
+
+    Returns
+    -------
+    pandas.DataFrame
     """
     import pandas as pd
 

@@ -25,6 +25,11 @@ def receptance_to(quantity: str, receptance, omega) -> np.ndarray:
         Receptance at ``omega``; broadcast against ``omega``.
     omega : array_like of float
         Angular frequency in rad/s.
+
+    Returns
+    -------
+    numpy.ndarray of complex
+        The values in ``quantity`` (m/N, m/(N s) or m/(N s^2)).
     """
     as_choice("quantity", quantity, QUANTITIES)
     iw = 1j * np.asarray(omega, dtype=float)
@@ -41,6 +46,20 @@ def to_receptance(quantity: str, values, omega) -> np.ndarray:
     At ``omega = 0`` a mobility or accelerance carries no information about the
     receptance (it is divided by zero): a ``ValueError`` names the case instead of
     returning ``inf``/``nan``. Drop the 0 Hz line or convert it by a model.
+
+    Parameters
+    ----------
+    quantity : {"receptance", "mobility", "accelerance"}
+        What ``values`` are.
+    values : array_like of complex
+        The FRF values (m/N, m/(N s) or m/(N s^2)); broadcast against ``omega``.
+    omega : array_like of float
+        Angular frequency (rad/s).
+
+    Returns
+    -------
+    numpy.ndarray of complex
+        Receptance (m/N).
     """
     as_choice("quantity", quantity, QUANTITIES)
     values = np.asarray(values, dtype=complex)

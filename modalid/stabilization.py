@@ -36,6 +36,23 @@ def stabilization_table(poles_by_order, freq_band_hz, *, freq_tol=0.01, damp_tol
     ``frequency_hz``, ``omega_n``, ``damping_ratio``, ``stable_freq``, ``stable_damp``,
     ``stable``. ``poles_by_order`` may also be a list of such lists with a matching list
     of bands (``freq_band_hz``): one table for all of them, ``band`` their index.
+
+    Parameters
+    ----------
+    poles_by_order : list of (int, ndarray)
+        ``(order, poles)`` pairs (rad/s), or a list of such lists, one per band.
+    freq_band_hz : tuple of float or list of tuple
+        The band (Hz), or one per list of ``poles_by_order``.
+    freq_tol, damp_tol : float, keyword-only
+        Relative changes of frequency and damping under which a pole is stable.
+    max_damping : float, keyword-only
+        Candidates of larger damping ratio are left out.
+    band : int, keyword-only
+        The ``band`` column's value for a single band.
+
+    Returns
+    -------
+    pandas.DataFrame
     """
     if poles_by_order and isinstance(poles_by_order[0], list):
         parts = [_stability(p, b, freq_tol, damp_tol, max_damping, k)
@@ -114,6 +131,22 @@ def cluster_poles(table: pd.DataFrame, *, freq_tol=0.01, representative="median"
     highest order: exact data), ``size`` (orders it appears in, over all bands),
     ``share`` (in its best band, the fraction of that band's orders it appears in),
     ``first_order``, ``band`` (its best band) and ``pole``.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        A :func:`stabilization_table`.
+    freq_tol : float, keyword-only
+        Relative frequency distance that joins two poles.
+    representative : {"median", "last"}, keyword-only
+        Each cluster's pole: the members' median, or the highest order's.
+    spacing_hz : float, optional, keyword-only
+        The data's line spacing (Hz).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per cluster: its pole, frequency (Hz), damping ratio and persistence.
     """
     columns = ["frequency_hz", "omega_n", "damping_ratio", "size", "share", "first_order",
                "band", "pole"]
@@ -136,7 +169,7 @@ def cluster_poles(table: pd.DataFrame, *, freq_tol=0.01, representative="median"
         members = labels == label
         shares = {b: np.unique(order[members & (band == b)]).size / n_orders[b]
                   for b in np.unique(band[members])}
-        best = max(shares, key=shares.get)
+        best = max(shares, key=shares.get)  # type: ignore[arg-type]
         own = members & (band == best)
         if representative == "last":
             k = np.flatnonzero(own)[np.argmax(order[own])]
@@ -217,6 +250,25 @@ def select_by_information(omega, values, weights, candidates, terms: Terms, fixe
     not ranked beforehand: each step adds the one that lowers the SSE most (so of two
     poles on one resonance only one is taken).
 
+    Parameters
+    ----------
+    omega : ndarray of float
+        Angular frequencies (rad/s) of the data.
+    values : ndarray of complex
+        The data (receptance, m/N).
+    weights : ndarray of float
+        Per-line weights.
+    candidates : ndarray of complex
+        Candidate poles (rad/s), most persistent first.
+    terms : Terms
+        The model's extra terms (rigid body, residuals).
+    fixed : sequence of complex
+        Poles always kept.
+    greedy : bool, keyword-only
+        Search candidates greedily instead of in their order.
+    passive : bool, keyword-only
+        Count a candidate of negative modal mass as unsupported.
+
     Returns
     -------
     keep : ndarray of bool, one per candidate
@@ -243,6 +295,32 @@ def prefix_information(mat, y, n_head, n_candidates, *, per_candidate=2, n_param
     (``Re r, Im r``), each candidate counting ``n_params`` parameters. The SSE has a floor
     of ``(rel_floor |y|)^2``: rounding cannot pass for a fit. Returns
     ``(keep, bic, negative)`` as :func:`select_by_information`.
+
+    Parameters
+    ----------
+    mat : ndarray, shape (n, n_head + per_candidate * n_candidates)
+        Real design matrix.
+    y : ndarray, shape (n,)
+        Real data.
+    n_head : int
+        Fixed leading columns.
+    n_candidates : int
+        Candidates after them.
+    per_candidate : int, keyword-only
+        Columns per candidate.
+    n_params : int, keyword-only
+        Parameters each candidate counts.
+    rel_floor : float, keyword-only
+        Relative floor of the SSE.
+    greedy : bool, keyword-only
+        As in :func:`select_by_information`.
+    passive : bool, keyword-only
+        As in :func:`select_by_information`.
+
+    Returns
+    -------
+    tuple
+        ``(keep, bic, negative)`` as :func:`select_by_information`.
     """
     mat = mat.copy()
     scale = np.linalg.norm(mat, axis=0)
@@ -311,7 +389,23 @@ def _greedy_information(mat, gram, y, n_head, n_cand, per, n_params, floor, scal
 
 
 def plot_stabilization(table: pd.DataFrame, *, frf=None, selected=None, ax=None):
-    """Stabilization diagram (order against frequency in Hz); returns the Axes."""
+    """Stabilization diagram (order against frequency in Hz); returns the Axes.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        A :func:`stabilization_table`.
+    frf : FRFData, optional, keyword-only
+        Data whose magnitude is drawn behind the poles.
+    selected : array_like of complex, optional, keyword-only
+        The selected poles (rad/s), marked.
+    ax : matplotlib.axes.Axes, optional, keyword-only
+        Where to draw (a new figure when None).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
     import matplotlib.pyplot as plt
 
     if ax is None:
@@ -338,7 +432,25 @@ def plot_stabilization(table: pd.DataFrame, *, frf=None, selected=None, ax=None)
 def plot_fit(model, *, frf=None, impulse=None, ax=None, fitted=None):
     """A model against the FRF (magnitudes, log axis) or impulse response ``(t, h)`` it was
     fitted to; returns the Axes. ``fitted``: the model's values on ``frf``'s lines above
-    0 Hz, when they are not ``model.frf`` (a windowed fit)."""
+    0 Hz, when they are not ``model.frf`` (a windowed fit).
+
+    Parameters
+    ----------
+    model : ModalModel
+        The fitted model.
+    frf : FRFData, optional, keyword-only
+        The data it was fitted to.
+    impulse : tuple of ndarray, optional, keyword-only
+        ``(t, h)`` for a fit to an impulse response.
+    ax : matplotlib.axes.Axes, optional, keyword-only
+        Where to draw (a new figure when None).
+    fitted : ndarray, optional, keyword-only
+        The model's values on the data's lines.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
     import matplotlib.pyplot as plt
 
     if ax is None:

@@ -123,6 +123,7 @@ def test_notebook_saved_without_outputs(path):
     assert not dirty, f"{path.name}: clear the outputs of cells {dirty} before saving"
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("path", NOTEBOOKS, ids=[p.name for p in NOTEBOOKS])
 def test_notebook_executes(path, this_python_kernel, tmp_path):
     nb = nbformat.read(path, as_version=4)

@@ -30,6 +30,7 @@ def test_fit_command_reports_bad_input(capsys):
     assert main(["fit", "no_such_file.csv", "--quantity", "receptance"]) == 2
 
 
+@pytest.mark.slow
 @pytest.mark.filterwarnings("ignore::UserWarning")
 def test_fit_command_models_an_exponential_window(windowed_free_rod_csv, tmp_path, capsys):
     """A free rod's mobility from an exponentially windowed hammer test, as a CSV: with

@@ -54,7 +54,7 @@ def test_driving_point_none_is_refused_where_one_is_needed():
     s = make_set(driving_point=None)
     assert s.driving_point is None and "driving_point=None" in repr(s)
     with pytest.raises(ValueError, match="needs a driving point .* driving_point=None"):
-        s.driving
+        s.driving  # noqa: B018
 
 
 @pytest.mark.parametrize("kwargs, error, match", [

@@ -1,4 +1,5 @@
-"""The README's Python examples run as written, and say what they print."""
+"""The Python examples of the README and of the docs' pages run as written, and say what
+they print."""
 
 import re
 from pathlib import Path
@@ -12,7 +13,9 @@ from modalid import mac
 matplotlib.use("Agg")
 
 README = Path(__file__).resolve().parents[1] / "README.md"
-BLOCKS = re.findall(r"```python\n(.*?)```", README.read_text(), flags=re.S)
+PAGES = [README, *sorted((README.parent / "docs").glob("*.md"))]
+BLOCKS = [block for page in PAGES
+          for block in re.findall(r"```python\n(.*?)```", page.read_text(), flags=re.S)]
 
 
 def test_readme_has_examples():
@@ -58,6 +61,10 @@ def test_readme_example_runs(index, tmp_path, monkeypatch):
         assert len(modes) == 3
         np.testing.assert_allclose(modes["frequency_hz"], truth["frequency_hz"], rtol=1e-4)
         np.testing.assert_allclose(modes["damping_ratio"], truth["damping_ratio"], rtol=0.05)
+    if 'predict("mass:0.5", "rod.csv"' in code:  # a measured FRF file to the impact
+        pred = namespace["pred"]
+        assert pred.fits[1].report_["verdict"] == "ok"
+        assert pred.figures["restitution"] == pytest.approx(0.4513, abs=5e-4)
     if "masri_caughey(" in code:  # the impact damper reaches the classical closed form
         res, exact = namespace["res"], namespace["exact"]
         assert exact.exists and exact.stable and res.impacts_per_cycle == 2.0

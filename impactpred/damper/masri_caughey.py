@@ -350,7 +350,7 @@ def _check(name, value, *, lower=0.0, strict=True, upper=None):
 
 
 def masri_caughey(*, primary_mass, damper_mass, stiffness, force_amplitude, freq_hz, clearance,
-                  restitution):
+                  restitution) -> MasriCaugheySolution:
     """Closed-form symmetric two-impacts-per-cycle solution of the impact damper.
 
     Undamped primary ``M x'' + K x = F0 cos(2 pi f t) + impulses``, free damper mass ``m``,
@@ -458,12 +458,24 @@ def masri_caughey(*, primary_mass, damper_mass, stiffness, force_amplitude, freq
 
 
 def masri_caughey_curve(freq_hz, *, primary_mass, damper_mass, stiffness, force_amplitude,
-                        clearance, restitution):
+                        clearance, restitution) -> pd.DataFrame:
     """:func:`masri_caughey` over an array of frequencies, as a DataFrame.
 
     Columns: ``freq_hz``, ``frequency_ratio``, ``exists``, ``stable``, ``amplitude``,
     ``amplitude_without_damper``, ``reduction``, ``impact_phase``, ``damper_velocity``,
     ``n_roots``, ``other_amplitude``, ``other_stable``.
+
+    Parameters
+    ----------
+    freq_hz : array_like of float
+        Forcing frequencies (Hz).
+    primary_mass, damper_mass, stiffness, force_amplitude, clearance, restitution : float
+        As in :func:`masri_caughey` (kg, N/m, N, m, -).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per frequency, the columns above.
     """
     f = np.atleast_1d(np.asarray(freq_hz, dtype=float))
     if f.ndim != 1:

@@ -212,7 +212,23 @@ def _amplitude(t, y, v):
 
 
 def build_result(damper, raw, *, n_cycles, samples_per_cycle):
-    """Assemble a :class:`DamperResult` from the engine's raw output."""
+    """Assemble a :class:`DamperResult` from the engine's raw output.
+
+    Parameters
+    ----------
+    damper : ImpactDamper
+        The system that was simulated.
+    raw : object
+        The engine's raw run (events, samples, final state).
+    n_cycles : int, keyword-only
+        Forcing cycles simulated.
+    samples_per_cycle : int, keyword-only
+        Output samples per forcing period.
+
+    Returns
+    -------
+    DamperResult
+    """
     spc = samples_per_cycle
     t, vals, work, grid = raw["t"], raw["values"], raw["work"], raw["grid"]
     eng = damper.engine()

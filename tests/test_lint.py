@@ -1,0 +1,143 @@
+"""The habits of a maintained library, checked: ruff (configured in pyproject.toml), mypy
+on the packages, numpydoc sections on every public function, class and method, and the
+docstrings' examples run as doctests."""
+
+import ast
+import doctest
+import importlib
+import importlib.util
+import inspect
+import os
+import pkgutil
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import matplotlib
+import pytest
+from numpydoc.docscrape import ClassDoc, FunctionDoc
+
+matplotlib.use("Agg")
+
+ROOT = Path(__file__).resolve().parents[1]
+PACKAGES = ("modalid", "impactpred", "data_synth")
+
+
+def test_ruff_passes():
+    run = subprocess.run([sys.executable, "-m", "ruff", "check", "--no-cache",
+                          "--output-format", "concise", "."],
+                         cwd=ROOT, capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stdout[-5000:] + run.stderr[-2000:]
+
+
+@pytest.mark.slow
+def test_mypy_passes(tmp_path):
+    run = subprocess.run([sys.executable, "-m", "mypy", "--cache-dir", str(tmp_path)],
+                         cwd=ROOT, capture_output=True, text=True, timeout=900,
+                         env=dict(os.environ, OMP_NUM_THREADS="1"))
+    assert run.returncode == 0, run.stdout[-5000:] + run.stderr[-2000:]
+
+
+# ---------------------------------------------------------------- numpydoc sections
+def _api():
+    """``(qualified name, object)`` of every public function, class and public method: the
+    API pages' names (docs/conf.py) and the methods their classes define."""
+    spec = importlib.util.spec_from_file_location("_docs_conf", ROOT / "docs" / "conf.py")
+    conf = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(conf)
+    for module_name, names in conf.public_names():
+        module = importlib.import_module(module_name)
+        for name in names:
+            obj = getattr(module, name)
+            if inspect.isfunction(obj):
+                yield f"{module_name}.{name}", obj
+            elif inspect.isclass(obj):
+                yield f"{module_name}.{name}", obj
+                for attr, member in vars(obj).items():
+                    if not attr.startswith("_") and inspect.isfunction(member):
+                        yield f"{module_name}.{name}.{attr}", member
+                    elif isinstance(member, (classmethod, staticmethod)) and \
+                            not attr.startswith("_"):
+                        yield f"{module_name}.{name}.{attr}", member.__func__
+
+
+def _returns_a_value(function) -> bool:
+    try:
+        tree = ast.parse(textwrap.dedent(inspect.getsource(function)))
+    except (OSError, TypeError, SyntaxError):
+        return False
+    top = tree.body[0]
+    todo = list(ast.iter_child_nodes(top))
+    while todo:                                  # not into nested functions or lambdas
+        node = todo.pop()
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda,
+                             ast.ClassDef)):
+            continue
+        if isinstance(node, (ast.Yield, ast.YieldFrom)):
+            return True
+        if isinstance(node, ast.Return) and node.value is not None and not (
+                isinstance(node.value, ast.Constant) and node.value.value is None):
+            return True
+        todo.extend(ast.iter_child_nodes(node))
+    return False
+
+
+def _missing_sections(obj) -> list:
+    is_class = inspect.isclass(obj)
+    doc = ClassDoc(obj, config={"show_class_members": False}) if is_class else FunctionDoc(obj)
+    try:
+        target = obj.__init__ if is_class else obj
+        parameters = [p for p in inspect.signature(target).parameters
+                      if p not in ("self", "cls", "args", "kwargs")]
+    except (TypeError, ValueError):
+        parameters = []
+    if is_class and (issubclass(obj, Exception) or obj.__init__ is object.__init__):
+        parameters = []
+    missing = [] if doc["Summary"] else ["Summary"]
+    if parameters and not (doc["Parameters"] or doc["Other Parameters"]
+                           or (is_class and doc["Attributes"])):
+        missing.append("Parameters")
+    if not is_class and _returns_a_value(obj) and not (doc["Returns"] or doc["Yields"]):
+        missing.append("Returns")
+    return missing
+
+
+#: names still without their sections; the list may only shrink (the test fails when a
+#: name on it is complete, so that it is taken off)
+INCOMPLETE: set[str] = set()   # public names whose sections are still to write
+
+
+def test_every_public_function_has_its_numpydoc_sections():
+    found = {name: _missing_sections(obj) for name, obj in _api()}
+    assert len(found) > 150                      # the walk reached the API
+    missing = {name: m for name, m in found.items() if m and name not in INCOMPLETE}
+    assert not missing, "numpydoc sections missing:\n" + "\n".join(
+        f"  {name}: {', '.join(m)}" for name, m in sorted(missing.items()))
+    done = sorted(name for name in INCOMPLETE if name in found and not found[name])
+    assert not done, f"complete now, take them off INCOMPLETE: {done}"
+
+
+# ---------------------------------------------------------------- doctests
+def _modules():
+    for package in PACKAGES:
+        yield package
+        path = importlib.import_module(package).__path__
+        for info in pkgutil.walk_packages(path, package + "."):
+            yield info.name
+
+
+def test_docstring_examples_run_as_doctests(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    finder = doctest.DocTestFinder(exclude_empty=True)
+    runner = doctest.DocTestRunner(optionflags=doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE)
+    examples = 0
+    for name in _modules():
+        module = importlib.import_module(name)
+        for test in finder.find(module, name):
+            if test.examples:
+                examples += len(test.examples)
+                runner.run(test)
+    results = runner.summarize(verbose=False)
+    assert examples >= 10 and results.attempted >= 10
+    assert results.failed == 0, f"{results.failed} of {results.attempted} doctest examples failed"
