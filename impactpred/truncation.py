@@ -80,18 +80,6 @@ __all__ = ["FIGURES", "ContinuationInfo", "TailDesign", "band_resolution",
            "continue_above_band", "high_frequency_conductance", "identified_model",
            "impact_figures", "pattern_share", "smooth_tail_design", "tail_extent"]
 
-#: names that moved to :mod:`impactpred.uncertainty` (still importable from here)
-_MOVED = ("UncertaintyBand", "perturb_residues", "refit_on_cut_band", "truncation_error",
-          "uncertainty_band")
-
-
-def __getattr__(name):
-    if name in _MOVED:
-        from . import uncertainty
-        return getattr(uncertainty, name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-
-
 #: the figures the uncertainty band covers (``ImpactResult`` attributes)
 FIGURES = ("contact_duration", "peak_force", "impulse", "restitution")
 
