@@ -51,9 +51,12 @@ def _save_fit(fit, out: Path, stem: str) -> None:
 
     out.mkdir(parents=True, exist_ok=True)
     fit.model_.to_json(out / f"{stem}_model.json")
-    fig, axes = plt.subplots(2, 1, figsize=(8, 8))
-    fit.plot_fit(ax=axes[0])
-    fit.plot_stabilization(ax=axes[1])
+    coherence = getattr(fit.data_, "coherence", None) is not None
+    rows = 3 if coherence else 2                  # magnitude, phase (, coherence)
+    fig, axes = plt.subplots(rows + 1, 1, figsize=(8, 3.0 + 2.2 * rows),
+                             gridspec_kw={"height_ratios": [3.0, 1.5, 1.0][:rows] + [3.0]})
+    fit.plot_fit(ax=axes[:rows])
+    fit.plot_stabilization(ax=axes[rows])
     fig.tight_layout()
     fig.savefig(out / f"{stem}_fit.png", dpi=110)
     plt.close(fig)

@@ -574,14 +574,16 @@ class ModalFit(FRFPipeline, BaseEstimator):
     def plot_fit(self, ax=None, *, data=None, output=None):
         """The data fitted (or ``data``) and the model; returns the Axes.
 
-        FRF fits: magnitudes against frequency (Hz); ERA: impulse responses against time.
-        After fitting an FRFSet: the row ``output`` (index or label; default the driving
-        point).
+        FRF fits: in the quantity measured (``data_``), magnitude, phase and, where
+        measured, coherence against frequency (Hz) (:func:`modalid.stabilization.plot_fit`);
+        ERA: impulse responses against time. After fitting an FRFSet: the row ``output``
+        (index or label; default the driving point), in receptance.
 
         Parameters
         ----------
-        ax : matplotlib.axes.Axes, optional
-            Where to draw (a new figure when None).
+        ax : matplotlib.axes.Axes or sequence of Axes, optional
+            One Axes: the magnitude only; a sequence: magnitude, phase, coherence; None: a
+            new figure with all of them.
         data : FRFData, optional, keyword-only
             Other data to draw the model against.
         output : int or str, optional, keyword-only
@@ -589,12 +591,15 @@ class ModalFit(FRFPipeline, BaseEstimator):
 
         Returns
         -------
-        matplotlib.axes.Axes
+        matplotlib.axes.Axes or sequence of Axes
+            ``ax`` as given; with ``ax=None`` the magnitude's (the others are
+            ``ax.figure.axes[1:]``).
         """
         self._check_fitted()
         if data is None and self.method == "era":
             return plot_fit(self.model_, impulse=self.impulse_, ax=ax)
-        data = self.frf_ if data is None else data
+        if data is None:
+            data = self.data_ if isinstance(self.model_, ModalModel) else self.frf_
         if isinstance(self.model_, ModalModel):
             if output is not None:
                 raise ValueError(f"output={output!r} applies to a fit of an FRFSet only")

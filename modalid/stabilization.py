@@ -430,9 +430,13 @@ def plot_stabilization(table: pd.DataFrame, *, frf=None, selected=None, ax=None)
 
 
 def plot_fit(model, *, frf=None, impulse=None, ax=None, fitted=None):
-    """A model against the FRF (magnitudes, log axis) or impulse response ``(t, h)`` it was
-    fitted to; returns the Axes. ``fitted``: the model's values on ``frf``'s lines above
-    0 Hz, when they are not ``model.frf`` (a windowed fit).
+    """A model against the FRF or impulse response ``(t, h)`` it was fitted to.
+
+    An FRF is drawn in its own quantity (what was measured, not always receptance):
+    magnitude on a log axis, phase (degrees) and, where the data carry it, the coherence,
+    on Axes that share the frequency axis, the model in red over the data in grey.
+    ``fitted``: the model's values on ``frf``'s lines above 0 Hz, when they are not
+    ``model.frf`` (a windowed fit).
 
     Parameters
     ----------
@@ -442,30 +446,58 @@ def plot_fit(model, *, frf=None, impulse=None, ax=None, fitted=None):
         The data it was fitted to.
     impulse : tuple of ndarray, optional, keyword-only
         ``(t, h)`` for a fit to an impulse response.
-    ax : matplotlib.axes.Axes, optional, keyword-only
-        Where to draw (a new figure when None).
+    ax : matplotlib.axes.Axes or sequence of Axes, optional, keyword-only
+        One Axes: the magnitude only (or the impulse response). A sequence: magnitude,
+        phase and coherence, as many as it holds. None: a new figure with the magnitude,
+        the phase and (when measured) the coherence.
     fitted : ndarray, optional, keyword-only
         The model's values on the data's lines.
 
     Returns
     -------
-    matplotlib.axes.Axes
+    matplotlib.axes.Axes or sequence of Axes
+        ``ax`` as given; with ``ax=None`` the magnitude's Axes (the phase's and the
+        coherence's are ``ax.figure.axes[1:]``).
     """
     import matplotlib.pyplot as plt
 
-    if ax is None:
-        _, ax = plt.subplots(figsize=(7, 4))
     if impulse is not None:
+        if ax is None:
+            _, ax = plt.subplots(figsize=(7, 4))
         t, h = impulse
         ax.plot(t, h, color="0.6", label="data")
         ax.plot(t, model.impulse_response(t), "C3", lw=1, label="ModalFit")
         ax.set_xlabel("time (s)")
         ax.set_ylabel("impulse response (m/(N s))")
-    else:
-        frf = frf.select(frf.freq_hz > 0)
-        frf.plot(ax=ax, label="data", color="0.6")
-        if fitted is None:
-            fitted = model.frf(frf.omega, quantity=frf.quantity)
-        ax.semilogy(frf.freq_hz, np.abs(fitted), "C3", lw=1, label="ModalFit")
-    ax.legend(fontsize=8)
-    return ax
+        ax.legend(fontsize=8, loc="best")
+        return ax
+    frf = frf.select(frf.freq_hz > 0)
+    if fitted is None:
+        fitted = model.frf(frf.omega, quantity=frf.quantity)
+    created = ax is None
+    if created:
+        rows = 3 if frf.coherence is not None else 2
+        _, ax = plt.subplots(rows, 1, figsize=(7, 2.0 * rows + 2.0), sharex=True,
+                             gridspec_kw={"height_ratios": [3.0, 1.5, 1.0][:rows]})
+    axes = np.ravel(np.asarray(ax, dtype=object))
+    magnitude = axes[0]
+    frf.plot(ax=magnitude, label="data", color="0.6")
+    magnitude.semilogy(frf.freq_hz, np.abs(fitted), "C3", lw=1, label="ModalFit")
+    magnitude.legend(fontsize=8, loc="best")
+    if axes.size > 1:
+        phase = axes[1]
+        phase.plot(frf.freq_hz, np.degrees(np.angle(frf.values)), color="0.6", lw=1)
+        phase.plot(frf.freq_hz, np.degrees(np.angle(fitted)), "C3", lw=1)
+        phase.set_ylim(-190.0, 190.0)
+        phase.set_yticks([-180, -90, 0, 90, 180])
+        phase.set_ylabel("phase (deg)")
+    if axes.size > 2 and frf.coherence is not None:
+        coherence = axes[2]
+        coherence.plot(frf.freq_hz, frf.coherence, color="C0", lw=1)
+        coherence.set_ylim(0.0, 1.05)
+        coherence.set_ylabel("coherence")
+    if axes.size > 1:
+        for upper in axes[:-1]:
+            upper.set_xlabel("")
+        axes[-1].set_xlabel("frequency (Hz)")
+    return axes[0] if created else ax

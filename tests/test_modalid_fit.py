@@ -640,3 +640,30 @@ def test_correlated_residuals_widen_the_standard_deviations():
         warnings.simplefilter("ignore")
         measured = ModalFit().fit(_real("case1.mat"))
     assert measured.report_["std_inflation"] > 1.5
+
+
+def test_the_fit_plot_shows_the_quantity_measured_with_phase_and_coherence():
+    """Accelerance with coherence: the plot is in accelerance (not the receptance fitted),
+    with the phase and the coherence on Axes of their own; one Axes given: magnitude only."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    truth = ModalModel.from_modes(2 * np.pi * np.array([10.0, 25.0]), [0.01, 0.02],
+                                  [1.0, 2.0])
+    freq = np.linspace(1.0, 40.0, 400)
+    coherence = np.clip(0.9 + 0.1 * np.cos(freq), 0.0, 1.0)
+    data = FRFData(freq, truth.frf(2 * np.pi * freq, quantity="accelerance"),
+                   quantity="accelerance", coherence=coherence)
+    fit = ModalFit().fit(data)
+    magnitude = fit.plot_fit()
+    assert len(magnitude.figure.axes) == 3
+    phase, coh = magnitude.figure.axes[1:]
+    assert "accelerance" in magnitude.get_ylabel()
+    np.testing.assert_allclose(magnitude.get_lines()[0].get_ydata(), np.abs(data.values))
+    assert phase.get_ylabel() == "phase (deg)" and coh.get_ylabel() == "coherence"
+    np.testing.assert_allclose(coh.get_lines()[0].get_ydata(), coherence)
+    _, one = plt.subplots()
+    assert fit.plot_fit(ax=one) is one and len(one.get_lines()) == 2
+    plt.close("all")
