@@ -485,12 +485,10 @@ def plot_fit(model, *, frf=None, impulse=None, ax=None, fitted=None):
     magnitude.semilogy(frf.freq_hz, np.abs(fitted), "C3", lw=1, label="ModalFit")
     magnitude.legend(fontsize=8, loc="best")
     if axes.size > 1:
-        phase = axes[1]
-        phase.plot(frf.freq_hz, np.degrees(np.angle(frf.values)), color="0.6", lw=1)
+        phase = frf.plot_phase(ax=axes[1], color="0.6", lw=1)
         phase.plot(frf.freq_hz, np.degrees(np.angle(fitted)), "C3", lw=1)
         phase.set_ylim(-190.0, 190.0)
         phase.set_yticks([-180, -90, 0, 90, 180])
-        phase.set_ylabel("phase (deg)")
     if axes.size > 2 and frf.coherence is not None:
         coherence = axes[2]
         coherence.plot(frf.freq_hz, frf.coherence, color="C0", lw=1)
