@@ -341,7 +341,7 @@ class FRFPipeline(PoleChecks):
                 if k is None:
                     break
                 notes.append(why)
-                start, kinds = np.delete(start, k), np.delete(kinds, k)
+                start, kinds = np.delete(poles, k), np.delete(kinds, k)
                 poles, x, info = self._refine(omega, h, w, start, kinds, terms)
             if np.any(kinds == "far") and not self.__dict__.get("_segment_of"):
                 poles, kinds, x, info = self._release_far(omega, h, w, poles, kinds, x,

@@ -24,9 +24,10 @@ import functools
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.linalg import cho_factor, cho_solve
+from scipy.linalg.lapack import dpotrf as _potrf, dpotrs as _potrs
 
 from ._lm import bounded_lm, pole_limits
+from ._vp_kernels import fill_columns, fill_derivative
 
 __all__ = ["Terms", "design_matrix", "refine_varpro", "evaluate", "split_coefficients",
            "place_upper_modes", "release_gain", "removal_cost", "mass_line_significant",
@@ -114,6 +115,26 @@ def evaluate(omega, poles, residues, real_poles, real_residues, inverse_mass, fl
 
 
 # ------------------------------------------------------------------ variable projection
+def _cholesky(a):
+    """Lower Cholesky factor of the symmetric positive definite ``a`` (LAPACK ``potrf``
+    called directly: scipy's checking wrapper costs more than the factorisation of the
+    small Gram matrices here); ``None`` when ``a`` is not positive definite or not finite."""
+    if a.size == 0:
+        return a
+    factor, info = _potrf(a, lower=1, clean=1, overwrite_a=0)
+    return factor if info == 0 and np.isfinite(factor).all() else None
+
+
+def _cho_solve(factor, rhs):
+    """``a^-1 rhs`` from :func:`_cholesky`'s factor (LAPACK ``potrs``)."""
+    if factor.size == 0:                                   # no unknowns left
+        return np.zeros(rhs.shape)
+    x, info = _potrs(factor, rhs, lower=1)
+    if info != 0:
+        raise np.linalg.LinAlgError(f"potrs failed (info={info})")
+    return x
+
+
 class _Workspace:
     """Buffers of one projection, reused from one set of poles to the next.
 
@@ -123,8 +144,7 @@ class _Workspace:
 
     def __init__(self, m, n, k):
         self.mat = np.empty((2 * m, k))
-        (self.a, self.b, self.d, self.wd, self.t, self.p_re, self.p_im, self.br, self.bi,
-         self.u) = (np.empty((m, n)) for _ in range(10))
+        self.wd, self.a, self.b = (np.empty((m, n)) for _ in range(3))
 
 
 class _Projection:
@@ -137,10 +157,8 @@ class _Projection:
     solution is replaced by the bounded one (an active set); the columns held at 0 then
     drop out of the projection.
 
-    Real arithmetic throughout: with ``s = i omega``, ``u = s - Re p``, ``v = Im p``,
-    ``(s - p)(s - conj p) = u^2 + v^2 = A + iB`` with ``A = |p|^2 - omega^2`` and
-    ``B = -2 Re(p) omega``; ``q = 1/(A + iB) = (A - iB)/D``, ``D = A^2 + B^2``. The
-    columns of ``Re r`` and ``Im r`` are ``a + b = 2 q u`` and ``i (a - b) = -2 v q``.
+    The partial-fraction columns and their derivatives are written by the compiled
+    kernels of :mod:`modalid._vp_kernels` (real arithmetic, formulas there).
     """
 
     def __init__(self, omega, w, y, poles, extra, bounds=None, ws=None):
@@ -148,25 +166,9 @@ class _Projection:
         m, n = omega.size, poles.size
         ws = ws or _Workspace(m, n, 2 * n + extra.shape[1])
         self.ws = ws
-        sig, v = poles.real, poles.imag
-        a, b, d, wd, t = ws.a, ws.b, ws.d, ws.wd, ws.t
-        om = omega[:, None]
-        np.subtract(np.abs(poles) ** 2, om**2, out=a)
-        np.multiply(om, -2.0 * sig, out=b)
-        np.multiply(a, a, out=d)
-        np.multiply(b, b, out=t)
-        d += t
-        np.divide(w[:, None], d, out=wd)
         mat = ws.mat
-        np.multiply(a, wd, out=t)                          # Re(w q)
-        np.multiply(t, -2.0 * v, out=mat[:m, 1:2 * n:2])
-        np.multiply(t, -2.0 * sig, out=mat[:m, 0:2 * n:2])
-        np.multiply(t, 2.0 * om, out=mat[m:, 0:2 * n:2])
-        np.multiply(b, wd, out=t)                          # -Im(w q)
-        np.multiply(t, 2.0 * v, out=mat[m:, 1:2 * n:2])
-        t *= 2.0
-        mat[:m, 0:2 * n:2] += t * om                       # 2 w Re(q u) = 2 w (-sig A + omega B)/D
-        mat[m:, 0:2 * n:2] += t * sig                      # 2 w Im(q u) = 2 w (omega A + sig B)/D
+        fill_columns(omega, w, np.ascontiguousarray(poles.real),
+                     np.ascontiguousarray(poles.imag), mat, ws.wd, ws.a, ws.b)
         mat[:, 2 * n:] = extra
         self.mat = mat
         self.gram = mat.T @ mat
@@ -186,13 +188,11 @@ class _Projection:
         mat = self.mat if cols is None else self.mat[:, cols]
         d = self.scale if cols is None else self.scale[cols]
         gram = self.gram if cols is None else self.gram[np.ix_(cols, cols)]
-        try:
-            self.factor = cho_factor(gram / np.outer(d, d))
-            x = cho_solve(self.factor, rhs / d) / d
-            x += cho_solve(self.factor, mat.T @ (y - mat @ x) / d) / d
-        except np.linalg.LinAlgError:
-            self.factor = None
-            x = np.linalg.lstsq(mat, y, rcond=None)[0]
+        self.factor = _cholesky(gram / np.outer(d, d))
+        if self.factor is None:
+            return np.linalg.lstsq(mat, y, rcond=None)[0]
+        x = _cho_solve(self.factor, rhs / d) / d
+        x += _cho_solve(self.factor, mat.T @ (y - mat @ x) / d) / d
         return x
 
     def _bounded(self, rhs, y, bounds):
@@ -221,49 +221,19 @@ class _Projection:
         """``G^-1 rhs`` for the Gram matrix of the free columns."""
         d = self.scale[self.free][:, None] if rhs.ndim == 2 else self.scale[self.free]
         if self.factor is not None:
-            return cho_solve(self.factor, rhs / d) / d
+            return _cho_solve(self.factor, rhs / d) / d
         return np.linalg.lstsq(self.gram[np.ix_(self.free, self.free)], rhs, rcond=None)[0]
 
     def derivative(self, out=None):
-        """Columns ``d(Phi x)/d(Re p, Im p)`` of each pole (weighted, real form).
-
-        ``d/dRe p = w q^2 (2 Re r (u^2 - v^2) - 4 v Im r u)`` and
-        ``d/dIm p = -w q^2 (2 Im r (u^2 - v^2) + 4 v Re r u)``, with
-        ``u^2 - v^2 = A - 2 v^2 + iB`` and ``w q^2 = w (A^2 - B^2 - 2iAB)/D^2``.
-        """
+        """Columns ``d(Phi x)/d(Re p, Im p)`` of each pole (weighted, real form), shape
+        ``(2 m, 2 n)`` (:func:`modalid._vp_kernels.fill_derivative`)."""
         m, n = self.omega.size, self.poles.size
-        re_r, im_r = self.x[0:2 * n:2], self.x[1:2 * n:2]
-        sig, v = self.poles.real, self.poles.imag
-        om = self.omega[:, None]
-        ws = self.ws
-        a, b, t, p_re, p_im, br, bi, u = ws.a, ws.b, ws.t, ws.p_re, ws.p_im, ws.br, ws.bi, ws.u
-        np.divide(ws.wd, ws.d, out=t)                      # w / D^2
-        np.multiply(a, a, out=p_re)
-        np.multiply(b, b, out=u)
-        p_re -= u
-        p_re *= t                                          # Re(w q^2)
-        np.multiply(a, b, out=p_im)
-        p_im *= t
-        p_im *= -2.0                                       # Im(w q^2)
         out = np.empty((2 * m, 2 * n)) if out is None else out
-        for col, c_re, c_im, sign in ((0, re_r, im_r, 1.0), (1, im_r, -re_r, -1.0)):
-            # bracket = 2 c_re (u^2 - v^2) - 4 v c_im u, u = -sig + i omega
-            np.subtract(a, 2.0 * v**2, out=br)
-            br *= 2.0 * c_re
-            br += 4.0 * v * sig * c_im
-            np.multiply(b, 2.0 * c_re, out=bi)
-            np.multiply(om, 4.0 * v * c_im, out=u)
-            bi -= u
-            re_out, im_out = out[:m, col::2], out[m:, col::2]
-            np.multiply(p_re, br, out=re_out)
-            np.multiply(p_im, bi, out=u)
-            re_out -= u
-            np.multiply(p_re, bi, out=im_out)
-            np.multiply(p_im, br, out=u)
-            im_out += u
-            if sign < 0:
-                re_out *= -1.0
-                im_out *= -1.0
+        ws = self.ws
+        fill_derivative(self.omega, np.ascontiguousarray(self.poles.real),
+                        np.ascontiguousarray(self.poles.imag),
+                        np.ascontiguousarray(self.x[0:2 * n:2]),
+                        np.ascontiguousarray(self.x[1:2 * n:2]), ws.wd, ws.a, ws.b, out)
         return out
 
     def normal_equations(self, out=None):
