@@ -308,10 +308,9 @@ class FRFPipeline(PoleChecks):
         poles, kinds, terms = self._start(omega, h, w, poles, cut)
         self._iterations, self._buffers = 0, {}
         if self.refine:
-            start = poles
             # a quick first pass (a mode missing makes the refinement crawl), then modes
             # the estimator missed, where the residual peaks
-            poles, x, info = self._refine(omega, h, w, start, kinds, terms, quick=True)
+            poles, x, info = self._refine(omega, h, w, poles, kinds, terms, quick=True)
             tried = []
             # (segments searched their own lines for missed modes already)
             search = not self._selection() and self._segment_count == 1
@@ -328,21 +327,21 @@ class FRFPipeline(PoleChecks):
                             break
                         continue
                     notes += found
-                    start = poles
                     added, misses = added + 1, 0
                 if not info.get("quick"):
                     break
                 # the quick pass, or a mode added by the second search: refine in full
                 poles, x, info = self._refine(omega, h, w, poles, kinds, terms)
-            # drop the worst non-physical pole, refine again from the start without it
+            # drop the worst non-physical pole, refine again from the refined poles
+            # without it
             for _ in range(0 if self._selection() or self.__dict__.get("_probe")
                            else _MAX_DROPS):
                 k, why = self._worst_pole(omega, h, w, poles, x, info, kinds, terms)
                 if k is None:
                     break
                 notes.append(why)
-                start, kinds = np.delete(poles, k), np.delete(kinds, k)
-                poles, x, info = self._refine(omega, h, w, start, kinds, terms)
+                poles, kinds = np.delete(poles, k), np.delete(kinds, k)
+                poles, x, info = self._refine(omega, h, w, poles, kinds, terms)
             if np.any(kinds == "far") and not self.__dict__.get("_segment_of"):
                 poles, kinds, x, info = self._release_far(omega, h, w, poles, kinds, x,
                                                           info, terms)

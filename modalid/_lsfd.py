@@ -391,8 +391,12 @@ def place_upper_modes(omega, values, weights, poles, terms: Terms, *, n_upper=1,
     cand = (wmax * np.asarray(ratios) * (-zeta + 1j * np.sqrt(1 - zeta**2))).ravel()
     cols = _realify(design_matrix(s, cand, Terms(np.zeros(0), False, False)) * w[:, None])
     cols /= np.linalg.norm(cols, axis=0)
-    cols -= base.mat[:, base.free] @ base._solve(base.mat[:, base.free].T @ cols)
-    gram = cols.T @ cols
+    # the candidates' columns with the fixed ones projected out, through small products
+    # only: (I - P) C has the Gram matrix C^T C - (M^T C)^T G^-1 (M^T C), and the
+    # residual is already orthogonal to M
+    fixed = base.mat if base.free.all() else base.mat[:, base.free]
+    cross = fixed.T @ cols
+    gram = cols.T @ cols - cross.T @ base._solve(cross)
     rhs = cols.T @ base.residual
     best, best_cost = None, np.inf
     for combo in combinations(range(cand.size), n_upper):

@@ -19,7 +19,7 @@ from __future__ import annotations
 import numpy as np
 
 from ._band import noise_model
-from ._lsfd import evaluate, removal_cost, split_coefficients
+from ._lsfd import Terms, evaluate, refine_varpro, removal_cost, split_coefficients
 
 __all__ = ["PoleChecks"]
 
@@ -31,9 +31,12 @@ class PoleChecks:
         """Add a mode the pole estimator missed, where the weighted residual has a peak.
 
         The residual power, averaged over 3 lines, must exceed 14 times its median (for
-        noise alone a 1e-9 event) at a frequency 0.3 % or more from those ``tried``
-        before (a close pair's partner lies 0.5-1 % away; a 2 % exclusion hid the 4101 Hz
-        dip beside the 4128 Hz mode of a real hammer test), away from the 2 % of the lines
+        noise alone a 1e-9 event) at a frequency 0.3 % or more from a mode found before
+        (a close pair's partner lies 0.5-1 % away; a 2 % exclusion hid the 4101 Hz dip
+        beside the 4128 Hz mode of a real hammer test) and three half-power half-widths
+        from a peak rejected before (``tried``: ``(omega, radius)`` pairs, appended to
+        here; retrying a rejected peak's shoulders used up the search's misses before it
+        reached the next peak), away from the 2 % of the lines
         at either end (the pseudo-modes' ground). A pole is placed there,
         refined quickly (:meth:`_trial_mode`), and kept when it passes
         :meth:`_worst_pole`, lies two lines or more from every other mode (closer ones
@@ -62,51 +65,111 @@ class PoleChecks:
         edge = int(0.02 * e2.size)       # the pseudo-modes' lines at both ends
         e2[:edge] = 0.0
         e2[e2.size - edge:] = 0.0
-        for wt in tried:
-            e2[np.abs(omega - wt) < 0.003 * wt] = 0.0
+        for wt, radius in tried:
+            e2[np.abs(omega - wt) < radius] = 0.0
         k = int(np.argmax(e2))
         if e2[k] < 14.0:
             return poles, kinds, x, info, None
         wk = omega[k]
-        tried.append(wk)
         # from the peak's own half-power width, then 1 % damping ("dense": the other way)
         narrow = self._peak_half_width(omega, resid, k)
+        # a rejected peak hides three of its half-widths (its shoulders are the same
+        # feature, not a next peak), a mode found only 0.3 % (its close partner may lie
+        # there)
+        tried.append((wk, max(0.003 * wk, 3.0 * narrow)))
         starts = (0.01 * wk, narrow) if narrow < 0.005 * wk else (0.01 * wk,)
         for decay in starts if self.missed_modes == "dense" else starts[::-1]:
-            out = self._trial_mode(omega, h, w, poles, kinds, terms, resid,
-                                   complex(-decay, wk))
+            out = self._trial_mode(omega, h, w, poles, kinds, x, terms, resid,
+                                   complex(-decay, wk), narrow)
             if out is not None:
                 break
         else:
             return poles, kinds, x, info, []
+        tried[-1] = (wk, 0.003 * wk)
         note = f"added a mode the pole estimator missed, at {wk / (2 * np.pi):.6g} Hz"
         return (*out, [note])
 
-    def _trial_mode(self, omega, h, w, poles, kinds, terms, resid, start):
+    def _trial_mode(self, omega, h, w, poles, kinds, x, terms, resid, start, width):
         """The model with a mode started at ``start`` added and refined quickly, as
-        ``(poles, kinds, x, info)``, if :meth:`_missed_mode`'s tests keep it; else None."""
+        ``(poles, kinds, x, info)``, if :meth:`_missed_mode`'s tests keep it; else None.
+        ``x``: the model's linear unknowns; ``width``: the residual peak's half-power
+        half-width (rad/s).
+
+        With ``missed_modes="strict"`` the trial is a local question, answered on the
+        lines around the peak (:meth:`_local_trial`) and, only for a mode kept, refined
+        quickly over the whole band; ``"dense"`` refines every trial over the band."""
+        if self.missed_modes == "strict" and not self._local_trial(
+                omega, h, w, poles, kinds, x, terms, resid, start, width):
+            return None
         trial = np.append(poles, start)
         kinds_t = np.append(kinds, "mode")
         order = np.argsort(np.where(kinds_t == "mode", np.abs(trial), np.inf), kind="stable")
         trial, kinds_t = trial[order], kinds_t[order]
-        poles_t, x_t, info_t = self._refine(omega, h, w, trial, kinds_t, terms, quick=True)
         new = int(np.flatnonzero(order == trial.size - 1)[0])
+        if self.missed_modes == "strict":
+            poles_t, x_t, info_t = self._refine(omega, h, w, trial, kinds_t, terms,
+                                                quick=True)
+            return poles_t, kinds_t, x_t, info_t
+        poles_t, x_t, info_t = self._refine(omega, h, w, trial, kinds_t, terms, quick=True)
         worst, _ = self._worst_pole(omega, h, w, poles_t, x_t, info_t, kinds_t, terms, only=new)
         cost = np.sum(np.abs(resid * w) ** 2)
         added = poles_t[new]
-        others = np.abs(np.delete(poles_t, new)[np.delete(kinds_t, new) == "mode"])
-        apart = not np.any(np.abs(others - abs(added)) < 2 * np.median(np.diff(omega)))
-        if self.missed_modes == "strict":
-            keep = (apart and info_t["cost"] < cost
-                    and self._explains_peak(omega, h, w, resid, poles_t, x_t, terms, new))
-        else:
-            n_real = 2 * omega.size
-            variance = cost / max(n_real - 4 * poles.size, 1)
-            keep = (info_t["cost"] <= cost - 4 * np.log(n_real) * variance and apart
-                    and (-added.real - self._shift) / abs(added) < 0.1)
+        n_real = 2 * omega.size
+        variance = cost / max(n_real - 4 * poles.size, 1)
+        keep = (info_t["cost"] <= cost - 4 * np.log(n_real) * variance
+                and self._apart(omega, poles_t, kinds_t, new)
+                and (-added.real - self._shift) / abs(added) < 0.1)
         if not keep or worst is not None:
             return None
         return poles_t, kinds_t, x_t, info_t
+
+    @staticmethod
+    def _apart(omega, poles, kinds, new):
+        """Is the pole ``new`` two lines or more from every other mode?"""
+        others = np.abs(np.delete(poles, new)[np.delete(kinds, new) == "mode"])
+        return not np.any(np.abs(others - abs(poles[new])) < 2 * np.median(np.diff(omega)))
+
+    def _local_trial(self, omega, h, w, poles, kinds, x, terms, resid, start, width,
+                     half_lines=64):
+        """Does a mode started at ``start`` earn its place? Judged where it acts: on the
+        lines within ``half_lines`` lines (or 20 half-power half-widths ``width`` of the
+        residual's peak, if wider) of it, with the model's other terms (the modes
+        outside those lines, the pseudo-modes, the residual terms) held as they are and
+        subtracted from the data, and the modes inside refined quickly with the new one
+        (:func:`modalid._lsfd.refine_varpro`, the data's weights, 15 steps at most).
+        Kept when the weighted cost on these lines falls below the residual's before
+        it, the mode passes :meth:`_worst_pole` (on these lines), lies two lines or more
+        from every other mode and :meth:`_explains_peak`. A tenth of the band's lines
+        and a few poles: a rejected trial costs a small part of a refinement over the
+        band."""
+        spacing = float(np.median(np.diff(omega)))
+        half = max(half_lines * spacing, 20.0 * width)
+        lines = np.abs(omega - start.imag) <= half
+        inside = (kinds == "mode") & (np.abs(poles.imag - start.imag) <= half)
+        r, _, u, d = split_coefficients(x, poles.size, terms)
+        background = evaluate(omega, poles[~inside], r[~inside], (), (), u, d,
+                              terms.rigid_shift)
+        local = np.sort_complex(np.append(poles[inside], start))
+        local = local[np.argsort(np.abs(local), kind="stable")]
+        new = int(np.flatnonzero(local == start)[0])
+        kinds_l = np.full(local.size, "mode")
+        none = Terms(np.zeros(0), False, False, terms.rigid_shift)
+        lo, hi = self._imag_bounds(kinds_l, omega, local)
+        kw = dict(imag_lo=lo, imag_hi=hi, passive=self._passive_on, buffers=self._buffers,
+                  with_std=not self._relative(),
+                  stat_tol=0.1 if self._relative() else 1e-4, max_iter=15)
+        if self.max_real is not None:
+            kw["max_real"] = self.max_real
+        om, hl, wl = omega[lines], (h - background)[lines], w[lines]
+        local, x_l, info = refine_varpro(om, hl, wl, local, none, **kw)
+        if info["cost"] >= np.sum(np.abs(resid[lines] * wl) ** 2):
+            return False
+        everything = np.concatenate([local, poles[~inside & (kinds == "mode")]])
+        if not self._apart(omega, everything, np.full(everything.size, "mode"), new):
+            return False
+        worst, _ = self._worst_pole(om, hl, wl, local, x_l, info, kinds_l, none, only=new)
+        return worst is None and self._explains_peak(omega, h, w, resid, local, x_l, none,
+                                                     new, lines=lines, background=background)
 
     @staticmethod
     def _peak_half_width(omega, resid, k):
@@ -124,7 +187,8 @@ class PoleChecks:
         spacing = float(np.median(np.diff(omega)))
         return float(np.clip(0.5 * (hi - lo), 0.5 * spacing, 0.01 * omega[k]))
 
-    def _explains_peak(self, omega, h, w, resid, poles, x, terms, new):
+    def _explains_peak(self, omega, h, w, resid, poles, x, terms, new, lines=None,
+                       background=None):
         """Does the mode ``new`` of the trial model ``(poles, x)`` account for the residual
         peak it was placed on? Over the lines within five half-power half-widths of it
         (five lines at least) the weighted residual ``|w (h - model)|^2`` must fall to
@@ -138,12 +202,18 @@ class PoleChecks:
         low percentile of the local scatter). Where the data carry their coherence, whose
         noise estimate is itself an upper bound, ``8 ln(n)``. A step in the data (a level
         that changes and stays) or a ripple a few times the noise is not taken for a
-        mode."""
+        mode. ``lines`` (bool, shape of ``omega``): where the model ``(poles, x)`` holds,
+        when it was fitted on those lines only; ``background`` (shape of ``omega``): the
+        terms held outside that model, added to it."""
         p = poles[new]
         spacing = float(np.median(np.diff(omega)))
         near = np.abs(omega - p.imag) <= max(5.0 * spacing, 5.0 * abs(p.real))
+        if lines is not None:
+            near &= lines
         r, _, u, d = split_coefficients(x, poles.size, terms)
         after = h[near] - evaluate(omega[near], poles, r, (), (), u, d, terms.rigid_shift)
+        if background is not None:
+            after -= background[near]
         before = np.sum(np.abs(w[near] * resid[near]) ** 2)
         gain = before - np.sum(np.abs(w[near] * after) ** 2)
         sigma, measured = self._line_noise(h)
