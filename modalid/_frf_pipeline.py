@@ -332,15 +332,15 @@ class FRFPipeline(PoleChecks):
                     break
                 # the quick pass, or a mode added by the second search: refine in full
                 poles, x, info = self._refine(omega, h, w, poles, kinds, terms)
-            # drop the worst non-physical pole, refine again from the refined poles
-            # without it
+            # drop the worst non-physical pole (or several insignificant ones far
+            # apart), refine again from the refined poles without them
             for _ in range(0 if self._selection() or self.__dict__.get("_probe")
                            else _MAX_DROPS):
-                k, why = self._worst_pole(omega, h, w, poles, x, info, kinds, terms)
-                if k is None:
+                drop, why = self._poles_to_drop(omega, h, w, poles, x, info, kinds, terms)
+                if not drop:
                     break
-                notes.append(why)
-                poles, kinds = np.delete(poles, k), np.delete(kinds, k)
+                notes += why
+                poles, kinds = np.delete(poles, drop), np.delete(kinds, drop)
                 poles, x, info = self._refine(omega, h, w, poles, kinds, terms)
             if np.any(kinds == "far") and not self.__dict__.get("_segment_of"):
                 poles, kinds, x, info = self._release_far(omega, h, w, poles, kinds, x,

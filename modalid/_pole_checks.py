@@ -256,9 +256,23 @@ class PoleChecks:
         sharp resonance on few lines has a poorly determined residue but is plainly
         there).
         """
+        drop, notes = self._poles_to_drop(omega, h, w, poles, x, info, kinds, terms, only,
+                                          batch=False)
+        return (drop[0], notes[0]) if drop else (None, None)
+
+    def _poles_to_drop(self, omega, h, w, poles, x, info, kinds, terms, only=None, *,
+                       batch=True, spread=20.0):
+        """The physical poles to drop now, with a note on each (both empty: all are
+        fine): :meth:`_worst_pole`'s pole and, with ``batch`` when it goes for being not
+        significant, every other pole not significant by the same test that lies more
+        than ``spread`` half-power bandwidths (and lines) from it and from each other:
+        such poles cannot stand in for one another, and one refit serves them all (a pole
+        near one dropped could become significant once that one is gone: it waits for
+        the next round)."""
         r, *_ = split_coefficients(x, poles.size, terms)
         std = info["std"]["modes"] if info["std"] is not None else np.zeros((poles.size, 4))
-        t = np.abs(r) / np.maximum(np.hypot(std[:, 2], std[:, 3]), 1e-300)
+        with np.errstate(over="ignore"):
+            t = np.abs(r) / np.maximum(np.hypot(std[:, 2], std[:, 3]), 1e-300)
         wn, zeta = np.abs(poles), -poles.real / np.abs(poles)
         # significance judges the structure's damping: the window's decay removed
         own = poles + self._shift
@@ -280,8 +294,16 @@ class PoleChecks:
                  (weak | (zeta_own > 0.3), "not significant")]
         for bad, reason in tests:
             bad = bad & mode
-            if bad.any():
-                k = int(np.flatnonzero(bad)[np.argmin(t[bad])])
-                detail = f" (|r|/std = {t[k]:.3g}, damping {zeta_own[k]:.3g})"
-                return k, f"dropped the pole at {wn[k] / (2 * np.pi):.6g} Hz: {reason}{detail}"
-        return None, None
+            if not bad.any():
+                continue
+            drop = [int(np.flatnonzero(bad)[np.argmin(t[bad])])]
+            if batch and reason == "not significant":
+                spacing = float(np.median(np.diff(omega)))
+                reach = spread * np.maximum(-poles.real, spacing)
+                for j in np.flatnonzero(bad)[np.argsort(t[bad])]:
+                    if all(abs(wn[j] - wn[i]) > reach[i] + reach[j] for i in drop):
+                        drop.append(int(j))
+            notes = [f"dropped the pole at {wn[k] / (2 * np.pi):.6g} Hz: {reason} "
+                     f"(|r|/std = {t[k]:.3g}, damping {zeta_own[k]:.3g})" for k in drop]
+            return drop, notes
+        return [], []
