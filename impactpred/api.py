@@ -352,13 +352,26 @@ def choose_dt(bodies, contact, *, t_end, method="convolution") -> float:
     t_end : float, keyword-only
         End of the simulation (s).
     method : str, keyword-only
-        The solver the step is for (see :data:`METHODS`).
+        The solver the step is for (see :data:`METHODS`); ``"auto"``: the one
+        :func:`solve_impact` would choose for these bodies and contact. Default
+        ``"convolution"``, unlike :func:`solve_impact`'s ``"auto"``: the step that resolves
+        the bodies' physics (the time-stepping solvers'), which the exact solvers do not
+        need.
 
     Returns
     -------
     float
         The time step (s).
+
+    Raises
+    ------
+    ValueError
+        ``method`` not one of :data:`METHODS`, or not possible for these bodies (as in
+        :func:`solve_impact`).
     """
+    as_choice("method", method, METHODS)
+    if method == "auto":
+        method = _choose_method(tuple(bodies), check_contact(contact), method)
     pairs = [p for b in bodies for p in _time_scales(b)]
     contact_scale = _contact_time_scale(bodies, contact)
     if contact_scale is not None:

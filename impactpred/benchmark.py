@@ -386,7 +386,7 @@ def _progress_line(row, start):
 
 
 def run_benchmark(*, cases=None, bands=(10, 20, 40), noises=(0.01, 0.05), quick=False,
-                  out=None, progress=True, band_modes=None, workers=2, level=0.9,
+                  out=None, progress=False, band_modes=None, workers=2, level=0.9,
                   measurement=Measurement(), executor=None) -> pd.DataFrame:
     """Run the benchmark; write ``synthetic_benchmark.csv``, ``.md`` and figures to ``out``.
 
@@ -406,7 +406,8 @@ def run_benchmark(*, cases=None, bands=(10, 20, 40), noises=(0.01, 0.05), quick=
         Output directory (created); nothing is written without it.
     progress : bool
         Print one line per case and configuration (stdout) as its task finishes, under a
-        tqdm bar of the tasks (stderr).
+        tqdm bar of the tasks (stderr). Default False, as at every entry point of the
+        library (``impactpred benchmark`` turns it on).
     band_modes : sequence of int, optional
         The bands (mode counts) whose rows get an uncertainty band; default every band,
         ``()`` for none.

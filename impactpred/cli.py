@@ -108,15 +108,19 @@ def _run_predict(args):
     import warnings
 
     from .predict import predict
+    from modalid import ModalFit
+
 
     with warnings.catch_warnings(record=True) as caught:
+    # the same estimator as ``modalid fit`` builds: one line a segment of a wide band
+    estimator = ModalFit(progress=True, **fit_options(args))
         warnings.simplefilter("always")
         try:
             pred = predict(args.body1, args.body2, velocity1=args.v1, velocity2=args.v2,
                            gap=args.gap, contact=args.contact, t_end=args.t_end, dt=args.dt,
                            method=args.method, continuation=args.continuation,
                            uncertainty=args.uncertainty,
-                           fit_options=dict(fit_options(args), progress=True),
+                           estimator=estimator,
                            read_options=tuple(_body_read_options(args, spec)
                                               for spec in (args.body1, args.body2)),
                            check_passive=not args.no_passivity_check)

@@ -11,6 +11,9 @@ A body is given as
   ``spring-mass:mass=..,stiffness=..[,damping_ratio=..]``,
   ``beam:mass=..,time_scale=..`` (SI units);
 * or any model object ``solve_impact`` takes.
+
+Reading them (and contact specs) is :mod:`impactpred._specs`'s job; this module judges
+the identifications, continues the models and solves.
 """
 
 from __future__ import annotations
@@ -19,21 +22,17 @@ import functools
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 
-from data_synth import CantileverBeam, LumpedMass, Rod, SpringMass
-from modalid import ModalFit, ModalModel, MultiOutputModalModel
-from modalid.io import check_sign, read_frf
-from modalid.model import read_model_json
-from modalid.receptance import Receptance
+from modalid import ModalModel, MultiOutputModalModel
 
+from ._figures import band_resolution, impact_figures
+from ._specs import READ_OPTIONS, check_estimator, identify, parse_contact, read_options_pair
 from .api import solve_impact
 from .body import Body, check_driving_point
-from .contact import ContactLaw, Hertz, LinearSpring, Rigid
 from .result import ImpactResult
-from .truncation import band_resolution, identified_model, impact_figures
+from .truncation import identified_model
 from .uncertainty import uncertainty_band
 
 __all__ = ["predict", "Prediction", "parse_body", "parse_contact", "BandWarning",
@@ -115,121 +114,6 @@ def check_identification(fit, source, *, body: int) -> None:
                       "the prediction relies on it", IdentificationWarning, stacklevel=4)
 
 
-_SPECS = {
-    "mass": (LumpedMass, ("mass",)),
-    "rod": (Rod, ("mass", "transit_time", "support")),
-    "spring-mass": (SpringMass, ("mass", "stiffness", "damping_ratio")),
-    "beam": (CantileverBeam, ("mass", "time_scale")),
-}
-
-
-def _parse_fields(kind, text, names):
-    values, positional = {}, []
-    for item in filter(None, (part.strip() for part in text.split(","))):
-        if "=" in item:
-            key, value = (x.strip() for x in item.split("=", 1))
-            if key not in names:
-                raise ValueError(f"{kind} spec: unknown field {key!r}; fields are {names}")
-            values[key] = value
-        else:
-            positional.append(item)
-    for name, value in zip(names, positional):
-        values.setdefault(name, value)
-    out = {}
-    for key, value in values.items():
-        if key == "support":
-            out[key] = value
-            continue
-        try:
-            out[key] = float(value)
-        except ValueError as exc:
-            raise ValueError(f"{kind} spec: {key}={value!r} is not a number") from exc
-    return out
-
-
-#: the :func:`modalid.read_frf` options a body's FRF file may be read with
-READ_OPTIONS = ("format", "quantity", "columns", "index", "freq_hz", "conjugate", "negate")
-
-
-def _read_options(read_options, quantity):
-    """``read_frf`` keyword arguments from ``read_options`` (a dict) and ``quantity``."""
-    if read_options is None:
-        options = {}
-    elif isinstance(read_options, dict):
-        options = dict(read_options)
-    else:
-        raise TypeError(f"read_options must be a dict of read_frf options, got "
-                        f"{type(read_options).__name__}")
-    unknown = sorted(set(options) - set(READ_OPTIONS))
-    if unknown:
-        raise ValueError(f"read_options: unknown option(s) {unknown}; the options are "
-                         f"{list(READ_OPTIONS)}")
-    if quantity is not None:
-        if options.get("quantity", quantity) != quantity:
-            raise ValueError(f"quantity={quantity!r} and read_options['quantity']="
-                             f"{options['quantity']!r} disagree: give one")
-        options["quantity"] = quantity
-    return options
-
-
-def _saved_model(path: Path):
-    """The model of a saved ``.json`` file (a ``ModalModel`` or a
-    ``MultiOutputModalModel``), in SI units; errors name the file."""
-    import json
-
-    payload, label = read_model_json(path)
-    if payload["format"] == "modalid.MultiOutputModalModel":   # several points: all of them
-        try:
-            return MultiOutputModalModel.from_json(json.dumps(payload))
-        except ValueError as exc:
-            raise ValueError(f"{label}: {exc}") from None
-    return ModalModel._from_payload(payload, label)
-
-
-def _checked_frf(path, options, *, label="", check_passive=True):
-    """The FRF of ``path``, refused when stored with the other sign convention or, as a
-    driving point (``check_passive``), with its sign reversed (see
-    :func:`modalid.io.check_sign`)."""
-    data = read_frf(path, **options)
-    sign = check_sign(data)
-    if sign.verdict == "conjugate" or (sign.verdict == "reversed" and check_passive):
-        raise ValueError(label + sign.problem(path))
-    return data
-
-
-def _identify(spec, *, quantity=None, fit=None, read_options=None, check_passive=True,
-              label=""):
-    """``(model, None)`` of a spec, saved model or model object; ``(None, fitted
-    ModalFit)`` of an FRF file."""
-    if isinstance(spec, (Receptance, MultiOutputModalModel)):
-        return spec, None
-    if not isinstance(spec, (str, Path)):
-        raise TypeError(f"a body must be a file, a spec string or a model, got "
-                        f"{type(spec).__name__}")
-    text = str(spec)
-    kind, sep, rest = text.partition(":")
-    if sep and kind in _SPECS and not Path(text).exists():
-        cls, names = _SPECS[kind]
-        try:
-            return cls(**_parse_fields(kind, rest, names)), None
-        except TypeError as exc:
-            raise ValueError(f"{kind} spec {text!r}: {exc}") from exc
-    path = Path(text)
-    if not path.exists():
-        raise ValueError(f"body {text!r} is neither an existing file nor a spec "
-                         f"({', '.join(k + ':...' for k in _SPECS)})")
-    if path.suffix.lower() == ".json":
-        return _saved_model(path), None
-    data = _checked_frf(path, _read_options(read_options, quantity), label=label,
-                        check_passive=check_passive)
-    estimator = fit if fit is not None else ModalFit()
-    try:
-        estimator.fit(data)
-    except ValueError as exc:
-        raise ValueError(f"{label}{path}: {exc}") from None
-    return None, estimator
-
-
 def _continued(fit, *, label=""):
     """``(model, note)``: ``fit``'s model for an impact continued above its band, or, where
     its band holds no mode to continue from, as identified (with a
@@ -243,7 +127,8 @@ def _continued(fit, *, label=""):
     return model, f"on, above {fit.report_['band_hz'][1]:.4g} Hz"
 
 
-def parse_body(spec, *, quantity=None, fit=None, continuation=True, read_options=None):
+def parse_body(spec, *, quantity=None, estimator=None, continuation=True,
+               read_options=None):
     """The model of a body spec and, for a measured FRF, its fitted ``ModalFit``.
 
     Parameters
@@ -252,12 +137,17 @@ def parse_body(spec, *, quantity=None, fit=None, continuation=True, read_options
         See the module docstring.
     quantity : str, optional, keyword-only
         Quantity of an FRF file that does not state it.
-    fit : ModalFit, optional, keyword-only
-        The (unfitted) estimator an FRF file is identified with; default ``ModalFit()``.
+    estimator : modalid.ModalFit, optional, keyword-only
+        The estimator an FRF file is identified with, cloned (``sklearn.base.clone``: its
+        settings, not its state; ``estimator`` itself is left as it is); default
+        ``ModalFit()``.
     continuation : bool, default True, keyword-only
         A model identified from an FRF file carries the high-frequency continuation of
         :func:`impactpred.truncation.continue_above_band` (with a
         :class:`ContinuationWarning` and none where the band holds no mode to continue).
+        ``"auto"`` is :func:`predict`'s alone: it decides from a first solve's force, which
+        one body does not have (the defaults of the options several entry points share:
+        the API reference's first section).
     read_options : dict, optional, keyword-only
         :func:`modalid.read_frf` options of an FRF file (:data:`READ_OPTIONS`), e.g.
         ``{"format": "complex-lines", "freq_hz": ...}`` or ``{"conjugate": True}``.
@@ -272,48 +162,20 @@ def parse_body(spec, *, quantity=None, fit=None, continuation=True, read_options
         A spec, file or model that cannot be read, naming it; an FRF stored with the
         other sign convention or a driving point with its sign reversed (see
         :func:`modalid.io.check_sign`; the message names the reading option that fixes
-        it).
+        it); ``continuation`` not True or False.
+    TypeError
+        ``estimator`` is not a ``ModalFit``.
     """
-    model, estimator = _identify(spec, quantity=quantity, fit=fit, read_options=read_options)
-    if estimator is None:
+    if not isinstance(continuation, (bool, np.bool_)):
+        raise ValueError(f"continuation must be True or False for one body, got "
+                         f"{continuation!r} ('auto' needs the impact's force: predict)")
+    model, fit = identify(spec, quantity=quantity, estimator=check_estimator(estimator),
+                           read_options=read_options)
+    if fit is None:
         return model, None
     if not continuation:
-        return identified_model(estimator, continuation=False), estimator
-    return _continued(estimator)[0], estimator
-
-
-def parse_contact(spec) -> ContactLaw:
-    """``rigid``, ``spring:stiffness=..[,damping=..]``, ``hertz:stiffness=..[,exponent=..]``
-    or ``hertz-sphere:radius1=..,youngs_modulus1=..,poisson1=..,youngs_modulus2=..,
-    poisson2=..[,radius2=..]``; a ``ContactLaw`` passes through.
-
-    Parameters
-    ----------
-    spec : str or ContactLaw
-        The spec string, SI units (N/m, N/m^1.5, m, Pa).
-
-    Returns
-    -------
-    ContactLaw
-        ``Rigid``, ``LinearSpring`` or ``Hertz``.
-    """
-    if isinstance(spec, ContactLaw):
-        return spec
-    if not isinstance(spec, str):
-        raise TypeError(f"contact must be a ContactLaw or a spec string, got {spec!r}")
-    kind, _, rest = spec.partition(":")
-    laws: dict[str, tuple[Any, tuple[str, ...]]] = {
-            "spring": (LinearSpring, ("stiffness", "damping")),
-            "hertz": (Hertz, ("stiffness", "exponent")),
-            "hertz-sphere": (Hertz.from_materials, ("radius1", "youngs_modulus1", "poisson1",
-                                                    "youngs_modulus2", "poisson2", "radius2"))}
-    if kind == "rigid":
-        return Rigid()
-    if kind not in laws:
-        raise ValueError(f"contact {spec!r}: use rigid, spring:..., hertz:... or "
-                         "hertz-sphere:...")
-    factory, names = laws[kind]
-    return factory(**_parse_fields(kind, rest, names))
+        return identified_model(fit, continuation=False), fit
+    return _continued(fit)[0], fit
 
 
 @dataclass(frozen=True)
@@ -383,14 +245,15 @@ def _check_model(model, spec, body: int, check_passive: bool) -> None:
                             opt_out="to use it anyway, check_passive=False")
 
 
-def _bodies(specs, *, quantity, fit_options, read_options, check_passive):
+def _bodies(specs, *, quantity, estimator, read_options, check_passive):
     """``(models, fits)`` of the two bodies, checked: an identified body's model as
-    identified (no continuation), its fit judged by :func:`check_identification`."""
+    identified (no continuation), its fit (a clone of ``estimator``) judged by
+    :func:`check_identification`."""
     models, fits = [], []
-    for i, (spec, options) in enumerate(zip(specs, _as_pair(read_options)), start=1):
-        estimator = ModalFit(**fit_options) if fit_options else None
-        model, fit = _identify(spec, quantity=quantity, fit=estimator, read_options=options,
-                               check_passive=check_passive, label=f"body {i}: ")
+    for i, (spec, options) in enumerate(zip(specs, read_options_pair(read_options)), start=1):
+        model, fit = identify(spec, quantity=quantity, estimator=estimator,
+                               read_options=options, check_passive=check_passive,
+                               label=f"body {i}: ")
         if fit is not None:
             check_identification(fit, spec, body=i)
             model = identified_model(fit, continuation=False)
@@ -420,16 +283,6 @@ def _band_reach(result, fits, notes, band_tolerance) -> list:
     return reach
 
 
-def _as_pair(read_options):
-    """Per body, its ``read_options`` (one dict for both, or a pair)."""
-    if isinstance(read_options, (list, tuple)):
-        if len(read_options) != 2:
-            raise ValueError(f"read_options must be a dict or a pair of them (body 1, body "
-                             f"2), got {len(read_options)} items")
-        return tuple(read_options)
-    return read_options, read_options
-
-
 def _solve_pair(model1, model2, *, velocity1, velocity2, check_passive, gap, contact, t_end,
                 dt, method):
     """The impact of two models (``predict``'s solves)."""
@@ -441,7 +294,7 @@ def _solve_pair(model1, model2, *, velocity1, velocity2, check_passive, gap, con
 def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rigid",
             t_end, dt=None, method="auto", quantity=None, band_tolerance=0.01,
             continuation="auto", uncertainty=False, uncertainty_draws=4,
-            seed=0, fit_options=None, read_options=None, check_passive=True,
+            seed=0, estimator=None, read_options=None, check_passive=True,
             executor=None) -> Prediction:
     """Predict the impact of two bodies given as files, specs or models.
 
@@ -480,10 +333,12 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
     executor : None, concurrent.futures.Executor or dask.distributed.Client
         Where the uncertainty band's re-identifications and solves run (``None``: here,
         one after the other); the band does not depend on it.
-    fit_options : dict, optional
-        Keyword options of the :class:`modalid.ModalFit` each FRF file is identified with,
-        e.g. ``HammerFRF.fit_options()`` (``window_decay_rate``, ``record_length``) for FRFs
-        measured with an exponential window, which the fit then models exactly.
+    estimator : modalid.ModalFit, optional
+        The estimator each FRF file is identified with, cloned for each body
+        (``sklearn.base.clone``: its settings; ``estimator`` itself is not fitted), e.g.
+        ``ModalFit(**HammerFRF.fit_options())`` (``window_decay_rate``,
+        ``record_length``) for FRFs measured with an exponential window, which the fit
+        then models exactly. Default ``ModalFit()``.
     read_options : dict or pair of dicts, optional
         :func:`modalid.read_frf` options of the FRF files (:data:`READ_OPTIONS`; a pair:
         body 1's, body 2's), e.g. ``{"format": "complex-lines", "freq_hz": f}`` for bare
@@ -499,6 +354,8 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
 
     Raises
     ------
+    TypeError
+        ``estimator`` is not a ``ModalFit`` (e.g. a dict of its options).
     ValueError
         A body's identification failed or its FRF is not a driving point (see
         :func:`check_identification`; a suspect one warns with
@@ -509,13 +366,11 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
         The solver cannot go on (e.g. a grazing contact the exact solver cannot decide;
         the message names the method to use instead).
     """
-    if fit_options is not None and not isinstance(fit_options, dict):
-        raise TypeError(f"fit_options must be a dict of ModalFit options, got "
-                        f"{type(fit_options).__name__}")
+    estimator = check_estimator(estimator)
     if not (isinstance(continuation, (bool, np.bool_)) or continuation == "auto"):
         raise ValueError(f"continuation must be True, False or 'auto', got {continuation!r}")
     specs = (body1, body2)
-    models, fits = _bodies(specs, quantity=quantity, fit_options=fit_options,
+    models, fits = _bodies(specs, quantity=quantity, estimator=estimator,
                            read_options=read_options, check_passive=check_passive)
     law = parse_contact(contact)
 

@@ -284,12 +284,17 @@ class FRFPipeline(PoleChecks):
             poles, x, info = self._refine(omega, h, w, poles, kinds, terms)
         residues, _, u, d = split_coefficients(x, poles.size, terms)
         info["n_iter_total"] = self._iterations
-        if not info["converged"] and not self.__dict__.get("_probe"):
-            warnings.warn(f"the refinement did not converge: {info['message']}",
-                          ModalFitWarning, stacklevel=4)
-        if not np.any(kinds == "mode") and not self.__dict__.get("_probe"):
-            warnings.warn("no resonance found in the band: the model holds only residual "
-                          "terms; see stabilization_", ModalFitWarning, stacklevel=4)
+        said = []
+        if not info["converged"]:
+            said.append(f"the refinement did not converge: {info['message']}")
+        if not np.any(kinds == "mode"):
+            said.append("no resonance found in the band: the model holds only residual "
+                        "terms; see stabilization_")
+        # a probe keeps them (:meth:`modalid.fit.ModalFit.fit` says them if it keeps the
+        # probe's result)
+        self._held_warnings = said if self.__dict__.get("_probe") else []
+        for message in () if self.__dict__.get("_probe") else said:
+            warnings.warn(message, ModalFitWarning, stacklevel=4)
         self._store(frf, poles, kinds, residues, u, d, info, notes, max_order, vf_iterations,
                     terms)
         del self._buffers

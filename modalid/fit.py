@@ -28,12 +28,12 @@ from threadpoolctl import threadpool_limits
 
 from ._checks import (as_choice, as_count, as_nonnegative_scalar, as_positive_scalar,
                       as_real_array)
-from ._band import choose_band, choose_weighting, decimation, noise_model
+from ._band import choose_weighting
 from ._era import identify_impulse, impulse_samples
+from ._fit_lines import FitLines
 from ._frf_pipeline import FRFPipeline, ModalFitWarning
 from ._report import fit_report
 from ._verdict import damping_resolved, driving_point_decision, quality_verdict
-from ._lsfd import noise_level
 from ._window import windowed_receptance
 from .frf import FRFData
 from .frf_set import FRFSet
@@ -45,7 +45,7 @@ from .stabilization import plot_fit, plot_stabilization
 __all__ = ["ModalFit", "ModalFitWarning"]
 
 
-class ModalFit(FRFPipeline, BaseEstimator):
+class ModalFit(FRFPipeline, FitLines, BaseEstimator):
     """Identify a pole-residue driving-point receptance.
 
     Parameters
@@ -101,11 +101,10 @@ class ModalFit(FRFPipeline, BaseEstimator):
         (a running median of second differences), for measured FRFs whose noise is not
         proportional (a noise floor). ``"uniform"``: equal weights.
     weights : array_like of float, optional
-        Weights of the data's lines (one per line of the ``FRFData`` given to ``fit``, all
-        lines, >= 0), for the error in the data's own quantity; they replace
-        ``weighting`` (no reweighting by the model). For example the error of a predicted
-        response spectrum: ``sqrt(S_ff * coherence)`` for an H1 estimate. ``None``
-        (default): ``weighting`` decides. FRFData and ``method`` "lscf" or "vf" only.
+        Per-line weights as a setting; they belong to the data, so prefer
+        ``fit(data, weights=...)`` (the same meaning; see :meth:`fit`), which this
+        route is kept beside for the settings of :meth:`modalid.HammerFRF.fit_options`
+        (``weighted=True``). Giving both is an error. ``None`` (default): none.
     max_real : float, optional
         Upper bound (rad/s, < 0) on the real part of every pole in the refinement, e.g.
         ``-(decay_rate + margin)`` for an FRF with an exponential window, so that the
@@ -166,6 +165,9 @@ class ModalFit(FRFPipeline, BaseEstimator):
     data_ : FRFData
         The same band in the data's own quantity (what a re-fit with the same settings
         takes: a windowed fit's terms depend on what was recorded).
+    weights_ : ndarray or None
+        The per-line weights given, on ``data_``'s lines (what that re-fit takes as
+        ``fit(data_, weights=weights_)``); None without.
     report_ : FitReport
         Read-only, by key or attribute (:class:`modalid.FitReport`): ``converged``,
         ``message``, ``n_iterations``; ``n_modes`` and ``modes`` (the physical modes:
@@ -221,7 +223,7 @@ class ModalFit(FRFPipeline, BaseEstimator):
         self.progress = progress
 
     # ------------------------------------------------------------------ fitting
-    def fit(self, data):
+    def fit(self, data, weights=None):
         """Identify the model from ``data``; returns ``self``.
 
         Parameters
@@ -235,11 +237,26 @@ class ModalFit(FRFPipeline, BaseEstimator):
             physical modes' residue rows divided by the driving point's, and ``report_``
             gives ``frf_nrmse``, ``frf_nrmse_data`` and ``noise_estimate_data`` (the
             data's own scatter, relative) per output.
+        weights : array_like of float, shape (n_lines,), optional
+            Weights of the data's lines, one per line of the ``FRFData`` (all its lines,
+            the band is cut from them with the data), finite, >= 0 and not all 0: the
+            error is weighted in the data's own quantity and they replace ``weighting``
+            (no reweighting by the model). A weight of 0 leaves its line out of the fit.
+            For example the error of a predicted response spectrum:
+            ``sqrt(S_ff * coherence)`` for an H1 estimate. ``None`` (default):
+            ``weighting`` decides. FRFData and ``method`` "lscf" or "vf" only.
 
         Returns
         -------
         ModalFit
             ``self``, fitted.
+
+        Raises
+        ------
+        ValueError
+            Bad settings, or ``weights`` of the wrong length, not finite, negative, all 0
+            (on the data or on the band fitted), given with an FRFSet or ERA, or given
+            both here and as the estimator's setting.
         """
         as_choice("method", self.method, ("lscf", "vf", "era"))
         as_choice("weighting", self.weighting, ("auto", "relative", "mixed", "noise", "uniform"))
@@ -257,16 +274,17 @@ class ModalFit(FRFPipeline, BaseEstimator):
             raise ValueError(f"residuals must be a subset of ('lower', 'upper'), got {bad}")
         self._selection()                        # validates n_modes
         for name in ("model_", "poles_", "stabilization_", "clusters_", "report_", "frf_",
-                     "data_", "impulse_", "mode_shapes_", "_stabilization_cache", "_probe"):
+                     "data_", "weights_", "impulse_", "mode_shapes_", "_stabilization_cache",
+                     "_probe"):
             self.__dict__.pop(name, None)         # a second fit starts afresh
         self._check_window()
         windowed = self._windowed
-        if isinstance(data, FRFSet) and (self.weights is not None
-                                         or self.max_real is not None or windowed):
+        self._line_weights = self._given_weights(weights)
+        weighted = self._line_weights is not None
+        if isinstance(data, FRFSet) and (weighted or self.max_real is not None or windowed):
             raise ValueError("weights, max_real, window_decay_rate and record_length apply "
                              "to an FRFData fit only")
-        if self.method == "era" and (self.weights is not None or self.max_real is not None
-                                     or windowed):
+        if self.method == "era" and (weighted or self.max_real is not None or windowed):
             raise ValueError("weights, max_real, window_decay_rate and record_length apply "
                              "to method 'lscf' or 'vf' only")
         if self.max_real is not None and not float(self.max_real) < 0:
@@ -299,7 +317,13 @@ class ModalFit(FRFPipeline, BaseEstimator):
                                                      self._raw_inverse_mass)
             probe_error = self.report_["frf_median_relative_error"]
             self._passive_on = driving
-            self._fit_frf(data)
+            if driving or self._segment_count == 1:
+                self._fit_frf(data)
+            else:
+                # a wide band fitted by segments: the probe was the whole unconstrained
+                # identification already (complete segment fits, the band's linear fit)
+                for message in self._held_warnings:
+                    warnings.warn(message, ModalFitWarning, stacklevel=2)
             error = self.report_["frf_median_relative_error"]
             if driving and error > 1.5 * probe_error + 0.01:
                 self._passive_on = False          # the data contradict a passive model
@@ -417,68 +441,6 @@ class ModalFit(FRFPipeline, BaseEstimator):
             raise ValueError(f"n_modes as frequencies must be positive Hz, got {freqs!r}")
         return {"frequencies_hz": freqs}
 
-    def _mixed_weights(self, mag):
-        """One over the modelled noise ``sqrt((sigma_rel |H|)^2 + floor^2)`` of each line
-        (``weighting="mixed"``; ``mag``: the data's or the model's ``|H|``)."""
-        sigma_rel, floor = self._noise
-        return 1.0 / np.sqrt((sigma_rel * mag) ** 2 + floor ** 2)
-
-    def _relative(self):
-        on = getattr(self, "_weighting_on", self.weighting)
-        return on in ("relative", "mixed") and self.weights is None
-
-    def _prepare(self, data: FRFData):
-        given = None
-        if self.weights is not None:
-            given = as_real_array("weights", self.weights, ndim=1)
-            if given.shape != data.freq_hz.shape or np.any(given < 0):
-                raise ValueError(f"weights must be {data.freq_hz.size} values >= 0 (one per "
-                                 f"line of the data), got shape {given.shape}")
-            given = given[data.freq_hz > 0]
-        data = data.select(data.freq_hz > 0)
-        first = data.freq_hz[0]
-        if self.freq_range is None:                   # the lines the data can vouch for
-            band, self._band_reason = choose_band(data, low_end=not self._windowed)
-        else:
-            band, self._band_reason = self.freq_range, "freq_range"
-        if given is not None:
-            lo, hi = band
-            given = given[(data.freq_hz >= lo) & (data.freq_hz <= hi)]
-        data = data.band(band)
-        step, why = decimation(data.values)           # a very fine band: every step-th line
-        if step > 1:
-            data = data.select(slice(None, None, step))
-            given = None if given is None else given[::step]
-        if why:
-            self._band_reason = f"{self._band_reason}; {why}"
-        self._band_weights = given                    # per line of the band, or None
-        # lines below the band were dropped by the user (the automatic band drops only
-        # lines that scatter like noise: the data still reach below the first resonance)
-        cut = self.freq_range is not None and bool(data.freq_hz[0] > first)
-        self._data_band = self.data_ = data           # in the data's own quantity
-        if self.weighting == "auto":
-            self._weighting_on, self._weighting_reason = choose_weighting(data.values)
-        frf = data.to_receptance()
-        mag = np.abs(frf.values)
-        self._noise = None          # noise_model(frf.values), when a step needs it
-        if self._weighting_on == "relative":
-            w = 1.0 / np.maximum(mag, 1e-12 * mag.max())
-        elif self._weighting_on == "noise":
-            w = 1.0 / noise_level(frf.values)
-        elif self._weighting_on == "mixed":
-            self._noise = noise_model(frf.values)
-            w = self._mixed_weights(mag)
-        else:
-            w = np.full(mag.size, 1.0 / np.sqrt(np.mean(mag**2)))
-        self._coherence_weight = (1.0 if frf.coherence is None
-                                  else np.sqrt(np.clip(frf.coherence, 1e-3, 1.0)))
-        if given is not None:      # error in the data's quantity -> in receptance
-            w = given * np.abs(receptance_to(data.quantity, np.ones(frf.omega.size),
-                                             frf.omega))
-            scale = np.sqrt(np.mean((w * mag) ** 2))
-            return frf, w / (scale if scale > 0 else 1.0), cut
-        return frf, w * self._coherence_weight, cut
-
     # ------------------------------------------------------------------ ERA
     def _fit_impulse(self, data):
         t, h = impulse_samples(data)
@@ -557,7 +519,8 @@ class ModalFit(FRFPipeline, BaseEstimator):
         return receptance_to(data.quantity, h, data.omega)
 
     def plot_stabilization(self, ax=None):
-        """Stabilization diagram with the selected poles; returns the Axes.
+        """Stabilization diagram with the selected poles and the magnitude of the band
+        fitted (:func:`modalid.stabilization.plot_stabilization`); returns the Axes.
 
         Parameters
         ----------
@@ -569,7 +532,9 @@ class ModalFit(FRFPipeline, BaseEstimator):
         matplotlib.axes.Axes
         """
         self._check_fitted()
-        return plot_stabilization(self.stabilization_, selected=self.poles_, ax=ax)
+        data = getattr(self, "data_", None)                   # the band fitted, if an FRF
+        frf = data if getattr(data, "freq_hz", None) is not None else None
+        return plot_stabilization(self.stabilization_, frf=frf, selected=self.poles_, ax=ax)
 
     def plot_fit(self, ax=None, *, data=None, output=None):
         """The data fitted (or ``data``) and the model; returns the Axes.

@@ -20,14 +20,14 @@ import numpy as np
 import pandas as pd
 
 from ._checks import as_choice, as_complex_array, as_real_array
+from ._multi_output_json import (multi_output_fields, multi_output_payload,
+                                 read_multi_output_json)
 from ._statespace import pole_residue_from_statespace, pole_residue_to_statespace
 from .model import ModalModel, _frozen, _rebuild
 from .quantities import QUANTITIES
 from .receptance import modal_time_scales
 
 __all__ = ["MultiOutputModalModel"]
-
-_FORMAT = "modalid.MultiOutputModalModel"
 
 
 def _per_output(name, value, n_outputs, *, dtype=float) -> np.ndarray:
@@ -507,20 +507,7 @@ class MultiOutputModalModel:
         str
             The JSON text.
         """
-        def pairs(z):
-            return [[float(v.real), float(v.imag)] for v in np.ravel(z)]
-
-        payload = {
-            "format": _FORMAT, "version": 1, "units": {"s": "rad/s", "receptance": "m/N"},
-            "outputs": list(self._outputs), "driving_point": self._driving_point,
-            "poles": pairs(self._poles),
-            "residues": [pairs(row) for row in self._residues],
-            "real_poles": self._real_poles.tolist(),
-            "real_residues": self._real_residues.tolist(),
-            "inverse_mass": self._inverse_mass.tolist(),
-            "flexibility": self._flexibility.tolist(),
-        }
-        text = json.dumps(payload, indent=1)
+        text = json.dumps(multi_output_payload(self._fields()), indent=1)
         if path is not None:
             Path(path).write_text(text)
         return text
@@ -538,31 +525,9 @@ class MultiOutputModalModel:
         -------
         MultiOutputModalModel
         """
-        text = str(source)
-        if not text.lstrip().startswith("{"):
-            text = Path(source).read_text()
+        payload = read_multi_output_json(source)
         try:
-            payload = json.loads(text)
-        except json.JSONDecodeError as exc:
-            raise ValueError(f"not a MultiOutputModalModel JSON text: {exc}") from exc
-        if not isinstance(payload, dict) or payload.get("format") != _FORMAT:
-            raise ValueError(f"not a MultiOutputModalModel JSON text: 'format' is not {_FORMAT!r}")
-
-        def complex_array(values):
-            values = np.asarray(values, dtype=float)
-            return values[..., 0] + 1j * values[..., 1]
-
-        try:
-            n_out = len(payload["outputs"])
-            poles = complex_array(np.reshape(payload.get("poles", []), (-1, 2)))
-            residues = complex_array(np.reshape(payload["residues"], (n_out, poles.size, 2)))
-            return cls(poles=poles, residues=residues,
-                       real_poles=payload.get("real_poles", []),
-                       real_residues=np.reshape(payload.get("real_residues", []), (n_out, -1)),
-                       inverse_mass=payload.get("inverse_mass", 0.0),
-                       flexibility=payload.get("flexibility", 0.0),
-                       driving_point=payload.get("driving_point", 0),
-                       outputs=payload["outputs"])
+            return cls(**multi_output_fields(payload))
         except (KeyError, TypeError, ValueError) as exc:
             raise ValueError(f"invalid MultiOutputModalModel JSON: {exc}") from exc
 

@@ -131,6 +131,45 @@ def test_result_is_immutable_and_exports():
     assert set(r.energy.columns) >= {"rigid_before", "vibration_after", "total_after"}
 
 
+def test_the_result_documents_what_it_holds_and_derives():
+    """ImpactResult's Attributes section names exactly its fields (what it holds, the
+    constructor's arguments) and its properties (what it derives), each a value of a
+    solved result: ``energy_by_body`` the held tuple, ``energy`` its table."""
+    import dataclasses
+    import inspect
+
+    from numpydoc.docscrape import ClassDoc
+
+    from impactpred import ImpactResult
+
+    documented = [name.strip() for entry in ClassDoc(ImpactResult)["Attributes"]
+                  for name in entry.name.split(",")]
+    assert len(documented) == len(set(documented))
+    fields = [f.name for f in dataclasses.fields(ImpactResult)]
+    derived = [name for name, member in inspect.getmembers(ImpactResult)
+               if isinstance(member, property) and not name.startswith("_")]
+    assert set(documented) == set(fields) | set(derived)
+    assert documented[:len(fields)] == fields           # the held ones first, in order
+    r = solve_impact(mass(), Body(SpringMass(1.0, 100.0)), t_end=1.0)
+    for name in documented:
+        getattr(r, name)
+    assert isinstance(r.energy_by_body, tuple) and len(r.energy_by_body) == 2
+    assert r.energy.loc["body2", "vibration_after"] == r.energy_by_body[1].vibration_after
+
+
+def test_choose_dt_takes_the_methods_of_solve_impact():
+    """``choose_dt(method="auto")`` is the step ``solve_impact`` chooses; a method it does
+    not know is refused (it once fell through to the time-stepping step)."""
+    bodies = (mass(), Body(SpringMass(1.0, 100.0)))
+    r = solve_impact(*bodies, t_end=1.0)
+    assert r.method == "laplace"
+    assert choose_dt(bodies, Rigid(), t_end=1.0, method="auto") == r.dt
+    assert choose_dt(bodies, Rigid(), t_end=1.0, method="auto") == choose_dt(
+        bodies, Rigid(), t_end=1.0, method="laplace")
+    with pytest.raises(ValueError, match="method must be one of"):
+        choose_dt(bodies, Rigid(), t_end=1.0, method="exact")
+
+
 def test_modal_model_bodies_with_real_poles_step_exactly():
     model = ModalModel(poles=[-0.2 + 6j], residues=[-0.08j], real_poles=[-5.0],
                        real_residues=[0.01], inverse_mass=0.5)

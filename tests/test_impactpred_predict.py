@@ -10,7 +10,7 @@ from data_synth import CantileverBeam, LumpedMass, Rod, lightly_damped, syntheti
 from impactpred import BandWarning, Body, Hertz, LinearSpring, Rigid, predict, solve_impact
 from impactpred.cli import main
 from impactpred.predict import force_energy_above, parse_body, parse_contact
-from modalid import write_frf
+from modalid import ModalFit, write_frf
 
 
 def test_spec_bodies_reproduce_solve_impact():
@@ -162,18 +162,23 @@ def test_predict_command_with_a_saved_multi_point_model_writes_every_point(tmp_p
                                motion["y2_m"].to_numpy(), rtol=0, atol=1e-12)
 
 
-def test_windowed_hammer_frf_file_with_fit_options(windowed_free_rod_csv, tmp_path):
-    """A free rod's mobility from an exponentially windowed hammer test, as a CSV: with the
-    window's options the identified mass is right and the mass hits it as the exact rod."""
+def test_windowed_hammer_frf_file_with_an_estimator(windowed_free_rod_csv, tmp_path):
+    """A free rod's mobility from an exponentially windowed hammer test, as a CSV: with an
+    estimator given the window's options the identified mass is right and the mass hits
+    it as the exact rod; the estimator is cloned for the body, a non-estimator refused."""
     path, options = windowed_free_rod_csv
     masses = {}
     # plain: the whole band, a passive fit without the window's model
     plain = {"freq_range": (0.0, np.inf), "passive": True}
     for label, kw in (("window", options), ("plain", plain)):
+        estimator = ModalFit(**kw)
         with pytest.warns(BandWarning):
             pred = predict("mass:1.0", path, velocity1=1.0, t_end=6.0, continuation=True,
-                           fit_options=kw)
+                           estimator=estimator)
         masses[label] = pred.fits[1].report_["rigid_mass"]
+        # cloned: the estimator given is left unfitted, the fit has its settings
+        assert not hasattr(estimator, "model_") and pred.fits[1] is not estimator
+        assert pred.fits[1].get_params() == estimator.get_params()
     assert masses["window"] == pytest.approx(1.0, rel=3e-3)
     assert abs(masses["plain"] - 1.0) > 0.05       # the windowed mass line read as 1/(M s^2)
     out = tmp_path / "cli"
@@ -186,5 +191,12 @@ def test_windowed_hammer_frf_file_with_fit_options(windowed_free_rod_csv, tmp_pa
                  str(options["record_length"]), "--out", str(tmp_path / "dense")]) == 0
     with pytest.raises(SystemExit):              # argparse: not one of the choices
         main(["predict", "mass:1.0", str(path), "--t-end", "6", "--missed-modes", "all"])
-    with pytest.raises(TypeError, match="fit_options must be a dict"):
-        predict("mass:1.0", path, velocity1=1.0, t_end=1.0, fit_options=[1.0])
+    with pytest.raises(TypeError, match=r"estimator must be a modalid.ModalFit .*got "
+                       r"\{'freq_range'.*a dict of options is ModalFit\(\*\*options\)"):
+        predict("mass:1.0", path, velocity1=1.0, t_end=1.0, estimator=plain)
+    with pytest.raises(TypeError, match="got the class ModalFit: give ModalFit"):
+        predict("mass:1.0", path, velocity1=1.0, t_end=1.0, estimator=ModalFit)
+    with pytest.raises(TypeError, match="estimator must be a modalid.ModalFit"):
+        parse_body(path, estimator=[1.0])
+    with pytest.raises(ValueError, match="continuation must be True or False for one body"):
+        parse_body(path, continuation="auto")

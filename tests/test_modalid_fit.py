@@ -432,6 +432,76 @@ def test_given_weights_fit_clean_data_exactly():
     assert df.max() < 1e-5 and dz.max() < 1e-3 and dr.max() < 1e-3
 
 
+def _by_frequency(fit):
+    """The fit's physical poles and residues, by frequency."""
+    modes = fit.report_["modes"]
+    order = np.argsort(modes["omega_n"].to_numpy())
+    return (fit.poles_[np.argsort(np.abs(fit.poles_))],
+            modes["residue"].to_numpy()[order])
+
+
+def test_fit_weights_zeroing_a_band_equal_the_fit_without_its_lines():
+    """``fit(data, weights=w)``: a line of weight 0 is out of the fit, so zeroing the lines
+    of 1.6-2.1 Hz (mode 4 at 1.75 Hz among them) gives the fit of the data without them
+    (equal weights elsewhere: ``weighting="uniform"``), to within the refinement's
+    convergence (5e-7; noise 2 %: the band's lines, put back, move the poles by 3e-3 and
+    the residues by 2e-2). The weights' scale does not matter, and the estimator's
+    ``weights`` setting is the same route."""
+    _, data, _ = frf_case("fixed rod", noise=0.02, seed=3, n_lines=1200)
+    hole = (data.freq_hz > 1.6) & (data.freq_hz < 2.1)
+    settings = dict(n_modes=8, freq_range=(0, np.inf), passive=True, rigid_body=False)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ModalFitWarning)
+        without = ModalFit(weighting="uniform", **settings).fit(data.select(~hole))
+        zeroed = ModalFit(**settings).fit(data, weights=np.where(hole, 0.0, 1.0))
+        scaled = ModalFit(**settings).fit(data, weights=np.where(hole, 0.0, 3.0))
+        setting = ModalFit(weights=np.where(hole, 0.0, 1.0), **settings).fit(data)
+        every_line = ModalFit(**settings).fit(data, weights=np.ones(data.freq_hz.size))
+    p0, r0 = _by_frequency(without)
+    for fit in (zeroed, scaled, setting):
+        p, r = _by_frequency(fit)
+        np.testing.assert_allclose(p, p0, rtol=1e-5)
+        np.testing.assert_allclose(r, r0, rtol=1e-4)
+    p, r = _by_frequency(every_line)          # the test can tell the lines apart
+    assert np.max(np.abs(p / p0 - 1)) > 1e-3 and np.max(np.abs(r / r0 - 1)) > 1e-2
+    # the fit's weights are the data's: not a setting, not carried by a clone, but kept
+    # on the lines fitted (data_) for a re-fit
+    assert zeroed.get_params()["weights"] is None
+    assert "_line_weights" not in clone(zeroed).__dict__
+    np.testing.assert_array_equal(zeroed.weights_, np.where(hole, 0.0, 1.0))
+    assert zeroed.data_.freq_hz.size == data.freq_hz.size and without.weights_ is None
+
+
+@pytest.mark.parametrize("weights, match", [
+    (np.ones(3), "weights must be 4000 values"),
+    (-np.ones(4000), "weights must be >= 0, got -1.0 at line 0"),
+    (np.r_[np.ones(3999), np.nan], "weights must be finite"),
+    (np.zeros(4000), "weights must not be all 0"),
+    (np.r_[np.ones(100), np.zeros(3900)], "all 0 on the band fitted"),
+    ([[1.0, 2.0]], "weights must be 1-D"),
+])
+def test_bad_fit_weights_raise_naming_the_value(weights, match):
+    _, data, _ = frf_case("fixed rod")
+    fit = ModalFit(freq_range=(1.0, np.inf))
+    with pytest.raises(ValueError, match=match):
+        fit.fit(data, weights=weights)
+
+
+def test_fit_weights_apply_to_one_frf_and_are_given_once():
+    from modalid import FRFSet
+
+    truth, data, _ = frf_case("fixed rod")
+    w = np.ones(data.freq_hz.size)
+    with pytest.raises(ValueError, match="given twice"):
+        ModalFit(weights=w).fit(data, weights=w)
+    frf_set = FRFSet.from_frfs([data, data], driving_point=0)
+    with pytest.raises(ValueError, match="FRFData fit only"):
+        ModalFit().fit(frf_set, weights=w)
+    t = np.linspace(0.0, 20.0, 2001)
+    with pytest.raises(ValueError, match="'lscf' or 'vf' only"):
+        ModalFit(method="era").fit((t, truth.impulse_response(t)), weights=w)
+
+
 def test_pole_bound_holds_for_every_refined_pole():
     # e.g. an exponential window added 2x the lightest mode's decay to every pole: the
     # refined poles must keep at least that much, so they stay stable once it is removed.

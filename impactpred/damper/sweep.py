@@ -224,7 +224,7 @@ def _run_items(damper, items, combinations, rows, n_cycles, executor, chunksize,
 
 # -------------------------------------------------------------------------------- sweep
 def sweep(damper, *, freq_hz=None, mass_ratio=None, clearance=None, contact_stiffness=None,
-          n_cycles=200, executor=None, progress=True, chunksize=None, store=None):
+          n_cycles=200, executor=None, progress=False, chunksize=None, store=None):
     """Primary amplitude (and the rest of the summary) over a grid of damper designs.
 
     Every combination of the given axes (their Cartesian product) is simulated from rest
@@ -257,6 +257,8 @@ def sweep(damper, *, freq_hz=None, mass_ratio=None, clearance=None, contact_stif
         user executor or client is left running. The table does not depend on it.
     progress : bool, keyword-only
         Show a tqdm progress bar on stderr, counting combinations as tasks complete.
+        Default False, as at every entry point of the library (the command lines turn
+        it on).
     chunksize : int or None, keyword-only
         Combinations per task (at most). ``None``: about 8 tasks per worker (fewer,
         larger tasks cost less overhead; more, smaller ones balance the load and update

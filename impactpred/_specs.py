@@ -1,0 +1,211 @@
+"""What a user gives ``predict`` and ``parse_body``, read: a body as a spec string
+(``mass:M``, ``rod:...``, ``spring-mass:...``, ``beam:...``), a saved model (``.json``), a
+measured FRF file (identified by a clone of the estimator given) or a model object; a
+contact law as a spec string. Errors name the spec or the file.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+from sklearn.base import clone
+
+from data_synth import CantileverBeam, LumpedMass, Rod, SpringMass
+from modalid import ModalFit, ModalModel, MultiOutputModalModel
+from modalid.io import check_sign, read_frf
+from modalid.model import read_model_json
+from modalid.receptance import Receptance
+
+from .contact import ContactLaw, Hertz, LinearSpring, Rigid
+
+__all__ = ["READ_OPTIONS", "check_estimator", "identify", "parse_contact",
+           "read_options_pair"]
+
+
+_SPECS = {
+    "mass": (LumpedMass, ("mass",)),
+    "rod": (Rod, ("mass", "transit_time", "support")),
+    "spring-mass": (SpringMass, ("mass", "stiffness", "damping_ratio")),
+    "beam": (CantileverBeam, ("mass", "time_scale")),
+}
+
+
+def _parse_fields(kind, text, names):
+    values, positional = {}, []
+    for item in filter(None, (part.strip() for part in text.split(","))):
+        if "=" in item:
+            key, value = (x.strip() for x in item.split("=", 1))
+            if key not in names:
+                raise ValueError(f"{kind} spec: unknown field {key!r}; fields are {names}")
+            values[key] = value
+        else:
+            positional.append(item)
+    for name, value in zip(names, positional):
+        values.setdefault(name, value)
+    out = {}
+    for key, value in values.items():
+        if key == "support":
+            out[key] = value
+            continue
+        try:
+            out[key] = float(value)
+        except ValueError as exc:
+            raise ValueError(f"{kind} spec: {key}={value!r} is not a number") from exc
+    return out
+
+
+#: the :func:`modalid.read_frf` options a body's FRF file may be read with
+READ_OPTIONS = ("format", "quantity", "columns", "index", "freq_hz", "conjugate", "negate")
+
+
+def _read_options(read_options, quantity):
+    """``read_frf`` keyword arguments from ``read_options`` (a dict) and ``quantity``."""
+    if read_options is None:
+        options = {}
+    elif isinstance(read_options, dict):
+        options = dict(read_options)
+    else:
+        raise TypeError(f"read_options must be a dict of read_frf options, got "
+                        f"{type(read_options).__name__}")
+    unknown = sorted(set(options) - set(READ_OPTIONS))
+    if unknown:
+        raise ValueError(f"read_options: unknown option(s) {unknown}; the options are "
+                         f"{list(READ_OPTIONS)}")
+    if quantity is not None:
+        if options.get("quantity", quantity) != quantity:
+            raise ValueError(f"quantity={quantity!r} and read_options['quantity']="
+                             f"{options['quantity']!r} disagree: give one")
+        options["quantity"] = quantity
+    return options
+
+
+def _saved_model(path: Path):
+    """The model of a saved ``.json`` file (a ``ModalModel`` or a
+    ``MultiOutputModalModel``), in SI units; errors name the file."""
+    import json
+
+    payload, label = read_model_json(path)
+    if payload["format"] == "modalid.MultiOutputModalModel":   # several points: all of them
+        try:
+            return MultiOutputModalModel.from_json(json.dumps(payload))
+        except ValueError as exc:
+            raise ValueError(f"{label}: {exc}") from None
+    return ModalModel._from_payload(payload, label)
+
+
+def _checked_frf(path, options, *, label="", check_passive=True):
+    """The FRF of ``path``, refused when stored with the other sign convention or, as a
+    driving point (``check_passive``), with its sign reversed (see
+    :func:`modalid.io.check_sign`)."""
+    data = read_frf(path, **options)
+    sign = check_sign(data)
+    if sign.verdict == "conjugate" or (sign.verdict == "reversed" and check_passive):
+        raise ValueError(label + sign.problem(path))
+    return data
+
+
+def check_estimator(estimator):
+    """``estimator``, refused unless it is a :class:`modalid.ModalFit` (or None).
+
+    Parameters
+    ----------
+    estimator : modalid.ModalFit or None
+        The estimator whose settings identify each FRF file (it is cloned, never fitted).
+
+    Returns
+    -------
+    modalid.ModalFit or None
+
+    Raises
+    ------
+    TypeError
+        Anything else, named (a class instead of an instance, a dict of options).
+    """
+    if estimator is None or isinstance(estimator, ModalFit):
+        return estimator
+    if isinstance(estimator, type) and issubclass(estimator, ModalFit):
+        raise TypeError(f"estimator must be a ModalFit instance, got the class "
+                        f"{estimator.__name__}: give {estimator.__name__}(...)")
+    hint = (": a dict of options is ModalFit(**options)" if isinstance(estimator, dict)
+            else "")
+    raise TypeError(f"estimator must be a modalid.ModalFit (its settings are cloned for "
+                    f"each body), got {estimator!r}{hint}")
+
+
+def identify(spec, *, quantity=None, estimator=None, read_options=None, check_passive=True,
+              label=""):
+    """``(model, None)`` of a spec, saved model or model object; ``(None, fitted
+    ModalFit)`` of an FRF file, fitted by a clone of ``estimator`` (default
+    ``ModalFit()``)."""
+    if isinstance(spec, (Receptance, MultiOutputModalModel)):
+        return spec, None
+    if not isinstance(spec, (str, Path)):
+        raise TypeError(f"a body must be a file, a spec string or a model, got "
+                        f"{type(spec).__name__}")
+    text = str(spec)
+    kind, sep, rest = text.partition(":")
+    if sep and kind in _SPECS and not Path(text).exists():
+        cls, names = _SPECS[kind]
+        try:
+            return cls(**_parse_fields(kind, rest, names)), None
+        except TypeError as exc:
+            raise ValueError(f"{kind} spec {text!r}: {exc}") from exc
+    path = Path(text)
+    if not path.exists():
+        raise ValueError(f"body {text!r} is neither an existing file nor a spec "
+                         f"({', '.join(k + ':...' for k in _SPECS)})")
+    if path.suffix.lower() == ".json":
+        return _saved_model(path), None
+    data = _checked_frf(path, _read_options(read_options, quantity), label=label,
+                        check_passive=check_passive)
+    estimator = ModalFit() if estimator is None else clone(estimator)
+    try:
+        estimator.fit(data)
+    except ValueError as exc:
+        raise ValueError(f"{label}{path}: {exc}") from None
+    return None, estimator
+
+
+def parse_contact(spec) -> ContactLaw:
+    """``rigid``, ``spring:stiffness=..[,damping=..]``, ``hertz:stiffness=..[,exponent=..]``
+    or ``hertz-sphere:radius1=..,youngs_modulus1=..,poisson1=..,youngs_modulus2=..,
+    poisson2=..[,radius2=..]``; a ``ContactLaw`` passes through.
+
+    Parameters
+    ----------
+    spec : str or ContactLaw
+        The spec string, SI units (N/m, N/m^1.5, m, Pa).
+
+    Returns
+    -------
+    ContactLaw
+        ``Rigid``, ``LinearSpring`` or ``Hertz``.
+    """
+    if isinstance(spec, ContactLaw):
+        return spec
+    if not isinstance(spec, str):
+        raise TypeError(f"contact must be a ContactLaw or a spec string, got {spec!r}")
+    kind, _, rest = spec.partition(":")
+    laws: dict[str, tuple[Any, tuple[str, ...]]] = {
+            "spring": (LinearSpring, ("stiffness", "damping")),
+            "hertz": (Hertz, ("stiffness", "exponent")),
+            "hertz-sphere": (Hertz.from_materials, ("radius1", "youngs_modulus1", "poisson1",
+                                                    "youngs_modulus2", "poisson2", "radius2"))}
+    if kind == "rigid":
+        return Rigid()
+    if kind not in laws:
+        raise ValueError(f"contact {spec!r}: use rigid, spring:..., hertz:... or "
+                         "hertz-sphere:...")
+    factory, names = laws[kind]
+    return factory(**_parse_fields(kind, rest, names))
+
+
+def read_options_pair(read_options):
+    """Per body, its ``read_options`` (one dict for both, or a pair)."""
+    if isinstance(read_options, (list, tuple)):
+        if len(read_options) != 2:
+            raise ValueError(f"read_options must be a dict or a pair of them (body 1, body "
+                             f"2), got {len(read_options)} items")
+        return tuple(read_options)
+    return read_options, read_options
