@@ -67,6 +67,12 @@ def solve_impact(body1: Body, body2: Body, *, gap: float = 0.0, contact=Rigid(),
     ImpactResult
         With ``points``: a :class:`PointResponse` per body given with outputs
         (``Body(MultiOutputModalModel)`` or ``Body(Rod/CantileverBeam, outputs=xi)``).
+
+    Warns
+    -----
+    UserWarning
+        When the last contact is still closed at ``t_end`` (``in_contact_at_end``): no
+        restitution (None); the same words go into the result's ``notes``.
     """
     for name, body in (("body1", body1), ("body2", body2)):
         if not isinstance(body, Body):
@@ -109,6 +115,13 @@ def solve_impact(body1: Body, body2: Body, *, gap: float = 0.0, contact=Rigid(),
                          f"{_MAX_STEPS}: increase dt or shorten t_end (at most "
                          f"t_end={_MAX_STEPS * dt:.4g} at this step)")
     result = solver(bodies, gap, contact, t_end, dt, notes=tuple(notes))
+    if result.in_contact_at_end:
+        said = (f"the contact that began at {result.contact_intervals[-1][0]:.6g} s is still "
+                f"closed at t_end = {t_end:.6g} s: no restitution (None), and the figures "
+                "after it describe the bodies pressed together; a longer t_end shows whether "
+                "they separate")
+        warnings.warn(said, UserWarning, stacklevel=2)
+        result = dataclasses.replace(result, notes=result.notes + (said,))
     audit = energy_audit(result, bodies, contact)
     if not audit.ok:
         warnings.warn(f"energy audit: {'; '.join(audit.reasons)}", EnergyWarning, stacklevel=2)

@@ -117,6 +117,10 @@ def _frozen(a, dtype=float):
 class ImpactResult:
     """The predicted impact.
 
+    The attributes up to ``energy_audit`` are what the result holds (its constructor's
+    arguments); the rest are computed from them. :meth:`headline` and :meth:`summary` give
+    the figures as a dict.
+
     Attributes
     ----------
     t : ndarray, shape (n,)
@@ -138,9 +142,12 @@ class ImpactResult:
     velocities_before, velocities_after : tuple of float
         Rigid-body velocities (m/s) of the two bodies before and after all contacts.
     energy_by_body : tuple of BodyEnergy
-        Per body (the :attr:`energy` property tabulates them).
+        Per body: rigid and vibration energy (J) before and after (:attr:`energy`
+        tabulates them).
     method : str
-        The solver used; ``dt`` the step (s) it used (or its output step).
+        The solver used.
+    dt : float
+        The step (s) it used (the exact solvers: their output step).
     first_contact_impulse, total_impulse : float
         Impulse (N s) of the first contact and of all contacts, Dirac parts included.
     inverse_masses : tuple of float
@@ -153,10 +160,31 @@ class ImpactResult:
     energy_audit : EnergyAudit or None
         The energy balance (``energy_audit.ok``, ``.created``, ``.relative``), set by
         :func:`impactpred.solve_impact`; None on a result built by a solver directly.
-
-    Derived: :attr:`success` and :attr:`message` (whether the result can be trusted and
-    why not), :attr:`energy` (a table of ``energy_by_body``), the headline figures
-    (:meth:`headline`).
+    success, message : bool, str
+        Whether the result can be trusted, and why not (derived from ``energy_audit``).
+    energy : pandas.DataFrame
+        ``energy_by_body`` as a table (J): rows body1, body2; rigid and vibration energy
+        before and after, and their totals.
+    vibration_energy_fraction : float
+        Share of the energy before left in vibration at the end.
+    n_contacts, touched : int, bool
+        Number of contact intervals; whether the bodies touched (a Dirac counts).
+    contact_duration_first, total_contact_time : float
+        The first contact's duration, and the time in contact summed (s).
+    peak_force_first_contact, peak_force_max : float
+        Largest regular force (N) of the first contact, and of the whole history.
+    contact_duration, peak_force : float
+        ``contact_duration_first`` and ``peak_force_first_contact`` under their earlier
+        names.
+    impulse : float
+        ``total_impulse`` (N s).
+    restitution, restitution_first : float or None
+        After the last separation, and after the first contact only; None without
+        approach or contact, and while that contact is still closed at ``t_end``
+        (:attr:`in_contact_at_end`: the bodies have not separated, there is no
+        restitution yet).
+    in_contact_at_end : bool
+        Whether the last contact is still closed at ``t_end``.
     """
 
     t: np.ndarray
@@ -250,17 +278,27 @@ class ImpactResult:
         return bool(self.contact_intervals or self.dirac_impulses)
 
     @property
+    def in_contact_at_end(self) -> bool:
+        """True when the last contact interval reaches ``t_end``: the bodies are still
+        pressed together, and the post-impact figures are not final."""
+        if not self.contact_intervals or self.t.size == 0:
+            return False
+        step = float(self.t[-1] - self.t[-2]) if self.t.size > 1 else 0.0
+        return bool(self.contact_intervals[-1][1] >= self.t[-1] - 0.5 * step)
+
+    @property
     def restitution(self):
-        """``(u2' - u1') / (u1 - u2)`` after the last separation; None without approach or
-        without contact."""
-        if not self.touched:
+        """``(u2' - u1') / (u1 - u2)`` after the last separation; None without approach,
+        without contact, or while the contact is still closed at ``t_end``."""
+        if not self.touched or self.in_contact_at_end:
             return None
         return _restitution(self.velocities_before, self.velocities_after)
 
     @property
     def restitution_first(self):
-        """Restitution after the first contact only; None without approach or contact."""
-        if not self.touched:
+        """Restitution after the first contact only; None without approach or contact,
+        or while the first contact is still closed at ``t_end``."""
+        if not self.touched or (self.in_contact_at_end and len(self.contact_intervals) == 1):
             return None
         u1, u2 = self.velocities_before
         p = self.first_contact_impulse
@@ -289,7 +327,8 @@ class ImpactResult:
         ``peak_force_first_contact_N`` that of the first contact;
         ``contact_duration_first_s`` is the first contact's duration,
         ``total_contact_time_s`` the sum over all contacts; restitutions are None without
-        contact. The ``energy_*`` entries are the :attr:`energy_audit` (None without one).
+        contact and while it is still closed at ``t_end`` (``in_contact_at_end``). The
+        ``energy_*`` entries are the :attr:`energy_audit` (None without one).
 
         Returns
         -------
@@ -304,6 +343,7 @@ class ImpactResult:
                 "impulse_first_contact_Ns": self.first_contact_impulse,
                 "impulse_Ns": self.impulse,
                 "restitution_first": self.restitution_first, "restitution": self.restitution,
+                "in_contact_at_end": self.in_contact_at_end,
                 "vibration_energy_fraction": self.vibration_energy_fraction,
                 "n_dirac": len(self.dirac_impulses),
                 "energy_before_J": None if audit is None else audit.before,

@@ -201,7 +201,8 @@ def test_headline_names_the_figures_for_what_they_are():
     assert set(head) == {"method", "dt_s", "n_contacts", "contact_duration_first_s",
                          "total_contact_time_s", "peak_force_first_contact_N", "peak_force_N",
                          "impulse_first_contact_Ns", "impulse_Ns", "restitution_first",
-                         "restitution", "vibration_energy_fraction", "n_dirac",
+                         "restitution", "in_contact_at_end", "vibration_energy_fraction",
+                         "n_dirac",
                          "energy_before_J", "energy_created_J", "energy_created_relative",
                          "energy_audit_ok"}
 

@@ -34,3 +34,22 @@ def test_a_flagged_audit_fails_with_its_reasons_and_no_audit_is_said():
 def test_the_documented_fields_are_the_fields(name):
     assert name in {f.name for f in dataclasses.fields(ImpactResult)}
     assert f"    {name} :" in ImpactResult.__doc__
+
+
+def test_no_restitution_while_the_contact_is_still_closed_at_t_end():
+    # a 1 kg mass on a fixed rod of 1 kg: the first contact lasts 3.068 s (Saint-Venant)
+    from data_synth import Rod
+
+    def solve(t_end):
+        return solve_impact(Body(LumpedMass(1.0), velocity=1.0),
+                            Body(Rod(1.0, 1.0, support="fixed")), t_end=t_end)
+
+    with pytest.warns(UserWarning, match="still closed at t_end = 2 s"):
+        open_ = solve(2.0)
+    assert any("a longer t_end" in note for note in open_.notes)
+    assert open_.in_contact_at_end and open_.contact_intervals[-1][1] == pytest.approx(2.0)
+    assert open_.restitution is None and open_.restitution_first is None
+    closed = solve(3.5)
+    assert not closed.in_contact_at_end
+    assert closed.contact_intervals[0][1] == pytest.approx(3.068, abs=2e-3)
+    assert 0.6 < closed.restitution < 0.75
