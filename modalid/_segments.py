@@ -93,12 +93,11 @@ def segment_poles(estimator, band):
         sub = clone(estimator).set_params(freq_range=(f[start], f[stop - 1]),
                                           passive=estimator._passive_on,
                                           weighting=estimator._weighting_on,
-                                          weights=estimator._band_weights,
-                                          progress=False)
+                                          weights=None, progress=False)
         sub.__dict__["_segment_of"] = True       # its far pseudo-mode stays a stand-in
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            sub.fit(band)
+            sub.fit(band, weights=estimator._band_weights)     # per line of ``band``
         fits.append(sub)
         if estimator.progress:
             print(f"modalid: segment {number}/{len(edges)} ({f[start]:.6g}-{f[stop - 1]:.6g} "
