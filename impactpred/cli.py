@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from pathlib import Path
 
@@ -107,13 +108,13 @@ def _run_predict(args):
     """``(Prediction, warnings caught)`` of the ``predict`` command's arguments."""
     import warnings
 
-    from .predict import predict
     from modalid import ModalFit
 
+    from .predict import predict
 
-    with warnings.catch_warnings(record=True) as caught:
     # the same estimator as ``modalid fit`` builds: one line a segment of a wide band
     estimator = ModalFit(progress=True, **fit_options(args))
+    with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         try:
             pred = predict(args.body1, args.body2, velocity1=args.v1, velocity2=args.v2,
@@ -223,20 +224,38 @@ def _cmd_predict(args) -> int:
     return 0
 
 
+def _local_workers(scheduler):
+    """Workers of ``--scheduler local[:N]`` (``os.cpu_count()`` for ``local``); None for an
+    address."""
+    name, _, count = scheduler.partition(":")
+    if name != "local":
+        return None
+    if not count:
+        return os.cpu_count() or 1
+    if not count.isdigit() or int(count) < 1:
+        raise ValueError(f"--scheduler local:N needs a worker count N >= 1, got {scheduler!r}")
+    return int(count)
+
+
 def _cmd_benchmark(args) -> int:
     import pandas as pd
 
     from .benchmark import error_table, markdown_table, run_benchmark
 
     check_out_dir(args.out)
-    client = None
+    client = cluster = None
     if args.scheduler:                   # a Dask cluster's scheduler (dask is optional)
+        n_local = _local_workers(args.scheduler)
         try:
             from dask.distributed import Client
         except ImportError as exc:
             raise ValueError("--scheduler needs Dask: pip install 'impactpred[distributed]'"
                              ) from exc
-        client = Client(args.scheduler)
+        if n_local is not None:          # a LocalCluster set up for these tasks
+            from .parallel import local_cluster
+
+            cluster = local_cluster(n_workers=n_local)
+        client = Client(cluster if cluster is not None else args.scheduler)
     try:
         table = run_benchmark(quick=args.quick, out=args.out, progress=True,
                               bands=tuple(args.bands),
@@ -245,6 +264,8 @@ def _cmd_benchmark(args) -> int:
     finally:
         if client is not None:
             client.close()
+        if cluster is not None:
+            cluster.close()
     print(markdown_table(table))
     print(error_table(table))
     with pd.option_context("display.width", 140):
@@ -320,8 +341,11 @@ def build_parser() -> argparse.ArgumentParser:
                        help="processes (2 cases at one band each); the numbers do not "
                             "depend on it")
     bench.add_argument("--scheduler", metavar="ADDRESS", default=None,
-                       help="run the tasks on a Dask cluster instead (its scheduler's "
-                            "address, e.g. tcp://host:8786; needs impactpred[distributed])")
+                       help="run the tasks on a Dask cluster instead: its scheduler's "
+                            "address (e.g. tcp://host:8786), or local[:N] to start a "
+                            "LocalCluster of N workers (default: every core) set up for "
+                            "these tasks (impactpred.parallel.local_cluster); needs "
+                            "impactpred[distributed]")
     bench.add_argument("--noise", type=float, nargs="+", default=[1.0, 5.0],
                        help="noise levels in per cent")
     bench.add_argument("--out", help="folder for the CSV and markdown tables and the figures")

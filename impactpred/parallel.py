@@ -11,7 +11,13 @@ optional progress bar (:func:`progress_bar`, from tqdm). Accepted:
 * any ``concurrent.futures.Executor`` (a process or thread pool of the caller's, a Dask
   ``client.get_executor()``), left running;
 * a ``dask.distributed.Client``, recognised by its ``get_executor`` method (duck-typed:
-  Dask is never imported here), whose executor submits with ``pure=False``.
+  Dask is imported only once a client is given), whose executor submits with
+  ``pure=False``; a batch of tasks (:meth:`Pool.as_completed`, :meth:`Pool.map`) goes to
+  the scheduler in one ``client.map`` call instead of one message per task.
+
+:func:`local_cluster` starts a Dask ``LocalCluster`` set up for these tasks (one thread
+per worker process, no sampling profiler, no ``MALLOC_TRIM_THRESHOLD_``): the cluster to
+use on one machine, or to copy the settings of for workers started by other means.
 
 Tasks are shipped as ``fn(*args)``: under processes or Dask, ``fn`` must be importable (a
 module-level function) and the arguments picklable. The results are whatever ``fn``
@@ -19,25 +25,60 @@ returns, unchanged: the parallel entry points are bit-identical to their serial 
 Every task runs with one BLAS thread (:func:`_one_blas_thread`), wherever it runs: Dask
 workers and process pools would otherwise run it single-threaded and this process with
 all its cores, and a threaded BLAS sums in another order (results differing in the last
-bits); the tasks' linear algebra is small, where threads only add overhead.
+bits); the tasks' linear algebra is small, where threads only add overhead. The limit is set
+through a ``threadpoolctl.ThreadpoolController`` remembered per process (rebuilt when new
+modules have been imported): finding the loaded libraries costs ~4 ms, every task.
 """
 
 from __future__ import annotations
 
+import functools
 import numbers
 import os
 import sys
-from concurrent.futures import FIRST_COMPLETED, Executor, Future, ProcessPoolExecutor, wait
+from concurrent.futures import (
+    FIRST_COMPLETED,
+    CancelledError,
+    Executor,
+    Future,
+    ProcessPoolExecutor,
+    wait,
+)
 
-from threadpoolctl import threadpool_limits
+from threadpoolctl import ThreadpoolController
 
-__all__ = ["InlineExecutor", "Pool", "check_executor", "progress_bar", "resolve_executor"]
+__all__ = ["InlineExecutor", "Pool", "check_executor", "local_cluster", "progress_bar",
+           "resolve_executor"]
+
+
+@functools.lru_cache(maxsize=2)
+def _controller(n_modules):
+    """This process's thread-pool libraries, found again when ``len(sys.modules)`` changes."""
+    return ThreadpoolController()
 
 
 def _one_blas_thread(fn, *args):
     """``fn(*args)`` with BLAS limited to one thread (see the module docstring)."""
-    with threadpool_limits(limits=1, user_api="blas"):
+    with _controller(len(sys.modules)).limit(limits=1, user_api="blas"):
         return fn(*args)
+
+
+def _resolved(status, result):
+    """A finished ``concurrent.futures.Future`` holding a Dask task's outcome.
+
+    ``status``: the Dask future's; ``result``: the value, an ``(type, exception,
+    traceback)`` triple for a failed task, a ``CancelledError`` for a cancelled one.
+    """
+    future = Future()
+    if status == "finished":
+        future.set_result(result)
+    elif isinstance(result, tuple) and len(result) == 3 and isinstance(result[1], BaseException):
+        future.set_exception(result[1].with_traceback(result[2]))
+    elif isinstance(result, BaseException):
+        future.set_exception(result)
+    else:
+        future.set_exception(RuntimeError(f"Dask task ended as {status!r}: {result!r}"))
+    return future
 
 
 class InlineExecutor(Executor):
@@ -90,10 +131,42 @@ class Pool:
         (the caller's).
     owned : bool
         Whether :meth:`close` shuts the executor down (created here).
+    client : dask.distributed.Client or None
+        The Dask client a batch of tasks is mapped on at once (given as ``executor=``).
     """
 
-    def __init__(self, executor, *, workers, kind, owned):
+    def __init__(self, executor, *, workers, kind, owned, client=None):
         self.executor, self.workers, self.kind, self.owned = executor, workers, kind, owned
+        self.client = client
+
+    def _on_client(self, fn, tasks):
+        """:meth:`as_completed` on a Dask client: every task in one ``client.map`` call
+        (one graph update for the scheduler, not one per task), the results of each batch
+        of finished tasks fetched in one ``client.gather``."""
+        from dask.distributed import as_completed   # a Client was given: Dask is installed
+
+        columns = [list(column) for column in zip(*tasks)]
+        remote = self.client.map(_one_blas_thread, [fn] * len(tasks), *columns, pure=False)
+        index = {future.key: i for i, future in enumerate(remote)}
+        try:
+            for batch in as_completed(remote).batches():
+                batch = sorted(batch, key=lambda future: index[future.key])
+                finished = [future for future in batch if future.status == "finished"]
+                values = dict(zip([future.key for future in finished],
+                                  self.client.gather(finished))) if finished else {}
+                for future in batch:
+                    if future.key in values:
+                        outcome = values[future.key]
+                    elif future.status == "error":
+                        exc = future.exception()
+                        outcome = (type(exc), exc, future.traceback())
+                    else:
+                        outcome = CancelledError(f"Dask task {future.key!r} was cancelled")
+                    yield index[future.key], _resolved(future.status, outcome)
+        finally:
+            unfinished = [future for future in remote if not future.done()]
+            if unfinished:
+                self.client.cancel(unfinished)
 
     def submit(self, fn, /, *args) -> Future:
         """``executor.submit(fn, *args)``.
@@ -133,6 +206,9 @@ class Pool:
         if self.kind == "inline":
             for index, args in enumerate(tasks):
                 yield index, self.executor.submit(_one_blas_thread, fn, *args)
+            return
+        if self.client is not None and tasks and len({len(args) for args in tasks}) == 1:
+            yield from self._on_client(fn, tasks)
             return
         futures = {}
         try:
@@ -274,10 +350,95 @@ def resolve_executor(executor=None, *, default=None, name="executor") -> Pool:
     get_executor = getattr(executor, "get_executor", None)
     if callable(get_executor):                            # a dask.distributed.Client
         inner = get_executor(pure=False)
-        return Pool(inner, workers=_count(inner), kind="dask", owned=False)
+        client = executor if callable(getattr(executor, "map", None)) else None
+        return Pool(inner, workers=_count(inner), kind="dask", owned=False, client=client)
     raise TypeError(f"{name} must be a concurrent.futures.Executor, a dask.distributed.Client"
                     f" (anything with get_executor()), a worker count or None, got "
                     f"{executor!r}")
+
+
+#: The Dask configuration :func:`local_cluster` starts its workers with.
+_TUNED = {
+    # each worker's sampling profiler (a stack sample every 10 ms) runs in every task
+    "distributed.worker.profile.enabled": False,
+    # Dask's nannies also set MALLOC_TRIM_THRESHOLD_=65536, and glibc then returns freed
+    # memory at once: the engine's many small arrays turn into mmap/munmap system calls
+    # (~1.5x the CPU time of a damper run). Left out: glibc's adaptive default.
+    "distributed.nanny.pre-spawn-environ": {"OMP_NUM_THREADS": 1, "MKL_NUM_THREADS": 1,
+                                            "OPENBLAS_NUM_THREADS": 1},
+}
+
+
+def local_cluster(*, n_workers=None, threads_per_worker=1, processes=True,
+                  dashboard_address=None, **options):
+    """A Dask ``LocalCluster`` set up for sweeps, uncertainty bands and the benchmark.
+
+    Dask's defaults cost these tasks about 1.6x the CPU time of a process pool (see
+    ``benchmarks/bench_scaling.py``); the workers started here run them at the pool's
+    speed: one thread per worker process (the tasks hold the GIL), the workers' sampling
+    profiler off, and glibc's own memory-trimming threshold instead of Dask's
+    ``MALLOC_TRIM_THRESHOLD_=65536``; BLAS and OpenMP on one thread, as Dask sets them.
+    The settings apply while the cluster starts (``dask.config.set`` around it, nothing
+    left set): workers added later (``cluster.scale``) get the configuration current then.
+
+    Parameters
+    ----------
+    n_workers : int or None, keyword-only
+        Worker processes; ``None``: ``os.cpu_count()``.
+    threads_per_worker : int, keyword-only
+        Threads per worker (1: the tasks are CPU-bound Python and compiled loops).
+    processes : bool, keyword-only
+        Worker processes (True) or threads of this process.
+    dashboard_address : str or None, keyword-only
+        Where to serve Dask's dashboard (needs bokeh), e.g. ``":8787"``; ``None``: none.
+    **options
+        Any other ``dask.distributed.LocalCluster`` option.
+
+    Returns
+    -------
+    dask.distributed.LocalCluster
+        Running; close it (or use it as a context manager). Pass
+        ``dask.distributed.Client(cluster)`` as ``executor=`` of ``sweep``,
+        ``uncertainty_band`` or ``run_benchmark``.
+
+    Raises
+    ------
+    ImportError
+        Dask is not installed (``pip install 'impactpred[distributed]'``).
+    TypeError, ValueError
+        ``n_workers`` or ``threads_per_worker`` not an integer >= 1.
+
+    Notes
+    -----
+    A process that already holds ``MALLOC_TRIM_THRESHOLD_`` in its environment (set by
+    hand, or by an earlier cluster started with Dask's defaults, whose nannies write it
+    into this process's ``os.environ``) passes it on to the workers.
+
+    Examples
+    --------
+    >>> from dask.distributed import Client
+    >>> from impactpred.parallel import local_cluster
+    >>> with local_cluster(n_workers=2) as cluster, Client(cluster) as client:  # doctest: +SKIP
+    ...     table = sweep(damper, freq_hz=f, clearance=c, executor=client)
+    """
+    for name, value in (("n_workers", n_workers), ("threads_per_worker", threads_per_worker)):
+        if value is None and name == "n_workers":
+            continue
+        if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+            raise TypeError(f"{name} must be an integer >= 1, got {value!r}")
+        if value < 1:
+            raise ValueError(f"{name} must be an integer >= 1, got {value}")
+    try:
+        import dask
+        from dask.distributed import LocalCluster
+    except ImportError as exc:
+        raise ImportError("local_cluster needs Dask: pip install 'impactpred[distributed]'"
+                          ) from exc
+    with dask.config.set(_TUNED):
+        return LocalCluster(n_workers=int(n_workers or os.cpu_count() or 1),
+                            threads_per_worker=int(threads_per_worker),
+                            processes=bool(processes), dashboard_address=dashboard_address,
+                            **options)
 
 
 def progress_bar(total, *, enabled=True, desc=None, unit="it", bar_format=None, file=None,

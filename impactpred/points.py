@@ -132,6 +132,9 @@ class PointResponse:
     def plot(self, ax=None, quantity: str = "acceleration"):
         """One quantity of every point against time; returns the Axes.
 
+        In SI units (the axis label says which); the legend in a band above the curves,
+        clear of them.
+
         Parameters
         ----------
         ax : matplotlib.axes.Axes, optional
@@ -149,10 +152,12 @@ class PointResponse:
             raise ValueError(f"quantity must be one of {tuple(QUANTITIES)}, got {quantity!r}")
         if ax is None:
             _, ax = plt.subplots(figsize=(7, 4))
+        from ._plot_axes import legend_above_data
+
         values = getattr(self, quantity)
         for i, label in enumerate(self.labels):
             ax.plot(self.t, values[i], lw=1, label=label)
-        ax.set_xlabel("t (s)")
+        ax.set_xlabel("time (s)")
         ax.set_ylabel(f"{quantity} ({QUANTITIES[quantity]})")
-        ax.legend(loc="upper right", fontsize=8)
+        legend_above_data(ax, *ax.get_legend_handles_labels())
         return ax

@@ -396,6 +396,10 @@ class ImpactResult:
     def plot(self, ax=None):
         """Force, gap and displacements on one time axis; returns the force Axes.
 
+        The contact force (N) on the left axis, the displacements and the gap (m) on a
+        twin axis on the right, their zeros at the same height (a grey line); the legend
+        in a band above the curves, clear of them; Dirac impulses annotated.
+
         Parameters
         ----------
         ax : matplotlib.axes.Axes, optional
@@ -404,30 +408,35 @@ class ImpactResult:
         Returns
         -------
         matplotlib.axes.Axes
-            The force's axes.
+            The force's axes (the displacements' twin is ``ax.figure.axes`` after it).
         """
         import matplotlib.pyplot as plt
 
+        from ._plot_axes import align_zeros, legend_above_data
+
         if ax is None:
             _, ax = plt.subplots(figsize=(7, 4))
-        step = "post" if self.method in ("convolution", "modal") else None
-        if step:
-            ax.step(self.t, self.force, where="post", color="C0", label="force")
+        if self.method in ("convolution", "modal"):
+            ax.step(self.t, self.force, where="post", color="C0", label="force (N)")
         else:
-            ax.plot(self.t, self.force, color="C0", label="force")
+            ax.plot(self.t, self.force, color="C0", label="force (N)")
+        ax.axhline(0.0, color="0.6", lw=0.6, zorder=0)
+        ax.set_xlabel("time (s)")
+        ax.set_ylabel("contact force (N)")
+        motion = ax.twinx()
+        motion.plot(self.t, self.y1, "C1--", lw=1, label="y1 (m)")
+        motion.plot(self.t, self.y2, "C2--", lw=1, label="y2 (m)")
+        motion.plot(self.t, self.gap, "C3:", lw=1.2, label="gap (m)")
+        motion.set_ylabel("displacement, gap (m)")
+        if self.dirac_impulses:
+            ax.set_ylim(top=max(ax.get_ylim()[1], 1.1 * max(self.peak_force, 1e-300)))
+        align_zeros(ax, motion)
+        handles, labels = ax.get_legend_handles_labels()
+        more = motion.get_legend_handles_labels()
+        legend_above_data(ax, handles + more[0], labels + more[1], axes=(motion,))
         for time, size in self.dirac_impulses:
             ax.annotate(f"Dirac {size:.3g} N s", (time, 0), xytext=(time, 0.9 * max(
                 self.peak_force, 1e-300)), arrowprops={"arrowstyle": "->"}, fontsize=8)
-        ax.set_xlabel("t (s)")
-        ax.set_ylabel("contact force (N)")
-        motion = ax.twinx()
-        motion.plot(self.t, self.y1, "C1--", lw=1, label="y1")
-        motion.plot(self.t, self.y2, "C2--", lw=1, label="y2")
-        motion.plot(self.t, self.gap, "C3:", lw=1, label="gap")
-        motion.set_ylabel("displacement (m)")
-        lines = ax.get_legend_handles_labels()
-        more = motion.get_legend_handles_labels()
-        ax.legend(lines[0] + more[0], lines[1] + more[1], loc="upper right", fontsize=8)
         return ax
 
 

@@ -388,44 +388,120 @@ def _greedy_information(mat, gram, y, n_head, n_cand, per, n_params, floor, scal
     return keep & ~negative if passive else keep, bic, negative
 
 
-def plot_stabilization(table: pd.DataFrame, *, frf=None, selected=None, ax=None):
-    """Stabilization diagram (order against frequency in Hz); returns the Axes.
+_UNITS = {"receptance": "m/N", "mobility": "m/s/N", "accelerance": "m/s²/N"}
+
+
+def _frequency_scale(freq_hz):
+    """``"log"`` when half the poles ``freq_hz`` lie in the bottom tenth of the band (a
+    wide band whose low modes a linear axis would crowd), ``"linear"`` otherwise."""
+    freq_hz = np.asarray(freq_hz, float)
+    freq_hz = freq_hz[freq_hz > 0]
+    if freq_hz.size < 2:
+        return "linear"
+    return "log" if np.median(freq_hz) < 0.1 * freq_hz.max() else "linear"
+
+
+def _draw_frf_behind(ax, frf, xscale):
+    """The magnitude of ``frf`` (FRFData; the mean over the rows of an FRFSet) on a twin
+    axis drawn behind ``ax``'s poles; returns the line."""
+    freq = np.asarray(frf.freq_hz, float)
+    magnitude = np.abs(np.asarray(frf.values))
+    label = f"|{frf.quantity}|"
+    if magnitude.ndim == 2:
+        magnitude, label = magnitude.mean(axis=0), f"mean |{frf.quantity}|"
+    keep = (freq > 0) & (magnitude > 0) if xscale == "log" else magnitude > 0
+    twin = ax.twinx()
+    (line,) = twin.semilogy(freq[keep], magnitude[keep], color="0.35", lw=0.9, zorder=1,
+                            label=f"{label} (measured)")
+    twin.set_ylabel(f"{label} ({_UNITS.get(frf.quantity, 'SI')})")
+    ax.set_zorder(twin.get_zorder() + 1)              # the poles over the curve
+    ax.patch.set_visible(False)
+    return line
+
+
+def plot_stabilization(table: pd.DataFrame, *, frf=None, selected=None, ax=None,
+                       xscale="auto"):
+    """Stabilization diagram (model order against frequency in Hz); returns the Axes.
+
+    Drawn to stay readable on noisy data, as modal analysis tools draw it: poles stable in
+    frequency and damping as filled blue circles, poles stable in frequency only as open
+    orange circles, the other (new, unstable) poles as small pale dots behind them; the
+    selected poles as red dashed lines with a red marker above the chart; the measured
+    FRF's magnitude, in its own quantity and units, on a twin log axis behind the poles;
+    the legend above the chart, off the data.
 
     Parameters
     ----------
     table : pandas.DataFrame
         A :func:`stabilization_table`.
-    frf : FRFData, optional, keyword-only
-        Data whose magnitude is drawn behind the poles.
+    frf : FRFData or FRFSet, optional, keyword-only
+        Data whose magnitude is drawn behind the poles (an FRFSet: the mean magnitude of
+        its rows).
     selected : array_like of complex, optional, keyword-only
         The selected poles (rad/s), marked.
     ax : matplotlib.axes.Axes, optional, keyword-only
         Where to draw (a new figure when None).
+    xscale : {"auto", "linear", "log"}, keyword-only
+        The frequency axis; ``"auto"``: logarithmic when half the stable poles lie in the
+        bottom tenth of the band, linear otherwise.
 
     Returns
     -------
     matplotlib.axes.Axes
+        The Axes of the poles (the FRF's twin is ``ax.figure.axes`` after it).
+
+    Raises
+    ------
+    ValueError
+        ``xscale`` not one of the three.
     """
     import matplotlib.pyplot as plt
+    from matplotlib.transforms import blended_transform_factory
 
+    if xscale not in ("auto", "linear", "log"):
+        raise ValueError(f"xscale must be 'auto', 'linear' or 'log', got {xscale!r}")
     if ax is None:
-        _, ax = plt.subplots(figsize=(8, 5))
-    groups = [("new", ~table["stable_freq"], "o", "lightgray"),
-              ("stable frequency", table["stable_freq"] & ~table["stable"], "x", "C1"),
-              ("stable frequency and damping", table["stable"], "+", "C2")]
-    for label, mask, marker, color in groups:
-        ax.plot(table.loc[mask, "frequency_hz"], table.loc[mask, "order"], marker, ms=4,
-                color=color, ls="none", label=label)
-    if selected is not None:
-        for p in np.atleast_1d(selected):
-            ax.axvline(abs(p) / (2 * np.pi), color="C3", lw=0.8, alpha=0.6)
+        _, ax = plt.subplots(figsize=(8, 5.5))
+    freq = table["frequency_hz"].to_numpy(float)
+    order = table["order"].to_numpy(float)
+    stable = table["stable"].to_numpy(bool)
+    freq_only = table["stable_freq"].to_numpy(bool) & ~stable
+    new = ~table["stable_freq"].to_numpy(bool)
+    if xscale == "auto":
+        xscale = _frequency_scale(freq[stable] if stable.sum() >= 2 else freq)
+    handles = []
+    if frf is not None:
+        handles.append(_draw_frf_behind(ax, frf, xscale))
+    handles += ax.plot(freq[new], order[new], ".", ms=2.5, color="0.72", alpha=0.6,
+                       ls="none", zorder=2, label="new (not stable)")
+    handles += ax.plot(freq[freq_only], order[freq_only], "o", ms=3.2, mfc="none",
+                       mec="C1", mew=0.7, alpha=0.6, ls="none", zorder=3,
+                       label="stable frequency")
+    handles += ax.plot(freq[stable], order[stable], "o", ms=3.5, color="C0", mec="C0",
+                       ls="none", zorder=4, label="stable frequency and damping")
+    if selected is not None and np.size(selected):
+        chosen = np.sort(np.abs(np.atleast_1d(np.asarray(selected, complex)))) / (2 * np.pi)
+        top = blended_transform_factory(ax.transData, ax.transAxes)
+        for f in chosen:
+            ax.axvline(f, color="C3", lw=0.9, ls="--", alpha=0.7, zorder=1)
+        handles += ax.plot(chosen, np.full(chosen.size, 1.0), "v", ms=7, color="C3",
+                           transform=top, clip_on=False, ls="none", zorder=5,
+                           label=f"selected ({chosen.size})")
+    ax.set_xscale(xscale)
+    low = freq[freq > 0].min() if np.any(freq > 0) else None
+    if frf is not None:
+        lines = np.asarray(frf.freq_hz, float)
+        lines = lines[lines > 0] if xscale == "log" else lines
+        if lines.size:
+            ax.set_xlim(lines.min(), lines.max())
+    elif low is not None and xscale == "log":
+        ax.set_xlim(low / 1.1, freq.max() * 1.1)
+    ax.set_ylim(0, max(order.max() if order.size else 1.0, 1.0) * 1.04)
     ax.set_xlabel("frequency (Hz)")
     ax.set_ylabel("model order")
-    if frf is not None:
-        twin = ax.twinx()
-        twin.semilogy(frf.freq_hz, np.abs(frf.values), color="k", lw=0.7)
-        twin.set_ylabel(f"|{frf.quantity}|")
-    ax.legend(loc="lower right", fontsize=8)
+    ax.legend(handles=handles, loc="lower left", bbox_to_anchor=(0.0, 1.05), ncol=3,
+              fontsize=8, frameon=False, borderaxespad=0.0, handletextpad=0.3,
+              columnspacing=1.2)
     return ax
 
 

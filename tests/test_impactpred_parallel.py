@@ -77,6 +77,66 @@ def test_a_client_is_duck_typed_by_get_executor_without_importing_dask():
     check_executor(Client())
 
 
+def test_local_cluster_refuses_bad_counts_before_starting_anything():
+    from impactpred.parallel import local_cluster
+
+    with pytest.raises(ValueError, match="n_workers must be an integer >= 1, got 0"):
+        local_cluster(n_workers=0)
+    with pytest.raises(TypeError, match="threads_per_worker must be an integer >= 1, got 1.5"):
+        local_cluster(threads_per_worker=1.5)
+    with pytest.raises(TypeError, match="got True"):
+        local_cluster(n_workers=True)
+
+
+@pytest.mark.parametrize("given, workers", [("local", os.cpu_count() or 1), ("local:3", 3),
+                                            ("tcp://host:8786", None), ("host:8786", None)])
+def test_the_cli_scheduler_local_n_starts_a_local_cluster_of_n(given, workers):
+    from impactpred.cli import _local_workers
+
+    assert _local_workers(given) == workers
+
+
+@pytest.mark.parametrize("bad", ["local:0", "local:two", "local:-1"])
+def test_the_cli_scheduler_refuses_a_bad_local_count(bad):
+    from impactpred.cli import _local_workers
+
+    with pytest.raises(ValueError, match=f"worker count N >= 1, got '{bad}'"):
+        _local_workers(bad)
+
+
+def test_dask_outcomes_become_concurrent_futures():
+    from concurrent.futures import CancelledError
+
+    from impactpred.parallel import _resolved
+
+    assert _resolved("finished", 7).result() == 7
+    try:
+        raise ZeroDivisionError("remote")
+    except ZeroDivisionError as exc:
+        triple = (type(exc), exc, exc.__traceback__)
+    failed = _resolved("error", triple)
+    assert isinstance(failed.exception(), ZeroDivisionError)
+    assert failed.exception().__traceback__ is not None
+    with pytest.raises(CancelledError):
+        _resolved("cancelled", CancelledError()).result()
+    with pytest.raises(RuntimeError, match="ended as 'lost'"):
+        _resolved("lost", None).result()
+
+
+def test_one_blas_thread_inside_a_task_and_restored_after():
+    from threadpoolctl import threadpool_info
+
+    def blas_threads():
+        return [i["num_threads"] for i in threadpool_info() if i["user_api"] == "blas"]
+
+    with threadpool_limits(limits=2, user_api="blas"):
+        before = blas_threads()
+        inside = _one_blas_thread(blas_threads)
+        inside_again = _one_blas_thread(blas_threads)          # the remembered controller
+        assert blas_threads() == before
+    assert inside and set(inside) == {1} and inside_again == inside
+
+
 @pytest.mark.parametrize("bad, error, match", [
     ("processes", TypeError, "executor must be a concurrent.futures.Executor"),
     (True, TypeError, "got True"),
@@ -226,11 +286,54 @@ def test_band_in_a_process_pool_is_bit_identical_to_serial():
 @pytest.fixture(scope="module")
 def client():
     distributed = pytest.importorskip("dask.distributed")
-    # two worker processes of one thread each; no dashboard (no port, no bokeh)
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                  dashboard_address=None) as cluster, \
-            distributed.Client(cluster) as client:
+    from impactpred.parallel import local_cluster
+
+    # the library's cluster: two worker processes of one thread each, no dashboard (no
+    # port, no bokeh), no profiler, no MALLOC_TRIM_THRESHOLD_
+    with local_cluster(n_workers=2) as cluster, distributed.Client(cluster) as client:
         yield client
+
+
+def _worker_setup():
+    import dask
+
+    return (os.environ.get("MALLOC_TRIM_THRESHOLD_"), os.environ.get("OMP_NUM_THREADS"),
+            dask.config.get("distributed.worker.profile.enabled"))
+
+
+@pytest.mark.slow
+def test_local_cluster_starts_tuned_workers_and_leaves_the_config_alone(client):
+    import dask
+
+    setups = list(client.run(_worker_setup).values())
+    assert len(setups) == 2 and all(c == 1 for c in client.nthreads().values())
+    # the trim threshold is glibc's own unless this process already carried one
+    inherited = os.environ.get("MALLOC_TRIM_THRESHOLD_")
+    assert setups == [(inherited, "1", False)] * 2
+    assert dask.config.get("distributed.worker.profile.enabled") is True      # not left set
+    assert "MALLOC_TRIM_THRESHOLD_" in dask.config.get("distributed.nanny.pre-spawn-environ")
+
+
+@pytest.mark.slow
+def test_a_client_maps_a_batch_at_once_in_order_with_exceptions(client, monkeypatch):
+    pool = resolve_executor(client)
+    assert pool.kind == "dask" and pool.client is client and pool.workers == 2
+    calls = []
+    real_map = client.map
+
+    def counting_map(*args, **kwargs):
+        calls.append(len(args[1]))
+        return real_map(*args, **kwargs)
+
+    monkeypatch.setattr(client, "map", counting_map)
+    assert pool.map(_square, [(i,) for i in range(30)]) == [i * i for i in range(30)]
+    assert calls == [30]                                # one call for the 30 tasks
+    assert sorted(i for i, _ in pool.as_completed(_square, [(i,) for i in range(7)])) == \
+        list(range(7))
+    with pytest.raises(ZeroDivisionError, match="task 3"):
+        pool.map(_fail_on, [(i, 3) for i in range(6)])
+    # a ClientExecutor given directly submits task by task, with the same results
+    assert resolve_executor(client.get_executor()).map(_square, [(2,), (5,)]) == [4, 25]
 
 
 @pytest.mark.slow

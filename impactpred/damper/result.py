@@ -147,6 +147,11 @@ class DamperResult:
     def plot(self, ax=None, *, last_cycles=None):
         """Primary and damper-mass displacement against time, impacts marked.
 
+        Displacements in mm on the left axis; a contact force that lasts (spring-dashpot or
+        Hertz contact, not instantaneous impacts, whose impulses are in ``impacts``) in N
+        on a twin axis on the right, its zero level with the displacements' zero; the
+        legend in a band above the curves, clear of them.
+
         Parameters
         ----------
         ax : matplotlib Axes, optional
@@ -156,8 +161,11 @@ class DamperResult:
         Returns
         -------
         matplotlib.axes.Axes
+            The displacements' axes (a force twin is ``ax.figure.axes`` after it).
         """
         import matplotlib.pyplot as plt
+
+        from .._plot_axes import align_zeros, legend_above_data
 
         if ax is None:
             _, ax = plt.subplots(figsize=(8, 3.5))
@@ -169,11 +177,22 @@ class DamperResult:
         if len(imp):
             y = np.interp(imp["time"], self.t, self.damper) * 1e3
             ax.plot(imp["time"], y, "k.", ms=3, label="impacts")
+        ax.axhline(0.0, color="0.6", lw=0.6, zorder=0)
         ax.set_xlabel("time (s)")
         ax.set_ylabel("displacement (mm)")
         ax.set_title(f"{self.freq_hz:.4g} Hz: amplitude {self.primary_amplitude * 1e3:.4g} mm "
                      f"(x{self.reduction:.3g} of the bare structure)")
-        ax.legend(loc="upper right", fontsize="small")
+        handles, labels = ax.get_legend_handles_labels()
+        twins = ()
+        if np.any(self.force[sel] != 0):
+            force = ax.twinx()
+            force.plot(self.t[sel], self.force[sel], color="C3", lw=0.8,
+                       label="contact force on the primary")
+            force.set_ylabel("contact force (N)")
+            align_zeros(ax, force)
+            more = force.get_legend_handles_labels()
+            handles, labels, twins = handles + more[0], labels + more[1], (force,)
+        legend_above_data(ax, handles, labels, axes=twins, fontsize="small")
         return ax
 
 

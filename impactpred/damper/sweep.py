@@ -301,10 +301,12 @@ def sweep(damper, *, freq_hz=None, mass_ratio=None, clearance=None, contact_stif
     model object, not something holding open files. With a process pool, pin BLAS to one
     thread per worker (``OPENBLAS_NUM_THREADS=1`` before Python starts): the engine's
     small matrix products are slower multi-threaded, and the workers already use every
-    core. On Dask, start the workers without the ``MALLOC_TRIM_THRESHOLD_=65536`` Dask's
-    nannies set by default (configuration ``distributed.nanny.pre-spawn-environ``) and
-    with the profiler off (``distributed.worker.profile.enabled: false``): with them a
-    damper run costs about 1.6 times the CPU (``benchmarks/bench_scaling.py``).
+    core. On one machine, :func:`impactpred.parallel.local_cluster` starts a Dask cluster
+    set up for these runs. Workers started otherwise: without the
+    ``MALLOC_TRIM_THRESHOLD_=65536`` Dask's nannies set by default (configuration
+    ``distributed.nanny.pre-spawn-environ``) and with the profiler off
+    (``distributed.worker.profile.enabled: false``): with Dask's defaults a damper run
+    costs about 1.6 times the CPU (``benchmarks/bench_scaling.py``).
 
     Examples
     --------
