@@ -53,11 +53,12 @@ def _save_fit(fit, out: Path, stem: str) -> None:
     fit.model_.to_json(out / f"{stem}_model.json")
     coherence = getattr(fit.data_, "coherence", None) is not None
     rows = 3 if coherence else 2                  # magnitude, phase (, coherence)
-    fig, axes = plt.subplots(rows + 1, 1, figsize=(8, 3.0 + 2.2 * rows),
+    # constrained layout: the chart's legend above it takes its own room, not a gap
+    # between every panel (as tight_layout spread it)
+    fig, axes = plt.subplots(rows + 1, 1, figsize=(8, 3.0 + 2.2 * rows), layout="constrained",
                              gridspec_kw={"height_ratios": [3.0, 1.5, 1.0][:rows] + [3.0]})
     fit.plot_fit(ax=axes[:rows])
     fit.plot_stabilization(ax=axes[rows])
-    fig.tight_layout()
     fig.savefig(out / f"{stem}_fit.png", dpi=110)
     plt.close(fig)
     print(f"wrote {out / (stem + '_model.json')} and {out / (stem + '_fit.png')}")

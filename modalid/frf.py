@@ -13,6 +13,26 @@ from .quantities import QUANTITIES, receptance_to, to_receptance
 __all__ = ["FRFData"]
 
 
+def _wrapped_phase(freq_hz, values):
+    """``(freq_hz, phase_deg)`` to plot: the phase in [-180, 180] degrees with a NaN
+    between two lines where it wraps (a step over 180 degrees), so the plotted line
+    breaks there instead of drawing a vertical stroke across the axes.
+
+    Parameters
+    ----------
+    freq_hz : ndarray, shape (n,)
+    values : ndarray of complex, shape (n,)
+
+    Returns
+    -------
+    freq_hz, phase_deg : ndarray, shape (n + number of wraps,)
+    """
+    freq_hz = np.asarray(freq_hz, dtype=float)
+    phase = np.degrees(np.angle(np.asarray(values)))
+    wraps = np.flatnonzero(np.abs(np.diff(phase)) > 180.0) + 1
+    return np.insert(freq_hz, wraps, np.nan), np.insert(phase, wraps, np.nan)
+
+
 class FRFData:
     """A single FRF on a frequency grid; immutable.
 
@@ -210,7 +230,10 @@ class FRFData:
         return ax
 
     def plot_phase(self, ax=None, **kwargs):
-        """Phase (degrees) against frequency (Hz); returns the Axes.
+        """Phase (degrees, in [-180, 180]) against frequency (Hz); returns the Axes.
+
+        The line is broken where the phase wraps (a step over 180 degrees between two
+        lines), so a phase near +-180 degrees does not draw vertical strokes.
 
         Parameters
         ----------
@@ -227,7 +250,7 @@ class FRFData:
 
         if ax is None:
             _, ax = plt.subplots(figsize=(7, 3))
-        ax.plot(self._freq_hz, np.degrees(np.angle(self._values)), **kwargs)
+        ax.plot(*_wrapped_phase(self._freq_hz, self._values), **kwargs)
         ax.set_xlabel("frequency (Hz)")
         ax.set_ylabel("phase (deg)")
         return ax

@@ -22,6 +22,7 @@ from scipy.linalg import cho_factor, cho_solve, cholesky, solve_triangular
 from sklearn.cluster import DBSCAN
 
 from ._lsfd import Terms, _realify, design_matrix
+from .frf import _wrapped_phase
 
 __all__ = ["stabilization_table", "cluster_poles", "select_poles", "select_by_information",
            "prefix_information", "plot_stabilization", "plot_fit"]
@@ -562,7 +563,7 @@ def plot_fit(model, *, frf=None, impulse=None, ax=None, fitted=None):
     magnitude.legend(fontsize=8, loc="best")
     if axes.size > 1:
         phase = frf.plot_phase(ax=axes[1], color="0.6", lw=1)
-        phase.plot(frf.freq_hz, np.degrees(np.angle(fitted)), "C3", lw=1)
+        phase.plot(*_wrapped_phase(frf.freq_hz, fitted), "C3", lw=1)
         phase.set_ylim(-190.0, 190.0)
         phase.set_yticks([-180, -90, 0, 90, 180])
     if axes.size > 2 and frf.coherence is not None:
