@@ -120,10 +120,10 @@ def refit_on_cut_band(fit, fraction: float):
     params = fit.get_params()
     params["freq_range"] = (low, fraction * top)
     params["n_modes"] = None
+    params["weights"] = None        # the setting's are per line of the data first given
     estimator = type(fit)(**params)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-    params["weights"] = None        # the setting's are per line of the data first given
         # the data as measured (a windowed fit's terms depend on what was recorded)
         estimator.fit(getattr(fit, "data_", fit.frf_),
                       weights=getattr(fit, "weights_", None))
