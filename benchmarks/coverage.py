@@ -1,7 +1,9 @@
 """Coverage study of the uncertainty band: how often it holds the exact answers.
 
 Run:  OPENBLAS_NUM_THREADS=1 python benchmarks/coverage.py [--runs 1-20] [--bands 10]
-          [--noise 1 5] [--workers 2] [--out DIR]
+          [--noise 1 5] [--draws 4] [--workers 2] [--out DIR]
+      python benchmarks/coverage.py --summarize DIR/coverage.csv [...] --runs 1-20
+          [--calibrate 21-28]
 
 Every benchmark case (:func:`impactpred.benchmark.benchmark_cases`) is measured again with
 other hammer-test seeds (``run`` 1, 2, ...; the benchmark itself is run 0, see
@@ -12,16 +14,23 @@ all four exact figures (the stated level's test) and each figure's share, the me
 half-width of each figure's interval in % of the exact value, and the same for the band
 as built before issue #19 (the variants' range widened by the truncation and tail
 estimates); then per noise level over every case, and the coverage the band would have
-with other spread factors (``z k sigma + truncation + tail``), which is how
-:data:`impactpred.uncertainty.SPREAD_FACTOR` was chosen (on other runs than those
-reported: see benchmarks/README.md).
+with other spread factors. Each row records its band's parts (``sigma``, the truncation
+and tail estimates), so the band with other factors is rebuilt exactly from them
+(:func:`half_width`, as :func:`impactpred.uncertainty.band_half_width`): that is how the
+factors were chosen (``--calibrate``, on other runs than those reported: see
+benchmarks/README.md).
 
-Everything is seeded: a rerun gives the same table (times aside).
+Every (band, seed run, noise) is one task: each measured body identified once for the
+cases that use it, rows written to ``coverage.csv`` as each task ends (a long study can be
+read, or summarized with ``--summarize``, while it runs); a case's bands wider than its
+``Case.max_modes`` are skipped. Everything is seeded: a rerun gives the same table (times
+aside).
 """
 
 from __future__ import annotations
 
 import argparse
+import functools
 import math
 import os
 import sys
@@ -37,6 +46,7 @@ import pandas as pd  # noqa: E402
 
 from impactpred.benchmark import benchmark_cases, exact_reference, run_case  # noqa: E402
 from impactpred.uncertainty import (  # noqa: E402
+    PEAK_TAIL_FACTOR,
     SPREAD_FACTOR,
     TAIL_FACTOR,
     TRUNCATION_FACTOR,
@@ -46,23 +56,37 @@ SHORT = ("duration", "peak", "impulse", "e")
 LEVEL = 0.9
 
 
-def _task(keys, n, noise, runs, level):
-    """Rows of the cases ``keys`` at band ``n`` and ``noise`` over ``runs``."""
+def _task(keys, n, noise, run, level, truths=None, n_draws=4):
+    """Rows of the cases ``keys`` at band ``n``, ``noise`` and seed run ``run``: each
+    measured body is identified once for every case that uses it (a fixed rod: four, the
+    unit free rod: five); ``truths``, a dict kept by the caller, caches the damped truth's
+    figures (the same in every run) across tasks run in this process."""
     every = {c.key: c for c in benchmark_cases()}
     rows = []
+    cache = dict(truths or {})
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         for key in keys:
             case = every[key]
-            ref = exact_reference(case)
-            for run in runs:
-                t0 = time.perf_counter()
-                row, _ = run_case(case, n, noise, reference=ref, cache={}, run=run,
-                                  level=level)
-                row["run"] = run
-                row["t_row_s"] = time.perf_counter() - t0
-                rows.append(row)
+            if case.max_modes is not None and n > case.max_modes:
+                continue                 # not run at this band (see Case.max_modes)
+            ref = _reference(key)
+            t0 = time.perf_counter()
+            row, _ = run_case(case, n, noise, reference=ref, cache=cache, run=run,
+                              level=level, n_draws=n_draws)
+            row["run"] = run
+            row["t_row_s"] = time.perf_counter() - t0
+            rows.append(row)
+    if truths is not None:
+        truths.update({k: v for k, v in cache.items()
+                       if isinstance(k, tuple) and k[0] == "damped truth"})
     return rows
+
+
+@functools.lru_cache(maxsize=None)
+def _reference(key):
+    """The exact reference of the case ``key``, once per process."""
+    return exact_reference({c.key: c for c in benchmark_cases()}[key])
 
 
 def _runs(text):
@@ -76,19 +100,31 @@ def z_of(level):
     return float(norm.ppf(1.0 - (1.0 - level) / 8.0))
 
 
-def half_width(table, k, factor=SPREAD_FACTOR, level=LEVEL, trunc=TRUNCATION_FACTOR,
-               tail=TAIL_FACTOR):
+#: the library's factors ``(spread, truncation, tail, peak's tail)`` of
+#: :func:`impactpred.uncertainty.band_half_width`
+FACTORS = (SPREAD_FACTOR, TRUNCATION_FACTOR, TAIL_FACTOR, PEAK_TAIL_FACTOR)
+#: the cut band's share of the band in the study (``uncertainty_band``'s default)
+FRACTION = 0.8
+
+
+def half_width(table, k, factors=FACTORS, level=LEVEL):
     """Per row, figure ``k``'s half-width (% of the exact value) rebuilt from its recorded
-    parts: ``z factor sigma + trunc truncation + tail tail``."""
-    return (z_of(level) * factor * table[f"band_sigma_{k}_%"]
-            + trunc * table[f"band_trunc_{k}_%"] + tail * table[f"band_tail_{k}_%"])
+    parts with the factors ``(k, a, b, b_peak)``, as
+    :func:`impactpred.uncertainty.band_half_width` builds it: ``sqrt((z k sigma)**2 +
+    (a left)**2) + b tail``, ``left = max(truncation - sigma sqrt(f / (1 - f)), 0)``
+    (``b_peak`` for the peak)."""
+    spread, trunc, tail, peak_tail = factors
+    sigma = table[f"band_sigma_{k}_%"]
+    left = np.maximum(table[f"band_trunc_{k}_%"]
+                      - sigma * math.sqrt(FRACTION / (1.0 - FRACTION)), 0.0)
+    return (np.hypot(z_of(level) * spread * sigma, trunc * left)
+            + (peak_tail if k == "peak" else tail) * table[f"band_tail_{k}_%"])
 
 
-def held(table, factor, level=LEVEL, trunc=TRUNCATION_FACTOR, tail=TAIL_FACTOR):
-    """Per row, whether each figure's interval with the parts' factors ``factor`` (spread),
-    ``trunc`` and ``tail`` holds it."""
-    return pd.DataFrame({k: table[f"{k}_err_%"].abs()
-                         <= half_width(table, k, factor, level, trunc, tail) for k in SHORT})
+def held(table, factors=FACTORS, level=LEVEL):
+    """Per row, whether each figure's interval with the factors ``factors`` holds it."""
+    return pd.DataFrame({k: table[f"{k}_err_%"].abs() <= half_width(table, k, factors, level)
+                         for k in SHORT})
 
 
 def _ok(table):
@@ -97,37 +133,41 @@ def _ok(table):
 
 
 def calibrate(table: pd.DataFrame, level=LEVEL) -> tuple:
-    """The factors ``(spread, truncation, tail)`` of the narrowest band that holds all four
-    figures in at least ``level`` of the rows at every (band, noise) of ``table``: the
-    smallest largest median half-width ratio to the band before #19 at the lowest noise
-    (spread 0.2-2 by 0.05, truncation 1-2.5 by 0.25, tail 1-4 by 0.5; NaNs if none)."""
+    """The factors ``(spread, truncation, tail, peak's tail)`` of the narrowest band that
+    holds all four figures in at least ``level`` of the rows at every (band, noise) of
+    ``table``: the smallest largest median half-width ratio to the band before #19 at the
+    lowest noise (to 0.01; then the highest coverage; then the larger factors, the wider
+    band), spread 0.2-2 by 0.05, truncation 1-2.5 by 0.25, tails 1-4 by 0.5 (NaNs if
+    none)."""
     table = table[_ok(table)]
     groups = [sel for _, sel in table.groupby(["n_modes", "noise"])]
     low = table[table.noise == table.noise.min()]
     prev = {k: 0.5 * (low[f"band_prev_hi_{k}_%"] - low[f"band_prev_lo_{k}_%"]) for k in SHORT}
-    best = (math.inf, (math.nan, math.nan, math.nan))
+    best = (math.inf, 0.0, (-math.nan,) * 4)
     for a in np.arange(1.0, 2.51, 0.25):
         for b in np.arange(1.0, 4.01, 0.5):
-            for f in np.arange(0.2, 2.001, 0.05):
-                if all(held(sel, f, level, a, b).all(axis=1).mean() >= level for sel in groups):
-                    ratio = max(float((half_width(low, k, f, level, a, b) / prev[k]).median())
-                                for k in SHORT)
-                    best = min(best, (ratio, (round(f, 2), round(a, 2), round(b, 2))))
-                    break                # a larger spread factor only widens the band
-    return best[1]
+            for bp in np.arange(1.0, 4.01, 0.5):
+                for f in np.arange(0.2, 2.001, 0.05):
+                    factors = (f, a, b, bp)
+                    cover = min(held(sel, factors, level).all(axis=1).mean()
+                                for sel in groups)
+                    if cover >= level:
+                        ratio = max(float((half_width(low, k, factors, level)
+                                           / prev[k]).median()) for k in SHORT)
+                        rounded = tuple(round(float(x), 2) for x in factors)
+                        best = min(best, (round(ratio, 2), -cover, tuple(-x for x in rounded)))
+                        break            # a larger spread factor only widens the band
+    return tuple(-x for x in best[2])
 
 
-def summary(table: pd.DataFrame, level=LEVEL, factor=None, trunc=None, tail=None) -> str:
+def summary(table: pd.DataFrame, level=LEVEL, factors=None) -> str:
     """The coverage tables (markdown) of a study's rows, with the band's intervals rebuilt
-    from their recorded parts with the factors ``factor`` (spread), ``trunc`` and ``tail``
-    (defaults :data:`~impactpred.uncertainty.SPREAD_FACTOR`, ``TRUNCATION_FACTOR``,
-    ``TAIL_FACTOR``: the band as the library builds it)."""
-    factor = SPREAD_FACTOR if factor is None else factor
-    trunc = TRUNCATION_FACTOR if trunc is None else trunc
-    tail = TAIL_FACTOR if tail is None else tail
+    from their recorded parts with ``factors`` ``(spread, truncation, tail, peak's tail)``
+    (default :data:`FACTORS`: the band as the library builds it)."""
+    factors = FACTORS if factors is None else tuple(factors)
     table = table[_ok(table)].copy()
     for k in SHORT:
-        half = half_width(table, k, factor, level, trunc, tail)
+        half = half_width(table, k, factors, level)
         table[f"band_lo_{k}_%"] = table[f"{k}_err_%"] - half
         table[f"band_hi_{k}_%"] = table[f"{k}_err_%"] + half
         table[f"in_band_{k}"] = table[f"{k}_err_%"].abs() <= half
@@ -140,8 +180,8 @@ def summary(table: pd.DataFrame, level=LEVEL, factor=None, trunc=None, tail=None
     table["all4"] = table[[f"in_band_{k}" for k in SHORT]].astype(bool).all(axis=1)
     table["prev_all4"] = table[[f"prev_in_{k}" for k in SHORT]].all(axis=1)
     lines = [f"Stated level {100 * level:g} % (all four figures together); factors spread "
-             f"{factor:g}, truncation {trunc:g}, tail {tail:g}; runs {table.run.min()}-"
-             f"{table.run.max()}.", "",
+             f"{factors[0]:g}, truncation {factors[1]:g}, tail {factors[2]:g} (peak "
+             f"{factors[3]:g}); runs {table.run.min()}-{table.run.max()}.", "",
              "| case | modes | noise | runs | holds all 4 (before #19) | holds D/P/J/e | "
              "median half-width D/P/J/e % (before #19) | median abs error D/P/J/e % |",
              "|---|---|---|---|---|---|---|---|"]
@@ -162,14 +202,14 @@ def summary(table: pd.DataFrame, level=LEVEL, factor=None, trunc=None, tail=None
                      f"{100 * sel.prev_all4.mean():.1f} % | "
                      + "/".join(f"{100 * sel[f'in_band_{k}'].astype(bool).mean():.0f}"
                                 for k in SHORT) + f" | {ratio} |")
-    factors = (0.5, 0.75, 1.0, 1.25, 1.5, 2.0, 2.5, 3.0)
-    lines += ["", "Coverage (all four) with other spread factors (truncation and tail "
-              "factors as above):", "",
-              "| modes | noise | " + " | ".join(f"k = {f:g}" for f in factors) + " |",
-              "|---|---|" + "---|" * len(factors)]
+    spreads = (0.5, 0.75, 1.0, 1.25, 1.5, 2.0, 2.5, 3.0)
+    lines += ["", "Coverage (all four) with other spread factors (the other factors as "
+              "above):", "",
+              "| modes | noise | " + " | ".join(f"k = {f:g}" for f in spreads) + " |",
+              "|---|---|" + "---|" * len(spreads)]
     for (n, noise), sel in table.groupby(["n_modes", "noise"]):
-        cells = [f"{100 * held(sel, f, level, trunc, tail).all(axis=1).mean():.1f} %"
-                 for f in factors]
+        cells = [f"{100 * held(sel, (f,) + factors[1:], level).all(axis=1).mean():.1f} %"
+                 for f in spreads]
         lines.append(f"| {n} | {100 * noise:g} % | " + " | ".join(cells) + " |")
     return "\n".join(lines)
 
@@ -181,37 +221,54 @@ def main(argv=None):
     parser.add_argument("--noise", type=float, nargs="+", default=[1.0, 5.0], help="in %%")
     parser.add_argument("--cases", nargs="+", default=None, help="case keys (default: all)")
     parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--draws", type=int, default=4,
+                        help="parameter draws per band (uncertainty_band's n_draws)")
     parser.add_argument("--out", default=None, help="folder for coverage.csv and coverage.md")
-    parser.add_argument("--summarize", default=None,
-                        help="only print the summary of a coverage.csv written before (its "
-                             "rows of --runs)")
+    parser.add_argument("--summarize", nargs="+", default=None,
+                        help="only print the summary of coverage.csv files written before "
+                             "(their rows of --runs)")
     parser.add_argument("--calibrate", default=None,
-                        help="with --summarize: runs (e.g. 21-28) to choose the spread factor "
+                        help="with --summarize: runs (e.g. 21-28) to choose the factors "
                              "on; the summary then shows --runs with it")
     args = parser.parse_args(argv)
     if args.summarize:
-        table = pd.read_csv(args.summarize)
-        factors = (None, None, None)
+        table = pd.concat([pd.read_csv(f) for f in args.summarize], ignore_index=True)
+        factors = None
         if args.calibrate:
             factors = calibrate(table[table.run.isin(_runs(args.calibrate))])
-            print(f"factors (spread, truncation, tail) calibrated on runs {args.calibrate}: "
-                  f"{factors}\n")
-        print(summary(table[table.run.isin(_runs(args.runs))], factor=factors[0],
-                      trunc=factors[1], tail=factors[2]))
+            print(f"factors (spread, truncation, tail, peak's tail) calibrated on runs "
+                  f"{args.calibrate}: {factors}\n")
+        print(summary(table[table.run.isin(_runs(args.runs))], factors=factors))
         return
     start = time.perf_counter()
     keys = args.cases or [c.key for c in benchmark_cases()]
     runs = _runs(args.runs)
-    tasks = [([k], n, noise / 100, runs, LEVEL) for n in sorted(args.bands, reverse=True)
-             for noise in args.noise for k in keys]
+    # one task per band, run and noise (every case), the bands in the order given and the
+    # runs outermost: a study stopped early holds the same runs of every case
+    tasks = [(keys, n, noise / 100, run, LEVEL, None, args.draws) for n in args.bands
+             for run in runs for noise in args.noise]
+    out = Path(args.out) if args.out else None
+    if out is not None:
+        out.mkdir(parents=True, exist_ok=True)
+    rows = []
+
+    def record(new_rows):
+        """Keep the rows, and write every row so far (a long study can be read early)."""
+        rows.extend(new_rows)
+        if out is not None and rows:
+            pd.DataFrame(rows).to_csv(out / "coverage.csv", index=False)
+
     if args.workers > 1:
-        from concurrent.futures import ProcessPoolExecutor
+        from concurrent.futures import ProcessPoolExecutor, as_completed
 
         with ProcessPoolExecutor(max_workers=args.workers) as pool:
-            outputs = list(pool.map(_task, *zip(*tasks)))
+            for future in as_completed([pool.submit(_task, *t) for t in tasks]):
+                record(future.result())
     else:
-        outputs = [_task(*t) for t in tasks]
-    table = pd.DataFrame([r for rows in outputs for r in rows])
+        truths = {}
+        for t in tasks:
+            record(_task(*t[:5], truths=truths, n_draws=args.draws))
+    table = pd.DataFrame(rows)
     text = summary(table)
     seconds = time.perf_counter() - start
     print(text)
@@ -220,10 +277,7 @@ def main(argv=None):
     failed = table[~_ok(table)]
     for r in failed.itertuples():
         print(f"failure: {r.case} ({r.n_modes} modes, {r.noise:g}, run {r.run}): {r.failure}")
-    if args.out:
-        out = Path(args.out)
-        out.mkdir(parents=True, exist_ok=True)
-        table.to_csv(out / "coverage.csv", index=False)
+    if out is not None:
         (out / "coverage.md").write_text(text + f"\n\n{len(table)} rows, {seconds:.0f} s.\n")
 
 

@@ -2,7 +2,8 @@
 
 Run:  python benchmarks/synthetic.py [--quick] [--workers 2] [--out DIR]
       (10, 20 and 40 modes x 1 and 5 % noise, a band for every row: 334 s of CPU, about
-      3 min on 2 free cores, 5 min at load 4-5; the rod-cantilever is not run at 40 modes)
+      3 min on 2 free cores, 5 min at load 4-5, before the rod-cantilever ran at 40 modes:
+      about 66 s more of CPU)
 
 Everything is defined in :mod:`impactpred.benchmark`; this script runs it
 (``run_benchmark``) and prints the table, the targets and PASS/MISS per target cell.

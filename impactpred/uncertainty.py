@@ -2,15 +2,17 @@
 
 :func:`uncertainty_band` gives each of duration, peak, impulse and restitution an interval
 meant to hold the four exact figures together with a stated probability (``level``, 0.9
-by default): ``nominal -+ (z k sigma + a truncation + b tail)``, where ``sigma`` is the
-figure's rms change over draws of the fits' parameters (residues, rigid mass, residual
-flexibility) from their reported standard deviations, ``truncation`` the error a
-re-identification on 80 % of each band implies at the full band (:func:`truncation_error`:
-a figure converging like ``1/band``, four times its change), ``tail`` the change when the
-continuation runs half as far, ``z`` the normal quantile of the level shared by the four
-figures (Bonferroni) and ``k``, ``a``, ``b`` (:data:`SPREAD_FACTOR`,
-:data:`TRUNCATION_FACTOR`, :data:`TAIL_FACTOR`) the parts' factors calibrated by the coverage
-study ``benchmarks/coverage.py`` on seeds other than those it reports.
+by default): ``nominal -+ (sqrt((z k sigma)**2 + (a truncation_left)**2) + b tail)``
+(:func:`band_half_width`), where ``sigma`` is the figure's rms change over draws of the
+fits' parameters (residues, rigid mass, residual flexibility) from their reported standard
+deviations, ``truncation`` the error a re-identification on 80 % of each band implies at
+the full band (:func:`truncation_error`: a figure converging like ``1/band``, four times
+its change) and ``truncation_left`` what of it the identification's noise does not explain,
+``tail`` the change when the continuation runs half as far, ``z`` the normal quantile of
+the level shared by the four figures (Bonferroni) and ``k``, ``a``, ``b`` (:data:`SPREAD_FACTOR`,
+:data:`TRUNCATION_FACTOR`, :data:`TAIL_FACTOR`, the peak's :data:`PEAK_TAIL_FACTOR`) the
+parts' factors calibrated by the coverage study ``benchmarks/coverage.py`` on seeds other
+than those it reports.
 The band spans the identification's scatter, the band's truncation and the tail's extent;
 a bias of the fit shows only as far as the cut band or the draws move with it.
 """
@@ -28,8 +30,8 @@ from modalid import ModalModel
 from .parallel import check_executor, resolve_executor
 from .truncation import FIGURES, band_resolution, identified_model, impact_figures, tail_extent
 
-__all__ = ["UncertaintyBand", "perturb_residues", "refit_on_cut_band", "truncation_error",
-           "uncertainty_band"]
+__all__ = ["UncertaintyBand", "band_half_width", "perturb_residues", "refit_on_cut_band",
+           "truncation_error", "uncertainty_band"]
 
 
 @dataclass(frozen=True)
@@ -41,14 +43,15 @@ class UncertaintyBand:
     nominal : dict
         Figures of the nominal prediction (see :func:`impact_figures`).
     low, high : dict
-        Bounds of each figure in :data:`FIGURES`: ``nominal -+ (z k spread + a
-        truncation + b tail)`` (see :func:`uncertainty_band`).
+        Bounds of each figure in :data:`FIGURES`: ``nominal -+`` :func:`band_half_width`
+        of its ``spread``, ``truncation`` and ``tail`` (see :func:`uncertainty_band`).
     variants : tuple of (str, dict)
         Each variant's label (``"body2 band 60%"``, ``"draw 1"``) and figures.
     truncation : dict or None
         The truncation error left at the full band, per figure, estimated from the cut
-        bands (:func:`truncation_error`; 0 where no cut band gave one); None when the
-        band was built without it.
+        bands (:func:`truncation_error`, the largest over the cut bands; 0 where no cut
+        band gave one), before the identification's noise is taken out of it
+        (:func:`band_half_width`); None when the band was built without it.
     tail : dict or None
         The error of the continuation's finite extent, per figure: the change when its
         synthesized modes run half as far (taken as the error left, as for an error
@@ -212,24 +215,76 @@ def truncation_error(nominal: dict, cut: dict, fraction: float) -> dict:
                 else abs(nominal[k] - cut[k]) * fraction / (1.0 - fraction)) for k in FIGURES}
 
 
-#: the factors of the band's three parts, ``z SPREAD_FACTOR sigma + TRUNCATION_FACTOR
-#: truncation + TAIL_FACTOR tail``, calibrated together by ``benchmarks/coverage.py`` on seed
-#: runs 21-28 (10 modes, 160 rows: the narrowest band at 1 % noise, by its largest median
-#: half-width ratio to the band before #19, that holds all four figures in 90 % of the rows
-#: at 1 % and at 5 % noise). Each part is widened only as far as it was measured to be
-#: optimistic: the draws' spread is not (k < 1: 4 draws of the fits' standard deviations
-#: suffice where the error is random); the cut band's Richardson estimate a little
-#: (a figure does not converge exactly like 1/band); the tail's change at half its extent
-#: most (a wave front's Gibbs overshoot converges slower than 1/extent: the equal rods'
-#: peak at 40 modes changes by 1.8 % from 4 to 8 band tops, by 4.6 % from 8 to 16). On
-#: runs 1-20 (200 rows per noise level) the band holds all four in 85.5 % (1 %) and 92.0 %
-#: (5 %) of the rows, at median half-widths 1.9-2.3 times those before #19 at 1 % (with
-#: ``k = 2.7`` alone, 80.5 % and 95.0 % at 1.4-4.6 times): benchmarks/README.md
-SPREAD_FACTOR = 0.9
+#: the factors of the band's three parts in :func:`band_half_width`, ``sqrt((z
+#: SPREAD_FACTOR sigma)**2 + (TRUNCATION_FACTOR truncation_left)**2) + TAIL_FACTOR tail``
+#: (``PEAK_TAIL_FACTOR`` for the peak force), calibrated together by
+#: ``benchmarks/coverage.py`` on seed runs 21-28 (10 modes, 160 rows: the narrowest band at
+#: 1 % noise, by its largest median half-width ratio to the band before #19, that holds all
+#: four figures in 90 % of the rows at 1 % and at 5 % noise). Until the third #19 session
+#: the band was ``z 0.9 sigma + 1.25 truncation + 2.5 tail``: the cut band's change there
+#: carried the re-identification's own noise, four times over (Richardson's factor), added
+#: in full to the draws' spread that already held it (the rods' impulse and restitution: the
+#: damped truth's are the same to 0.005 % from 60 % to 90 % of the band, while the
+#: estimate came to 1.3 sigma at 1 % noise); and the tail's factor, set by the peak's Gibbs
+#: overshoot at a wave front (which converges slower than 1/extent), widened the duration,
+#: impulse and restitution too. On runs 1-20 (200 rows per noise level) the band holds all
+#: four in 85.0 % (1 %) and 92.0 % (5 %) of the rows (85.5 % and 92.0 % before) at median
+#: half-widths 1.6-1.8 times those before #19 at 1 % (1.9-2.25 before); at 20 modes in
+#: 91.0 % and 88.8 % (94.0 %, 88.8 %) at 1.6-2.0 times (1.7-2.4): benchmarks/README.md
+SPREAD_FACTOR = 1.25
 #: see :data:`SPREAD_FACTOR`
-TRUNCATION_FACTOR = 1.25
-#: see :data:`SPREAD_FACTOR`
-TAIL_FACTOR = 2.5
+TRUNCATION_FACTOR = 1.75
+#: see :data:`SPREAD_FACTOR` (duration, impulse, restitution)
+TAIL_FACTOR = 1.5
+#: see :data:`SPREAD_FACTOR` (the peak force: a wave front's overshoot converges slowly)
+PEAK_TAIL_FACTOR = 3.0
+
+
+def band_half_width(spread: float, truncation: float, tail: float, *, figure: str,
+                    fraction: float = 0.8, level: float = 0.9) -> float:
+    """The half-width of a figure's interval from the band's three parts.
+
+    ``sqrt((z k spread)**2 + (a left)**2) + b tail`` with ``left = max(truncation -
+    spread sqrt(f / (1 - f)), 0)``: the cut band's change holds the re-identification's
+    own random error (about ``spread sqrt(1/f - 1)`` for a fit on the share ``f`` of the
+    lines, nested in the full one), which :func:`truncation_error` multiplies by
+    ``f / (1 - f)``; only what exceeds it is taken as truncation error, and what is left
+    is combined with the spread as an independent error (root sum of squares). The tail's
+    estimate is added in full. ``z``: the normal quantile of ``1 - (1 - level) / 8``
+    (four figures, two-sided, Bonferroni); ``k, a, b``: :data:`SPREAD_FACTOR`,
+    :data:`TRUNCATION_FACTOR`, :data:`TAIL_FACTOR` (:data:`PEAK_TAIL_FACTOR` for
+    ``peak_force``).
+
+    Parameters
+    ----------
+    spread, truncation, tail : float
+        The figure's parts (its units): the draws' rms change, the truncation estimate
+        of :func:`truncation_error` from the cut band ``fraction``, the tail's change.
+    figure : str, keyword-only
+        The figure (one of :data:`~impactpred.truncation.FIGURES`).
+    fraction : float, keyword-only
+        The cut band's share of the band, in (0, 1).
+    level : float, keyword-only
+        The stated probability of the four intervals together, in (0, 1).
+
+    Returns
+    -------
+    float
+        The half-width (the figure's units).
+    """
+    from scipy.stats import norm
+
+    if figure not in FIGURES:
+        raise ValueError(f"figure must be one of {FIGURES}, got {figure!r}")
+    if not (isinstance(fraction, (int, float)) and 0.0 < fraction < 1.0):
+        raise ValueError(f"fraction must lie in (0, 1), got {fraction!r}")
+    if not (isinstance(level, (int, float)) and 0.0 < level < 1.0):
+        raise ValueError(f"level must lie in (0, 1), got {level!r}")
+    z = float(norm.ppf(1.0 - (1.0 - level) / 8.0))
+    left = max(truncation - spread * math.sqrt(fraction / (1.0 - fraction)), 0.0)
+    tail_factor = PEAK_TAIL_FACTOR if figure == "peak_force" else TAIL_FACTOR
+    return math.hypot(z * SPREAD_FACTOR * spread, TRUNCATION_FACTOR * left) + tail_factor * tail
+
 
 #: the variants are solved with the tail to half as far when the widest band holds more
 #: than this many modes (the solve's cost grows like the square of the modes the tail
@@ -252,21 +307,25 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
     """An interval for each of duration, peak, impulse and restitution, meant to hold all
     four exact figures together with probability ``level``.
 
-    Each figure's interval is ``nominal -+ (z k sigma + a truncation + b tail)`` (``k, a,
-    b``: :data:`SPREAD_FACTOR`, :data:`TRUNCATION_FACTOR`, :data:`TAIL_FACTOR`):
+    Each figure's interval is ``nominal -+`` :func:`band_half_width`, ``sqrt((z k
+    sigma)**2 + (a truncation_left)**2) + b tail`` (``k, a, b``: :data:`SPREAD_FACTOR`,
+    :data:`TRUNCATION_FACTOR`, :data:`TAIL_FACTOR`, :data:`PEAK_TAIL_FACTOR`):
 
     * ``sigma``: the root-mean-square change of the figure over ``n_draws`` draws of every
       identified body's parameters from their reported standard deviations
       (:func:`perturb_residues`): the identification's random error;
     * ``truncation``: the error the re-identifications on ``fractions`` of each band imply
-      at the full band (:func:`truncation_error`, the largest);
+      at the full band (:func:`truncation_error`); ``truncation_left``: what of it exceeds
+      the re-identification's own noise, ``sigma sqrt(f / (1 - f))`` (the largest over
+      the fractions ``f``);
     * ``tail``: the change when the continuation's synthesized modes run half as far;
     * ``z``: the normal quantile of ``1 - (1 - level) / 8`` (two-sided, the four figures
       together by Bonferroni's bound: 2.24 for 0.9).
 
-    The two error estimates are added in full (bias estimates, not random). The level is
-    stated, not guaranteed: it is verified by the coverage study (``benchmarks/
-    coverage.py``), which calibrated ``k``, ``a`` and ``b``.
+    The tail's estimate is added in full (a bias); the truncation's, once the noise is out
+    of it, in quadrature with the spread. The level is stated, not guaranteed: it is
+    verified by the coverage study (``benchmarks/coverage.py``), which calibrated the
+    factors.
 
     Parameters
     ----------
@@ -311,8 +370,6 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
         ``low``/``high`` per figure, ``spread`` (``sigma``), ``truncation``, ``tail``,
         ``level`` and every variant's figures.
     """
-    from scipy.stats import norm
-
     if extend is not None and not (isinstance(extend, (int, float)) and math.isfinite(extend)
                                    and extend > 0):
         raise ValueError(f"extend must be a positive finite number, got {extend!r}")
@@ -427,18 +484,19 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
     spread = {k: (math.sqrt(float(np.mean(np.square(v)))) if v else 0.0)
               for k, v in changes.items()}
     trunc = {k: 0.0 for k in FIGURES}
+    halves = {k: band_half_width(spread[k], 0.0, tail[k], figure=k, level=level)
+              for k in FIGURES}
     for fraction, figs, same in cuts:
         for k, r in truncation_error(same, figs, fraction).items():
             trunc[k] = max(trunc[k], r)
-    z = float(norm.ppf(1.0 - (1.0 - level) / 8.0))
+            halves[k] = max(halves[k], band_half_width(spread[k], r, tail[k], figure=k,
+                                                       fraction=fraction, level=level))
     low: dict[str, float | None] = {}
     high: dict[str, float | None] = {}
     for k in FIGURES:
         if base[k] is None:
             low[k] = high[k] = None
             continue
-        half_width = (z * SPREAD_FACTOR * spread[k] + TRUNCATION_FACTOR * trunc[k]
-                      + TAIL_FACTOR * tail[k])
-        low[k], high[k] = base[k] - half_width, base[k] + half_width
+        low[k], high[k] = base[k] - halves[k], base[k] + halves[k]
     return UncertaintyBand(nominal=base, low=low, high=high, variants=tuple(variants),
                            truncation=trunc, tail=tail, spread=spread, level=level)

@@ -144,3 +144,47 @@ def test_bands_wider_than_a_cases_widest_are_reported_as_not_run():
     assert table.failure.iloc[1].startswith("not run") and math.isnan(table["e_err_%"].iloc[1])
     got = dict(zip(table.attrs["targets"].target, table.attrs["targets"].result))
     assert got["8 modes, 1 %: every case within 1/1/2/10 % (e/J/D/P)"] == "MISS"
+
+
+def test_a_stuck_phase_too_stiff_for_the_event_search_is_refused():
+    """A rigid contact whose stuck phase has an eigenvalue needing more than 2e7 search
+    steps over t_end is refused at once (a failure row), not solved for hours; the rate is
+    the one the exact solver's search resolves (its step pi / (8 rate))."""
+    import math
+
+    from impactpred import Body, solve_impact
+    from impactpred.benchmark import _check_search_steps
+    from modalid import ModalModel
+
+    def bodies(flexibility):
+        # a light mode at 3000 rad/s and a tiny flexibility: a stiff stuck phase
+        rod = ModalModel.from_modes([3.0, 9.0, 3000.0], 0.0, [0.5, 0.5, 1e-4],
+                                    flexibility=flexibility)
+        return Body(ModalModel(inverse_mass=1.0), velocity=1.0), Body(rod)
+
+    _check_search_steps(*bodies(1e-3), 8.0)
+    with pytest.raises(ValueError, match="event-search steps"):
+        _check_search_steps(*bodies(1e-11), 8.0)
+    # the same rate as the solver's (a short run shows its search step)
+    res = solve_impact(*bodies(1e-11), t_end=1e-3, dt=1e-5, method="laplace")
+    step = float(res.notes[0].split("event search step ")[1].split(" s")[0])
+    with pytest.raises(ValueError) as info:
+        _check_search_steps(*bodies(1e-11), 8.0)
+    rate = float(str(info.value).split("eigenvalue, ")[1].split(" rad/s")[0])
+    assert step == pytest.approx(math.pi / (8 * rate), rel=1e-2)
+
+
+def test_a_figure_the_prediction_does_not_reach_is_a_failure_row():
+    """A prediction still in contact at t_end has no restitution: the row records the
+    failure (a miss) with NaN errors instead of raising."""
+    import dataclasses
+
+    from impactpred.benchmark import run_case
+
+    case = _case("mass-rod M/m=1")
+    short = dataclasses.replace(case, t_end=1.0)        # the contact lasts about 2 s
+    row, result = run_case(short, 5, 0.01, reference=exact_reference(case),
+                           uncertainty=False)
+    assert result is not None and result.restitution is None
+    assert row["failure"] == "predict: no restitution by t_end"
+    assert math.isnan(row["e_err_%"]) and math.isfinite(row["impulse_err_%"])

@@ -72,12 +72,13 @@ def _solve_mass_on(m1, m2):
 
 
 def test_band_of_a_mass_on_a_measured_rod_is_built_from_its_components():
-    """nominal -+ (z k sigma + a truncation + b tail): sigma the draws' rms change, the tail's
-    estimate the change at half the extent, z the Bonferroni quantile of the level."""
+    """nominal -+ band_half_width(sigma, truncation, tail): sigma the draws' rms change, the
+    tail's estimate the change at half the extent, the truncation's the largest over the cut
+    bands (each taken with its own fraction's noise)."""
     from scipy.stats import norm
 
     from impactpred.truncation import FIGURES, band_resolution, identified_model
-    from impactpred.uncertainty import SPREAD_FACTOR, TAIL_FACTOR, TRUNCATION_FACTOR
+    from impactpred.uncertainty import band_half_width
 
     fit = _measured_fixed_rod()
     models = [LumpedMass(1.0), identified_model(fit)]
@@ -94,8 +95,11 @@ def test_band_of_a_mass_on_a_measured_rod_is_built_from_its_components():
         changes = [variants[f"draw {d}"][k] - band.nominal[k] for d in (1, 2, 3)]
         assert band.spread[k] == pytest.approx(np.sqrt(np.mean(np.square(changes))),
                                                rel=1e-12)
-        half = (z * SPREAD_FACTOR * band.spread[k] + TRUNCATION_FACTOR * band.truncation[k]
-                + TAIL_FACTOR * band.tail[k])
+        cuts = [truncation_error(band.nominal, variants[f"body2 band {p}%"], p / 100)[k]
+                for p in (60, 80)]
+        assert band.truncation[k] == max(cuts)
+        half = max(band_half_width(band.spread[k], t, band.tail[k], figure=k, fraction=p / 100)
+                   for t, p in zip(cuts, (60, 80)))
         assert band.low[k] == pytest.approx(band.nominal[k] - half, rel=1e-12)
         assert band.high[k] == pytest.approx(band.nominal[k] + half, rel=1e-12)
         assert band.truncation[k] >= 0 and band.spread[k] > 0
@@ -121,7 +125,7 @@ def test_cheap_variants_are_measured_against_the_nominal_at_half_the_tail():
     extent and compared with the nominal solved the same way (the tail's estimate): no
     draws, the spread is 0 and the band's width is the truncation and tail estimates."""
     from impactpred.truncation import identified_model
-    from impactpred.uncertainty import TAIL_FACTOR, TRUNCATION_FACTOR
+    from impactpred.uncertainty import PEAK_TAIL_FACTOR, TAIL_FACTOR, TRUNCATION_FACTOR
 
     fit = _measured_fixed_rod()
     models = [LumpedMass(1.0), identified_model(fit)]
@@ -138,9 +142,50 @@ def test_cheap_variants_are_measured_against_the_nominal_at_half_the_tail():
     assert list(refits) == [(id(fit), 0.8)]
     assert first.low == again.low == band.low and first.high == band.high
     assert all(v == 0.0 for v in band.spread.values())
-    for k in band.truncation:
+    for k in band.truncation:         # no spread: nothing of the truncation is noise
+        tail = PEAK_TAIL_FACTOR if k == "peak_force" else TAIL_FACTOR
         assert band.high[k] - band.nominal[k] == pytest.approx(
-            TRUNCATION_FACTOR * band.truncation[k] + TAIL_FACTOR * band.tail[k], rel=1e-12)
+            TRUNCATION_FACTOR * band.truncation[k] + tail * band.tail[k], rel=1e-12)
+
+
+def test_half_width_takes_the_noise_out_of_the_truncation_estimate():
+    """sqrt((z k sigma)^2 + (a max(T - sigma sqrt(f/(1-f)), 0))^2) + b tail: a cut band's
+    change within the re-identification's own noise adds nothing to the spread; beyond it,
+    the rest adds in quadrature; the peak's tail factor is its own."""
+    from scipy.stats import norm
+
+    from impactpred.uncertainty import (
+        PEAK_TAIL_FACTOR,
+        SPREAD_FACTOR,
+        TAIL_FACTOR,
+        TRUNCATION_FACTOR,
+        band_half_width,
+    )
+
+    z = norm.ppf(1 - 0.1 / 8)
+    spread = z * SPREAD_FACTOR * 0.3
+    # at 80 % the noise in a truncation estimate is 2 sigma: 0.5 of it is all noise
+    assert band_half_width(0.3, 0.5, 0.0, figure="impulse") == pytest.approx(spread)
+    assert band_half_width(0.3, 0.6, 0.0, figure="impulse") == pytest.approx(spread)
+    assert band_half_width(0.3, 1.6, 0.0, figure="impulse") == pytest.approx(
+        np.hypot(spread, TRUNCATION_FACTOR * 1.0))
+    # at 60 % it is sigma sqrt(1.5)
+    assert band_half_width(0.3, 1.6, 0.0, figure="impulse", fraction=0.6) == pytest.approx(
+        np.hypot(spread, TRUNCATION_FACTOR * (1.6 - 0.3 * np.sqrt(1.5))))
+    # without draws the estimate is taken whole; the tail is added
+    assert band_half_width(0.0, 1.0, 0.2, figure="restitution") == pytest.approx(
+        TRUNCATION_FACTOR + TAIL_FACTOR * 0.2)
+    assert band_half_width(0.0, 1.0, 0.2, figure="peak_force") == pytest.approx(
+        TRUNCATION_FACTOR + PEAK_TAIL_FACTOR * 0.2)
+    assert PEAK_TAIL_FACTOR > TAIL_FACTOR
+    # a lower level, a narrower interval
+    assert band_half_width(0.3, 1.6, 0.1, figure="impulse", level=0.5) < band_half_width(
+        0.3, 1.6, 0.1, figure="impulse")
+    for kwargs, match in (({"figure": "force"}, "figure"),
+                          ({"figure": "impulse", "fraction": 1.0}, "fraction"),
+                          ({"figure": "impulse", "level": 0.0}, "level")):
+        with pytest.raises(ValueError, match=match):
+            band_half_width(0.3, 1.0, 0.0, **kwargs)
 
 
 @pytest.mark.parametrize("kwargs, match", [
