@@ -49,7 +49,7 @@ time of each stage. Targets (issue #19, every case, band and noise): at 1 % nois
 |impulse| error <= 1 %, duration <= 2 %, peak <= 10 %; at 5 % 2 / 2 / 4 / 20 %; the band
 (stated level 90 %, all four figures together) holds all four exact figures in at least
 9 of 10 cases at every configuration; no e > 1. The band's coverage over many seeds:
-``benchmarks/coverage.py``.
+``benchmarks/band_coverage.py``.
 """
 
 from __future__ import annotations

@@ -11,7 +11,7 @@ its change) and ``truncation_left`` what of it the identification's noise does n
 ``tail`` the change when the continuation runs half as far, ``z`` the normal quantile of
 the level shared by the four figures (Bonferroni) and ``k``, ``a``, ``b`` (:data:`SPREAD_FACTOR`,
 :data:`TRUNCATION_FACTOR`, :data:`TAIL_FACTOR`, the peak's :data:`PEAK_TAIL_FACTOR`) the
-parts' factors calibrated by the coverage study ``benchmarks/coverage.py`` on seeds other
+parts' factors calibrated by the coverage study ``benchmarks/band_coverage.py`` on seeds other
 than those it reports.
 The band spans the identification's scatter, the band's truncation and the tail's extent;
 a bias of the fit shows only as far as the cut band or the draws move with it.
@@ -218,7 +218,7 @@ def truncation_error(nominal: dict, cut: dict, fraction: float) -> dict:
 #: the factors of the band's three parts in :func:`band_half_width`, ``sqrt((z
 #: SPREAD_FACTOR sigma)**2 + (TRUNCATION_FACTOR truncation_left)**2) + TAIL_FACTOR tail``
 #: (``PEAK_TAIL_FACTOR`` for the peak force), calibrated together by
-#: ``benchmarks/coverage.py`` on seed runs 21-28 (10 modes, 160 rows: the narrowest band at
+#: ``benchmarks/band_coverage.py`` on seed runs 21-28 (10 modes, 160 rows: the narrowest band at
 #: 1 % noise, by its largest median half-width ratio to the band before #19, that holds all
 #: four figures in 90 % of the rows at 1 % and at 5 % noise). Until the third #19 session
 #: the band was ``z 0.9 sigma + 1.25 truncation + 2.5 tail``: the cut band's change there
@@ -324,7 +324,7 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
 
     The tail's estimate is added in full (a bias); the truncation's, once the noise is out
     of it, in quadrature with the spread. The level is stated, not guaranteed: it is
-    verified by the coverage study (``benchmarks/coverage.py``), which calibrated the
+    verified by the coverage study (``benchmarks/band_coverage.py``), which calibrated the
     factors.
 
     Parameters

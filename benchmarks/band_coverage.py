@@ -1,8 +1,8 @@
 """Coverage study of the uncertainty band: how often it holds the exact answers.
 
-Run:  OPENBLAS_NUM_THREADS=1 python benchmarks/coverage.py [--runs 1-20] [--bands 10]
+Run:  OPENBLAS_NUM_THREADS=1 python benchmarks/band_coverage.py [--runs 1-20] [--bands 10]
           [--noise 1 5] [--draws 4] [--workers 2] [--out DIR]
-      python benchmarks/coverage.py --summarize DIR/coverage.csv [...] --runs 1-20
+      python benchmarks/band_coverage.py --summarize DIR/coverage.csv [...] --runs 1-20
           [--calibrate 21-28]
 
 Every benchmark case (:func:`impactpred.benchmark.benchmark_cases`) is measured again with
