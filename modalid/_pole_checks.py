@@ -105,12 +105,10 @@ class PoleChecks:
         kinds_t = np.append(kinds, "mode")
         order = np.argsort(np.where(kinds_t == "mode", np.abs(trial), np.inf), kind="stable")
         trial, kinds_t = trial[order], kinds_t[order]
-        new = int(np.flatnonzero(order == trial.size - 1)[0])
-        if self.missed_modes == "strict":
-            poles_t, x_t, info_t = self._refine(omega, h, w, trial, kinds_t, terms,
-                                                quick=True)
-            return poles_t, kinds_t, x_t, info_t
         poles_t, x_t, info_t = self._refine(omega, h, w, trial, kinds_t, terms, quick=True)
+        if self.missed_modes == "strict":                 # judged by _local_trial
+            return poles_t, kinds_t, x_t, info_t
+        new = int(np.flatnonzero(order == trial.size - 1)[0])
         worst, _ = self._worst_pole(omega, h, w, poles_t, x_t, info_t, kinds_t, terms, only=new)
         cost = np.sum(np.abs(resid * w) ** 2)
         added = poles_t[new]
@@ -147,8 +145,9 @@ class PoleChecks:
         lines = np.abs(omega - start.imag) <= half
         inside = (kinds == "mode") & (np.abs(poles.imag - start.imag) <= half)
         r, _, u, d = split_coefficients(x, poles.size, terms)
-        background = evaluate(omega, poles[~inside], r[~inside], (), (), u, d,
-                              terms.rigid_shift)
+        background = np.zeros(omega.size, complex)     # the held terms, where judged
+        background[lines] = evaluate(omega[lines], poles[~inside], r[~inside], (), (), u, d,
+                                     terms.rigid_shift)
         local = np.sort_complex(np.append(poles[inside], start))
         local = local[np.argsort(np.abs(local), kind="stable")]
         new = int(np.flatnonzero(local == start)[0])
