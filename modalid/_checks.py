@@ -93,7 +93,7 @@ def as_nonnegative_scalar(name: str, value) -> float:
     return out
 
 
-def _as_array(name: str, value, dtype) -> np.ndarray:
+def _as_array(name: str, value, dtype, ndim: int | None = None) -> np.ndarray:
     if isinstance(value, (str, bytes)) or value is None:
         raise TypeError(f"{name} must be array-like of numbers, got {_describe(value)}")
     try:
@@ -109,6 +109,8 @@ def _as_array(name: str, value, dtype) -> np.ndarray:
     if not np.all(np.isfinite(arr)):
         bad = arr[~np.isfinite(arr)].ravel()[0]
         raise ValueError(f"{name} must be finite, got {bad!r} among its values")
+    if ndim is not None and arr.ndim != ndim:
+        raise ValueError(f"{name} must be {ndim}-D, got shape {arr.shape}")
     return arr
 
 
@@ -128,10 +130,7 @@ def as_real_array(name: str, value, *, ndim: int | None = None) -> np.ndarray:
     -------
     numpy.ndarray of float
     """
-    arr = _as_array(name, value, float)
-    if ndim is not None and arr.ndim != ndim:
-        raise ValueError(f"{name} must be {ndim}-D, got shape {arr.shape}")
-    return arr
+    return _as_array(name, value, float, ndim)
 
 
 def as_complex_array(name: str, value, *, ndim: int | None = None) -> np.ndarray:
@@ -150,10 +149,7 @@ def as_complex_array(name: str, value, *, ndim: int | None = None) -> np.ndarray
     -------
     numpy.ndarray of complex
     """
-    arr = _as_array(name, value, complex)
-    if ndim is not None and arr.ndim != ndim:
-        raise ValueError(f"{name} must be {ndim}-D, got shape {arr.shape}")
-    return arr
+    return _as_array(name, value, complex, ndim)
 
 
 def as_choice(name: str, value, choices) -> str:
