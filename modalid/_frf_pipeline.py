@@ -76,9 +76,10 @@ class FRFPipeline(PoleChecks):
             # are not
             tops = [(1.0 if k == 0 else 0.9) * top / (2 * np.pi)
                     for k, (top, _) in enumerate(bands)]
-            table = stabilization_table([p for _, p in bands], [(f0, top) for top in tops])
-            return table, cluster_poles(table,
-                                        spacing_hz=float(np.median(np.diff(frf.freq_hz))))
+            spacing = float(np.median(np.diff(frf.freq_hz)))
+            table = stabilization_table([p for _, p in bands], [(f0, top) for top in tops],
+                                        spacing_hz=spacing)
+            return table, cluster_poles(table, spacing_hz=spacing)
 
         self.stabilization_, clusters = self._shared_between_passes(diagram)
         if self._selection():

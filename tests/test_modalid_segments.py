@@ -11,7 +11,7 @@ import pytest
 from modalid import FRFData, ModalFit, ModalModel
 from modalid._lscf import lscf_poles_all_orders
 from modalid._segments import MIN_SEGMENTED, SEGMENT_LINES, SEGMENT_MARGIN, segment_edges
-from modalid.stabilization import cluster_poles
+from modalid.stabilization import cluster_poles, stabilization_table
 
 # a transfer accelerance like the measured hammer test's: close pairs 0.5-1 % apart, weak
 # neighbours (20x the modal mass) beside strong modes, zeta = 6e-4, 1 Hz lines to 10 kHz
@@ -102,6 +102,24 @@ def test_clusters_keep_close_modes_apart_on_a_fine_grid():
     assert fine.size == 3
     np.testing.assert_allclose(fine, [958.8, 7092.0, 7156.0], atol=1.0)
     assert cluster_poles(table)["frequency_hz"].size == 2
+
+
+def test_stability_on_a_fine_grid_needs_a_near_and_mutual_match():
+    """At 12 kHz 1 % is 120 lines of a 1 Hz grid: a pole 30 lines from its nearest one of
+    the previous order is stable by ``freq_tol`` alone, not with the line spacing (at
+    most eight lines); and of two poles 3 and 4 lines from one previous pole only the
+    nearer, the previous pole's own nearest, is stable."""
+    def pole(f):
+        return complex(-1e-3 * 2 * np.pi * f, 2 * np.pi * f)
+    orders = [np.array([pole(12000.0), pole(12500.0)]),
+              np.array([pole(12030.0), pole(12503.0), pole(12496.0)])]
+    coarse = stabilization_table(orders, (10000.0, 13000.0))
+    fine = stabilization_table(orders, (10000.0, 13000.0), spacing_hz=1.0)
+    second = coarse["order"] == 2
+    assert coarse.loc[second, "stable_freq"].tolist() == [True, True, True]
+    by_freq = dict(zip(np.round(fine.loc[second, "frequency_hz"]),
+                       fine.loc[second, "stable_freq"]))
+    assert by_freq == {12030.0: False, 12503.0: True, 12496.0: False}
 
 
 def test_per_line_weights_reach_every_segment():
