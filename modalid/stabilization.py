@@ -449,6 +449,13 @@ def plot_stabilization(table: pd.DataFrame, *, frf=None, selected=None, ax=None,
     FRF's magnitude, in its own quantity and units, on a twin log axis behind the poles;
     the legend above the chart, off the data.
 
+    With ``selected``, the diagram is *cleared* (as automated modal analysis draws it): a
+    stable pole keeps its strong marker when it supports a selected pole (within 1 % of
+    its frequency or eight lines of ``frf``, whichever is less, and within a factor 2 of
+    its damping: how :func:`cluster_poles` joins poles), and is drawn faint otherwise. At
+    high orders on noisy data the estimator's noise poles are stable too, and would
+    otherwise fill whole segments of the chart.
+
     Parameters
     ----------
     table : pandas.DataFrame
@@ -457,7 +464,8 @@ def plot_stabilization(table: pd.DataFrame, *, frf=None, selected=None, ax=None,
         Data whose magnitude is drawn behind the poles (an FRFSet: the mean magnitude of
         its rows).
     selected : array_like of complex, optional, keyword-only
-        The selected poles (rad/s), marked.
+        The selected poles (rad/s), marked; the stable poles that support none of them
+        are drawn faint.
     ax : matplotlib.axes.Axes, optional, keyword-only
         Where to draw (a new figure when None).
     xscale : {"auto", "linear", "log"}, keyword-only
@@ -488,18 +496,28 @@ def plot_stabilization(table: pd.DataFrame, *, frf=None, selected=None, ax=None,
     new = ~table["stable_freq"].to_numpy(bool)
     if xscale == "auto":
         xscale = _frequency_scale(freq[stable] if stable.sum() >= 2 else freq)
+    chosen = (np.zeros(0, complex) if selected is None
+              else np.atleast_1d(np.asarray(selected, complex)))
+    supports = _supports(table, chosen, frf) if chosen.size else np.ones(freq.size, bool)
     handles = []
     if frf is not None:
         handles.append(_draw_frf_behind(ax, frf, xscale))
     handles += ax.plot(freq[new], order[new], ".", ms=2.5, color="0.72", alpha=0.6,
                        ls="none", zorder=2, label="new (not stable)")
+    faint = (stable | freq_only) & ~supports
+    if faint.any():
+        handles += ax.plot(freq[faint], order[faint], "o", ms=2.5, mfc="none", mec="C0",
+                           mew=0.5, alpha=0.3, ls="none", zorder=2,
+                           label="stable, no selected pole")
+    freq_only = freq_only & supports
+    stable = stable & supports
     handles += ax.plot(freq[freq_only], order[freq_only], "o", ms=3.2, mfc="none",
                        mec="C1", mew=0.7, alpha=0.6, ls="none", zorder=3,
                        label="stable frequency")
     handles += ax.plot(freq[stable], order[stable], "o", ms=3.5, color="C0", mec="C0",
                        ls="none", zorder=4, label="stable frequency and damping")
-    if selected is not None and np.size(selected):
-        chosen = np.sort(np.abs(np.atleast_1d(np.asarray(selected, complex)))) / (2 * np.pi)
+    if chosen.size:
+        chosen = np.sort(np.abs(chosen)) / (2 * np.pi)
         top = blended_transform_factory(ax.transData, ax.transAxes)
         for f in chosen:
             ax.axvline(f, color="C3", lw=0.9, ls="--", alpha=0.7, zorder=1)
@@ -522,6 +540,23 @@ def plot_stabilization(table: pd.DataFrame, *, frf=None, selected=None, ax=None,
               fontsize=8, frameon=False, borderaxespad=0.0, handletextpad=0.3,
               columnspacing=1.2)
     return ax
+
+
+def _supports(table, selected, frf):
+    """Per pole of ``table``: does it lie within 1 % (or eight lines of ``frf``, if less)
+    of a ``selected`` pole's frequency and within a factor 2 of its damping ratio?"""
+    freq = table["frequency_hz"].to_numpy(float)
+    zeta = table["damping_ratio"].to_numpy(float)
+    f_sel = np.abs(selected) / (2 * np.pi)
+    z_sel = -selected.real / np.maximum(np.abs(selected), 1e-300)
+    reach = 0.01 * f_sel
+    lines = None if frf is None else np.asarray(frf.freq_hz, float)
+    if lines is not None and lines.size > 1:
+        reach = np.minimum(reach, _JOIN_LINES * float(np.median(np.diff(lines))))
+    near = np.abs(freq[:, None] - f_sel[None, :]) <= reach
+    with np.errstate(divide="ignore", invalid="ignore"):
+        alike = np.abs(np.log2(zeta[:, None] / z_sel[None, :])) <= 1.0
+    return np.any(near & alike, axis=1)
 
 
 def plot_fit(model, *, frf=None, impulse=None, ax=None, fitted=None):

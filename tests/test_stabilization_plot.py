@@ -55,8 +55,16 @@ def test_noisy_chart_tells_the_poles_apart_and_marks_the_selected():
     stable = lines["stable frequency and damping"]
     freq_only = lines["stable frequency"]
     new = lines["new (not stable)"]
-    assert len(stable.get_xdata()) == table["stable"].sum() > 0
+    faint = lines["stable, no selected pole"]
+    # every pole drawn once; the strong markers near a selected pole, the rest faint
+    assert len(stable.get_xdata()) > 0
+    assert (len(stable.get_xdata()) + len(freq_only.get_xdata()) + len(faint.get_xdata())
+            == table["stable_freq"].sum())
     assert len(new.get_xdata()) == (~table["stable_freq"]).sum()
+    f_sel = np.abs(fit.poles_) / (2 * np.pi)
+    strong = np.concatenate([stable.get_xdata(), freq_only.get_xdata()])
+    assert np.all(np.min(np.abs(strong[:, None] - f_sel) / f_sel, axis=1) <= 0.01)
+    assert faint.get_alpha() < freq_only.get_alpha() and faint.get_zorder() < stable.get_zorder()
     # filled circles, open circles, small faded dots
     assert stable.get_marker() == "o" and stable.get_markerfacecolor() != "none"
     assert freq_only.get_marker() == "o" and freq_only.get_markerfacecolor() == "none"
@@ -79,6 +87,34 @@ def test_noisy_chart_tells_the_poles_apart_and_marks_the_selected():
         "stable frequency and damping", "stable frequency", "new (not stable)",
         f"selected ({len(fit.poles_)})", "|accelerance| (measured)"}
     plt.close(fig)
+
+
+def test_a_cleared_chart_fades_the_stable_poles_no_selected_pole_stands_on():
+    """Stable columns at 100 and 300 Hz (2 % damping) and at 100.5 Hz (20 %): with the
+    100 Hz pole selected, its column keeps the strong marker; the 300 Hz column (no
+    selected pole) and the 100.5 Hz one (ten times the damping) are faint. On a 0.1 Hz
+    grid (eight lines: 0.8 Hz) a column 0.5 Hz away still counts, on a 0.01 Hz grid
+    (0.08 Hz) it does not."""
+    wn = 2 * np.pi * np.array([100.0, 100.5, 300.0])
+    zeta = np.array([0.02, 0.2, 0.02])
+    poles = -zeta * wn + 1j * wn * np.sqrt(1 - zeta**2)
+    table = stabilization_table([poles] * 10, (50.0, 600.0))
+    selected = poles[:1]
+    ax = plot_stabilization(table, selected=selected)
+    lines = _lines(ax)
+    np.testing.assert_allclose(lines["stable frequency and damping"].get_xdata(), 100.0)
+    np.testing.assert_allclose(np.unique(lines["stable, no selected pole"].get_xdata()),
+                               [100.5, 300.0])
+    plt.close(ax.figure)
+    near = -0.02 * 2 * np.pi * 100.4 + 2j * np.pi * 100.4 * np.sqrt(1 - 0.02**2)
+    table = stabilization_table([np.append(poles, near)] * 10, (50.0, 600.0))
+    for step, strong in ((0.1, [100.0, 100.4]), (0.01, [100.0])):
+        grid = FRFSet(np.arange(50.0, 600.0, step), np.ones((1, int(round(550 / step))),
+                                                             complex), quantity="receptance")
+        ax = plot_stabilization(table, selected=selected, frf=grid)
+        drawn = _lines(ax)["stable frequency and damping"].get_xdata()
+        np.testing.assert_allclose(np.unique(drawn), strong)
+        plt.close(ax.figure)
 
 
 def test_a_new_figure_without_frf_or_selection():
