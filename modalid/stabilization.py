@@ -496,9 +496,9 @@ def plot_stabilization(table: pd.DataFrame, *, frf=None, selected=None, ax=None,
     new = ~table["stable_freq"].to_numpy(bool)
     if xscale == "auto":
         xscale = _frequency_scale(freq[stable] if stable.sum() >= 2 else freq)
-    chosen = (np.zeros(0, complex) if selected is None
+    picked = (np.zeros(0, complex) if selected is None
               else np.atleast_1d(np.asarray(selected, complex)))
-    supports = _supports(table, chosen, frf) if chosen.size else np.ones(freq.size, bool)
+    supports = _supports(table, picked, frf) if picked.size else np.ones(freq.size, bool)
     handles = []
     if frf is not None:
         handles.append(_draw_frf_behind(ax, frf, xscale))
@@ -516,8 +516,8 @@ def plot_stabilization(table: pd.DataFrame, *, frf=None, selected=None, ax=None,
                        label="stable frequency")
     handles += ax.plot(freq[stable], order[stable], "o", ms=3.5, color="C0", mec="C0",
                        ls="none", zorder=4, label="stable frequency and damping")
-    if chosen.size:
-        chosen = np.sort(np.abs(chosen)) / (2 * np.pi)
+    if picked.size:
+        chosen = np.sort(np.abs(picked)) / (2 * np.pi)
         top = blended_transform_factory(ax.transData, ax.transAxes)
         for f in chosen:
             ax.axvline(f, color="C3", lw=0.9, ls="--", alpha=0.7, zorder=1)
