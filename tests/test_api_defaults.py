@@ -8,13 +8,10 @@ with a shared option is checked without being named here.
 
 import dataclasses
 import importlib
-import importlib.util
 import inspect
-from pathlib import Path
 
 import pytest
-
-ROOT = Path(__file__).resolve().parents[1]
+from public_api import public_methods, public_objects
 
 #: the options shared by several entry points, and their one default
 DEFAULTS = {
@@ -63,22 +60,14 @@ RECORDS = ("impactpred.ImpactResult", "impactpred.Prediction", "impactpred.Dampe
 
 def _entry_points():
     """``(qualified name, callable)`` of every public function, class and method."""
-    spec = importlib.util.spec_from_file_location("_docs_conf", ROOT / "docs" / "conf.py")
-    conf = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(conf)
-    for module_name, names in conf.public_names():
-        module = importlib.import_module(module_name)
-        for name in names:
-            obj, qualified = getattr(module, name), f"{module_name}.{name}"
-            if inspect.isclass(obj):
-                if qualified not in RECORDS:
-                    yield qualified, obj
-                for attr, member in vars(obj).items():
-                    if not attr.startswith("_") and (inspect.isfunction(member) or isinstance(
-                            member, (classmethod, staticmethod))):
-                        yield f"{qualified}.{attr}", getattr(obj, attr)
-            elif callable(obj):
+    for qualified, obj in public_objects():
+        if inspect.isclass(obj):
+            if qualified not in RECORDS:
                 yield qualified, obj
+            for attr, _ in public_methods(obj):
+                yield f"{qualified}.{attr}", getattr(obj, attr)
+        elif callable(obj):
+            yield qualified, obj
 
 
 def _defaults():

@@ -2,7 +2,6 @@
 warnings as errors (gallery executed, API pages generated), so it cannot rot."""
 
 import importlib
-import importlib.util
 import os
 import pkgutil
 import re
@@ -11,19 +10,13 @@ import sys
 from pathlib import Path
 
 import pytest
+from public_api import docs_conf
 
 ROOT = Path(__file__).resolve().parents[1]
 DOCS = ROOT / "docs"
 PACKAGES = ("modalid", "impactpred", "data_synth")
 #: internal layers, not API (docs/architecture.md describes them)
 INTERNAL = ("impactpred.engine", "impactpred.solvers")
-
-
-def _conf():
-    spec = importlib.util.spec_from_file_location("_docs_conf", DOCS / "conf.py")
-    conf = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(conf)
-    return conf
 
 
 def _public_modules():
@@ -39,7 +32,7 @@ def _public_modules():
 
 def test_every_public_name_is_on_an_api_page():
     documented = {id(getattr(importlib.import_module(module), name))
-                  for module, names in _conf().public_names() for name in names}
+                  for module, names in docs_conf().public_names() for name in names}
     missing = [f"{module}.{name}" for module in _public_modules()
                for name in getattr(importlib.import_module(module), "__all__", [])
                if id(getattr(importlib.import_module(module), name)) not in documented]
@@ -63,7 +56,7 @@ def test_site_builds_without_warnings(tmp_path):
                            capture_output=True, text=True, env=env, timeout=900)
     assert build.returncode == 0, build.stderr[-5000:]
     html = tmp_path / "html"
-    for module, names in _conf().public_names():
+    for module, names in docs_conf().public_names():
         for name in names:
             assert (html / "api" / "generated" / f"{module}.{name}.html").is_file(), name
     # every example and figure drew its own image

@@ -5,7 +5,6 @@ docstrings' examples run as doctests."""
 import ast
 import doctest
 import importlib
-import importlib.util
 import inspect
 import os
 import pkgutil
@@ -17,6 +16,7 @@ from pathlib import Path
 import matplotlib
 import pytest
 from numpydoc.docscrape import ClassDoc, FunctionDoc
+from public_api import public_methods, public_objects
 
 matplotlib.use("Agg")
 
@@ -43,23 +43,13 @@ def test_mypy_passes(tmp_path):
 def _api():
     """``(qualified name, object)`` of every public function, class and public method: the
     API pages' names (docs/conf.py) and the methods their classes define."""
-    spec = importlib.util.spec_from_file_location("_docs_conf", ROOT / "docs" / "conf.py")
-    conf = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(conf)
-    for module_name, names in conf.public_names():
-        module = importlib.import_module(module_name)
-        for name in names:
-            obj = getattr(module, name)
-            if inspect.isfunction(obj):
-                yield f"{module_name}.{name}", obj
-            elif inspect.isclass(obj):
-                yield f"{module_name}.{name}", obj
-                for attr, member in vars(obj).items():
-                    if not attr.startswith("_") and inspect.isfunction(member):
-                        yield f"{module_name}.{name}.{attr}", member
-                    elif isinstance(member, (classmethod, staticmethod)) and \
-                            not attr.startswith("_"):
-                        yield f"{module_name}.{name}.{attr}", member.__func__
+    for qualified, obj in public_objects():
+        if inspect.isfunction(obj):
+            yield qualified, obj
+        elif inspect.isclass(obj):
+            yield qualified, obj
+            for attr, member in public_methods(obj):
+                yield f"{qualified}.{attr}", getattr(member, "__func__", member)
 
 
 def _returns_a_value(function) -> bool:
