@@ -6,6 +6,7 @@ import math
 import numpy as np
 import pytest
 import scipy.linalg
+from scipy.optimize import brentq
 
 from data_synth import LumpedMass, Rod
 from impactpred import Body, LinearSpring, Rigid, solve_impact
@@ -121,8 +122,9 @@ def test_phase_run_matches_the_matrix_exponential():
     tau, x_end, times, values = phase_run(sp.rates, abs_r, abs_r**4, order,
                                           sp._modes.real.copy(), sp._modes.imag.copy(),
                                           sp._proj.real.copy(), sp._proj.imag.copy(), sp.in0,
-                                          sp._s0_powers, po, eo, pe, ee, x, 0.3, 2.3, 0.01,
-                                          1e-12, True, False)
+                                          sp._s0_powers, po, eo, pe, ee,
+                                          np.abs(event_row) @ np.abs(sp._modes), x, 0.3, 2.3,
+                                          0.01, 1e-12, True, False)
     t_stop = tau if tau >= 0 else 2.0
     assert x_end == pytest.approx(scipy.linalg.expm(M * t_stop) @ x, rel=1e-11, abs=1e-11)
     assert times[0] == 0.3 and times[-1] == pytest.approx(0.3 + t_stop, rel=1e-15)
@@ -149,3 +151,44 @@ def test_compiled_and_matrix_exponential_paths_agree(monkeypatch, contact):
     assert np.allclose(fast.contact_intervals, slow.contact_intervals, rtol=0, atol=1e-11)
     assert fast.restitution == pytest.approx(slow.restitution, rel=1e-10)
 
+
+
+def test_phase_run_start_tolerance_covers_the_rounding_of_a_cancelling_row():
+    """An event row that projects on the modes with cancellation (a stiff contact's force
+    row: large entries, a small value) is evaluated with rounding far above ``1e-12`` of
+    its terms. At a phase start where the row is zero and rising, that rounding must not
+    read as an event at once (it did: a contact ended at its start, again and again)."""
+    rng = np.random.default_rng(6)
+    blocks = np.zeros((6, 6))
+    for i, (sigma, omega) in enumerate([(-2.0, 300.0), (-5.0, 1100.0), (-30.0, 4000.0)]):
+        blocks[2 * i:2 * i + 2, 2 * i:2 * i + 2] = [[sigma, omega], [-omega, sigma]]
+    T = rng.normal(size=(6, 6))
+    T[1] = T[0] + 1e-5 * rng.normal(size=6)      # states 0 and 1 move almost together
+    M = T @ blocks @ np.linalg.inv(T)
+    x = rng.normal(size=6)
+    x[1] = x[0]                                  # the row is exactly zero at the start
+    row = np.array([1.0, -1.0, 0.0, 0.0, 0.0, 0.0])
+    if row @ M @ x < 0:
+        row = -row                               # ... and rising
+    sp = SpectralPhase(M)
+    pe, ee = sp.project(row)
+    coefficients = sp.output_coefficients(row, sp.coordinates(x))
+    e0 = sp.evaluate(coefficients, [0.0])[0, 0]
+    total = np.abs(coefficients[1]).sum() + np.abs(coefficients[0]).sum()
+    assert e0 < -1e-12 * total          # the closed form's rounding at the start
+    abs_r = np.abs(sp.rates)
+    order = np.argsort(-abs_r, kind="stable").astype(np.int64)
+    tau = phase_run(sp.rates, abs_r, abs_r**4, order, sp._modes.real.copy(),
+                    sp._modes.imag.copy(), sp._proj.real.copy(), sp._proj.imag.copy(), sp.in0,
+                    sp._s0_powers, pe, ee, pe, ee, np.abs(row) @ np.abs(sp._modes), x, 0.0,
+                    0.01, 1e-3, 1e-12, True, True)[0]
+
+    def closed_form(t):      # the phase's own closed form: its first genuine zero
+        return sp.evaluate(coefficients, [t])[0, 0]
+
+    grid = np.linspace(0.0, 0.01, 4001)[1:]
+    values = sp.evaluate(coefficients, grid)[0]
+    first_negative = grid[np.argmax(values < -1e-9 * np.max(np.abs(values)))]
+    assert values[0] > 0.0 and first_negative > 1e-3
+    want = brentq(closed_form, first_negative - grid[0], first_negative, xtol=1e-16)
+    assert tau == pytest.approx(want, rel=1e-9)

@@ -173,3 +173,34 @@ def test_a_pole_repeated_three_times_keeps_two_copies():
         exact = scipy.linalg.expm(M * tau) @ x0
         assert np.allclose(_state(fast, x0, tau), exact, rtol=0, atol=1e-10 * np.max(
             np.abs(exact)))
+
+
+def _propagated(form, x0, tau):
+    c0, c1 = form.coordinates(x0)
+    x = (form._modes @ (np.exp(form.rates * tau) * c1)).real
+    if form.k:
+        x += sum(form._s0_powers[j] @ c0 * tau**j for j in range(form.k))
+    return x
+
+
+@pytest.mark.parametrize("coupled", [False, True])
+def test_slow_modes_beside_a_stiff_term_are_not_taken_for_zeros(coupled):
+    """A stiff term (1e10 /s, a stiff contact spring) makes the matrix norm large; slow
+    modes (1 and 3 rad/s) far below ``1e-9`` of it are still modes, not a polynomial
+    (which is off by orders of magnitude at 10 s; the reference ``expm`` itself loses
+    about 1e-7 to the stiff term's squarings)."""
+    M = np.zeros((6, 6))
+    M[0, 1] = 1.0                                        # a rigid-body pair
+    M[2:4, 2:4] = [[0.0, 1.0], [-1.0, -0.01]]            # 1 rad/s
+    M[4:6, 4:6] = [[0.0, 1.0], [-9.0, -0.03]]            # 3 rad/s
+    big = np.zeros((7, 7))
+    big[:6, :6] = M
+    big[6, 6] = -1e10
+    if coupled:
+        big[6, 2] = big[3, 6] = 1e3                     # one block: the Schur route
+    form = SpectralPhase(big)
+    assert form.k == 2                                   # the rigid body only
+    x0 = np.arange(1.0, 8.0)
+    for tau in (0.5, 10.0):
+        want = scipy.linalg.expm(big * tau) @ x0
+        assert _propagated(form, x0, tau) == pytest.approx(want, rel=1e-6, abs=1e-6)

@@ -100,7 +100,7 @@ def contact_start(xa, rho, coef, bf, jdx, force_row, force_rate_row, cg_powers, 
 
 @njit(cache=True)
 def phase_run(rates, abs_rates, abs_rates4, order, modes_r, modes_i, proj_r, proj_i, in0,
-              s0_powers, out_poly_m, out_expo_m, ev_poly_m, ev_expo_m, x, t0, t_end,
+              s0_powers, out_poly_m, out_expo_m, ev_poly_m, ev_expo_m, ev_abs, x, t0, t_end,
               out_step, zero_tol, relative, on_boundary):
     """One phase of the exact solver from state ``x`` at ``t0``: its event, samples and end state.
 
@@ -110,7 +110,9 @@ def phase_run(rates, abs_rates, abs_rates4, order, modes_r, modes_i, proj_r, pro
     projections of its output rows (``out_poly_m`` (R, k, k), ``out_expo_m`` (R, m)) and
     event row (``ev_*``, one row) give every coefficient. The event is where the event
     row falls below ``-zero_tol`` (``relative``: ``zero_tol`` times the sum of the row's
-    terms), located at the row's own zero by :func:`.search.first_event`;
+    terms), raised to four times the rounding scale of its coefficients (``ev_abs`` (m,):
+    ``|event row| @ |modes|``; a stiff contact's large force row projects onto the modes
+    with cancellation), located at the row's own zero by :func:`.search.first_event`;
     ``on_boundary``: the phase starts where the loop has decided it (a contact start or
     end): the event row is open there, and an event only where it leaves its rounding
     level (or after a short positive lobe, at its zero).
@@ -153,8 +155,23 @@ def phase_run(rates, abs_rates, abs_rates4, order, modes_r, modes_i, proj_r, pro
         for q in range(k):
             p_ev[0, j] += ev_poly_m[0, j, q] * c0[q]
         total += abs(p_ev[0, j])
+    # rounding of the coefficients: of the row's projections and of the coordinates
+    x_abs = np.abs(x)
+    rounding = 0.0
+    for j in range(m):
+        acc_p = 0.0
+        for q in range(n):
+            acc_p += (abs(proj_r[j, q]) + abs(proj_i[j, q])) * x_abs[q]
+        rounding += ev_abs[j] * cabs(c1[j]) + cabs(ev_expo_m[0, j]) * acc_p
+    for j in range(k):
+        acc_p = 0.0
+        for q in range(n):
+            acc_p += abs(in0[j, q]) * x_abs[q]
+        for p in range(k):
+            rounding += abs(ev_poly_m[0, p, j]) * acc_p
     tol = np.empty(1)
-    tol[0] = (zero_tol * total if relative else zero_tol) + 1e-300
+    tol[0] = max(zero_tol * total if relative else zero_tol,
+                 4.0 * np.finfo(np.float64).eps * rounding) + 1e-300
     scale = np.empty(1)
     scale[0] = total
     open_row = 0 if on_boundary else -1
@@ -241,7 +258,7 @@ def event_loop(free, stuck, xa0, in_contact, t_end, step, out_step, tol_g, rho, 
     ----------
     free, stuck : tuple
         Each phase as ``(rates, modes_r, modes_i, proj_r, proj_i, in0, s0_powers,
-        out_poly_m, out_expo_m, ev_poly_m, ev_expo_m, event_row, abs_rates, abs_rates4,
+        out_poly_m, out_expo_m, ev_poly_m, ev_expo_m, ev_abs, abs_rates, abs_rates4,
         order)`` (see :func:`phase_run`).
     xa0 : ndarray, shape (n + 2,)
         Augmented initial state ``[X, 1, J]``.
@@ -307,7 +324,8 @@ def event_loop(free, stuck, xa0, in_contact, t_end, step, out_step, tol_g, rho, 
         if in_contact and first_t0 < 0.0:
             first_t0, first_x = t, xa.copy()
         tau, x_end, ts, vs = phase_run(ph[0], ph[12], ph[13], ph[14], ph[1], ph[2], ph[3],
-                                       ph[4], ph[5], ph[6], ph[7], ph[8], ph[9], ph[10], xa,
+                                       ph[4], ph[5], ph[6], ph[7], ph[8], ph[9], ph[10],
+                                       ph[11], xa,
                                        t, t_end, out_step, 1e-12 if in_contact else tol_g,
                                        in_contact, True)
         if used + ts.size > times.size:

@@ -96,13 +96,16 @@ class Phase:
 
         Its output rows leave out the gap (row 3): it is ``y2 - y1 + gap0`` by definition
         (the flexibility terms included), so the caller forms it from the samples.
+        Entry 11 is ``|event row| @ |modes|`` (m,), the rounding scale of the event row's
+        projections (see :func:`.contact_loop.phase_run`).
         """
         f = self.form
         poly_o, expo_o = f.project(np.delete(self.rows, 3, axis=0))
         poly_e, expo_e = f.project(self.event_row)
+        ev_abs = np.abs(np.asarray(self.event_row, dtype=float)) @ np.abs(f._modes)
         return (f.rates, f._modes.real.copy(), f._modes.imag.copy(), f._proj.real.copy(),
                 f._proj.imag.copy(), f.in0, f._s0_powers, poly_o, expo_o, poly_e, expo_e,
-                np.asarray(self.event_row, dtype=float), *_search_terms(f.rates))
+                ev_abs, *_search_terms(f.rates))
 
 
 class ContactRules:

@@ -24,6 +24,10 @@ from .rank_one import rank_one_split
 __all__ = ["SpectralPhase", "DefectiveSpectrum"]
 
 
+#: zero eigenvalues are cut at this many times the rounding split of a Jordan pair
+_CHAIN_FACTOR = 10.0
+
+
 class DefectiveSpectrum(ValueError):
     """The non-zero part of ``M`` is not safely diagonalisable."""
 
@@ -225,7 +229,10 @@ class SpectralPhase:
         M = np.asarray(M, dtype=float)
         n = M.shape[0]
         norm = np.linalg.norm(M, 1) or 1.0
-        tol = zero_tol * norm
+        # zero eigenvalues: a Jordan pair (a rigid body) splits by ~sqrt(eps |M|) in
+        # rounding; a cut at zero_tol |M| alone swallows slow modes where |M| is large
+        # (a stiff contact spring, |M| ~ 5e9 /s: modes at 1-5 rad/s below 5 rad/s)
+        tol = min(zero_tol * norm, _CHAIN_FACTOR * math.sqrt(np.finfo(float).eps * norm))
         split = None
         if update_of is not None:
             free, b, r = _checked_update(M, update_of)
