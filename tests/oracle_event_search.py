@@ -38,7 +38,8 @@ from scipy.optimize import brentq
 
 from impactpred.engine.exp_kernels import sample_rows
 from impactpred.engine.phase import _poly_derivative
-from impactpred.engine.search import _ETA, _GEO, _H1, _MIN_KERNEL, _RATIO, _STEP
+from impactpred.engine.search import (_ETA, _GEO, _H1, _MAX_SPLITS, _MIN_KERNEL, _RATIO,
+                                      _SPLIT_SHARE, _STEP)
 from impactpred.engine.step_kernels import crossing_steps, uncertified_steps
 
 __all__ = ["first_event"]
@@ -80,6 +81,65 @@ def _levels(kind, amp, scale):
 
 
 def first_event(kind, b, poly, tau_max, *, scale, zero_tol, on_boundary, open_rows=()):
+    """First ``tau`` in ``(0, tau_max]`` where a row falls below ``-zero_tol``: the
+    search of one span (:func:`_search_span`) with the phase's decaying transients
+    searched apart, as the compiled :func:`impactpred.engine.search.first_event` does
+    (:func:`_transient_end`, the rows restarted at its end by :func:`_shifted`).
+    Arguments and result as :func:`_search_span`."""
+    t0 = 0.0
+    for _ in range(_MAX_SPLITS):
+        cut = _transient_end(kind.lam, kind.order_desc, b, poly, tau_max - t0, scale,
+                             zero_tol)
+        if cut <= 0.0:
+            break
+        tau, row = _search_span(kind, b, poly, cut, scale=scale, zero_tol=zero_tol,
+                                on_boundary=on_boundary, open_rows=open_rows)
+        if tau is not None:
+            return t0 + tau, row
+        b, poly = _shifted(kind.lam, b, poly, cut)
+        t0 += cut
+        on_boundary, open_rows = False, ()
+    tau, row = _search_span(kind, b, poly, tau_max - t0, scale=scale, zero_tol=zero_tol,
+                            on_boundary=on_boundary, open_rows=open_rows)
+    return (t0 + tau, row) if tau is not None else (None, -1)
+
+
+def _transient_end(lam, order, b, poly, span, scale, zero_tol):
+    """Where the decaying transient ends (s), or 0.0: the terms up to the coarsest
+    level's fastest resolved one (fastest first), once each is under ``_ETA / 2`` of the
+    scale shared among them, if before ``_SPLIT_SHARE`` of ``span`` and with every row
+    then above twice its ``zero_tol``."""
+    amp = np.abs(b)[:, order]
+    over = (np.cumsum(amp, axis=1) > _ETA * scale[:, None]).any(axis=0)
+    if not over.any():
+        return 0.0
+    n_fast = int(np.argmax(over)) + 1
+    share = 0.5 * _ETA * scale[:, None] / n_fast
+    big = amp[:, :n_fast] > share
+    rate = -lam[order[:n_fast]].real
+    if np.any(big & (rate <= 0.0)):
+        return 0.0
+    with np.errstate(divide="ignore"):
+        times = np.where(big, np.log(np.maximum(amp[:, :n_fast], 1e-300) / share)
+                         / np.where(rate > 0, rate, 1.0), 0.0)
+    cut = float(times.max())
+    if not 0.0 < cut < _SPLIT_SHARE * span:
+        return 0.0
+    b_cut, p_cut = _shifted(lam, b, poly, cut)
+    value = b_cut.real.sum(axis=1) + (p_cut[:, 0] if p_cut.shape[1] else 0.0)
+    return cut if np.all(value > 2.0 * zero_tol) else 0.0
+
+
+def _shifted(lam, b, poly, t):
+    """Rows restarted at ``tau = t``: ``b e^{lambda t}`` and the polynomial's Taylor
+    coefficients there."""
+    k = poly.shape[1]
+    shift = np.array([[math.comb(c, q) * t ** (c - q) if c >= q else 0.0
+                       for q in range(k)] for c in range(k)])
+    return b * np.exp(lam * t), poly @ shift if k else poly.copy()
+
+
+def _search_span(kind, b, poly, tau_max, *, scale, zero_tol, on_boundary, open_rows=()):
     """First ``tau`` in ``(0, tau_max]`` where a row falls below ``-zero_tol``.
 
     Certified multilevel search: the terms ``b_j e^{lambda_j tau}`` are nested by

@@ -2,6 +2,7 @@
 
 import math
 
+import numpy as np
 import pytest
 
 from impactpred.benchmark import (
@@ -172,6 +173,13 @@ def test_a_stuck_phase_too_stiff_for_the_event_search_is_refused():
         _check_search_steps(*bodies(1e-11), 8.0)
     rate = float(str(info.value).split("eigenvalue, ")[1].split(" rad/s")[0])
     assert step == pytest.approx(math.pi / (8 * rate), rel=1e-2)
+    # residues with a real part (relative degree 1): the stuck phase's fastest
+    # eigenvalue is real, -h(0+)/D = -2.1e8 rad/s, a transient the search takes apart
+    stiff = ModalModel.from_modes([3.0, 9.0, 3000.0], 0.01, [0.5, 0.5, 1e-4],
+                                  flexibility=1e-9)
+    stiff = ModalModel(poles=stiff.poles, residues=np.asarray(stiff.residues) * (1 + 0.05j),
+                       flexibility=1e-9)
+    _check_search_steps(Body(ModalModel(inverse_mass=1.0), velocity=1.0), Body(stiff), 8.0)
 
 
 def test_a_figure_the_prediction_does_not_reach_is_a_failure_row():

@@ -90,6 +90,94 @@ def test_first_crossing_reports_no_event_before_the_end():
     assert first_crossing(lam, b, poly, 5.0, 1e-12, False) == -1.0
 
 
+def _stiff_rows(lam, b, poly):
+    """Arguments of the compiled search and of its oracle for one row."""
+    from types import SimpleNamespace
+
+    lam = np.asarray(lam, complex)
+    abs_lam = np.abs(lam)
+    order = np.argsort(-abs_lam, kind="stable").astype(np.int64)
+    b, poly = np.asarray(b, complex)[None, :], np.asarray(poly, float)[None, :]
+    kind = SimpleNamespace(lam=lam, abs_lam=abs_lam, abs_lam4=abs_lam**4, order_desc=order,
+                           cuts={})
+    scale = np.array([np.abs(b).sum() + np.abs(poly).sum()])
+    return kind, b, poly, scale
+
+
+def test_a_stiff_decaying_transient_is_searched_apart_exactly():
+    """``e^{-7e6 tau} + 0.5 cos(w tau) - 0.3``: the real term (a stuck phase's stiff
+    eigenvalue) is negligible after microseconds; the search ends its span there and
+    restarts the rows exactly, so that the slow term sets the step from then on. The
+    event is the slow term's root ``acos(0.6)/w`` (the real term then ``e^{-1e4}``):
+    found to rounding, as the search of one span finds it, as the oracle does, and over
+    a 1000 times longer phase, whose single-span search would take 1.4e8 steps."""
+    import oracle_event_search as oracle
+
+    from impactpred.engine.search import _search_span, _transient_end
+
+    w = 2 * np.pi * 100.0
+    kind, b, poly, scale = _stiff_rows([-7e6, 1j * w, -1j * w], [1.0, 0.25, 0.25], [-0.3])
+    args = (kind.lam, kind.abs_lam, kind.abs_lam4, kind.order_desc, b, poly)
+    zero_tol = np.array([1e-12])
+    cut = _transient_end(kind.lam, kind.order_desc, b, poly, 5e-3, scale, zero_tol)
+    assert cut == pytest.approx(math.log(1.0 / (0.5 * 0.05 * 1.8)) / 7e6, rel=1e-12)
+    exact = math.acos(0.6) / w
+    split = first_event(*args, 5e-3, scale, zero_tol, False, -1)
+    whole = _search_span(*args, 5e-3, scale, zero_tol, False, -1)
+    assert split[1] == whole[1] == 0
+    assert split[0] == pytest.approx(exact, rel=1e-14)
+    assert whole[0] == pytest.approx(exact, rel=1e-14)
+    assert first_event(*args, 8.0, scale, zero_tol, False, -1)[0] == pytest.approx(
+        exact, rel=1e-14)
+    tau, row = oracle.first_event(kind, b, poly, 5e-3, scale=scale, zero_tol=zero_tol,
+                                  on_boundary=False)
+    assert row == 0 and tau == pytest.approx(exact, rel=1e-14)
+
+
+def test_an_event_inside_the_transient_is_found_before_its_end():
+    """A fast decaying oscillation (``-1e6 + 1e7 i`` rad/s) dips the row below zero within
+    its first period, before the transient's end: the first span finds it, as the search
+    of one span and the oracle do; a transient after which the row is near zero is not
+    split off (the next span could not start clear of an event)."""
+    import oracle_event_search as oracle
+
+    from impactpred.engine.search import _search_span, _transient_end
+
+    lam = np.array([-1e6 + 1e7j, -1e6 - 1e7j, 300j, -300j])
+    kind, b, poly, scale = _stiff_rows(lam, [0.5, 0.5, 0.05, 0.05], [0.6])
+    args = (kind.lam, kind.abs_lam, kind.abs_lam4, kind.order_desc, b, poly)
+    zero_tol = np.array([1e-12])
+    assert _transient_end(kind.lam, kind.order_desc, b, poly, 1.0, scale, zero_tol) > 0
+    split = first_event(*args, 1.0, scale, zero_tol, False, -1)
+    whole = _search_span(*args, 1.0, scale, zero_tol, False, -1)
+    tau, row = oracle.first_event(kind, b, poly, 1.0, scale=scale, zero_tol=zero_tol,
+                                  on_boundary=False)
+    assert 0 < split[0] < math.pi / 1e7 and split[1] == whole[1] == row == 0
+    assert split[0] == pytest.approx(whole[0], rel=1e-14)
+    assert tau == pytest.approx(whole[0], rel=1e-13)
+    # e^{-1e6 tau} is 0.025 at its transient's end, within twice a zero_tol of 0.02
+    k0, b0, p0, s0 = _stiff_rows([-1e6], [1.0], [0.0])
+    assert _transient_end(k0.lam, k0.order_desc, b0, p0, 1.0, s0, np.array([0.02])) == 0.0
+    assert _transient_end(k0.lam, k0.order_desc, b0, p0, 1.0, s0, np.array([0.01])) > 0.0
+
+
+def test_rows_restarted_later_are_the_same_rows():
+    """``_shifted`` (compiled) and the oracle's: ``b e^{lam t}`` and the cubic's Taylor
+    coefficients at ``t``, the same values at every later time."""
+    import oracle_event_search as oracle
+
+    from impactpred.engine.search import _shifted
+
+    rng = np.random.default_rng(3)
+    lam = -rng.uniform(0, 50, 6) + 1j * rng.uniform(0, 500, 6)
+    b = rng.normal(size=(2, 6)) + 1j * rng.normal(size=(2, 6))
+    poly = rng.normal(size=(2, 4))
+    t, taus = 0.0123, np.linspace(0.0, 0.05, 7)
+    want = _direct(lam, b, poly, t + taus)
+    for b_t, p_t in (_shifted(lam, b, poly, t), oracle._shifted(lam, b, poly, t)):
+        np.testing.assert_allclose(_direct(lam, b_t, p_t, taus), want, rtol=0, atol=1e-13)
+
+
 def test_row_value_derivatives_match_finite_differences():
     rng = np.random.default_rng(1)
     lam = -rng.uniform(0, 1, 5) + 1j * rng.uniform(0, 10, 5)

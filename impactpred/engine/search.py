@@ -11,8 +11,10 @@ modes cost work only right at an event. At the last level (every term) a sign ch
 brackets the root and a dip (slope from negative to positive) has its minimum located;
 a last-level span is evaluated in pieces, stopping at the first piece with an event; a
 phase that starts on an event is first searched on a geometric grid of its first fine
-step. Its Python twin, the oracle it is tested against, is ``tests/oracle_event_search.py``.
-Rows are
+step. A decaying transient that alone would set the coarsest level's step (a stiff real
+eigenvalue) is searched apart, and the rows restarted exactly where it has died out
+(:func:`first_event`). Its Python twin, the oracle it is tested against, is
+``tests/oracle_event_search.py``. Rows are
 
     r_i(tau) = Re(sum_j b_ij e^{lambda_j tau}) + sum_c poly_ic tau^c      (tau in s)
 
@@ -60,6 +62,10 @@ _H1 = 4.0 / 27.0
 _MIN_KERNEL = 8
 #: steps of the first piece of a last-level span (then doubling; the Python search: 64)
 _PIECE = 16
+#: a decaying transient is searched on its own when it ends before this share of the
+#: span (:func:`_transient_end`), at most ``_MAX_SPLITS`` times a phase
+_SPLIT_SHARE = 0.25
+_MAX_SPLITS = 8
 #: the geometric grid's rows are summed as Taylor series of this many terms where
 #: ``|lambda| tau`` stays within ``_TAYLOR_RADIUS`` (see :func:`_taylor_rows`)
 _TAYLOR_TERMS = 16
@@ -324,6 +330,105 @@ def _fine(lam, b, poly, G, PP, total, zero_tol, opened, g4_full, h_f, a,
 @njit(cache=True)
 def first_event(lam, abs_lam, abs_lam4, order, b, poly, tau_max, scale, zero_tol,
                 on_boundary, open_row):  # pragma: no cover - compiled
+    """First ``tau`` in ``(0, tau_max]`` (s) where a row falls below ``-zero_tol``.
+
+    :func:`_search_span` over the phase, its decaying transients apart: while the fastest
+    term the coarsest level would resolve (and every faster one) decays to a negligible
+    share of its row's scale well before ``tau_max`` (:func:`_transient_end`), the span up
+    to there is searched first and the rows are then restarted from its end, exactly
+    (:func:`_shifted`), where those terms are bounded instead of resolved. A stiff real
+    eigenvalue (``-7e6`` rad/s, the stuck phase of a body whose model carries a static
+    flexibility) then costs a few dozen steps of its own scale, not steps of its scale
+    over the whole phase (1.4e8 over 8 s). Arguments and result as :func:`_search_span`.
+    """
+    t0 = 0.0
+    for _ in range(_MAX_SPLITS):
+        cut = _transient_end(lam, order, b, poly, tau_max - t0, scale, zero_tol)
+        if cut <= 0.0:
+            break
+        tau, row = _search_span(lam, abs_lam, abs_lam4, order, b, poly, cut, scale,
+                                zero_tol, on_boundary, open_row)
+        if row >= 0:
+            return t0 + tau, row
+        b, poly = _shifted(lam, b, poly, cut)
+        t0 += cut
+        on_boundary, open_row = False, -1
+    tau, row = _search_span(lam, abs_lam, abs_lam4, order, b, poly, tau_max - t0, scale,
+                            zero_tol, on_boundary, open_row)
+    return (t0 + tau, row) if row >= 0 else (-1.0, -1)
+
+
+@njit(cache=True)
+def _transient_end(lam, order, b, poly, span, scale, zero_tol):  # pragma: no cover
+    """Where the phase's decaying transient ends, or 0.0 (no split).
+
+    The coarsest level resolves the terms from the first (fastest first) whose running
+    sum of moduli exceeds ``_ETA`` of a row's scale; those terms and the faster ones are
+    the transient when each decays (``Re lambda < 0``) below ``_ETA / 2`` of the scale
+    shared among them: the time (s) when the last does, if that is before
+    ``_SPLIT_SHARE`` of ``span`` and every row is then above twice its ``zero_tol`` (the
+    next span starts clear of any event: a row near zero there stays in one search).
+    """
+    K, m = b.shape
+    n_fast = -1
+    acc = np.zeros(K)
+    for c in range(m):
+        for r in range(K):
+            acc[r] += cabs(b[r, order[c]])
+            if acc[r] > _ETA * scale[r]:
+                n_fast = c + 1
+        if n_fast > 0:
+            break
+    if n_fast < 0:
+        return 0.0                        # nothing resolved on the coarsest level
+    cut = 0.0
+    for q in range(n_fast):
+        j = order[q]
+        rate = -lam[j].real
+        for r in range(K):
+            share = 0.5 * _ETA * scale[r] / n_fast
+            size = cabs(b[r, j])
+            if size > share:
+                if rate <= 0.0:
+                    return 0.0
+                cut = max(cut, math.log(size / share) / rate)
+    if not 0.0 < cut < _SPLIT_SHARE * span:
+        return 0.0
+    b_cut, p_cut = _shifted(lam, b, poly, cut)
+    for r in range(K):
+        value = p_cut[r, 0] if p_cut.shape[1] else 0.0
+        for j in range(m):
+            value += b_cut[r, j].real
+        if not value > 2.0 * zero_tol[r]:
+            return 0.0
+    return cut
+
+
+@njit(cache=True)
+def _shifted(lam, b, poly, t):  # pragma: no cover - compiled
+    """The rows restarted at ``tau = t`` (s): ``b e^{lambda t}`` and the polynomial's
+    Taylor coefficients at ``t`` (exact to rounding)."""
+    K, m = b.shape
+    k = poly.shape[1]
+    b_t = np.empty((K, m), np.complex128)
+    for j in range(m):
+        grow = np.exp(lam[j] * t)
+        for r in range(K):
+            b_t[r, j] = b[r, j] * grow
+    p_t = np.zeros((K, k))
+    for q in range(k):
+        for c in range(q, k):
+            coef = t ** (c - q)                      # times the binomial C(c, q)
+            for i in range(q):
+                coef *= (c - i) / (i + 1.0)
+            for r in range(K):
+                p_t[r, q] += poly[r, c] * coef
+    return b_t, p_t
+
+
+@njit(cache=True)
+def _search_span(lam, abs_lam, abs_lam4, order, b, poly, tau_max, scale, zero_tol,
+                 on_boundary, open_row):  # pragma: no cover - compiled
     """First ``tau`` in ``(0, tau_max]`` (s) where a row falls below ``-zero_tol``.
 
     The search of the module docstring: ``lam`` (m,) complex,
