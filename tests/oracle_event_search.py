@@ -106,15 +106,19 @@ def first_event(kind, b, poly, tau_max, *, scale, zero_tol, on_boundary, open_ro
 
 def _transient_end(lam, order, b, poly, span, scale, zero_tol):
     """Where the decaying transient ends (s), or 0.0: the terms up to the coarsest
-    level's fastest resolved one (fastest first), once each is under ``_ETA / 2`` of the
-    scale shared among them, if before ``_SPLIT_SHARE`` of ``span`` and with every row
-    then above twice its ``zero_tol``."""
+    level's fastest resolved one (fastest first, and any term as fast), once each is
+    under the row's ``zero_tol`` (at least ``1e-15`` of its scale) shared among them, if
+    before ``_SPLIT_SHARE`` of ``span`` and with every row then above twice its
+    ``zero_tol``."""
     amp = np.abs(b)[:, order]
     over = (np.cumsum(amp, axis=1) > _ETA * scale[:, None]).any(axis=0)
     if not over.any():
         return 0.0
     n_fast = int(np.argmax(over)) + 1
-    share = 0.5 * _ETA * scale[:, None] / n_fast
+    moduli = np.abs(lam[order])
+    while n_fast < moduli.size and moduli[n_fast] == moduli[n_fast - 1]:
+        n_fast += 1
+    share = np.maximum(zero_tol, 1e-15 * scale)[:, None] / n_fast
     big = amp[:, :n_fast] > share
     rate = -lam[order[:n_fast]].real
     if np.any(big & (rate <= 0.0)):

@@ -120,7 +120,7 @@ def test_a_stiff_decaying_transient_is_searched_apart_exactly():
     args = (kind.lam, kind.abs_lam, kind.abs_lam4, kind.order_desc, b, poly)
     zero_tol = np.array([1e-12])
     cut = _transient_end(kind.lam, kind.order_desc, b, poly, 5e-3, scale, zero_tol)
-    assert cut == pytest.approx(math.log(1.0 / (0.5 * 0.05 * 1.8)) / 7e6, rel=1e-12)
+    assert cut == pytest.approx(math.log(1.0 / 1e-12) / 7e6, rel=1e-12)  # under zero_tol
     exact = math.acos(0.6) / w
     split = first_event(*args, 5e-3, scale, zero_tol, False, -1)
     whole = _search_span(*args, 5e-3, scale, zero_tol, False, -1)
@@ -155,10 +155,14 @@ def test_an_event_inside_the_transient_is_found_before_its_end():
     assert 0 < split[0] < math.pi / 1e7 and split[1] == whole[1] == row == 0
     assert split[0] == pytest.approx(whole[0], rel=1e-14)
     assert tau == pytest.approx(whole[0], rel=1e-13)
-    # e^{-1e6 tau} is 0.025 at its transient's end, within twice a zero_tol of 0.02
-    k0, b0, p0, s0 = _stiff_rows([-1e6], [1.0], [0.0])
-    assert _transient_end(k0.lam, k0.order_desc, b0, p0, 1.0, s0, np.array([0.02])) == 0.0
-    assert _transient_end(k0.lam, k0.order_desc, b0, p0, 1.0, s0, np.array([0.01])) > 0.0
+    # e^{-1e6 tau} ends at zero_tol: the row (+ 0.01) is then 0.03, within twice a
+    # zero_tol of 0.02; with + 0.05 it is clear
+    for const, split_off in ((0.01, False), (0.05, True)):
+        k0, b0, p0, s0 = _stiff_rows([-1e6], [1.0], [const])
+        cut = _transient_end(k0.lam, k0.order_desc, b0, p0, 1.0, s0, np.array([0.02]))
+        assert (cut > 0.0) == split_off
+        assert cut == (pytest.approx(math.log(1.0 / 0.02) / 1e6, rel=1e-12) if split_off
+                       else 0.0)
 
 
 def test_rows_restarted_later_are_the_same_rows():

@@ -363,11 +363,13 @@ def _transient_end(lam, order, b, poly, span, scale, zero_tol):  # pragma: no co
     """Where the phase's decaying transient ends, or 0.0 (no split).
 
     The coarsest level resolves the terms from the first (fastest first) whose running
-    sum of moduli exceeds ``_ETA`` of a row's scale; those terms and the faster ones are
-    the transient when each decays (``Re lambda < 0``) below ``_ETA / 2`` of the scale
-    shared among them: the time (s) when the last does, if that is before
-    ``_SPLIT_SHARE`` of ``span`` and every row is then above twice its ``zero_tol`` (the
-    next span starts clear of any event: a row near zero there stays in one search).
+    sum of moduli exceeds ``_ETA`` of a row's scale (and any term as fast); those terms
+    and the faster ones are the transient when each decays (``Re lambda < 0``) below the
+    row's ``zero_tol`` (at least its rounding level) shared among them: the time (s) when
+    the last does, if that is before ``_SPLIT_SHARE`` of ``span`` and every row is then
+    above twice its ``zero_tol`` (the next span starts clear of any event: a row near
+    zero there stays in one search). The transient is then gone from the rows, not
+    merely bounded: the next span's levels are set by the terms that last.
     """
     K, m = b.shape
     n_fast = -1
@@ -381,12 +383,14 @@ def _transient_end(lam, order, b, poly, span, scale, zero_tol):  # pragma: no co
             break
     if n_fast < 0:
         return 0.0                        # nothing resolved on the coarsest level
+    while n_fast < m and cabs(lam[order[n_fast]]) == cabs(lam[order[n_fast - 1]]):
+        n_fast += 1                       # a term as fast as the last one resolved
     cut = 0.0
     for q in range(n_fast):
         j = order[q]
         rate = -lam[j].real
         for r in range(K):
-            share = 0.5 * _ETA * scale[r] / n_fast
+            share = max(zero_tol[r], 1e-15 * scale[r]) / n_fast
             size = cabs(b[r, j])
             if size > share:
                 if rate <= 0.0:
