@@ -55,8 +55,12 @@ damped truths of the benchmark (10 modes, zeta = 1e-3), the peak force of two eq
 0.2 % high with synthesized modes to 16 times the band top (``extend``, the default), 1.9 %
 with 4 times, 30 % with the single pole; the energy kept below the band grows with
 ``extend`` (their restitution -0.83 % at 16, -1.24 % at 4).
-When the upper residual flexibility is short of ``2G/(pi omega_a)`` (the omitted modes thin
-out, as a beam's), the tail's conductance is scaled down to fit.
+Where the top modes thin out (their spacing grows like ``omega**beta``, ``beta >= 1/4``: a
+beam, ``omega_k ~ k^2``, has 1/2) the uniform continuum is the wrong shape: the tail then
+continues the pattern itself, mode by mode at the top modes' modal mass up to ``extend
+omega_a``, and one real pole carries the compliance of the pattern's modes after them
+(:mod:`impactpred._pattern_tail`; ``ContinuationInfo.tail == "pattern"``). Where they thin
+out less, the uniform tail's conductance is scaled down to the pattern's compliance.
 
 :func:`impact_figures` (from :mod:`impactpred._figures`, exported here) reads duration,
 peak, impulse and restitution off a prediction; their uncertainty band is
@@ -74,6 +78,7 @@ import numpy as np
 from modalid import ModalModel, MultiOutputModalModel
 
 from ._figures import FIGURES, band_resolution, impact_figures
+from ._pattern_tail import PATTERN_BETA, compliance_beyond, growth_pattern, pattern_tail
 from ._smooth_tail import TailDesign, smooth_tail_design
 
 __all__ = ["FIGURES", "ContinuationInfo", "TailDesign", "band_resolution",
@@ -111,12 +116,13 @@ class ContinuationInfo:
         Pseudo-modes above the band folded into the flexibility.
     note : str
         A note for the summary.
-    tail : {"pole", "smooth"}
-        The tail's kind (see :func:`continue_above_band`).
+    tail : {"pole", "smooth", "pattern"}
+        The tail's kind (see :func:`continue_above_band`; ``"pattern"``: the smooth tail
+        of modes that thin out, continued mode by mode).
     highest_rate : float
         Largest ``|pole|`` of the continuation (rad/s): the solver's cost.
     scale : float
-        The smooth tail's conductance over ``G``.
+        The smooth tail's conductance (its ``h(0+)``) over ``G``.
     """
 
     conductance: float          # G (m/(N s) = s/kg)
@@ -224,7 +230,8 @@ def continue_above_band(model: ModalModel, band_top_hz: float, *, n_top: int = 3
     tail : {"smooth", "pole"}
         ``"smooth"``: the minimax passive fit of the omitted modes' continuum
         (:func:`smooth_tail_design`): tapered synthesized modes, damped modes and a real
-        pole, all positive. ``"pole"``: the synthesized modes at full weight, then one
+        pole, all positive; for top modes that thin out (a beam), their pattern
+        continued mode by mode and one real pole (see the module docstring). ``"pole"``: the synthesized modes at full weight, then one
         real pole (the earlier default; it overshoots a step in force by about 30 %).
 
     Returns
@@ -347,30 +354,25 @@ def pattern_share(omega, omega_a: float, dw: float, *, n_sum: int = 4000) -> flo
     float
         The compliance ratio (1 for evenly spaced modes).
     """
-    omega = np.asarray(omega, dtype=float)
-    if omega.size < 3:
+    pattern = growth_pattern(omega)
+    if pattern is None:
         return 1.0
-    d = np.diff(omega[-3:])
-    mids = 0.5 * (omega[-3:][1:] + omega[-3:][:-1])
-    if not (np.all(d > 0) and d[1] > d[0] * (1 + 1e-6)):
-        return 1.0
-    beta = min(math.log(d[1] / d[0]) / math.log(mids[1] / mids[0]), 0.9)
-    q = 1.0 - beta
-    growth = q * d[1] / mids[1] ** beta          # d(omega^q)/dk
-    u = omega[-1] ** q + growth * np.arange(1, n_sum + 1)
-    w = u ** (1.0 / q)
-    compliance = float(np.sum(1.0 / w**2))
-    # the rest: integral of omega^-2 dk with dk = d(omega^q)/growth = q omega^(q-1) d omega/growth
-    wl = w[-1] + 0.5 * (w[-1] - w[-2])
-    compliance += q / growth * wl ** (q - 2.0) / (2.0 - q)
+    _, q, growth = pattern
+    compliance = compliance_beyond(float(np.asarray(omega, dtype=float)[-1]), q, growth,
+                                   n_sum=n_sum)
     return float(compliance * dw * omega_a)
 
 
 def _smooth_continuation(model, poles, residues, upper, G, omega_top, dw, mk, zeta, extend,
                          folded, return_info, top_omega):
     """``tail="smooth"`` of :func:`continue_above_band` (see the module docstring)."""
-    design = smooth_tail_design(max(float(extend), 1.0))
     omega_a = omega_top + 0.5 * dw
+    pattern = growth_pattern(top_omega)
+    if pattern is not None and pattern[0] >= PATTERN_BETA:
+        return _pattern_continuation(model, poles, residues, upper, G, top_omega, dw, mk,
+                                     zeta, max(float(extend), 1.0) * omega_a, folded,
+                                     return_info)
+    design = smooth_tail_design(max(float(extend), 1.0))
     C = 2.0 * G / (math.pi * omega_a)     # compliance of the omitted continuum
     note = ""
     # the omitted modes' compliance as the top modes' pattern continues it (not the fit's
@@ -435,6 +437,29 @@ def _smooth_continuation(model, poles, residues, upper, G, omega_top, dw, mk, ze
         return out, ContinuationInfo(G / scale, float(rates[int(np.argmax(gains))]), top_w,
                                      dw, mk * scale, upper, max(flex_after, 0.0), folded,
                                      note, "smooth", highest, scale)
+    return out
+
+
+def _pattern_continuation(model, poles, residues, upper, G, top_omega, dw, mk, zeta,
+                          extend_to, folded, return_info):
+    """The smooth tail of modes that thin out (a beam): :func:`._pattern_tail.pattern_tail`
+    to ``extend_to`` (rad/s). Like the uniform smooth tail it follows the pattern, not the
+    fit's upper residual flexibility: what that holds beyond the pattern's compliance is
+    kept as a spring; a shortfall (noise) makes the static flexibility grow by it."""
+    w, sigma, gain = pattern_tail(top_omega, mk, extend_to)
+    extra = ModalModel.from_modes(w, zeta, mk) if w.size else None
+    added = float(np.sum(1.0 / (mk * w**2))) + gain / sigma
+    flex_after = max(upper - added, 0.0) if upper > 0 else 0.0
+    out = ModalModel(poles=poles if extra is None else np.concatenate([poles, extra.poles]),
+                     residues=(residues if extra is None
+                               else np.concatenate([residues, extra.residues])),
+                     real_poles=np.concatenate([model.real_poles, [-sigma]]),
+                     real_residues=np.concatenate([model.real_residues, [gain]]),
+                     inverse_mass=model.inverse_mass, flexibility=flex_after)
+    if return_info:
+        top_w = float(w[-1]) if w.size else float(top_omega[-1])
+        return out, ContinuationInfo(G, sigma, top_w, dw, mk, upper, flex_after, folded, "",
+                                     "pattern", max(sigma, top_w), gain / G)
     return out
 
 

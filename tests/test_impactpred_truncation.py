@@ -141,15 +141,27 @@ def test_equal_rods_peak_within_10_percent_of_Zv():
     assert figures["pole"]["peak_force"] > 1.25
 
 
-def test_thinning_modes_scale_the_tail_and_keep_static_flexibility():
-    """A cantilever's omitted modes hold less compliance than the uniform continuum."""
+def test_thinning_modes_are_continued_along_their_pattern():
+    """A cantilever's modes above the band continue the top modes' pattern (spacing
+    growing like sqrt(omega)): the synthesized modes fall on the exact beam's next modes,
+    at its modal mass, the real pole carries the rest of their compliance and the static
+    flexibility is kept."""
     beam = CantileverBeam(10.0, 4.0)
     model = beam.modal_model(10, residual=True)
-    w = np.sort(model.modes["omega_n"].to_numpy())
-    out, info = continue_above_band(model, w[-1] / (2 * np.pi) * 1.05, return_info=True)
-    assert info.tail == "smooth" and 0.25 < info.scale < 1.0
+    exact = beam.modal_model(60)
+    w = np.sort(exact.modes["omega_n"].to_numpy())
+    top_hz = 0.5 * (w[9] + w[10]) / (2 * np.pi)
+    out, info = continue_above_band(model, top_hz, return_info=True)
+    assert info.tail == "pattern" and 0.0 < info.scale < 1.0
+    synthesized = np.sort(out.modes["omega_n"].to_numpy())[10:]
+    assert synthesized.size == 30                 # up to 16 times the band top
+    assert synthesized == pytest.approx(w[10:40], rel=3e-3)
+    assert out.modes["modal_mass"].to_numpy() == pytest.approx(2.5, rel=1e-12)
     assert out.is_passive() and np.all(out.real_residues > 0)
-    assert out.static_flexibility() == pytest.approx(model.static_flexibility(), rel=1e-9)
+    assert out.static_flexibility() == pytest.approx(model.static_flexibility(), rel=1e-6)
+    # the pole's compliance is the exact beam's modes beyond the synthesized ones
+    beyond = model.flexibility - float(np.sum(1.0 / (2.5 * synthesized**2)))
+    assert info.scale * info.conductance / info.sigma == pytest.approx(beyond, rel=0.02)
     assert out.impulse_response(np.array([0.0]))[0] == pytest.approx(
         info.scale * info.conductance, rel=1e-9)
 
