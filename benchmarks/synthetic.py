@@ -29,7 +29,7 @@ Data: each rod or beam is measured by a synthetic hammer test of its truth
 5 hits, anti-aliasing filter, white noise ``noise x rms(record)`` on force and response
 (the H1 estimates then carry about ``noise`` of error per line, reported per row), record
 ``min(50 / f1, max(4000 / f_top, 5 / f1))``, exponential window ending at 1 %; H1 by
-``frf_from_hammer``; ``ModalFit(**est.fit_options())`` (its default weighting) on the band up to
+``frf_from_hammer``; ``ModalFit(weighting="noise", **est.fit_options())`` on the band up to
 ``f_top`` (midway between elastic modes n and n + 1, n = 10, 20, 40; the stabilization
 diagram to order ``4 n + 16`` above 26 modes unless fitted by segments,
 ``fit_max_order``), which models the

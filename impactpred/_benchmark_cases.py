@@ -363,7 +363,7 @@ def measure_body(body, n_modes, noise, *, seed, measurement=Measurement(),
     t2 = time.perf_counter()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        fit = ModalFit(max_order=fit_max_order(n_modes, frf.freq_hz.size),
+        fit = ModalFit(weighting="noise", max_order=fit_max_order(n_modes, frf.freq_hz.size),
                        **est.fit_options()).fit(frf)
     t3 = time.perf_counter()
     if frf_noise is None:

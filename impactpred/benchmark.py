@@ -27,12 +27,12 @@ Measurement (:class:`Measurement`, the defaults are the benchmark's):
   the ``1/(zeta w1)`` decay: the resolution needed is then the *windowed* half-power
   bandwidth ``2 (zeta w + sigma_w)``;
 * ``modalid.frf_from_hammer`` (force window, exponential window), the band from one line
-  spacing to ``f_top``, ``ModalFit(**est.fit_options())`` (its default weighting): the
+  spacing to ``f_top``, ``ModalFit(weighting="noise", **est.fit_options())``: the
   windowed, truncated FRF modelled exactly (poles moved by ``-sigma_w``, each residue
   scaled by the record's end, the rigid line ``1/(M (s + sigma_w)^2)``) and the
   structure's model returned.
 
-Identification: ``ModalFit(max_order=fit_max_order(n), ...)``: above
+Identification: ``ModalFit(weighting="noise", max_order=fit_max_order(n), ...)``: above
 26 modes the stabilization diagram goes to order ``4 n + 16`` (``ModalFit``'s default caps
 it at 120, which found 9 of a fixed rod's 40 modes), except for bands of 8000 lines or more,
 fitted by segments of a few modes each (:func:`fit_max_order`).
