@@ -231,8 +231,9 @@ def continue_above_band(model: ModalModel, band_top_hz: float, *, n_top: int = 3
         ``"smooth"``: the minimax passive fit of the omitted modes' continuum
         (:func:`smooth_tail_design`): tapered synthesized modes, damped modes and a real
         pole, all positive; for top modes that thin out (a beam), their pattern
-        continued mode by mode and one real pole (see the module docstring). ``"pole"``: the synthesized modes at full weight, then one
-        real pole (the earlier default; it overshoots a step in force by about 30 %).
+        continued mode by mode and one real pole (see the module docstring).
+        ``"pole"``: the synthesized modes at full weight, then one real pole (the earlier
+        default; it overshoots a step in force by about 30 %).
 
     Returns
     -------

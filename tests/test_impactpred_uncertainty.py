@@ -197,3 +197,21 @@ def test_half_width_takes_the_noise_out_of_the_truncation_estimate():
 def test_band_options_are_checked(kwargs, match):
     with pytest.raises(ValueError, match=match):
         uncertainty_band([LumpedMass(1.0), LumpedMass(1.0)], [None, None], None, **kwargs)
+
+
+def test_draws_that_cannot_be_solved_are_said_not_dropped_silently():
+    """Every draw refused by the solver: the band says so (its spread part is then 0)."""
+    from impactpred.truncation import identified_model
+
+    fit = _measured_fixed_rod()
+    models = [LumpedMass(1.0), identified_model(fit)]
+    nominal = _solve_mass_on(*models)
+
+    def refuse(m1, m2):
+        raise ValueError("refused for the test")
+
+    with pytest.warns(RuntimeWarning, match=r"3 of 3 parameter draws could not be solved "
+                                             r"\(first: ValueError: refused for the test\)"
+                                             r".*no spread part"):
+        band = uncertainty_band(models, [None, fit], refuse, n_draws=3, nominal=nominal)
+    assert all(v == 0.0 for v in band.spread.values())
