@@ -333,13 +333,13 @@ def first_event(lam, abs_lam, abs_lam4, order, b, poly, tau_max, scale, zero_tol
     """First ``tau`` in ``(0, tau_max]`` (s) where a row falls below ``-zero_tol``.
 
     :func:`_search_span` over the phase, its decaying transients apart: while the fastest
-    term the coarsest level would resolve (and every faster one) decays to a negligible
-    share of its row's scale well before ``tau_max`` (:func:`_transient_end`), the span up
-    to there is searched first and the rows are then restarted from its end, exactly
-    (:func:`_shifted`), where those terms are bounded instead of resolved. A stiff real
-    eigenvalue (``-7e6`` rad/s, the stuck phase of a body whose model carries a static
-    flexibility) then costs a few dozen steps of its own scale, not steps of its scale
-    over the whole phase (1.4e8 over 8 s). Arguments and result as :func:`_search_span`.
+    term the coarsest level would resolve (and every faster one) decays below its row's
+    zero tolerance well before ``tau_max`` (:func:`_transient_end`), the span up to there
+    is searched first and the rows are then restarted from its end, exactly
+    (:func:`_shifted`), where those terms no longer set any level's step. A stiff real
+    eigenvalue (``-7.8e6`` rad/s, the stuck phase of a body whose model carries a static
+    flexibility) then costs about a hundred steps of its own scale, not steps of its scale
+    over the whole phase (1.6e8 over 8 s). Arguments and result as :func:`_search_span`.
     """
     t0 = 0.0
     for _ in range(_MAX_SPLITS):
