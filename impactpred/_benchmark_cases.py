@@ -203,7 +203,8 @@ def exact_reference(case: Case) -> Reference:
                                 method="convolution")
 
         res = solve(case.dt_exact / 2 if case.richardson else case.dt_exact)
-        figs = {k: impact_figures(res)[k] for k in FIGURES}
+        fine = impact_figures(res)
+        figs = {k: fine[k] for k in FIGURES}
         how = f"convolution, dt = {case.dt_exact:g} s"
         if case.richardson:
             coarse = impact_figures(solve(case.dt_exact))

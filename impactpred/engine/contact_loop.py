@@ -131,44 +131,41 @@ def phase_run(rates, abs_rates, abs_rates4, order, modes_r, modes_i, proj_r, pro
     n = x.size
     m = rates.size
     k = in0.shape[0]
+    # the coordinates, and the scale of their rounding (|proj| @ |x|, |in0| @ |x|)
     c1 = np.zeros(m, np.complex128)
+    c1_mag = np.zeros(m)
     for j in range(m):
-        acc_re, acc_im = 0.0, 0.0
+        acc_re, acc_im, acc_p = 0.0, 0.0, 0.0
         for q in range(n):
             acc_re += proj_r[j, q] * x[q]
             acc_im += proj_i[j, q] * x[q]
+            acc_p += (abs(proj_r[j, q]) + abs(proj_i[j, q])) * abs(x[q])
         c1[j] = complex(acc_re, acc_im)
+        c1_mag[j] = acc_p
     c0 = np.zeros(k)
+    c0_mag = np.zeros(k)
     for j in range(k):
-        acc_r = 0.0
+        acc_r, acc_p = 0.0, 0.0
         for q in range(n):
             acc_r += in0[j, q] * x[q]
+            acc_p += abs(in0[j, q]) * abs(x[q])
         c0[j] = acc_r
-    # the event row's coefficients, as the search takes them (one row)
+        c0_mag[j] = acc_p
+    # the event row's coefficients, as the search takes them (one row), and the rounding
+    # scale of each: of the row's projections and of the coordinates
     b_ev = np.empty((1, m), np.complex128)
     p_ev = np.zeros((1, k))
     total = 0.0
+    rounding = 0.0
     for j in range(m):
         b_ev[0, j] = ev_expo_m[0, j] * c1[j]
         total += cabs(b_ev[0, j])
+        rounding += ev_abs[j] * cabs(c1[j]) + cabs(ev_expo_m[0, j]) * c1_mag[j]
     for j in range(k):
         for q in range(k):
             p_ev[0, j] += ev_poly_m[0, j, q] * c0[q]
+            rounding += abs(ev_poly_m[0, j, q]) * c0_mag[q]
         total += abs(p_ev[0, j])
-    # rounding of the coefficients: of the row's projections and of the coordinates
-    x_abs = np.abs(x)
-    rounding = 0.0
-    for j in range(m):
-        acc_p = 0.0
-        for q in range(n):
-            acc_p += (abs(proj_r[j, q]) + abs(proj_i[j, q])) * x_abs[q]
-        rounding += ev_abs[j] * cabs(c1[j]) + cabs(ev_expo_m[0, j]) * acc_p
-    for j in range(k):
-        acc_p = 0.0
-        for q in range(n):
-            acc_p += abs(in0[j, q]) * x_abs[q]
-        for p in range(k):
-            rounding += abs(ev_poly_m[0, p, j]) * acc_p
     tol = np.empty(1)
     tol[0] = max(zero_tol * total if relative else zero_tol,
                  4.0 * np.finfo(np.float64).eps * rounding) + 1e-300
