@@ -27,10 +27,10 @@ Which lines were dropped, and why, is returned as a sentence for ``report_``.
 from __future__ import annotations
 
 import numpy as np
-from scipy.ndimage import median_filter, percentile_filter
+from scipy.ndimage import median_filter
 from scipy.signal import find_peaks, peak_widths
 
-from ._lsfd import noise_level
+from ._lsfd import noise_level, running_percentile
 from .frf import FRFData
 
 __all__ = ["choose_band", "choose_weighting", "decimation", "noise_model", "roughness"]
@@ -220,7 +220,7 @@ def noise_model(values):
     mag = np.abs(h)
     level = noise_level(h)
     window = max(51, (h.size // 50) | 1)
-    floor = percentile_filter(level, 20, size=window, mode="nearest")
+    floor = running_percentile(level, 20, window)
     strong = mag >= np.quantile(mag, 0.75)
     sigma_rel = float(np.median(level[strong] / mag[strong]))
     return sigma_rel, np.maximum(floor, 1e-12 * mag.max())

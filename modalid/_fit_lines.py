@@ -90,21 +90,25 @@ class FitLines:
             self._weighting_on, self._weighting_reason = choose_weighting(data.values)
         frf = data.to_receptance()
         mag = np.abs(frf.values)
-        self._noise = None          # noise_model(frf.values), when a step needs it
+        # the noise is estimated in the quantity measured, where it is closest to
+        # stationary (an accelerometer's floor is one of accelerance; in receptance it
+        # grows like 1/omega^2 towards the band's low end), then carried to receptance
+        to_data = np.abs(receptance_to(data.quantity, np.ones(frf.omega.size), frf.omega))
+        self._noise = None          # noise_model in receptance, when a step needs it
         if self._weighting_on == "relative":
             w = 1.0 / np.maximum(mag, 1e-12 * mag.max())
         elif self._weighting_on == "noise":
-            w = 1.0 / noise_level(frf.values)
+            w = to_data / noise_level(data.values)
         elif self._weighting_on == "mixed":
-            self._noise = noise_model(frf.values)
+            sigma_rel, floor = noise_model(data.values)
+            self._noise = sigma_rel, floor / to_data
             w = self._mixed_weights(mag)
         else:
             w = np.full(mag.size, 1.0 / np.sqrt(np.mean(mag**2)))
         self._coherence_weight = (1.0 if frf.coherence is None
                                   else np.sqrt(np.clip(frf.coherence, 1e-3, 1.0)))
         if given is not None:      # error in the data's quantity -> in receptance
-            w = given * np.abs(receptance_to(data.quantity, np.ones(frf.omega.size),
-                                             frf.omega))
+            w = given * to_data
             scale = np.sqrt(np.mean((w * mag) ** 2))
             return frf, w / (scale if scale > 0 else 1.0), cut
         return frf, w * self._coherence_weight, cut

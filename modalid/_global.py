@@ -34,6 +34,7 @@ from ._lsfd import (Terms, _bounds, _Projection, _realify, _std, design_matrix, 
                     split_coefficients)
 from .frf_set import FRFSet
 from .model import ModalModel
+from .quantities import receptance_to
 from .multi_output import MultiOutputModalModel
 from .stabilization import cluster_poles, select_poles, stabilization_table
 
@@ -196,13 +197,15 @@ def _fit_warning():
     return ModalFitWarning
 
 
-def _row_weights(est, rec: FRFSet):
-    """Weights per row as :meth:`ModalFit._prepare` (each row on its own scale)."""
+def _row_weights(est, rec: FRFSet, data: FRFSet):
+    """Weights per row as :meth:`ModalFit._prepare` (each row on its own scale; the
+    noise estimated in the quantity of ``data``, measured, and carried to ``rec``)."""
     mag = np.abs(rec.values)
     if est._weighting_on == "relative":
         w = 1.0 / np.maximum(mag, 1e-12 * mag.max(axis=1, keepdims=True))
     elif est._weighting_on == "noise":
-        w = 1.0 / np.array([noise_level(h) for h in rec.values])
+        to_data = np.abs(receptance_to(data.quantity, np.ones(rec.omega.size), rec.omega))
+        w = to_data / np.array([noise_level(h) for h in data.values])
     else:
         w = np.ones_like(mag) / np.sqrt(np.mean(mag**2, axis=1, keepdims=True))
     coh = (np.ones_like(mag) if rec.coherence is None
@@ -310,7 +313,7 @@ def fit_set(est, data: FRFSet):
     est._data_band = est.data_ = data
     rec = data.to_receptance()
     omega, h = rec.omega, rec.values
-    w, coh = _row_weights(est, rec)
+    w, coh = _row_weights(est, rec, data)
     est.frf_ = rec
     level = np.sum(np.abs(h) / np.sqrt(np.mean(np.abs(h) ** 2, axis=1, keepdims=True)), axis=0)
     peaks, _ = find_peaks(np.log10(level), prominence=0.3)

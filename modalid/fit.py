@@ -99,7 +99,9 @@ class ModalFit(FRFPipeline, FitLines, BaseEstimator):
         given), then ``1/|H_model|``: maximum likelihood for noise proportional to the
         FRF. ``"noise"``: one over the noise level estimated from the data's own scatter
         (a running median of second differences), for measured FRFs whose noise is not
-        proportional (a noise floor). ``"uniform"``: equal weights.
+        proportional (a noise floor). The scatter and the floor are estimated in the
+        quantity measured (``FRFData.quantity``), where a sensor's floor is flat, and
+        carried to receptance. ``"uniform"``: equal weights.
     weights : array_like of float, optional
         Per-line weights as a setting; they belong to the data, so prefer
         ``fit(data, weights=...)`` (the same meaning; see :meth:`fit`), which this
