@@ -19,6 +19,7 @@ attributes end in ``_``). Pipeline:
 
 from __future__ import annotations
 
+import contextlib
 import warnings
 
 import numpy as np
@@ -298,8 +299,12 @@ class ModalFit(FRFPipeline, FitLines, BaseEstimator):
         if self.method != "era" and not isinstance(data, FRFData):
             raise TypeError(f"data must be an FRFData or FRFSet for method={self.method!r}, "
                             f"got {type(data).__name__}")
-        # small dense algebra: BLAS threads only add overhead (restored on exit)
-        with threadpool_limits(limits=1, user_api="blas"):
+        # small dense algebra: BLAS threads only add overhead (restored on exit); a
+        # segment's fit runs inside its parent's limit (finding the libraries again
+        # costs ~6 ms a call)
+        inside = bool(self.__dict__.get("_segment_of"))
+        with contextlib.nullcontext() if inside else threadpool_limits(limits=1,
+                                                                        user_api="blas"):
             if self.method == "era":
                 self._fit_impulse(data)
                 return self._judge(driving_point=None, reason="an impulse response: not "
