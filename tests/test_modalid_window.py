@@ -80,6 +80,33 @@ def test_modalfit_recovers_the_structure_from_exact_windowed_lines(free_body):
     assert abs(naive.inverse_mass / free_body.inverse_mass - 1) > 2e-3
 
 
+def test_a_windowed_pole_on_a_line_that_does_not_decay_is_held_before_the_cut(free_body):
+    """A pseudo-mode above the band on its bound, at a multiple of the band top and so
+    on a DFT line, with the damping at its lower bound (less than the window's): its
+    record-end factor ``1 - exp(p_w T)`` is 3.5e-6, and dividing by it made its residue a
+    static compliance 3e5 times its own. Held at the minimum damping before the
+    cut, the factor is ``1 - exp(-(sigma + ...) T)`` (within 0.3 % of 1) and the pole's
+    in-band contribution stays what the fit found."""
+    freq = np.arange(1, 140) / T
+    w = 2 * np.pi * freq
+    data = FRFData(freq, 1j * w * windowed_receptance(free_body, w, SIGMA, T),
+                   quantity="mobility")
+    fit = ModalFit(window_decay_rate=SIGMA, record_length=T).fit(data)
+    line = 2 * np.pi * 4 * 139 / T                       # 4 x the band top: a DFT line
+    p_w = -1e-9 * line + 1j * line
+    r_w = -1e-3 + 2e-3j
+    windowed = ModalModel(poles=np.append(free_body.poles - SIGMA, p_w),
+                          residues=np.append(free_body.residues, r_w))
+    kinds = np.array(["mode"] * 3 + ["upper"])
+    assert abs(truncation_factors(np.array([p_w]), T)[0]) < 1e-5
+    model, info = fit._unwindow(windowed, kinds)
+    assert info["window_clipped"] == 1
+    assert model.poles[3].real == pytest.approx(-1e-5 * abs(model.poles[3]), rel=1e-5)
+    assert abs(model.residues[3] / r_w - 1) < 3e-3
+    static = -2 * (model.residues[3] / model.poles[3]).real
+    assert static == pytest.approx(-2 * (r_w / p_w).real, rel=3e-3)
+
+
 def test_free_rod_from_a_windowed_hammer_test():
     """Noise-free velocity hammer test of a free rod, window ending at 1 %: the rigid
     mass and the first modal masses within 0.3 % (about 1 % with the poles-only
