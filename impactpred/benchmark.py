@@ -309,7 +309,8 @@ def run_case(case, n_modes, noise, *, reference, cache=None, uncertainty=True, n
         t0 = time.perf_counter()
         try:
             band = uncertainty_band(models, fits, solve, n_draws=n_draws, nominal=result,
-                                    level=level, refits=cache.setdefault("refits", {}))
+                                    level=level, refits=cache.setdefault("refits", {}),
+                                    contact=case.contact)
         except _FAILURES as exc:
             row["failure"] = f"band: {type(exc).__name__}: {str(exc)[:80]}"
         seconds["band"] = time.perf_counter() - t0
@@ -347,7 +348,8 @@ def run_case(case, n_modes, noise, *, reference, cache=None, uncertainty=True, n
                             ("hi", None if band is None else band.high[k]),
                             ("sigma", None if band is None else band.spread[k]),
                             ("trunc", None if band is None else band.truncation[k]),
-                            ("tail", None if band is None else band.tail[k])):
+                            ("tail", None if band is None else band.tail[k]),
+                            ("front", None if band is None else band.front[k])):
             row[f"band_{part}_{_SHORT[k]}_%"] = (
                 math.nan if value is None else 100.0 * (
                     value - exact[k] if part in ("lo", "hi") else value) / exact[k])

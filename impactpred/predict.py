@@ -410,7 +410,8 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
     if uncertainty and identified:
         continued = any(n is not None and n.startswith("on") for n in notes)
         band = uncertainty_band(models, fits, solve, n_draws=uncertainty_draws, seed=seed,
-                                continuation=continued, nominal=result, executor=executor)
+                                continuation=continued, nominal=result, executor=executor,
+                                contact=law)
     reach = _band_reach(result, fits, notes, band_tolerance)
     return Prediction(result=result, fits=tuple(fits), band_reach=tuple(reach),
                       figures=figures, uncertainty=band, continuation=tuple(notes))
