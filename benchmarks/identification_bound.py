@@ -1,6 +1,7 @@
 """The Cramer-Rao bound of a pole-residue fit: what the noise of an FRF allows any fit.
 
-Run:  python benchmarks/identification_bound.py   (the beam over damping and line count)
+Run:  python benchmarks/bench_identification.py --bound-sweep   (the beam's bound over damping
+      and line count)
 
 ``bench_identification.py`` prints, next to its measured errors, the errors an *efficient*
 unbiased estimator (one that reaches the bound) would make on the same data. The data are
@@ -173,34 +174,3 @@ def runs_meeting(draws, targets, n_seeds):
     met = {k: worst[k] < targets[k] for k in targets}
     per_metric = {k: (np.median(worst[k]), np.mean(met[k])) for k in targets}
     return per_metric, np.mean(np.all([met[k] for k in targets], axis=0))
-
-
-def _sweep(noise=0.05, n_seeds=5, draws=20000):
-    """The beam's bound over damping ratios and line counts (the benchmark's other inputs
-    fixed): which data would let an efficient fit meet every 5 % target."""
-    import os
-    import sys
-
-    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-    import bench_identification as bench
-
-    targets = bench.TARGETS_5
-    rng = np.random.default_rng(12345)
-    print(f"beam tip, {noise:.0%} noise, Cramer-Rao bound: median worst of {n_seeds} seeds "
-          f"and P(a run of {n_seeds} seeds meets the target)")
-    print("| zeta | lines | df | dz | dr | nrmse (vs true) | P(all) |")
-    print("|---|---|---|---|---|---|---|")
-    cases = [(z, bench.N_LINES) for z in (0.002, 0.005, 0.01, 0.02, 0.05)]
-    cases += [(bench.ZETA, n) for n in (2000, 8000, 16000, 32000)]
-    for zeta, n_lines in cases:
-        truth, data, exact = bench.frf_case("beam", 0.0, 0, zeta=zeta, n_lines=n_lines)
-        d = bound_draws(truth, data.omega, exact, noise, n_modes=bench.N_BAND + 2,
-                        n_band=bench.N_BAND, draws=draws, rng=rng)
-        stats, p_all = runs_meeting(d, {k: targets[k] for k in ("df", "dz", "dr", "nrmse")},
-                                    n_seeds)
-        cells = " | ".join(f"{median:.2g} (P {p:.2f})" for median, p in stats.values())
-        print(f"| {zeta:g} | {n_lines} | {cells} | {p_all:.3f} |")
-
-
-if __name__ == "__main__":
-    _sweep()

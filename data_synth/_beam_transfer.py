@@ -27,6 +27,39 @@ from ._transfer import _safe_ratio
 __all__ = []
 
 
+# ------------------------------------------- shared with the tip receptance (beam.py)
+# 1 + cosh e cos e = 2 + sum_{j>=1} (-4)^j z^j/(4j)!, z = e^4 (entire)
+_DEN_SERIES = np.array([2.0] + [(-4.0) ** j / math.factorial(4 * j) for j in range(1, 9)])
+
+
+def _horner(coefficients: np.ndarray, z: np.ndarray) -> np.ndarray:
+    out = np.zeros_like(z)
+    for c in coefficients[::-1]:
+        out = out * z + c
+    return out
+
+
+def _folded_branch(x: np.ndarray, small: np.ndarray):
+    """The bounded exponentials of the beam's closed forms at ``|x| >= 1``.
+
+    ``e = sqrt(i x)`` (``x`` replaced by 1 where ``small``) rotated by a power of ``i``
+    into ``Re e >= |Im e|`` and conjugated into ``Im e >= 0`` where ``lower``; returns
+    ``(e, lower, P, Q, G + (1+P)(1+Q))`` with ``P = exp(-2e)``, ``Q = exp(2ie)``,
+    ``G = 4 exp(-(1 - i) e)``, all of modulus <= 4. The caller conjugates its result
+    back where ``lower``.
+    """
+    e = np.sqrt(1j * np.where(small, 1.0, x))
+    angle = np.angle(e)
+    e = np.where(angle > 0.25 * np.pi, -1j * e, np.where(angle < -0.25 * np.pi, 1j * e, e))
+    lower = e.imag < 0.0
+    e = np.where(lower, e.conj(), e)
+    with np.errstate(under="ignore", over="ignore", invalid="ignore"):
+        p = np.exp(-2.0 * e)
+        q = np.exp(2j * e)
+        denominator = 4.0 * np.exp(-(1.0 - 1j) * e) + (1.0 + p) * (1.0 + q)
+    return e, lower, p, q, denominator
+
+
 # ---------------------------------------------------------- small |e|: Taylor series
 def _polynomial_series(n_terms: int) -> list[list[Fraction]]:
     """Exact polynomials ``P_j(u)`` (coefficients of ``u^0, u^1, ...``) with
@@ -109,8 +142,6 @@ def _transfer(x: np.ndarray, xi: np.ndarray, flex: float) -> np.ndarray:
     ulps of ``|H(0, s)|``; the relative accuracy degrades only next to the clamp, where
     ``H`` vanishes.
     """
-    from .beam import _DEN_SERIES, _folded_branch, _horner
-
     pad = (1,) * x.ndim
     xi_b = xi.reshape(xi.shape + pad)
     u = 1.0 - xi_b

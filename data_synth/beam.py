@@ -25,29 +25,28 @@ import numpy as np
 from modalid.validation import as_count, as_positive_scalar
 
 from ._base import ExactModel, _check_s, _check_times, _reciprocal
-from ._beam_transfer import _shape_ratios, _transfer, _weighted_series
+from ._beam_transfer import (
+    _DEN_SERIES,
+    _folded_branch,
+    _horner,
+    _shape_ratios,
+    _transfer,
+    _weighted_series,
+)
 from ._transfer import _check_xi, _TransferMixin
 from .roots import _power_tail, _terms_for_tail, cantilever_roots
 
 __all__ = ["CantileverBeam"]
 
-# Taylor series in z = e^4 (entire): N(e)/e^3 = sum_j 4 (-4)^j z^j/(4j+3)!,
-# 1 + cosh e cos e = 2 + sum_{j>=1} (-4)^j z^j/(4j)!. For |z| < 1, 9 terms reach 1e-23.
+# Taylor series in z = e^4 (entire): N(e)/e^3 = sum_j 4 (-4)^j z^j/(4j+3)!, and
+# 1 + cosh e cos e (_DEN_SERIES). For |z| < 1, 9 terms reach 1e-23.
 _NUM_SERIES = np.array([4.0 * (-4.0) ** j / math.factorial(4 * j + 3) for j in range(9)])
-_DEN_SERIES = np.array([2.0] + [(-4.0) ** j / math.factorial(4 * j) for j in range(1, 9)])
 
 # Memory bound of the series evaluation: elements per (times x modes) block.
 _BLOCK = 1 << 20
 
 DEFAULT_IMPULSE_RTOL = 1e-6
 DEFAULT_STEP_RTOL = 1e-12
-
-
-def _horner(coefficients: np.ndarray, z: np.ndarray) -> np.ndarray:
-    out = np.zeros_like(z)
-    for c in coefficients[::-1]:
-        out = out * z + c
-    return out
 
 
 def _dimensionless_receptance(x: np.ndarray) -> np.ndarray:
@@ -72,27 +71,6 @@ def _dimensionless_receptance(x: np.ndarray) -> np.ndarray:
         direct = num * r**3 * _reciprocal(denominator)
     direct = np.where(lower, direct.conj(), direct)
     return np.where(small, series, direct)
-
-
-def _folded_branch(x: np.ndarray, small: np.ndarray):
-    """The bounded exponentials of the beam's closed forms at ``|x| >= 1``.
-
-    ``e = sqrt(i x)`` (``x`` replaced by 1 where ``small``) rotated by a power of ``i``
-    into ``Re e >= |Im e|`` and conjugated into ``Im e >= 0`` where ``lower``; returns
-    ``(e, lower, P, Q, G + (1+P)(1+Q))`` with ``P = exp(-2e)``, ``Q = exp(2ie)``,
-    ``G = 4 exp(-(1 - i) e)``, all of modulus <= 4. The caller conjugates its result
-    back where ``lower``.
-    """
-    e = np.sqrt(1j * np.where(small, 1.0, x))
-    angle = np.angle(e)
-    e = np.where(angle > 0.25 * np.pi, -1j * e, np.where(angle < -0.25 * np.pi, 1j * e, e))
-    lower = e.imag < 0.0
-    e = np.where(lower, e.conj(), e)
-    with np.errstate(under="ignore", over="ignore", invalid="ignore"):
-        p = np.exp(-2.0 * e)
-        q = np.exp(2j * e)
-        denominator = 4.0 * np.exp(-(1.0 - 1j) * e) + (1.0 + p) * (1.0 + q)
-    return e, lower, p, q, denominator
 
 
 def _as_tolerance(name: str, value) -> float:
