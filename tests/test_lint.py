@@ -131,3 +131,64 @@ def test_docstring_examples_run_as_doctests(tmp_path, monkeypatch):
     results = runner.summarize(verbose=False)
     assert examples >= 10 and results.attempted >= 10
     assert results.failed == 0, f"{results.failed} of {results.attempted} doctest examples failed"
+
+
+def _imports(root: Path, top: str) -> dict:
+    """``{module: modules of the tree it imports}`` for the ``.py`` files under
+    ``root/top`` (``top`` "" for the files of ``root`` itself, as ``benchmarks/`` runs
+    them), every import statement counted, those inside functions too."""
+    modules = {}
+    for path in sorted((root / top).rglob("*.py")):
+        parts = path.relative_to(root).with_suffix("").parts
+        name = ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+        modules[name] = path
+    graph = {}
+    for name, path in modules.items():
+        package = name if path.name == "__init__.py" else name.rpartition(".")[0]
+        targets = set()
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.ImportFrom):
+                if node.level:
+                    base = package.split(".")[:len(package.split(".")) - node.level + 1]
+                    module = ".".join(base + ([node.module] if node.module else []))
+                else:
+                    module = node.module or ""
+                targets |= {module} | {f"{module}.{a.name}" for a in node.names}
+            elif isinstance(node, ast.Import):
+                targets |= {a.name for a in node.names}
+        graph[name] = {t for t in targets if t in modules and t != name}
+    return graph
+
+
+def _cycle(graph: dict):
+    """One import cycle of ``graph`` (a list of modules), or None."""
+    state = {}
+
+    def visit(node, trail):
+        state[node] = "open"
+        for nxt in sorted(graph[node]):
+            if state.get(nxt) == "open":
+                return trail[trail.index(nxt):] + [nxt]
+            if nxt not in state:
+                found = visit(nxt, trail + [nxt])
+                if found:
+                    return found
+        state[node] = "done"
+        return None
+
+    for start in sorted(graph):
+        if start not in state:
+            found = visit(start, [start])
+            if found:
+                return found
+    return None
+
+
+@pytest.mark.parametrize("root, top", [(ROOT, p) for p in PACKAGES]
+                         + [(ROOT / "benchmarks", "")])
+def test_no_import_circles(root, top):
+    """One direction of dependence inside every package and among the benchmark scripts
+    (issue #17): an import circle, even through a deferred import, ties two modules into
+    one. The check itself finds a circle where there is one."""
+    assert _cycle(_imports(root, top)) is None, _cycle(_imports(root, top))
+    assert _cycle({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": set()}) == ["a", "b", "c", "a"]
