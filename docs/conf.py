@@ -69,7 +69,7 @@ plot_working_directory = str(DOCS / "gallery")
 #: ``impactpred.solvers`` are internal layers (see architecture.md), not API.
 API_MODULES = [
     "modalid", "modalid.io", "modalid.model", "modalid.hammer", "modalid.stabilization",
-    "modalid.receptance", "modalid.validation", "modalid.cli",
+    "modalid.receptance", "modalid.statespace", "modalid.validation", "modalid.cli",
     "impactpred", "impactpred.damper", "impactpred.damper.result", "impactpred.predict",
     "impactpred.truncation", "impactpred.uncertainty", "impactpred.paper",
     "impactpred.benchmark", "impactpred.api", "impactpred.body", "impactpred.points",

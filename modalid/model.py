@@ -19,7 +19,7 @@ import pandas as pd
 
 from ._checks import (as_choice, as_complex_array, as_count, as_real_array, as_real_scalar)
 from .quantities import QUANTITIES, receptance_to
-from ._statespace import pole_residue_from_statespace, pole_residue_to_statespace
+from .statespace import pole_residue_from_statespace, pole_residue_to_statespace
 from .receptance import modal_time_scales
 from ._model_json import _FORMAT, RECEPTANCE_UNITS, _of, read_model_json
 

@@ -22,7 +22,7 @@ import pandas as pd
 from ._checks import as_choice, as_complex_array, as_real_array
 from ._multi_output_json import (multi_output_fields, multi_output_payload,
                                  read_multi_output_json)
-from ._statespace import pole_residue_from_statespace, pole_residue_to_statespace
+from .statespace import pole_residue_from_statespace, pole_residue_to_statespace
 from .model import ModalModel, _frozen, _rebuild
 from .quantities import QUANTITIES
 from .receptance import modal_time_scales

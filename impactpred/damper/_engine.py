@@ -23,7 +23,7 @@ import math
 
 import numpy as np
 
-from modalid._statespace import pole_residue_to_statespace
+from modalid.statespace import pole_residue_to_statespace
 
 from ..contact import InstantaneousImpact, LinearSpring, Rigid
 from ..engine.contact_loop import relative_degree

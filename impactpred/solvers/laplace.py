@@ -29,7 +29,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg
 
-from modalid._statespace import pole_residue_to_statespace
+from modalid.statespace import pole_residue_to_statespace
 
 from ..contact import Rigid
 from ..engine.contact_loop import relative_degree

@@ -1,6 +1,10 @@
-"""Pure array kernels: pole-residue form <-> real state-space matrices.
+"""Pole-residue form <-> real state-space matrices, on plain arrays.
 
-Kept apart from :class:`~modalid.ModalModel` so that they can be tested on plain arrays.
+The realisation behind :meth:`modalid.ModalModel.to_statespace` and
+:class:`~modalid.MultiOutputModalModel`, and the one both of ``impactpred``'s exact
+engine front ends build their bodies' phases from (``solve_impact``'s coupled system,
+``ImpactDamper``'s primary): public so that they depend on ``modalid``'s interface, not
+on its private modules.
 """
 
 from __future__ import annotations
@@ -15,11 +19,33 @@ def pole_residue_to_statespace(poles, residues, real_poles, real_residues, inver
                                flexibility):
     """Real block-diagonal ``(A, b, c, d)`` realising the pole-residue receptance.
 
-    Returns ``A`` (n, n), ``b`` (n,), ``c`` (n,), ``d`` float with
-    ``c (sI - A)^-1 b + d = H(s)``; block order: complex modes, real poles, rigid body.
-    With 2-D ``residues`` (n_outputs, n_modes), ``real_residues`` (n_outputs, n_real) and
-    1-D ``inverse_mass``, ``flexibility`` (n_outputs,) it realises one output per row on
-    the same states: ``c`` is then (n_outputs, n) and ``d`` (n_outputs,).
+    ``c (sI - A)^-1 b + d = H(s)`` exactly (rounding only), for ``H(s) = sum_k r_k/(s -
+    p_k) + conj(r_k)/(s - conj p_k) + sum_j q_j/(s - a_j) + inverse_mass/s^2 +
+    flexibility``; block order: complex modes (a 2 x 2 rotation block each), real poles,
+    rigid body (a double integrator).
+
+    Parameters
+    ----------
+    poles : array_like of complex, shape (n_modes,)
+        Poles with ``Im p > 0`` (rad/s).
+    residues : array_like of complex, shape (n_modes,) or (n_outputs, n_modes)
+        Their residues (m/N/s); 2-D: one output per row on the same states.
+    real_poles : array_like of float, shape (n_real,)
+        Real poles (rad/s).
+    real_residues : array_like of float, shape (n_real,) or (n_outputs, n_real)
+        Their residues.
+    inverse_mass : float or array_like, shape (n_outputs,)
+        Rigid-body term ``1/M`` (1/kg); 0: no rigid-body states.
+    flexibility : float or array_like, shape (n_outputs,)
+        Constant term (m/N).
+
+    Returns
+    -------
+    a : ndarray, shape (n, n)
+    b : ndarray, shape (n,)
+    c : ndarray, shape (n,) or (n_outputs, n)
+    d : float or ndarray, shape (n_outputs,)
+        ``n = 2 n_modes + n_real (+ 2 with a rigid body)``.
     """
     multi = np.ndim(residues) == 2
     residues = np.atleast_2d(residues)
@@ -62,10 +88,30 @@ def pole_residue_from_statespace(a, b, c, d, *, zero_tol=1e-8, defect_cond=1e10)
     The eigenvalues at 0 (``|lambda| <= zero_tol * ||A||``) are split off by an ordered
     real Schur form and a Sylvester solve; their block must be a pure double integrator
     (the rigid-body term). The rest is diagonalised; residues are
-    ``(c v_k)(w_k b)``. Raises ``ValueError`` for a simple pole at 0, an unstable pole or
-    a defective (repeated, coupled) pole.
+    ``(c v_k)(w_k b)``. Exact to rounding for a diagonalisable ``A``.
 
-    Returns a dict of keyword arguments for :class:`~modalid.ModalModel`.
+    Parameters
+    ----------
+    a : array_like, shape (n, n)
+    b, c : array_like, shape (n,)
+    d : float
+        The system (a real state space of a receptance, m/N).
+    zero_tol : float, keyword-only
+        Eigenvalues within this share of ``||A||`` of 0 are the rigid body's.
+    defect_cond : float, keyword-only
+        An eigenvector matrix with a larger condition number is taken as defective.
+
+    Returns
+    -------
+    dict
+        Keyword arguments of :class:`~modalid.ModalModel`: ``poles``, ``residues``,
+        ``real_poles``, ``real_residues``, ``inverse_mass``, ``flexibility``.
+
+    Raises
+    ------
+    ValueError
+        For a simple pole or a pole of order 3 at 0, an unstable pole, a defective
+        (repeated, coupled) pole, or complex poles that do not pair.
     """
     a = np.atleast_2d(np.asarray(a, dtype=float))
     b = np.asarray(b, dtype=float).ravel()
