@@ -1,6 +1,8 @@
 """Accuracy and speed of ``modalid.fit.ModalFit`` against exact truths.
 
 Run:  python benchmarks/bench_identification.py [--seeds 5] [--quick] [--anchors]
+      python benchmarks/bench_identification.py --bound-sweep   (the beam's Cramer-Rao bound
+      over damping and line count only)
 
 The cases (fixed inputs)
 ------------------------
