@@ -128,34 +128,14 @@ def front(table, k):
     return table[column].fillna(0.0) if column in table else pd.Series(0.0, table.index)
 
 
-def readings(table, k):
-    """Per row, how far below and above the nominal figure ``k`` its readings with the
-    merging resolution halved and doubled lie (% of the exact value; 0 where not
-    recorded): ``(below, above)``, both >= 0."""
-    def column(part):
-        name = f"band_{part}_{k}_%"
-        return table[name].fillna(0.0) if name in table else pd.Series(0.0, table.index)
-    return np.maximum(-column("read_lo"), 0.0), np.maximum(column("read_hi"), 0.0)
-
-
-def interval(table, k, factors=FACTORS, level=LEVEL):
-    """Per row, figure ``k``'s interval relative to the prediction (% of the exact value):
-    ``(reach below, reach above)``: ``half + front`` (or the lower reading) below,
-    ``half`` (or the higher reading) above."""
-    half = half_width(table, k, factors, level)
-    below, above = readings(table, k)
-    return np.maximum(half + front(table, k), below), np.maximum(half, above)
-
-
 def held(table, factors=FACTORS, level=LEVEL):
     """Per row, whether each figure's interval with the factors ``factors`` holds it:
-    ``-above <= error <= below`` (:func:`interval`; the error is the prediction's, so the
-    interval ``nominal - below .. nominal + above`` holds the exact value)."""
+    ``-half <= error <= half + front`` (the error is the prediction's, so the interval
+    ``nominal - half - front .. nominal + half`` holds the exact value)."""
     out = {}
     for k in SHORT:
-        below, above = interval(table, k, factors, level)
-        err = table[f"{k}_err_%"]
-        out[k] = (err >= -above) & (err <= below)
+        half, err = half_width(table, k, factors, level), table[f"{k}_err_%"]
+        out[k] = (err >= -half) & (err <= half + front(table, k))
     return pd.DataFrame(out)
 
 
@@ -182,8 +162,9 @@ def calibrate(table: pd.DataFrame, level=LEVEL) -> tuple:
                 factors = (f, a, b)
                 cover = min(held(sel, factors, level).all(axis=1).mean() for sel in groups)
                 if cover >= level:
-                    ratio = max(float((0.5 * sum(interval(low, k, factors, level))
-                                       / prev[k]).median()) for k in SHORT)
+                    ratio = max(float(((half_width(low, k, factors, level)
+                                        + 0.5 * front(low, k)) / prev[k]).median())
+                                for k in SHORT)
                     rounded = tuple(round(float(x), 2) for x in factors)
                     best = min(best, (round(ratio, 2), -cover, tuple(-x for x in rounded)))
                     break            # a larger spread factor only widens the band
@@ -198,9 +179,9 @@ def summary(table: pd.DataFrame, level=LEVEL, factors=None) -> str:
     table = table[_ok(table)].copy()
     inside = held(table, factors, level)
     for k in SHORT:
-        below, above = interval(table, k, factors, level)
-        table[f"band_lo_{k}_%"] = table[f"{k}_err_%"] - below
-        table[f"band_hi_{k}_%"] = table[f"{k}_err_%"] + above
+        half = half_width(table, k, factors, level)
+        table[f"band_lo_{k}_%"] = table[f"{k}_err_%"] - half - front(table, k)
+        table[f"band_hi_{k}_%"] = table[f"{k}_err_%"] + half
         table[f"in_band_{k}"] = inside[k]
     for k in SHORT:
         table[f"half_{k}"] = 0.5 * (table[f"band_hi_{k}_%"] - table[f"band_lo_{k}_%"])

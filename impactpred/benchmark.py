@@ -353,13 +353,6 @@ def run_case(case, n_modes, noise, *, reference, cache=None, uncertainty=True, n
             row[f"band_{part}_{_SHORT[k]}_%"] = (
                 math.nan if value is None else 100.0 * (
                     value - exact[k] if part in ("lo", "hi") else value) / exact[k])
-        # the nominal figures read with the merging resolution halved and doubled (the
-        # interval holds them), in % of the exact value from the prediction's
-        read = [] if band is None else [r[k] for r in band.readings if r[k] is not None]
-        for part, pick in (("read_lo", min), ("read_hi", max)):
-            row[f"band_{part}_{_SHORT[k]}_%"] = (
-                100.0 * (pick(read) - figs[k]) / exact[k] if read and figs[k] is not None
-                else math.nan)
     row["band_hz"] = "/".join(f"{t:.4g}" for t in tops)
     row["lines"] = "/".join(str(n) for n in lines)
     row["frf_noise_%"] = "/".join(f"{100 * n:.2g}" for n in frf_noises)

@@ -68,10 +68,6 @@ class UncertaintyBand:
         figure (its units): the peak force's wave-front overshoot under a rigid contact
         (:func:`front_allowance`), 0 for the other figures; None when the band was built
         without it.
-    readings : tuple of dict
-        The nominal figures read with the contact-merging resolution halved and doubled
-        (:func:`~impactpred.truncation.impact_figures`); each interval is widened to hold
-        them (a gap between contacts close to the resolution may be read either way).
     """
 
     nominal: dict
@@ -83,7 +79,6 @@ class UncertaintyBand:
     spread: dict | None = None
     level: float | None = None
     front: dict | None = None
-    readings: tuple = ()
 
     def contains(self, name: str, value: float, *, rel: float = 0.0) -> bool:
         """Whether ``value`` lies in ``[low, high]`` of figure ``name`` (widened by ``rel``).
@@ -294,8 +289,9 @@ def band_half_width(spread: float, truncation: float, tail: float, *, figure: st
 #: per continued body, as a share of the jump: measured on the benchmark's damped truths,
 #: noise-free, their first 10, 20 and 40 modes continued as a fit's are (0.003-0.024 for the
 #: mass on a fixed rod, 0.018-0.029 per rod for two free rods; two rods' overshoots add).
-#: Without continuation the residual flexibility rounds the front off instead (the peak
-#: 20-27 % low), which the truncation estimate sees
+#: Without continuation the residual flexibility rounds the front off instead (the mass on
+#: the rod: the peak 20-27 % low), an error on the other side, which the truncation
+#: estimate sees
 FRONT_OVERSHOOT = 0.03
 
 
@@ -303,9 +299,10 @@ def front_jump(result, resolution: float) -> float:
     """The jump of the force at the first contact's peak: its range (max - min) within
     ``resolution`` of the peak.
 
-    A model identified up to ``f_top`` resolves nothing shorter than ``1/(2 f_top)``: where
-    the exact force jumps (a wave front) the model's rises or falls within that time and
-    overshoots at its crest; a smooth peak changes little within it.
+    A model identified up to ``f_top`` resolves no feature shorter than ``resolution =
+    1/(2 f_top)``; where the exact force jumps (a wave front), the model's force rises or
+    falls within that time and overshoots the jump at its crest. A smooth peak (a Hertz
+    pulse, a mass on a spring) changes little within it, so the range is small there.
 
     Parameters
     ----------
@@ -356,8 +353,10 @@ def front_allowance(jump: float, n_bodies: int) -> float:
     return FRONT_OVERSHOOT * n_bodies * max(jump, 0.0)
 
 
-#: the variants are solved with the tail to half as far, and compared with the nominal so
-#: solved, above this many modes in a band (a free rod at 40 modes: 13.6 s to 16x, 1.2 s to 8x)
+#: the variants are solved with the tail to half as far when the widest band holds more
+#: than this many modes (the solve's cost grows like the square of the modes the tail
+#: synthesizes: a free rod at 40 modes 13.6 s with the tail to 16x, 1.2 s to 8x); their
+#: change is measured against the nominal models solved the same way
 CHEAP_VARIANTS_ABOVE = 12
 
 
@@ -394,11 +393,8 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
     The tail's estimate is added in full (a bias); the truncation's, once the noise is out
     of it, in quadrature with the spread. Under a rigid contact the peak's interval also
     reaches :func:`front_allowance` further down (the overshoot at a wave front, an error
-    of known sign). The figures merge contacts closer than the bands' resolution
-    ``1/(2 f_top)``; a gap near it is read either way, so every interval also holds the
-    nominal figures read with that resolution halved and doubled (``readings``). The level
-    is stated, not guaranteed: it is verified by the coverage study
-    (``benchmarks/band_coverage.py``), which calibrated the factors.
+    of known sign). The level is stated, not guaranteed: it is verified by the coverage
+    study (``benchmarks/band_coverage.py``), which calibrated the factors.
 
     Parameters
     ----------
@@ -583,18 +579,13 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
     if continuation and measured and isinstance(contact, Rigid):
         front["peak_force"] = front_allowance(front_jump(nominal, resolution),
                                               sum(f is not None for f in fits))
-    # a gap near the merging resolution reads either way (mass-rod M/m=4: 0.1025 s, 0.1 s)
-    readings = tuple(impact_figures(nominal, resolution=f * resolution)
-                     for f in ((0.5, 2.0) if measured and resolution > 0 else ()))
     low: dict[str, float | None] = {}
     high: dict[str, float | None] = {}
     for k in FIGURES:
         if base[k] is None:
             low[k] = high[k] = None
             continue
-        other = [r[k] for r in readings if r[k] is not None]
-        low[k] = min([base[k] - halves[k] - front[k]] + other)
-        high[k] = max([base[k] + halves[k]] + other)
+        low[k], high[k] = base[k] - halves[k] - front[k], base[k] + halves[k]
     return UncertaintyBand(nominal=base, low=low, high=high, variants=tuple(variants),
                            truncation=trunc, tail=tail, spread=spread, level=level,
-                           front=front, readings=readings)
+                           front=front)
