@@ -317,8 +317,10 @@ def front_jump(result, resolution: float) -> float:
     float
         The jump (N), 0 without a contact.
     """
+    if resolution <= 0.0:
+        return 0.0
     figs = impact_figures(result, resolution=resolution)
-    if resolution <= 0.0 or figs["n_contacts"] == 0:
+    if figs["n_contacts"] == 0:
         return 0.0
     t, force = np.asarray(result.t), np.asarray(result.force)
     start = result.contact_intervals[0][0]
