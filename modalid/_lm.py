@@ -50,10 +50,10 @@ def bounded_lm(x, *, project, limits, n_data, hold=None, max_iter=50, stat_tol=1
 
     Scaled Levenberg-Marquardt with an active set (a parameter on a bound whose gradient
     points outwards is held there), a trust region (no pole moves by more than a tenth of
-    its modulus per step) and three statistical stops, in units of one residual variance
-    ``cost / (n_data - n_par)``: the full Gauss-Newton step would gain less than
-    ``stat_tol`` of it; two steps in a row gained less than ``stall_tol`` of it; or the
-    relative step is below ``xtol``.
+    its modulus per step, each pole's step shortened on its own) and three statistical
+    stops, in units of one residual variance ``cost / (n_data - n_par)``: the full
+    Gauss-Newton step would gain less than ``stat_tol`` of it; two steps in a row gained
+    less than ``stall_tol`` of it; or the relative step is below ``xtol``.
 
     Parameters
     ----------
@@ -120,10 +120,13 @@ def bounded_lm(x, *, project, limits, n_data, hold=None, max_iter=50, stat_tol=1
                 lam, nu = lam * nu, nu * 2.0
                 continue
             step /= norms
-            # trust region: no pole moves by more than a tenth of its modulus at once
+            # trust region: no pole moves by more than a tenth of its modulus at once,
+            # each pole's step shortened on its own (shortening the whole step let one
+            # pole near 0 Hz, a lower pseudo-mode standing in for a mass line, hold every
+            # other pole to tiny steps: the fit stalled with resonances 10x too damped)
             move = np.hypot(step[0::2], step[1::2]) / np.hypot(x[0::2], x[1::2])
             if move.max() > 0.1:
-                step *= 0.1 / move.max()
+                step *= np.repeat(np.minimum(1.0, 0.1 / np.maximum(move, 1e-300)), 2)
             x_new = np.clip(x + step, *limits(x + step))
             trial = project(x_new)
             actual = cur.cost - trial.cost
