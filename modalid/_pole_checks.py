@@ -96,11 +96,18 @@ class PoleChecks:
         half-width (rad/s).
 
         With ``missed_modes="strict"`` the trial is a local question, answered on the
-        lines around the peak (:meth:`_local_trial`) and, only for a mode kept, refined
-        quickly over the whole band; ``"dense"`` refines every trial over the band."""
-        if self.missed_modes == "strict" and not self._local_trial(
-                omega, h, w, poles, kinds, x, terms, resid, start, width):
-            return None
+        lines around the peak (:meth:`_local_trial`); a mode kept joins the model with the
+        local fit's poles (:meth:`_join`, no refinement over the band: the full one after
+        the search does that) unless the local fit moved another mode away
+        (:meth:`_stayed`), when the trial is refined quickly over the whole band from the
+        old poles. ``"dense"`` refines every trial over the band."""
+        if self.missed_modes == "strict":
+            local = self._local_trial(omega, h, w, poles, kinds, x, terms, resid, start, width)
+            if local is None:
+                return None
+            inside, refined, new = local
+            if self._stayed(omega, poles[inside], np.delete(refined, new)):
+                return self._join(omega, h, w, poles[~inside], kinds[~inside], terms, refined)
         trial = np.append(poles, start)
         kinds_t = np.append(kinds, "mode")
         order = np.argsort(np.where(kinds_t == "mode", np.abs(trial), np.inf), kind="stable")
@@ -139,7 +146,11 @@ class PoleChecks:
         it, the mode passes :meth:`_worst_pole` (on these lines), lies two lines or more
         from every other mode and :meth:`_explains_peak`. A tenth of the band's lines
         and a few poles: a rejected trial costs a small part of a refinement over the
-        band."""
+        band.
+
+        Returns ``None`` when the mode is not kept, else ``(inside, refined, new)``: the
+        model's modes refined with it (bool, shape of ``poles``), the local fit's poles
+        (those modes and the new one, sorted by modulus) and the new one's index there."""
         spacing = float(np.median(np.diff(omega)))
         half = max(half_lines * spacing, 20.0 * width)
         lines = np.abs(omega - start.imag) <= half
@@ -162,13 +173,40 @@ class PoleChecks:
         om, hl, wl = omega[lines], (h - background)[lines], w[lines]
         local, x_l, info = refine_varpro(om, hl, wl, local, none, **kw)
         if info["cost"] >= np.sum(np.abs(resid[lines] * wl) ** 2):
-            return False
+            return None
         everything = np.concatenate([local, poles[~inside & (kinds == "mode")]])
         if not self._apart(omega, everything, np.full(everything.size, "mode"), new):
-            return False
+            return None
         worst, _ = self._worst_pole(om, hl, wl, local, x_l, info, kinds_l, none, only=new)
-        return worst is None and self._explains_peak(omega, h, w, resid, local, x_l, none,
-                                                     new, lines=lines, background=background)
+        if worst is None and self._explains_peak(omega, h, w, resid, local, x_l, none,
+                                                 new, lines=lines, background=background):
+            return inside, local, new
+        return None
+
+    @staticmethod
+    def _stayed(omega, before, after):
+        """Did the modes a kept local trial refined with its new one (``before`` ->
+        ``after``, complex, same order) stay within three half-power half-widths (or
+        three lines) of where they were? Else one moved onto another feature (a step in
+        the data) to make room for the new mode, which the band's fit would not do."""
+        spacing = float(np.median(np.diff(omega)))
+        return bool(np.all(np.abs(after - before) <= 3.0 * np.maximum(-before.real, spacing)))
+
+    def _join(self, omega, h, w, poles, kinds, terms, local):
+        """The model ``poles`` (the modes a local trial refined taken out) with the local
+        trial's modes ``local`` put in, its linear unknowns solved over the band with every
+        pole held: the search goes on from there, and the full refinement after it moves
+        the poles. Returns ``(poles, kinds, x, info)``, ``info["quick"]`` set."""
+        poles = np.concatenate([poles, local])
+        kinds = np.concatenate([kinds, np.full(local.size, "mode")])
+        order = np.argsort(np.where(kinds == "mode", np.abs(poles), np.inf), kind="stable")
+        poles, kinds = poles[order], kinds[order]
+        kw = {} if self.max_real is None else {"max_real": self.max_real}
+        poles, x, info = refine_varpro(omega, h, w, poles, terms, passive=self._passive_on,
+                                       max_iter=0, with_std=False, buffers=self._buffers,
+                                       **kw)
+        info["quick"] = True
+        return poles, kinds, x, info
 
     @staticmethod
     def _peak_half_width(omega, resid, k):

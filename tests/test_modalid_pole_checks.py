@@ -4,6 +4,7 @@ and the refinement that follows a mode added late."""
 import numpy as np
 
 from modalid import FRFData, ModalFit, ModalModel
+from modalid._lsfd import Terms
 
 F_MODES = np.array([810., 851.5, 900., 1300., 1518., 1700., 1850.])
 
@@ -76,3 +77,32 @@ def test_a_mode_added_by_the_second_search_is_refined_in_full():
     assert len(fit.report_["notes"]) >= 5                 # modes added in both stages
     for column in ("frequency_hz_std", "damping_ratio_std"):
         assert np.all(np.isfinite(modes[column])) and np.all(modes[column] > 0)
+
+
+def test_a_kept_local_trial_joins_with_its_own_poles_unless_a_mode_moved_away():
+    """A mode kept by the local trial enters the model with the local fit's poles and
+    linear residues (no refinement over the band), and the search goes on from there;
+    when the local fit moved another mode by more than three half-power half-widths
+    (onto another feature, to make room) the trial is refined over the band instead.
+    Exact data with a mode the model lacks: the joined model holds it where the truth
+    has it, and the linear residues make the model exact (the cost of the model without
+    it is 20 orders of magnitude larger)."""
+    omega = 2 * np.pi * np.arange(600.0, 1400.0)
+    wn = 2 * np.pi * np.array([800.0, 1000.0, 1200.0])
+    truth = ModalModel.from_modes(wn, [1e-3, 1e-3, 1e-3], [1.0, 1.5, 2.0])
+    h = truth.frf(omega)
+    poles = truth.poles[[0, 2]]                         # the 1000 Hz mode is missing
+    assert ModalFit._stayed(omega, poles, poles + 2.9 * np.maximum(-poles.real, 2 * np.pi))
+    assert not ModalFit._stayed(omega, poles, poles * 1.06)
+    fit = ModalFit(passive=False)
+    fit._buffers = {}
+    kinds = np.array(["mode", "mode"])
+    terms = Terms(np.zeros(0), False, False, 0.0)
+    joined, kinds_j, x, info = fit._join(omega, h, np.ones_like(omega), poles, kinds,
+                                         terms, truth.poles[1:2])
+    assert info["quick"] and list(kinds_j) == ["mode"] * 3
+    np.testing.assert_allclose(np.sort(np.abs(joined)), np.sort(np.abs(truth.poles)),
+                               rtol=1e-15)
+    *_, lacking = fit._join(omega, h, np.ones_like(omega), poles, kinds, terms,
+                            np.zeros(0, complex))
+    assert info["cost"] < 1e-20 * lacking["cost"]
