@@ -4,6 +4,7 @@ import math
 
 import numpy as np
 import pytest
+import scipy.linalg
 
 from data_synth import CantileverBeam, LumpedMass, SpringMass
 from impactpred import Body, LinearSpring, Rigid, solve_impact
@@ -428,3 +429,61 @@ def test_a_multi_output_primary_gives_its_driving_row():
     d = ImpactDamper(multi, damper_mass=0.05, clearance=0.01,
                      excitation=HarmonicForce(1.0, 60.0 / (2 * np.pi)))
     assert d.model == row
+
+
+# ------------------------------------------------------------------ output points
+def _beam_with_points():
+    """A cantilever's tip receptance with two more output points (0.4 and 0.8 of the length
+    from the tip), four modes at 2 % damping and the residual flexibility of the rest."""
+    return CantileverBeam(1.0, 1.0).multi_output_model([0.0, 0.4, 0.8], 4, damping_ratio=0.02,
+                                                         residual=True)
+
+
+def test_output_points_in_free_flight_are_the_multi_output_models_exact_response():
+    """A clearance the damper mass never closes: every output point moves as the
+    multi-output model driven by the harmonic force from rest, computed here by the
+    matrix exponential of the model's own state space with the forcing's oscillator
+    appended (displacement ``C x + d F``, its first and second derivatives)."""
+    mo = _beam_with_points()
+    f1 = abs(mo.driving.poles[0]) / (2 * np.pi)
+    force = HarmonicForce(amplitude=2.0, freq_hz=0.9 * f1, phase=0.3)
+    res = ImpactDamper(mo, damper_mass=0.05, clearance=100.0, excitation=force).simulate(3)
+    assert len(res.impacts) == 0 and res.points.labels == mo.outputs
+    a, b, c, d = mo.statespace_matrices()
+    n, om, amp = a.shape[0], force.omega, force.amplitude
+    aug = np.zeros((n + 2, n + 2))        # z = [x, cos(om t + phi), sin(om t + phi)]
+    aug[:n, :n], aug[:n, n] = a, amp * b
+    aug[n, n + 1], aug[n + 1, n] = -om, om
+    rows = np.zeros((c.shape[0], n + 2))
+    rows[:, :n], rows[:, n] = c, amp * d
+    z0 = np.zeros(n + 2)
+    z0[n], z0[n + 1] = math.cos(force.phase), math.sin(force.phase)
+    z = np.array([scipy.linalg.expm(aug * t) @ z0 for t in res.t]).T
+    p = res.points
+    for got, row in ((p.displacement, rows), (p.velocity, rows @ aug),
+                     (p.acceleration, rows @ aug @ aug)):
+        want = row @ z
+        assert np.max(np.abs(got - want)) < 1e-9 * np.max(np.abs(want))
+    np.testing.assert_array_equal(p.displacement[0], res.primary)
+
+
+@pytest.mark.parametrize("contact", [Rigid(), InstantaneousImpact(0.6), LinearSpring(1e6)])
+def test_output_points_through_impacts_hold_the_driving_point_row(contact):
+    """Through impacts (the compiled loop for Rigid and InstantaneousImpact, the Python
+    loop for a spring) the output point at the driving point is the primary's own motion
+    to the last bit, and the other points move less towards the clamp; a plain
+    ModalModel primary has no points."""
+    mo = _beam_with_points()
+    f1 = abs(mo.driving.poles[0]) / (2 * np.pi)
+    force = HarmonicForce(amplitude=5.0, freq_hz=f1)
+    res = ImpactDamper(mo, damper_mass=0.05, clearance=0.002, contact=contact,
+                       excitation=force).simulate(10)
+    assert len(res.impacts) > 10
+    p = res.points
+    np.testing.assert_array_equal(p.displacement[0], res.primary)
+    np.testing.assert_array_equal(p.velocity[0], res.primary_velocity)
+    peak = np.max(np.abs(p.displacement), axis=1)
+    assert peak[0] > peak[1] > peak[2] > 0
+    plain = ImpactDamper(mo.driving, damper_mass=0.05, clearance=0.002, contact=contact,
+                         excitation=force).simulate(2)
+    assert plain.points is None

@@ -52,11 +52,20 @@ class Engine:
     """
 
     def __init__(self, model, *, damper_mass, clearance, contact, excitation, base_spring,
-                 rank_one=False):
+                 rank_one=False, outputs=None):
         a_p, b_p, c_p, d_p = pole_residue_to_statespace(
             model.poles, model.residues, model.real_poles, model.real_residues, 0.0,
             model.flexibility)
         n_p = a_p.shape[0]
+        # output points: the multi-output model's rows C_j, d_j on the same modal states
+        self.point_c, self.point_d = np.zeros((0, n_p)), np.zeros(0)
+        if outputs is not None:
+            a_o, b_o, c_o, d_o = outputs.statespace_matrices()
+            if a_o.shape != a_p.shape or not (np.allclose(a_o, a_p) and np.allclose(b_o, b_p)):
+                raise ValueError("the output points' model does not share the primary's "
+                                 "states (its poles differ)")
+            self.point_c, self.point_d = c_o, np.asarray(d_o, dtype=float)
+        self.n_points = self.point_d.size
         n = n_p + 3
         iy, iv, i1 = n_p, n_p + 1, n_p + 2
         self.n_p, self.n, self.iy, self.iv, self.i1 = n_p, n, iy, iv, i1
@@ -136,7 +145,9 @@ class Engine:
 
         ey, ev = np.zeros(n + 2), np.zeros(n + 2)
         ey[self.iy], ev[self.iv] = 1.0, 1.0
-        out = np.vstack([yp, yp @ M, ey, ev, lam_row, harm(exc_row), harm(fvec), harm(bv_row)])
+        points = self.point_rows(lam_row)      # displacements, velocities, accelerations
+        out = np.vstack([yp, yp @ M, ey, ev, lam_row, harm(exc_row), harm(fvec), harm(bv_row),
+                         points, points @ M, points @ M @ M])
         kind = PhaseKind(M, self.h, self.omega, np.vstack(event_rows), out, name=name,
                          update_of=(self.free, self.Bl, lam_row) if contact else None)
         kind.M_lam = lam_row
@@ -179,6 +190,16 @@ class Engine:
         return self._spring[s]
 
     # ---------------------------------------------------------------- helpers
+    def point_rows(self, lam_row):
+        """The output points' displacement rows on the augmented state (shape
+        ``(n_points, n + 2)``): ``C_j x_p + d_j (F_eq + lam)``, ``lam = lam_row @ xa`` the
+        contact force of the phase (zeros in free flight)."""
+        _, fvec, _ = self.rows_extra
+        rows = np.zeros((self.n_points, self.n + 2))
+        rows[:, :self.n_p] = self.point_c
+        rows[:, self.n:] = np.outer(self.point_d, fvec)
+        return rows + np.outer(self.point_d, lam_row)
+
     def augmented(self, x, t):
         ph = self.omega * t + self.phi
         return np.concatenate([x, [math.cos(ph), math.sin(ph)]])

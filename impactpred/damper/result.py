@@ -9,6 +9,8 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from ..contact import Hertz
+from ..points import PointResponse
 from ..result import _frozen
 from ..engine.phase import _cubic_min
 
@@ -99,6 +101,13 @@ class DamperResult:
         Pass the result (or this) as ``initial=`` to continue the run.
     damper_config : ImpactDamper
         The damper simulated.
+    points : PointResponse or None
+        With a ``MultiOutputModalModel`` primary: the displacement, velocity and
+        acceleration of each of its output points (rows, in its ``outputs`` order) along
+        the driving point's axis, on ``t``; exact like ``primary`` (where an impulse acts
+        the samples hold the regular part: the state just after it). ``Hertz`` contacts
+        are time-stepped (the force linear within a step), like ``primary``. None for
+        other primaries.
     """
 
     t: np.ndarray
@@ -127,6 +136,7 @@ class DamperResult:
     notes: tuple
     final_state: DamperState
     damper_config: Any
+    points: PointResponse | None = None
 
     def poincare(self) -> pd.DataFrame:
         """States once per forcing period, at the run's starting phase.
@@ -294,6 +304,15 @@ def build_result(damper, raw, *, n_cycles, samples_per_cycle):
             + eng.base_damping * eng.base_velocity_amplitude ** 2 * sin2
     fs = raw["final"]
     final = DamperState(fs.time, fs.state, fs.mode, fs.side, fs.open_impact)
+    n_points = eng.n_points
+    points = None
+    if n_points:
+        disp, vel, acc = np.split(vals[6:6 + 3 * n_points], 3)
+        method = ("exact in free flight; Hertz contacts time-stepped (the force linear "
+                  "within a step)" if isinstance(eng.contact, Hertz)
+                  else "exact (closed form between events)")
+        points = PointResponse(labels=tuple(damper.primary.outputs), t=t, displacement=disp,
+                               velocity=vel, acceleration=acc, method=method)
     return DamperResult(
         t=_frozen(t), primary=_frozen(vals[0]), primary_velocity=_frozen(vals[1]),
         damper=_frozen(vals[2]), damper_velocity=_frozen(vals[3]), force=_frozen(vals[4]),
@@ -303,4 +322,4 @@ def build_result(damper, raw, *, n_cycles, samples_per_cycle):
         steady_period=period, primary_amplitude=amp,
         impacts_per_cycle=n_imp / (n_cycles - c_a), power_dissipated=float(power),
         reduction=amp / a0 if a0 > 0 else math.nan, amplitude_without_damper=a0,
-        notes=tuple(notes), final_state=final, damper_config=damper)
+        notes=tuple(notes), final_state=final, damper_config=damper, points=points)

@@ -58,7 +58,8 @@ class ImpactDamper:
     ----------
     primary : ModalModel, MultiOutputModalModel or data_synth.SpringMass
         Grounded (``inverse_mass == 0``), passive driving-point receptance (m/N) at the
-        point where the damper acts; a multi-output model gives its driving row.
+        point where the damper acts; a multi-output model gives its driving row, and its
+        rows are output points (:attr:`DamperResult.points`: the motion of each).
     damper_mass : float, keyword-only
         Mass of the free damper body ``m_d`` (kg), > 0.
     clearance : float, keyword-only
@@ -180,9 +181,11 @@ class ImpactDamper:
         impactpred.damper._engine.Engine
         """
         if self._engine_cache is None:
+            outputs = self.primary if isinstance(self.primary, MultiOutputModalModel) else None
             object.__setattr__(self, "_engine_cache", Engine(
                 self._model, damper_mass=self.damper_mass, clearance=self.clearance,
-                contact=self.contact, excitation=self.excitation, base_spring=self._base))
+                contact=self.contact, excitation=self.excitation, base_spring=self._base,
+                outputs=outputs))
         return self._engine_cache
 
     # ------------------------------------------------------------------ simulation

@@ -265,9 +265,10 @@ def _emit(lam, ob, op, t_a, tau, t0_run, dt_out, first_sample, work, times, vals
           used):  # pragma: no cover - compiled
     """Samples of a phase starting at ``t_a`` (s), lasting ``tau``: the output grid strictly
     inside it, its end (and ``t_a`` itself if ``first_sample``). ``ob``, ``op``: the output
-    rows' coefficients. Writes times, the first six rows, the input-work integrals (from
-    ``work``, updated) and grid indices (-1: off the grid) from column ``used``; returns
-    the arrays (grown if needed) and the new count.
+    rows' coefficients. Writes times, the sampled rows (the first six, then the output
+    points' rows from row 8 on; rows 6 and 7 are the input-work weights), the input-work
+    integrals (from ``work``, updated) and grid indices (-1: off the grid) from column
+    ``used``; returns the arrays (grown if needed) and the new count.
     """
     j_lo = int(math.floor((t_a - t0_run) / dt_out + 1e-9)) + 1
     j_hi = int(math.ceil((t_a + tau - t0_run) / dt_out - 1e-9)) - 1
@@ -303,6 +304,7 @@ def _emit(lam, ob, op, t_a, tau, t0_run, dt_out, first_sample, work, times, vals
         wk = _grow(wk, need)
     m = lam.size
     iw = lam[m - 1]
+    n_rows = vals.shape[0]          # sampled rows: ob's rows 0-5, then 8 on
     # the work integrals need Re(a_r e^{i w s}) Re(v_p(s)): the rows' excitation terms
     a0, a1 = ob[6, m - 1], ob[7, m - 1]
     for p in range(n_pts):
@@ -311,13 +313,13 @@ def _emit(lam, ob, op, t_a, tau, t0_run, dt_out, first_sample, work, times, vals
         times[col] = t_a + s
         grid[col] = gi[p]
         w0, w1 = 0.0, 0.0
-        for r in range(6):
+        for r in range(n_rows):
             vals[r, col] = 0.0
         w = np.exp(iw * s)
         for j in range(m):
             z = np.exp(lam[j] * s) if j < m - 1 else w
-            for r in range(6):
-                vals[r, col] += (ob[r, j] * z).real
+            for r in range(n_rows):
+                vals[r, col] += (ob[r if r < 6 else r + 2, j] * z).real
             # int_0^s e^{mu u} du for mu = i w + lam_j and i w + conj(lam_j), from the
             # exponentials at hand (see _expm1_from)
             vb = ob[1, j]
@@ -330,10 +332,10 @@ def _emit(lam, ob, op, t_a, tau, t0_run, dt_out, first_sample, work, times, vals
             c2 = np.conj(vb) * e2
             w0 += 0.5 * ((a0 * c1).real + (a0 * c2).real)
             w1 += 0.5 * ((a1 * c1).real + (a1 * c2).real)
-        for r in range(6):
+        for r in range(n_rows):
             acc, pw = 0.0, 1.0
             for c in range(op.shape[1]):
-                acc += op[r, c] * pw
+                acc += op[r if r < 6 else r + 2, c] * pw
                 pw *= s
             vals[r, col] += acc
         wk[0, col] = work[0] + w0
@@ -412,11 +414,12 @@ def rigid_loop(free, stuck_p, stuck_m, x, t, mode, side, on_boundary, open_row,
         ``mode`` say where); ``RUNAWAY`` after the impact that is the ``max_impacts + 1``-th
         within one period (``t``: its time); ``PAUSED`` after ``max_phases`` phases
         (continue with the state returned); the samples of this call (``values``: the
-        first six output rows); ``done``: the run reached ``t_end``.
+        first six output rows, then the output points' three rows each); ``done``: the
+        run reached ``t_end``.
     """
     cap = max(int((min(t_stop, t_end) - t) / dt_out), 0) * 2 + 256
     times = np.empty(cap)
-    vals = np.empty((6, cap))
+    vals = np.empty((free[12].shape[0] - 2, cap))   # the output rows but the work weights
     wk = np.empty((2, cap))
     grid = np.empty(cap, np.int64)
     used = 0

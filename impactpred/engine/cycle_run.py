@@ -222,7 +222,7 @@ def run(eng, *, start: EngineState, n_cycles, samples_per_cycle, progress):
         vals = evaluate(kind.lam, ob, op, taus)[0]
         w = _work(ob[OUT_FEQ:OUT_BV + 1, -1], kind.lam, ob[OUT_VP], taus) + work[:, None]
         chunks_t.append(t_a + taus)
-        chunks_v.append(vals[:6])
+        chunks_v.append(np.delete(vals, [OUT_FEQ, OUT_BV], axis=0))   # not the work weights
         chunks_w.append(w)
         chunks_g.append(grid)
         work[:] = w[:, -1]

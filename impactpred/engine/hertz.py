@@ -170,6 +170,13 @@ class _Hertz:
         self.r0, self.yp0, self.A = eng.r0, eng.yp0, A
         self.vrow = eng.yp0 @ A                 # v_p = vrow xa + vB lam + d_p lam'
         self.vB = float(eng.yp0 @ Bl)
+        # the output points (free-flight rows, the contact force apart): within a step
+        # the force is linear in time (lam' = slope, lam'' = 0), so y_j = P xa + d lam,
+        # y_j' = P A xa + P Bl lam + d slope, y_j'' = P A^2 xa + P A Bl lam + P Bl slope
+        P, d = eng.point_rows(np.zeros(N)), eng.point_d
+        self.point_rows = np.vstack([P, P @ A, P @ A @ A])
+        self.point_lam = np.concatenate([d, P @ Bl, P @ A @ Bl])
+        self.point_slope = np.concatenate([np.zeros_like(d), d, P @ Bl])
         self.exc_row, self.fvec, self.bv_row = eng.rows_extra
         self.d_p = float(eng.d_p)
         self.c = float(eng.c)
@@ -207,11 +214,13 @@ class _Hertz:
         return float(self.vrow @ xa) + self.vB * lam + self.d_p * slope
 
     def outputs(self, xa, lam, slope):
-        """Output rows y_p, v_p, y_d, v_d, lam, excitation (as the front end's
+        """Output rows y_p, v_p, y_d, v_d, lam, excitation, then the output points'
+        displacements, velocities and accelerations (as the front end's
         ``impactpred.damper._engine.Engine._kind``)."""
+        points = self.point_rows @ xa + self.point_lam * lam + self.point_slope * slope
         return (float(self.yp0 @ xa) + self.d_p * lam, self.vp(xa, lam, slope),
                 float(xa[self.iy]), float(xa[self.iv]), lam,
-                float(self.exc_row @ xa[self.n:]))
+                float(self.exc_row @ xa[self.n:]), *points)
 
     def loads(self, t):
         """(F_eq (N), y_b' (m/s)) at ``t``: the two input-work weights."""
