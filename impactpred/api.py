@@ -12,6 +12,7 @@ from modalid.validation import as_choice, as_positive_scalar, as_real_scalar
 
 from .body import Body, SampledResponse
 from .contact import Hertz, LinearSpring, Rigid, check_contact
+from .damper.excitation import HarmonicForce
 from .result import EnergyAudit, EnergyWarning, ImpactResult
 from .solvers.closed_form import applies_closed_form, solve_closed_form
 from .solvers.convolution import solve_convolution
@@ -59,8 +60,8 @@ def solve_impact(body1: Body, body2: Body, *, gap: float = 0.0, contact=Rigid(),
     method : {"auto", "laplace", "modal", "convolution", "closed_form"}, keyword-only
         ``"auto"``: the closed form for two free rods of equal transit time (without
         output points), the exact Laplace solver for rational models with a linear contact
-        law and no load, the modal solver for other rational cases, the convolution solver
-        otherwise.
+        law and no load or a ``HarmonicForce`` load, the modal solver for other rational
+        cases, the convolution solver otherwise.
 
     Returns
     -------
@@ -285,13 +286,15 @@ def _exchangeable_energy(bodies, before: float, load_work: float) -> float:
 
 def _choose_method(bodies, contact, method):
     rational = all(b.is_rational for b in bodies)
-    has_load = any(b.load is not None for b in bodies)
+    # a harmonic force the exact solver propagates in closed form; other loads are sampled
+    sampled_load = any(b.load is not None and not isinstance(b.load, HarmonicForce)
+                       for b in bodies)
     linear = contact.is_linear
     outputs = any(b.outputs is not None for b in bodies)
     if method == "auto":
         if applies_closed_form(bodies, contact) and not outputs:
             return "closed_form"
-        if rational and linear and not has_load:
+        if rational and linear and not sampled_load:
             return "laplace"
         return "modal" if rational else "convolution"
     if method in ("laplace", "modal") and not rational:
@@ -302,8 +305,9 @@ def _choose_method(bodies, contact, method):
     if method == "laplace" and not linear:
         raise ValueError(f"method='laplace' needs a linear contact law (Rigid or an undamped "
                          f"LinearSpring), got {contact!r}: use method='modal'")
-    if method == "laplace" and has_load:
-        raise ValueError("method='laplace' takes no external load: use method='modal'")
+    if method == "laplace" and sampled_load:
+        raise ValueError("method='laplace' takes a HarmonicForce load or none (a sampled or "
+                         "callable load needs a time-stepping solver): use method='modal'")
     if method == "closed_form" and not applies_closed_form(bodies, contact):
         raise ValueError("method='closed_form' applies to two free rods of equal transit time "
                          "with rigid contact and rigid-body motion only")

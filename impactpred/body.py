@@ -146,9 +146,12 @@ class Body:
     vibration : array_like, shape (n, 2), keyword-only
         Vibration present at ``t = 0``: for each of the model's ``n`` lowest modes, its
         contribution to the contact point's displacement (m) and velocity (m/s).
-    load : callable or (t, f) pair, keyword-only
-        External force (N) on the body at the contact point, along ``+y``: a vectorised
-        callable ``load(t)`` or samples ``(t, f)`` (linear between samples, 0 outside).
+    load : HarmonicForce, callable or (t, f) pair, keyword-only
+        External force (N) on the body at the contact point, along ``+y``: a
+        :class:`~impactpred.HarmonicForce` (propagated in closed form by the exact Laplace
+        solver, which ``method="auto"`` then picks), a vectorised callable ``load(t)`` or
+        samples ``(t, f)`` (linear between samples, 0 outside), which the time-stepping
+        solvers take.
     outputs : array_like, shape (n_points,), keyword-only
         For a ``data_synth`` ``Rod`` or ``CantileverBeam`` only: positions ``xi`` of output
         points as fractions of the length measured from the driving point (0 = the

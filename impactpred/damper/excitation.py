@@ -11,6 +11,8 @@ import dataclasses
 import math
 from dataclasses import dataclass, field
 
+import numpy as np
+
 from modalid.validation import as_nonnegative_scalar, as_positive_scalar, as_real_scalar
 
 __all__ = ["HarmonicForce", "BaseExcitation"]
@@ -46,7 +48,9 @@ class _Harmonic:
 
 @dataclass(frozen=True)
 class HarmonicForce(_Harmonic):
-    """Force ``amplitude * cos(2 pi freq_hz t + phase)`` (N) on the primary's driving point.
+    """Force ``amplitude * cos(2 pi freq_hz t + phase)`` (N) on the primary's driving point,
+    or, as ``Body(load=...)``, on a body at its contact point (along ``+y``; exact with
+    ``solve_impact``'s Laplace method, sampled by the others: ``load(t)``).
 
     Parameters
     ----------
@@ -57,6 +61,10 @@ class HarmonicForce(_Harmonic):
     phase : float, keyword-only, optional
         Phase at ``t = 0`` (rad).
     """
+
+    def __call__(self, t):
+        """The force (N) at times ``t`` (s), any shape."""
+        return self.amplitude * np.cos(self.omega * np.asarray(t, dtype=float) + self.phase)
 
 
 @dataclass(frozen=True)

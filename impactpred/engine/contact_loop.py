@@ -47,8 +47,8 @@ def relative_degree(c0, c1, c2, scale):
 def free_lobe_height(x, cg_powers):
     """Largest gap (m) a free flight from ``x`` opens before closing (cubic Taylor form).
 
-    ``cg_powers`` (3, n): the rows ``Cg A``, ``Cg A^2``, ``Cg A^3`` of the gap's first three
-    time derivatives.
+    ``cg_powers`` (3, n): the rows of the gap's first three time derivatives in free flight
+    (on the state ``x``: the augmented one, loads included).
     """
     g1 = np.dot(cg_powers[0], x)
     g2 = np.dot(cg_powers[1], x)
@@ -82,7 +82,7 @@ def contact_start(xa, rho, coef, bf, jdx, force_row, force_rate_row, cg_powers, 
     n = bf.size
     impulse = 0.0
     if rho == 2:
-        v_rel = np.dot(cg_powers[0], xa[:n])
+        v_rel = np.dot(cg_powers[0], xa)
         if v_rel < 0.0:
             impulse = -v_rel / coef
             for q in range(n):
@@ -93,7 +93,7 @@ def contact_start(xa, rho, coef, bf, jdx, force_row, force_rate_row, cg_powers, 
     # rounding in the located gap shows up in f0 (as -g/Dg where rho = 0)
     f_tol = 1e-9 * (abs(f0) + abs(df0) * step) + (tol_g / abs(coef) if rho == 0 else 0.0)
     holds = f0 > f_tol or (f0 > -f_tol and df0 > 0.0)
-    if not holds and df0 > 0.0 and free_lobe_height(xa[:n], cg_powers) <= tol_g:
+    if not holds and df0 > 0.0 and free_lobe_height(xa, cg_powers) <= tol_g:
         holds = True
     return impulse, holds
 
@@ -312,9 +312,10 @@ def event_loop(free, stuck, xa0, in_contact, t_end, step, out_step, tol_g, rho, 
         if impulse != 0.0:
             diracs[n_d, 0], diracs[n_d, 1] = 0.0, impulse
             n_d += 1
-        if not in_contact:
+        if not in_contact:     # a Dirac alone: the first contact is over at once
             intervals[n_iv, 0], intervals[n_iv, 1] = 0.0, 0.0
             n_iv += 1
+            first_impulse, have_first = xa[jdx], True
     stalled = 0
     while t < t_end * (1 - 1e-15):
         ph = stuck if in_contact else free

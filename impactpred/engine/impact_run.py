@@ -115,8 +115,8 @@ class ContactRules:
     ``coef`` its coefficient; ``bf`` the force's input vector (shape (n,)), ``jdx`` the
     index of the impulse integral ``J`` in the augmented state; ``force_row``,
     ``force_rate_row`` the force and its rate in the contact phase (shape (n + 2,));
-    ``cg_powers`` (3, n): the gap row times ``A``, ``A^2``, ``A^3``; ``tol_g`` (m) the
-    gap's rounding level.
+    ``cg_powers`` (3, n + 2 + ...): the gap's first three derivatives in free flight as
+    rows on the augmented state; ``tol_g`` (m) the gap's rounding level.
     """
 
     __slots__ = ("rho", "coef", "bf", "jdx", "force_row", "force_rate_row", "cg_powers",
@@ -271,8 +271,9 @@ def run_contact(free, stuck, xa, *, in_contact, rules, t_end, step, out_step, ga
     first_impulse = None
     if in_contact:
         Xa, in_contact = start_contact(0.0, Xa)
-        if not in_contact:
+        if not in_contact:         # a Dirac alone: the first contact is over at once
             intervals.append((0.0, 0.0))
+            first_impulse = float(Xa[jdx])
     stalled = 0
     while t < t_end * (1 - 1e-15):
         t_ev, Xa, happened = run_phase(stuck if in_contact else free, t, Xa)

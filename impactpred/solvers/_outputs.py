@@ -98,15 +98,20 @@ class LaplaceOutputs:
     def n_rows(self) -> int:
         return sum(3 * full.shape[0] for _, full, _, _ in self.blocks)
 
-    def rows(self, M, force_row=None):
-        """Displacement, velocity and acceleration rows (per body) on the augmented state."""
+    def rows(self, M, force_row=None, *, loads=()):
+        """Displacement, velocity and acceleration rows (per body) on the augmented state
+        ``[X, 1, J, cos, sin of each load]``: ``C X + d (sign f + F_i)``, with ``loads``
+        the ``(body index, HarmonicForce)`` pairs of those cosines."""
         n_aug = M.shape[0]
         out = []
-        for _, full, d, sign in self.blocks:
+        for i, full, d, sign in self.blocks:
             disp = np.zeros((full.shape[0], n_aug))
             disp[:, :self.n] = full
             if force_row is not None:
                 disp += sign * d[:, None] * force_row[None, :]
+            for k, (j, load) in enumerate(loads):
+                if j == i:
+                    disp[:, self.n + 2 + 2 * k] += d * load.amplitude
             vel = disp @ M
             out += [disp, vel, vel @ M]
         return np.vstack(out) if out else np.zeros((0, n_aug))

@@ -32,6 +32,7 @@ import scipy.linalg
 from modalid.statespace import pole_residue_to_statespace
 
 from ..contact import Rigid
+from ..damper.excitation import HarmonicForce
 from ..engine.contact_loop import relative_degree
 from ..engine.impact_run import (ContactRules, Phase, grazing_error, insert_exact_peak,
                                  run_contact, search_step)
@@ -117,16 +118,30 @@ def _relative_degree(sysm: CoupledSystem):
     return rho, (c0, c1, c2)[rho]
 
 
+def harmonic_loads(bodies):
+    """``(body index, HarmonicForce)`` of each body's load; ``ValueError`` for any other
+    load (the exact solver propagates a harmonic force in closed form, not samples)."""
+    loads = []
+    for i, body in enumerate(bodies):
+        if body.load is None:
+            continue
+        if not isinstance(body.load, HarmonicForce):
+            raise ValueError(f"the laplace solver takes a HarmonicForce load or none, got "
+                             f"{type(body.load).__name__} on body {i + 1}: use method='modal'")
+        loads.append((i, body.load))
+    return loads
+
+
 def solve_laplace(bodies, gap0, contact, t_end, dt, *, notes=()):
     """Exact event-driven solve of two rational bodies; see the module docstring."""
-    if any(b.load is not None for b in bodies):
-        raise ValueError("the laplace solver takes no external load: use method='modal'")
+    loads = harmonic_loads(bodies)
     sysm = CoupledSystem(bodies)
     points = LaplaceOutputs(bodies, sysm)
     n = sysm.n
     A, Bf, Cg = sysm.A, sysm.Bf, sysm.Cg
     D1, D2 = sysm.D
-    n_aug = n + 2  # [X, 1, J]
+    # [X, 1, J, then cos and sin of each harmonic load's phase]
+    n_aug = n + 2 + 2 * len(loads)
     one, jdx = n, n + 1
 
     def aug(row_x, const=0.0):
@@ -138,55 +153,64 @@ def solve_laplace(bodies, gap0, contact, t_end, dt, *, notes=()):
     gap_row = aug(Cg, gap0)
     y1_row, y2_row = aug(sysm.C1), aug(sysm.C2)
 
-    # free flight: X' = A X
+    # free flight: X' = A X + the loads' inputs; each load's (cos, sin) pair rotates
     M_free = np.zeros((n_aug, n_aug))
     M_free[:n, :n] = A
+    Xa = np.concatenate([sysm.X0, [1.0, 0.0], np.zeros(2 * len(loads))])
+    for k, (i, load) in enumerate(loads):
+        ic = n + 2 + 2 * k
+        body_rows = slice(0, sysm.n1) if i == 0 else slice(sysm.n1, n)
+        b_i = (-Bf if i == 0 else Bf)[body_rows]           # the body's own input, +y
+        M_free[body_rows, ic] = load.amplitude * b_i
+        M_free[ic, ic + 1], M_free[ic + 1, ic] = -load.omega, load.omega
+        Xa[ic], Xa[ic + 1] = np.cos(load.phase), np.sin(load.phase)
+        # the load's direct term d_i F_i in the body's displacement and in the gap
+        y_row = y1_row if i == 0 else y2_row
+        y_row[ic] += sysm.D[i] * load.amplitude
+        gap_row[ic] += (-1.0 if i == 0 else 1.0) * sysm.D[i] * load.amplitude
     free = Phase(M_free, np.vstack([np.zeros(n_aug), y1_row, y2_row, gap_row,
-                                    points.rows(M_free)]), gap_row, False)
+                                    points.rows(M_free, loads=loads)]), gap_row, False)
 
     # contact: f = Kf X + k0, X' = (A + Bf Kf) X + Bf k0, J' = f
     if not contact.is_linear:
         raise ValueError(f"the laplace solver takes Rigid() or an undamped LinearSpring, got "
                          f"{contact!r}: use method='modal' or 'convolution'")
     if isinstance(contact, Rigid):
+        # the gap's rho-th derivative without the force, held at 0 by it
         rho, coef = _relative_degree(sysm)
-        if rho == 0:
-            kf, k0 = -Cg / coef, -gap0 / coef
-        elif rho == 1:
-            kf, k0 = -(Cg @ A) / coef, 0.0
-        else:
-            kf, k0 = -(Cg @ A @ A) / coef, 0.0
+        held = gap_row
+        for _ in range(rho):
+            held = held @ M_free
+        force_row = -held / coef
     else:           # an undamped LinearSpring
         rho, coef = None, None
-        k = contact.stiffness
-        kf, k0 = -k * Cg / (1 + k * sysm.Dg), -k * gap0 / (1 + k * sysm.Dg)
-    force_row = aug(kf, k0)
+        force_row = -contact.stiffness * gap_row / (1 + contact.stiffness * sysm.Dg)
     # the force enters the states through Bf and its integral J: a rank-one update
-    force_in = np.concatenate([Bf, [0.0, 1.0]])
+    force_in = np.concatenate([Bf, [0.0, 1.0], np.zeros(2 * len(loads))])
     M_con = M_free + np.outer(force_in, force_row)
     stuck = Phase(M_con, np.vstack([force_row, y1_row - D1 * force_row,
                                     y2_row + D2 * force_row,
                                     gap_row + sysm.Dg * force_row,
-                                    points.rows(M_con, force_row)]), force_row, True,
+                                    points.rows(M_con, force_row, loads=loads)]), force_row,
+                  True,
                   update_of=(free.form, force_in, force_row))
 
     step = search_step(max(free.form.max_rate, stuck.form.max_rate), t_end)
     out_step = dt if dt is not None else t_end / 4000
 
-    Xa = np.concatenate([sysm.X0, [1.0, 0.0]])
     u_scale = max(abs(b.velocity) for b in bodies)
     y_scale = abs(gap0) + u_scale * t_end + float(np.max(np.abs(sysm.X0), initial=0.0))
     tol_g = 1e-12 * max(y_scale, 1e-300)
-    # the contact rules (Dirac impulse, hold or release)
-    cg_powers = np.zeros((3, n))
-    if n:
-        cg_powers[0] = Cg @ A
-        cg_powers[1] = cg_powers[0] @ A
-        cg_powers[2] = cg_powers[1] @ A
+    # the contact rules (Dirac impulse, hold or release): the gap's first three
+    # derivatives in free flight, rows on the augmented state
+    cg_powers = np.zeros((3, n_aug))
+    cg_powers[0] = gap_row @ M_free
+    cg_powers[1] = cg_powers[0] @ M_free
+    cg_powers[2] = cg_powers[1] @ M_free
     rules = ContactRules(-1 if rho is None else rho, 1.0 if rho is None else coef, Bf, jdx,
                          force_row, force_row @ M_con, cg_powers, tol_g)
     # touching at t = 0 and approaching: the first contact starts at once
-    in_contact = bool(n) and gap0 <= tol_g and float(Cg @ (A @ Xa[:n])) < 0
+    in_contact = bool(n) and gap0 <= tol_g and float(cg_powers[0] @ Xa) < 0
     raw = run_contact(free, stuck, Xa, in_contact=in_contact, rules=rules, t_end=t_end,
                       step=step, out_step=out_step, gap0=gap0)
     return _result(bodies, sysm, points, raw, force_row, jdx, t_end, out_step, step, notes)
