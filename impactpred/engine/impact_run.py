@@ -114,7 +114,8 @@ class ContactRules:
     ``rho``: relative degree of the gap w.r.t. the force (0, 1, 2; -1 for a spring law),
     ``coef`` its coefficient; ``bf`` the force's input vector (shape (n,)), ``jdx`` the
     index of the impulse integral ``J`` in the augmented state; ``force_row``,
-    ``force_rate_row`` the force and its rate in the contact phase (shape (n + 2,));
+    ``force_rate_row`` the force and its rate in the contact phase (rows on the augmented
+    state ``[X, 1, J, cos, sin of each load]``);
     ``cg_powers`` (3, n + 2 + ...): the gap's first three derivatives in free flight as
     rows on the augmented state; ``tol_g`` (m) the gap's rounding level.
     """
