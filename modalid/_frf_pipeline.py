@@ -373,10 +373,7 @@ class FRFPipeline(PoleChecks):
         solve (passive when the constraint is on). The physical poles' standard deviations
         are their segments' (``mode_std``, rows in the order of the physical poles);
         the pseudo-modes' and the extra terms' are NaN."""
-        kw = {} if self.max_real is None else {"max_real": self.max_real}
-        poles, x, info = refine_varpro(omega, h, w, poles, terms, passive=self._passive_on,
-                                       max_iter=0, with_std=False, buffers=self._buffers,
-                                       **kw)
+        poles, x, info = self._linear_fit(omega, h, w, poles, terms)
         self._final_weights = w
         rows = np.full((poles.size, 4), np.nan)
         rows[kinds == "mode"] = mode_std
@@ -385,6 +382,13 @@ class FRFPipeline(PoleChecks):
                     message=f"poles from {self._segment_count} segment fits, held; residues "
                             "and residual terms by linear least squares over the band")
         return poles, x, info
+
+    def _linear_fit(self, omega, h, w, poles, terms):
+        """The linear unknowns for the poles held (one weighted least-squares solve, passive
+        when the constraint is on, no standard deviations): ``(poles, x, info)``."""
+        kw = {} if self.max_real is None else {"max_real": self.max_real}
+        return refine_varpro(omega, h, w, poles, terms, passive=self._passive_on, max_iter=0,
+                             with_std=False, buffers=self._buffers, **kw)
 
     def _settled(self, omega, h, poles, kinds, terms, info, more=10, within=0.1):
         """Does an unconverged result depend on more iterations? ``more`` further steps

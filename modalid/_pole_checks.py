@@ -10,8 +10,8 @@ FRFPipeline`).
   mass under passivity, a pole that left the band, a duplicate, an insignificant one.
 
 The methods read the estimator's settings and its refinement (``self._refine``,
-``self._model_weights``, ``self._buffers``), which :class:`modalid._frf_pipeline.
-FRFPipeline` provides.
+``self._linear_fit``, ``self._model_weights``, ``self._buffers``), which
+:class:`modalid._frf_pipeline.FRFPipeline` provides.
 """
 
 from __future__ import annotations
@@ -201,10 +201,7 @@ class PoleChecks:
         kinds = np.concatenate([kinds, np.full(local.size, "mode")])
         order = np.argsort(np.where(kinds == "mode", np.abs(poles), np.inf), kind="stable")
         poles, kinds = poles[order], kinds[order]
-        kw = {} if self.max_real is None else {"max_real": self.max_real}
-        poles, x, info = refine_varpro(omega, h, w, poles, terms, passive=self._passive_on,
-                                       max_iter=0, with_std=False, buffers=self._buffers,
-                                       **kw)
+        poles, x, info = self._linear_fit(omega, h, w, poles, terms)
         info["quick"] = True
         return poles, kinds, x, info
 
