@@ -160,6 +160,10 @@ class ImpactResult:
     energy_audit : EnergyAudit or None
         The energy balance (``energy_audit.ok``, ``.created``, ``.relative``), set by
         :func:`impactpred.solve_impact`; None on a result built by a solver directly.
+    v1, v2 : numpy.ndarray or None
+        The contact points' velocities (m/s) at ``t`` where the solver samples them in
+        closed form (the Laplace method; both one-sided limits at event times, the Dirac
+        parts not in the samples); None for the time-stepping methods.
     success, message : bool, str
         Whether the result can be trusted, and why not (derived from ``energy_audit``).
     energy : pandas.DataFrame
@@ -205,10 +209,15 @@ class ImpactResult:
     notes: tuple = field(default_factory=tuple)
     points: tuple = (None, None)
     energy_audit: EnergyAudit | None = None
+    v1: np.ndarray | None = None
+    v2: np.ndarray | None = None
 
     def __post_init__(self):
         for name in ("t", "force", "y1", "y2", "gap"):
             object.__setattr__(self, name, _frozen(getattr(self, name)))
+        for name in ("v1", "v2"):
+            if getattr(self, name) is not None:
+                object.__setattr__(self, name, _frozen(getattr(self, name)))
         points = tuple(self.points)
         if len(points) != 2:
             raise ValueError(f"points must hold one entry per body, got {len(points)}")

@@ -5,7 +5,8 @@ import numpy as np
 import pytest
 
 from data_synth import CantileverBeam, LumpedMass, Rod, SpringMass
-from impactpred import Body, Hertz, LinearSpring, Rigid, SampledResponse, choose_dt, solve_impact
+from impactpred import (Body, HarmonicForce, Hertz, LinearSpring, Rigid, SampledResponse,
+                        choose_dt, solve_impact)
 from impactpred.solvers.modal import solve_modal
 from modalid import ModalModel
 
@@ -23,6 +24,8 @@ def mass(v=1.0):
     (Body(SpringMass(1.0, 100.0)), LinearSpring(1e3), "laplace"),
     (Body(SpringMass(1.0, 100.0)), LinearSpring(1e3, damping=1.0), "modal"),
     (Body(SpringMass(1.0, 100.0)), Hertz(1e6), "modal"),
+    (Body(SpringMass(1.0, 100.0), load=HarmonicForce(1.0, 2.0)), Rigid(), "laplace"),
+    (Body(SpringMass(1.0, 100.0), load=lambda t: 0.0 * t), Rigid(), "modal"),
 ])
 def test_auto_picks_the_exact_method_where_it_applies(body2, contact, expected):
     body1 = (Body(Rod(1.0, 1.0, support="free"), velocity=1.0) if expected == "closed_form"

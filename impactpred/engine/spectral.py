@@ -294,6 +294,14 @@ class SpectralPhase:
         """Outputs (rows x len(taus)) at times ``taus`` from ``output_coefficients``."""
         return self.evaluate_orders(coefficients, taus, (derivative,))[0]
 
+    def scalar(self, coefficients, tau, derivative=0):
+        """The first output row's value (or ``derivative``-th derivative) at one ``tau``."""
+        return float(self.evaluate(coefficients, [tau], derivative)[0, 0])
+
+    def state(self, coords, tau):
+        """The state ``x`` (shape (n,)) at ``tau`` from :meth:`coordinates` ``coords``."""
+        return self.evaluate(self.output_coefficients(np.eye(self.n), coords), [tau])[:, 0]
+
     def evaluate_orders(self, coefficients, taus, derivatives=(0, 1)):
         """Outputs and their time derivatives at ``taus``, sharing the exponentials.
 

@@ -75,15 +75,17 @@ class CoupledSystem:
         end = self.n1 if i == 0 else self.n
         return float(X[end - 1])
 
-    def energies(self, X, f):
-        """(rigid, vibration) energy (J) of each body in state ``X`` with force ``f``."""
+    def energies(self, X, forces):
+        """(rigid, vibration) energy (J) of each body in state ``X`` with ``forces`` (N)
+        on them (the residual flexibility's strain energy ``d F^2 / 2`` included)."""
         out = []
         for i, m in enumerate(self.models):
             offset = 0 if i == 0 else self.n1
             z = X[offset:offset + 2 * m.n_modes:2] + 1j * X[offset + 1:offset + 2 * m.n_modes:2]
             with np.errstate(divide="ignore"):   # a zero residue: no energy in that mode
                 modal_mass = -1.0 / (2.0 * m.poles.imag * m.residues.imag)
-            vib = float(np.sum(np.abs(z) ** 2 / (2.0 * modal_mass))) + 0.5 * self.D[i] * f**2
+            vib = (float(np.sum(np.abs(z) ** 2 / (2.0 * modal_mass)))
+                   + 0.5 * self.D[i] * forces[i]**2)
             u = self.rigid_velocity(X, i)
             rigid = 0.5 * u**2 / m.inverse_mass if m.inverse_mass else 0.0
             out.append((rigid, vib))
@@ -168,7 +170,9 @@ def solve_laplace(bodies, gap0, contact, t_end, dt, *, notes=()):
         y_row = y1_row if i == 0 else y2_row
         y_row[ic] += sysm.D[i] * load.amplitude
         gap_row[ic] += (-1.0 if i == 0 else 1.0) * sysm.D[i] * load.amplitude
+    # output rows: force, y1, y2, gap, the contact points' velocities, the output points
     free = Phase(M_free, np.vstack([np.zeros(n_aug), y1_row, y2_row, gap_row,
+                                    y1_row @ M_free, y2_row @ M_free,
                                     points.rows(M_free, loads=loads)]), gap_row, False)
 
     # contact: f = Kf X + k0, X' = (A + Bf Kf) X + Bf k0, J' = f
@@ -188,9 +192,10 @@ def solve_laplace(bodies, gap0, contact, t_end, dt, *, notes=()):
     # the force enters the states through Bf and its integral J: a rank-one update
     force_in = np.concatenate([Bf, [0.0, 1.0], np.zeros(2 * len(loads))])
     M_con = M_free + np.outer(force_in, force_row)
-    stuck = Phase(M_con, np.vstack([force_row, y1_row - D1 * force_row,
-                                    y2_row + D2 * force_row,
+    y1_con, y2_con = y1_row - D1 * force_row, y2_row + D2 * force_row
+    stuck = Phase(M_con, np.vstack([force_row, y1_con, y2_con,
                                     gap_row + sysm.Dg * force_row,
+                                    y1_con @ M_con, y2_con @ M_con,
                                     points.rows(M_con, force_row, loads=loads)]), force_row,
                   True,
                   update_of=(free.form, force_in, force_row))
@@ -229,17 +234,24 @@ def _result(bodies, sysm, points, raw, force_row, jdx, t_end, out_step, step, no
     f_end = float(force_row @ X_end) if in_contact_end else 0.0
     u_before = (bodies[0].velocity, bodies[1].velocity)
     u_after = (sysm.rigid_velocity(X_end[:n], 0), sysm.rigid_velocity(X_end[:n], 1))
-    before = sysm.energies(sysm.X0, 0.0)
-    after = sysm.energies(X_end[:n], f_end)
+    before = sysm.energies(sysm.X0, _body_forces(bodies, 0.0, 0.0))
+    after = sysm.energies(X_end[:n], _body_forces(bodies, f_end, t_end))
     energy = tuple(BodyEnergy(b[0], b[1], a[0], a[1]) for b, a in zip(before, after))
     inv = (bodies[0].inverse_mass, bodies[1].inverse_mass)
     note = (f"exact (Laplace/state-space, {kind}) solution; output step {out_step:.4g} s, "
             f"event search step {step:.4g} s",)
-    return ImpactResult(t=T, force=F, y1=V[1], y2=V[2], gap=V[3],
+    return ImpactResult(t=T, force=F, y1=V[1], y2=V[2], gap=V[3], v1=V[4], v2=V[5],
                         contact_intervals=tuple(intervals), dirac_impulses=tuple(diracs),
                         velocities_before=u_before, velocities_after=u_after,
                         energy_by_body=energy, method="laplace", dt=out_step,
                         first_contact_impulse=raw.first_impulse,
                         total_impulse=float(X_end[jdx]), inverse_masses=inv,
                         notes=tuple(notes) + note,
-                        points=points.responses(bodies, T, V[4:]))
+                        points=points.responses(bodies, T, V[6:]))
+
+
+def _body_forces(bodies, f, t):
+    """The force (N, along +y) on each body at time ``t`` (s) with contact force ``f``:
+    ``-f`` on body 1, ``+f`` on body 2, plus each body's load."""
+    loads = [float(b.load(t)) if b.load is not None else 0.0 for b in bodies]
+    return (loads[0] - f, loads[1] + f)
