@@ -21,7 +21,10 @@ class BodyEnergy:
 
     ``vibration_after`` is the vibration energy left at ``t_end``; for a damped body it
     also contains what the body's own damping dissipated when the solver obtains it by
-    an energy balance (time-stepping solvers on continua).
+    an energy balance (time-stepping solvers on continua). The exact (Laplace) method
+    counts in the vibration energy the strain energy ``d F^2 / 2`` of a residual
+    flexibility ``d`` under the force on the body at that instant (contact force and
+    load): a body loaded at ``t = 0`` starts with ``d F(0)^2 / 2`` of it.
 
     Parameters
     ----------
@@ -71,7 +74,9 @@ class EnergyAudit:
         kinetic energy (which the contact force cannot change), plus ``|load_work|``.
     tolerance : float
         Relative accuracy of the solver's energy (of ``scale``): rounding-level for the
-        exact solvers, the discretisation's for the time-stepping ones.
+        exact solvers, the discretisation's for the time-stepping ones; with a load on
+        an exact solver's result, plus the estimated quadrature error of ``load_work``
+        on its output samples.
     reasons : tuple of str
         Why the result is flagged (empty when it is not): ``relative`` above
         ``tolerance``, a body left with negative vibration energy, or a restitution above

@@ -227,3 +227,18 @@ def test_rounding_level_flexibility_does_not_shrink_the_step():
     assert 1e-5 < dt < 1e-3
     res = solve_impact(*bodies, t_end=2.0, method="laplace")
     assert 0.7 < res.restitution < 0.8      # same material, T2/T1 = 0.75: exact e = 0.75
+
+
+def test_a_loads_direct_term_that_closes_the_gap_at_t0_is_refused():
+    """A residual flexibility ``d`` moves the contact point by ``d F(0)`` at once under a
+    load: with ``gap=0`` and a load pushing body 1 up, the bodies would start
+    overlapping, and the error says so (the laplace method found 60 % energy created)."""
+    from impactpred import HarmonicForce
+
+    flexible = ModalModel.from_modes([600.0], [0.0], [0.5], flexibility=2e-5)
+    free = ModalModel.from_modes([], [], [], inverse_mass=1.0)
+    loaded = Body(flexible, load=HarmonicForce(50.0, 130.0))
+    with pytest.raises(ValueError, match=r"start overlapping.*direct term"):
+        solve_impact(loaded, Body(free), gap=0.0, t_end=0.01)
+    r = solve_impact(loaded, Body(free), gap=2e-3, t_end=0.01)
+    assert r.gap[0] == pytest.approx(2e-3 - 2e-5 * 50.0, rel=1e-9)
