@@ -7,7 +7,9 @@ FRFPipeline`).
   around it against the data's noise, with ``missed_modes="strict"``; by the information
   criterion on the whole cost with ``"dense"``);
 * :meth:`PoleChecks._worst_pole` names the physical pole to drop first: a negative modal
-  mass under passivity, a pole that left the band, a duplicate, an insignificant one.
+  mass under passivity, a pole that left the band, a duplicate, an insignificant one, one
+  that changes the fit on its own lines by no more than the data's noise
+  (:meth:`PoleChecks._local_evidence`).
 
 The methods read the estimator's settings and its refinement (``self._refine``,
 ``self._linear_fit``, ``self._model_weights``, ``self._buffers``), which
@@ -47,10 +49,12 @@ class PoleChecks:
         ``"dense"``, the cost drops by more than ``4 ln(n)`` residual variances (``n`` real
         data, the variance the cost before it over ``n`` less four per pole: the
         information criterion of the pole selection) and its damping ratio, the window's
-        removed, is under 0.1 (a resonance, not a broad trend of the residual). The pole
-        starts at the residual peak's half-power width (:meth:`_peak_half_width`; a pole
-        of 1 % damping can stay stuck on a sharp peak) and, if that fails, at 1 %
-        damping; ``"dense"`` tries the two in the other order.
+        removed, is under 0.1 (a resonance, not a broad trend of the residual). A peak
+        narrower than its lines starts from its own three lines
+        (:meth:`_sharp_peak_pole`); then (or else) the pole starts at the residual
+        peak's half-power width (:meth:`_peak_half_width`; a pole of 1 % damping can stay
+        stuck on a sharp peak) and, if that fails, at 1 % damping; ``"dense"`` tries
+        these two in the other order.
 
         Returns the poles, kinds, coefficients and information with the mode, or as they
         were, and a list of notes: one note when a mode was added, empty when the peak's
@@ -147,9 +151,10 @@ class PoleChecks:
         are and subtracted from the data, the modes inside refined quickly with the new one
         (:func:`modalid._lsfd.refine_varpro`, the data's weights, 15 steps at most) and
         the pseudo-modes (poles held) and the extra terms refitted with them.
-        Kept when the weighted cost on these lines falls below the residual's before
-        it, the mode passes :meth:`_worst_pole` (on these lines), lies two lines or more
-        from every other mode and :meth:`_explains_peak`. A tenth of the band's lines
+        Kept when the weighted cost on these lines falls below that of the same local
+        model without the mode (its linear unknowns refitted there), the mode passes
+        :meth:`_worst_pole` (on these lines), lies two lines or more from every other
+        mode and :meth:`_explains_peak` against that model's residual. A tenth of the band's lines
         and a few poles: a rejected trial costs a small part of a refinement over the
         band.
 
@@ -182,14 +187,24 @@ class PoleChecks:
         if self.max_real is not None:
             kw["max_real"] = self.max_real
         om, hl, wl = omega[lines], (h - background)[lines], w[lines]
+        # what the new mode is judged against: the same local model without it, its
+        # linear unknowns refitted on these lines (a gain of that refit is not the mode's)
+        without = np.delete(local, new)
+        _, x_0, info_0 = refine_varpro(om, hl, wl, without, terms, hold=np.ones(without.size,
+                                       bool), passive=self._passive_on,
+                                       buffers=self._buffers, with_std=False, max_iter=0)
+        r_0, c_0, u_0, d_0 = split_coefficients(x_0, without.size, terms)
+        resid_0 = np.zeros(omega.size, complex)
+        resid_0[lines] = hl - evaluate(om, without, r_0, terms.real_poles, c_0, u_0, d_0,
+                                       terms.rigid_shift)
         local, x_l, info = refine_varpro(om, hl, wl, local, terms, **kw)
-        if info["cost"] >= np.sum(np.abs(resid[lines] * wl) ** 2):
+        if info["cost"] >= info_0["cost"]:
             return None
         everything = np.concatenate([local[~hold], poles[outside]])
         if not self._apart(omega, everything, np.full(everything.size, "mode"), new):
             return None
         worst, _ = self._worst_pole(om, hl, wl, local, x_l, info, kinds_l, terms, only=new)
-        if worst is None and self._explains_peak(omega, h, w, resid, local, x_l, terms,
+        if worst is None and self._explains_peak(omega, h, w, resid_0, local, x_l, terms,
                                                  new, lines=lines, background=background):
             return inside, local[~hold], new
         return None
@@ -234,7 +249,7 @@ class PoleChecks:
         if k < 1 or k + 1 >= omega.size:
             return None
         mag = np.abs(resid[k - 1:k + 2])
-        if mag[1] < np.sqrt(2.0) * max(mag[0], mag[2]):      # half-power within a line
+        if mag[1] < np.sqrt(2.0) * max(mag[0], mag[2]) or np.any(mag == 0.0):
             return None
         s = 1j * omega[k - 1:k + 2]
         design = np.column_stack([np.ones(3), s])
@@ -286,8 +301,9 @@ class PoleChecks:
         near = np.abs(omega - p.imag) <= max(5.0 * spacing, 5.0 * abs(p.real))
         if lines is not None:
             near &= lines
-        r, _, u, d = split_coefficients(x, poles.size, terms)
-        after = h[near] - evaluate(omega[near], poles, r, (), (), u, d, terms.rigid_shift)
+        r, c, u, d = split_coefficients(x, poles.size, terms)
+        after = h[near] - evaluate(omega[near], poles, r, terms.real_poles, c, u, d,
+                                   terms.rigid_shift)
         if background is not None:
             after -= background[near]
         before = np.sum(np.abs(w[near] * resid[near]) ** 2)
