@@ -28,7 +28,7 @@ from ._checks import as_count
 from ._frf_pipeline import ModalFitWarning
 from ._report import fit_report
 from ._lm import bounded_lm, pole_limits
-from ._band import choose_band
+from ._band import choose_band, noise_model
 from ._lscf import lscf_subbands
 from ._lsfd import (Terms, _bounds, _Projection, _realify, _std, design_matrix, noise_level,
                     split_coefficients)
@@ -244,8 +244,9 @@ def _refine(est, omega, h, w, coh, poles, kinds, terms, dp):
 def _worst_pole(est, omega, h, w, coh, poles, xs, info, kinds, terms, dp):
     """The physical pole to drop first and why, as ``ModalFit._worst_pole`` with every
     row: no positive modal mass at the driving point (``passive``), out of the band, a
-    duplicate of a stronger pole, or not significant (removing it, all rows refitted
-    linearly, raises the cost by less than ``(2 + 2 n_outputs) ln(n)`` variances)."""
+    duplicate of a stronger pole, not significant (removing it, all rows refitted
+    linearly, raises the cost by less than ``(2 + 2 n_outputs) ln(n)`` variances), or
+    no more than the rows' noise on its lines (:func:`_joint_evidence` under 1)."""
     r = split_rows(xs, poles.size, terms)[0]
     std = info["residue_std"]
     std = np.ones(r.shape) * np.inf if std is None else np.hypot(std[..., 0], std[..., 1])
@@ -266,17 +267,50 @@ def _worst_pole(est, omega, h, w, coh, poles, xs, info, kinds, terms, dp):
         for k in candidates:
             rise = refine_joint(omega, h, wm, np.delete(poles, k), terms, **kw)[2]["cost"] - cost
             weak[k] |= rise / sigma2 < (2 + 2 * h.shape[0]) * np.log(n_data)
+    evidence = _joint_evidence(omega, h, w, coh, poles, xs, terms, r)
     tests = [(est._passive_on & (r[dp].imag >= 0), "no positive modal mass at the driving point"),
              ((wn < omega[0]) | (wn > omega[-1]), "it left the band"),
              (weaker.any(axis=1), "it duplicates a stronger pole"),
-             (weak, "not significant")]
-    for bad, reason in tests:
+             (weak, "not significant"),
+             (evidence < 1.0, "no more than the data's noise on its lines")]
+    for i, (bad, reason) in enumerate(tests):
         bad = bad & mode
         if bad.any():
-            k = int(np.flatnonzero(bad)[np.argmin(t[bad])])
+            last = i == len(tests) - 1
+            k = int(np.flatnonzero(bad)[np.argmin((evidence if last else t)[bad])])
+            figure = f"evidence {evidence[k]:.3g}" if last else f"joint |r|/std = {t[k]:.3g}"
             return k, (f"dropped the pole at {wn[k] / (2 * np.pi):.6g} Hz: {reason} "
-                       f"(joint |r|/std = {t[k]:.3g}, damping {zeta[k]:.3g})")
+                       f"({figure}, damping {zeta[k]:.3g})")
     return None, None
+
+
+def _joint_evidence(omega, h, w, coh, poles, xs, terms, r):
+    """Per pole, :meth:`modalid._pole_checks.PoleChecks._local_evidence` summed over the
+    rows: the weighted fit's loss on the lines the pole acts on (five half-power
+    half-widths, five lines at least) without its term, over the rows' noise variance
+    there (:func:`modalid._band.noise_model` per row; where the data carry their
+    coherence ``g``, the proportional part at most ``sqrt((1 - g)/g)``)."""
+    model = evaluate_rows(omega, poles, xs, terms)
+    measured = not np.all(coh == 1.0)
+    sigma = np.empty(h.shape)
+    for j, row in enumerate(h):
+        sigma_rel, floor = noise_model(row)
+        rel = np.full(row.size, sigma_rel)
+        if measured:
+            g = np.clip(coh[j] ** 2, 1e-6, 1.0)
+            rel = np.minimum(rel, np.sqrt(np.maximum(1.0 - g, 0.0) / g))
+        sigma[j] = np.hypot(rel * np.abs(row), floor)
+    spacing = float(np.median(np.diff(omega)))
+    evidence = np.empty(poles.size)
+    for k, p in enumerate(poles):
+        near = np.abs(omega - p.imag) <= max(5.0 * spacing, 5.0 * abs(p.real))
+        s = 1j * omega[near]
+        term = (r[:, k, None] / (s - p)[None, :]
+                + np.conj(r[:, k, None]) / (s - np.conj(p))[None, :])
+        wk, res = w[:, near], h[:, near] - model[:, near]
+        gain = np.sum(np.abs(wk * (res + term)) ** 2) - np.sum(np.abs(wk * res) ** 2)
+        evidence[k] = gain / max(float(np.sum((wk * sigma[:, near]) ** 2)), 1e-300)
+    return evidence
 
 
 def _common_band(est, data: FRFSet):

@@ -238,3 +238,31 @@ def test_measured_beam_common_poles_with_no_options():
     with pytest.raises(ValueError, match="driving point"):
         ModalFit().fit(FRFSet(data.freq_hz, data.values, quantity="accelerance",
                               driving_point=None))
+
+
+def test_a_common_pole_no_stronger_than_the_noise_has_no_evidence():
+    """The common-pole fit's local evidence (as a single FRF's): two rows of two lightly
+    damped modes with 1 % noise, the true poles and a third at 70 Hz where the data
+    have no resonance, residues solved linearly: the true modes change the fit on their
+    lines by hundreds of times the rows' noise there, the third by less than it."""
+    from modalid._global import _joint_evidence, refine_joint, split_rows
+    from modalid._lsfd import Terms
+
+    freq = np.linspace(5.0, 120.0, 1200)
+    omega = 2 * np.pi * freq
+    true = 2 * np.pi * np.array([40.0, 95.0])
+    poles = np.concatenate([-0.005 * true + 1j * true, [-0.005 * 440 + 440j]])
+    rng = np.random.default_rng(3)
+    rows = []
+    for shape in ([1.0, 0.6], [0.5, -0.8]):
+        h = sum(a * (1 / (1j * omega - p) - 1 / (1j * omega - np.conj(p))) * 1j / (2 * abs(p))
+                for a, p in zip(shape, poles[:2]))
+        rows.append(h * (1 + 0.01 * (rng.standard_normal(h.size)
+                                     + 1j * rng.standard_normal(h.size)) / np.sqrt(2)))
+    h = np.array(rows)
+    w = 1.0 / np.abs(h)
+    terms = Terms(np.zeros(0), False, False, 0.0)
+    _, xs, _ = refine_joint(omega, h, w, poles, terms, max_iter=0, with_std=False)
+    r = split_rows(xs, poles.size, terms)[0]
+    evidence = _joint_evidence(omega, h, w, np.ones_like(w), poles, xs, terms, r)
+    assert np.all(evidence[:2] > 100.0) and evidence[2] < 1.0
