@@ -76,7 +76,8 @@ class EnergyAudit:
         Relative accuracy of the solver's energy (of ``scale``): rounding-level for the
         exact solvers, the discretisation's for the time-stepping ones; with a load on
         an exact solver's result, plus the estimated quadrature error of ``load_work``
-        on its output samples.
+        on its output samples (infinite, no check, where they are too few per period of
+        the load: :func:`impactpred.solve_impact` warns).
     reasons : tuple of str
         Why the result is flagged (empty when it is not): ``relative`` above
         ``tolerance``, a body left with negative vibration energy, or a restitution above
