@@ -267,7 +267,8 @@ def _worst_pole(est, omega, h, w, coh, poles, xs, info, kinds, terms, dp):
         for k in candidates:
             rise = refine_joint(omega, h, wm, np.delete(poles, k), terms, **kw)[2]["cost"] - cost
             weak[k] |= rise / sigma2 < (2 + 2 * h.shape[0]) * np.log(n_data)
-    evidence = _joint_evidence(omega, h, w, coh, poles, xs, terms, r)
+    evidence = _joint_evidence(omega, h, _model_weights(est, omega, poles, xs, terms, w, coh),
+                               coh, poles, xs, terms, r)
     tests = [(est._passive_on & (r[dp].imag >= 0), "no positive modal mass at the driving point"),
              ((wn < omega[0]) | (wn > omega[-1]), "it left the band"),
              (weaker.any(axis=1), "it duplicates a stronger pole"),
@@ -285,11 +286,13 @@ def _worst_pole(est, omega, h, w, coh, poles, xs, info, kinds, terms, dp):
 
 
 def _joint_evidence(omega, h, w, coh, poles, xs, terms, r):
-    """Per pole, :meth:`modalid._pole_checks.PoleChecks._local_evidence` summed over the
-    rows: the weighted fit's loss on the lines the pole acts on (five half-power
-    half-widths, five lines at least) without its term, over the rows' noise variance
-    there (:func:`modalid._band.noise_model` per row; where the data carry their
-    coherence ``g``, the proportional part at most ``sqrt((1 - g)/g)``)."""
+    """Per pole, :meth:`modalid._pole_checks.PoleChecks._local_evidence` of each row,
+    summed over the rows: the weighted fit's loss on the lines the pole acts on (five
+    half-power half-widths, five lines at least) without its term, over that row's noise
+    variance there (:func:`modalid._band.noise_model` per row; where the data carry
+    their coherence ``g``, the proportional part at most ``sqrt((1 - g)/g)``). A sum, not
+    a noise-weighted mean: a mode seen in one row only is not diluted by the others.
+    ``w``: the weights the fit minimised (the model's, under relative weighting)."""
     model = evaluate_rows(omega, poles, xs, terms)
     measured = not np.all(coh == 1.0)
     sigma = np.empty(h.shape)
@@ -308,8 +311,10 @@ def _joint_evidence(omega, h, w, coh, poles, xs, terms, r):
         term = (r[:, k, None] / (s - p)[None, :]
                 + np.conj(r[:, k, None]) / (s - np.conj(p))[None, :])
         wk, res = w[:, near], h[:, near] - model[:, near]
-        gain = np.sum(np.abs(wk * (res + term)) ** 2) - np.sum(np.abs(wk * res) ** 2)
-        evidence[k] = gain / max(float(np.sum((wk * sigma[:, near]) ** 2)), 1e-300)
+        gain = (np.sum(np.abs(wk * (res + term)) ** 2, axis=1)
+                - np.sum(np.abs(wk * res) ** 2, axis=1))
+        noise = np.maximum(np.sum((wk * sigma[:, near]) ** 2, axis=1), 1e-300)
+        evidence[k] = float(np.sum(gain / noise))
     return evidence
 
 

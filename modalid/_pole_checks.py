@@ -111,7 +111,7 @@ class PoleChecks:
         (:meth:`_stayed`), when the trial is refined quickly over the whole band from the
         old poles. ``"dense"`` refines every trial over the band."""
         if self.missed_modes == "strict":
-            local = self._local_trial(omega, h, w, poles, kinds, x, terms, resid, start, width)
+            local = self._local_trial(omega, h, w, poles, kinds, x, terms, start, width)
             if local is None:
                 return None
             inside, refined, new = local
@@ -143,7 +143,7 @@ class PoleChecks:
         others = np.abs(np.delete(poles, new)[np.delete(kinds, new) == "mode"])
         return not np.any(np.abs(others - abs(poles[new])) < 2 * np.median(np.diff(omega)))
 
-    def _local_trial(self, omega, h, w, poles, kinds, x, terms, resid, start, width,
+    def _local_trial(self, omega, h, w, poles, kinds, x, terms, start, width,
                      half_lines=64):
         """Does a mode started at ``start`` earn its place? Judged where it acts: on the
         lines within ``half_lines`` lines (or 20 half-power half-widths ``width`` of the

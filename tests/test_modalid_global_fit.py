@@ -244,7 +244,8 @@ def test_a_common_pole_no_stronger_than_the_noise_has_no_evidence():
     """The common-pole fit's local evidence (as a single FRF's): two rows of two lightly
     damped modes with 1 % noise, the true poles and a third at 70 Hz where the data
     have no resonance, residues solved linearly: the true modes change the fit on their
-    lines by hundreds of times the rows' noise there, the third by less than it."""
+    lines by hundreds of times the rows' noise there, the third by less than it; and a
+    weak mode only one of four rows sees keeps that row's evidence."""
     from modalid._global import _joint_evidence, refine_joint, split_rows
     from modalid._lsfd import Terms
 
@@ -266,3 +267,21 @@ def test_a_common_pole_no_stronger_than_the_noise_has_no_evidence():
     r = split_rows(xs, poles.size, terms)[0]
     evidence = _joint_evidence(omega, h, w, np.ones_like(w), poles, xs, terms, r)
     assert np.all(evidence[:2] > 100.0) and evidence[2] < 1.0
+    # a weak mode (70 Hz) one row sees and three rows do not: the rows' evidence adds
+    # up (a noise-weighted mean over the rows would divide it by about four)
+    modes = np.concatenate([poles[:1], [-0.005 * 440 + 440j], poles[1:2]])
+    shapes = [[1.0, 4e-4, 0.6], [0.5, 0.0, -0.8], [0.7, 0.0, 0.3], [-0.4, 0.0, 0.9]]
+    rows = []
+    for shape in shapes:
+        clean = sum(a * (1 / (1j * omega - p) - 1 / (1j * omega - np.conj(p))) * 1j
+                    / (2 * abs(p)) for a, p in zip(shape, modes))
+        rows.append(clean * (1 + 0.01 * (rng.standard_normal(clean.size)
+                                         + 1j * rng.standard_normal(clean.size)) / np.sqrt(2)))
+    h4 = np.array(rows)
+    w4 = 1.0 / np.abs(h4)
+    _, xs4, _ = refine_joint(omega, h4, w4, modes, terms, max_iter=0, with_std=False)
+    r4 = split_rows(xs4, modes.size, terms)[0]
+    joint = _joint_evidence(omega, h4, w4, np.ones_like(w4), modes, xs4, terms, r4)
+    alone = _joint_evidence(omega, h4[:1], w4[:1], np.ones_like(w4[:1]), modes, xs4[:1],
+                            terms, r4[:1])
+    assert alone[1] > 1.0 and joint[1] >= alone[1]
