@@ -26,6 +26,7 @@ from scipy.signal import find_peaks
 
 from ._checks import as_count
 from ._frf_pipeline import ModalFitWarning
+from ._pole_checks import line_noise, local_evidence
 from ._report import fit_report
 from ._lm import bounded_lm, pole_limits
 from ._band import choose_band, noise_model
@@ -257,8 +258,8 @@ def _worst_pole(est, omega, h, w, coh, poles, xs, info, kinds, terms, dp):
     weaker = overlap & mode[None, :] & (t[None, :] > t[:, None])
     weak = mode & (zeta > 0.3)
     candidates = np.flatnonzero(mode & (t < 6.0 * np.sqrt(h.shape[0])))
+    wm = _model_weights(est, omega, poles, xs, terms, w, coh)
     if candidates.size:
-        wm = _model_weights(est, omega, poles, xs, terms, w, coh)
         kw = dict(passive_row=dp if est._passive_on else None, max_iter=0, with_std=False)
         cost = refine_joint(omega, h, wm, poles, terms, **kw)[2]["cost"]
         n_data = 2 * h.size
@@ -267,8 +268,7 @@ def _worst_pole(est, omega, h, w, coh, poles, xs, info, kinds, terms, dp):
         for k in candidates:
             rise = refine_joint(omega, h, wm, np.delete(poles, k), terms, **kw)[2]["cost"] - cost
             weak[k] |= rise / sigma2 < (2 + 2 * h.shape[0]) * np.log(n_data)
-    evidence = _joint_evidence(omega, h, _model_weights(est, omega, poles, xs, terms, w, coh),
-                               coh, poles, xs, terms, r)
+    evidence = _joint_evidence(omega, h, wm, coh, poles, xs, terms, r)
     tests = [(est._passive_on & (r[dp].imag >= 0), "no positive modal mass at the driving point"),
              ((wn < omega[0]) | (wn > omega[-1]), "it left the band"),
              (weaker.any(axis=1), "it duplicates a stronger pole"),
@@ -286,36 +286,15 @@ def _worst_pole(est, omega, h, w, coh, poles, xs, info, kinds, terms, dp):
 
 
 def _joint_evidence(omega, h, w, coh, poles, xs, terms, r):
-    """Per pole, :meth:`modalid._pole_checks.PoleChecks._local_evidence` of each row,
-    summed over the rows: the weighted fit's loss on the lines the pole acts on (five
-    half-power half-widths, five lines at least) without its term, over that row's noise
-    variance there (:func:`modalid._band.noise_model` per row; where the data carry
-    their coherence ``g``, the proportional part at most ``sqrt((1 - g)/g)``). A sum, not
-    a noise-weighted mean: a mode seen in one row only is not diluted by the others.
-    ``w``: the weights the fit minimised (the model's, under relative weighting)."""
-    model = evaluate_rows(omega, poles, xs, terms)
-    measured = not np.all(coh == 1.0)
-    sigma = np.empty(h.shape)
-    for j, row in enumerate(h):
-        sigma_rel, floor = noise_model(row)
-        rel = np.full(row.size, sigma_rel)
-        if measured:
-            g = np.clip(coh[j] ** 2, 1e-6, 1.0)
-            rel = np.minimum(rel, np.sqrt(np.maximum(1.0 - g, 0.0) / g))
-        sigma[j] = np.hypot(rel * np.abs(row), floor)
-    spacing = float(np.median(np.diff(omega)))
-    evidence = np.empty(poles.size)
-    for k, p in enumerate(poles):
-        near = np.abs(omega - p.imag) <= max(5.0 * spacing, 5.0 * abs(p.real))
-        s = 1j * omega[near]
-        term = (r[:, k, None] / (s - p)[None, :]
-                + np.conj(r[:, k, None]) / (s - np.conj(p))[None, :])
-        wk, res = w[:, near], h[:, near] - model[:, near]
-        gain = (np.sum(np.abs(wk * (res + term)) ** 2, axis=1)
-                - np.sum(np.abs(wk * res) ** 2, axis=1))
-        noise = np.maximum(np.sum((wk * sigma[:, near]) ** 2, axis=1), 1e-300)
-        evidence[k] = float(np.sum(gain / noise))
-    return evidence
+    """Per pole, :func:`modalid._pole_checks.local_evidence` over the rows: each row's
+    noise from :func:`modalid._band.noise_model` of that row (and its coherence, where
+    the data carry it: ``coh`` is its square root, all ones without). ``w``: the weights
+    the fit minimised (the model's, under relative weighting)."""
+    coherence = None if np.all(coh == 1.0) else coh**2
+    sigma = np.array([line_noise(row, noise_model(row),
+                                 None if coherence is None else coherence[j])
+                      for j, row in enumerate(h)])
+    return local_evidence(omega, h, w, sigma, poles, r, evaluate_rows(omega, poles, xs, terms))
 
 
 def _common_band(est, data: FRFSet):

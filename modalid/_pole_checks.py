@@ -23,7 +23,43 @@ import numpy as np
 from ._band import noise_model
 from ._lsfd import evaluate, refine_varpro, removal_cost, split_coefficients
 
-__all__ = ["PoleChecks"]
+__all__ = ["PoleChecks", "line_noise", "local_evidence"]
+
+
+def line_noise(h, noise, coherence=None):
+    """Standard deviation of each line of ``h`` (receptance, any shape): ``noise`` =
+    ``(sigma_rel, floor)`` of :func:`modalid._band.noise_model`, the proportional part at
+    most the H1 estimator's bound for one average, ``sqrt((1 - g)/g)``, where the data's
+    coherence ``g`` (shape of ``h``) is given (see :meth:`PoleChecks._line_noise`)."""
+    sigma_rel, floor = noise
+    if coherence is not None:
+        g = np.clip(coherence, 1e-6, 1.0)
+        sigma_rel = np.minimum(sigma_rel, np.sqrt(np.maximum(1.0 - g, 0.0) / g))
+    return np.hypot(sigma_rel * np.abs(h), floor)
+
+
+def local_evidence(omega, h, w, sigma, poles, r, model):
+    """Per pole, summed over the rows of ``h`` (shape (rows, lines)): how much worse the
+    model fits the lines the pole acts on without its term (within five half-power
+    half-widths, five lines at least; nothing refitted), over that row's noise there,
+    ``sum |w (h - model + term)|^2 - sum |w (h - model)|^2`` over ``sum (w sigma)^2``.
+    ``w``, ``sigma``, ``model``: shape of ``h``; ``r``: residues (rows, poles). A sum over
+    the rows, not a noise-weighted mean: a mode seen in one row is not diluted by the
+    others. Below 1 the data cannot tell the pole from their noise
+    (:meth:`PoleChecks._local_evidence`)."""
+    spacing = float(np.median(np.diff(omega)))
+    evidence = np.empty(poles.size)
+    for k, p in enumerate(poles):
+        near = np.abs(omega - p.imag) <= max(5.0 * spacing, 5.0 * abs(p.real))
+        s = 1j * omega[near]
+        term = (r[:, k, None] / (s - p)[None, :]
+                + np.conj(r[:, k, None]) / (s - np.conj(p))[None, :])
+        wk, res = w[:, near], h[:, near] - model[:, near]
+        gain = (np.sum(np.abs(wk * (res + term)) ** 2, axis=1)
+                - np.sum(np.abs(wk * res) ** 2, axis=1))
+        noise = np.maximum(np.sum((wk * sigma[:, near]) ** 2, axis=1), 1e-300)
+        evidence[k] = float(np.sum(gain / noise))
+    return evidence
 
 
 class PoleChecks:
@@ -328,14 +364,10 @@ class PoleChecks:
         one was not accepted."""
         if self._noise is None:                  # the mixed weighting's, or computed once
             self._noise = noise_model(h)
-        sigma_rel, floor = self._noise
         coherence = getattr(self, "_data_band", None)
         coherence = None if coherence is None else coherence.coherence
         measured = coherence is not None and coherence.shape == h.shape
-        if measured:
-            g = np.clip(coherence, 1e-6, 1.0)
-            sigma_rel = np.minimum(sigma_rel, np.sqrt(np.maximum(1.0 - g, 0.0) / g))
-        return np.hypot(sigma_rel * np.abs(h), floor), measured
+        return line_noise(h, self._noise, coherence if measured else None), measured
 
     def _local_evidence(self, omega, h, w, poles, r, x, terms):
         """Per pole: how much worse the model fits the lines the pole acts on without it
@@ -352,16 +384,8 @@ class PoleChecks:
         _, _, u, d = split_coefficients(x, poles.size, terms)
         model = evaluate(omega, poles, r, (), (), u, d, terms.rigid_shift)
         sigma, _ = self._line_noise(h)
-        spacing = float(np.median(np.diff(omega)))
-        evidence = np.empty(poles.size)
-        for k, p in enumerate(poles):
-            near = np.abs(omega - p.imag) <= max(5.0 * spacing, 5.0 * abs(p.real))
-            s = 1j * omega[near]
-            term = r[k] / (s - p) + np.conj(r[k]) / (s - np.conj(p))
-            wk, res = w[near], h[near] - model[near]
-            gain = np.sum(np.abs(wk * (res + term)) ** 2) - np.sum(np.abs(wk * res) ** 2)
-            evidence[k] = gain / max(float(np.sum((wk * sigma[near]) ** 2)), 1e-300)
-        return evidence
+        return local_evidence(omega, h[None], w[None], sigma[None], poles, r[None],
+                              model[None])
 
     def _worst_pole(self, omega, h, w, poles, x, info, kinds, terms, only=None):
         """The physical pole to drop first, and why (``(None, None)``: all are fine).
