@@ -285,26 +285,32 @@ def _load_work(result, bodies, *, coarse=False) -> tuple[float, float]:
         if body.load is None:
             continue
         if v is None:
-            work += float(np.dot(body.load_samples(0.5 * (t[1:] + t[:-1])), np.diff(y)))
+            work += _midpoint_work(body, t, y)
             continue
         fine = _hermite_work(body, t, y, v)
+        work += fine
+        if coarse and isinstance(body.load, HarmonicForce) and (
+                float(np.max(np.diff(t))) * body.load.omega > np.pi):
+            error = math.inf                             # under two samples a period
+            continue
         # every other sample, both sides of each event (a zero-length interval) kept
         event = np.zeros(t.size, bool)
         event[:-1] |= t[1:] == t[:-1]
         event[1:] |= t[1:] == t[:-1]
         keep = event | (np.arange(t.size) % 2 == 0)
         keep[[0, -1]] = True
-        if coarse and isinstance(body.load, HarmonicForce) and (
-                float(np.max(np.diff(t))) * body.load.omega > np.pi):
-            work, error = work + fine, math.inf          # under two samples a period
-            continue
-        midpoint = float(np.dot(body.load_samples(0.5 * (t[1:] + t[:-1])), np.diff(y)))
         half = abs(fine - _hermite_work(body, t[keep], y[keep], v[keep]))
-        work += fine
         # no sample to leave out, or a step coarser than the exact method's own: the
         # midpoint rule's difference too (the step-halving one can be several times short)
-        error += max(half, abs(fine - midpoint)) if coarse or keep.all() else half
+        error += (max(half, abs(fine - _midpoint_work(body, t, y)))
+                  if coarse or keep.all() else half)
     return work, error
+
+
+def _midpoint_work(body, t, y) -> float:
+    """``integral load dy`` (J): the load at each sample interval's midpoint times the
+    displacement step (O(dt^2))."""
+    return float(np.dot(body.load_samples(0.5 * (t[1:] + t[:-1])), np.diff(y)))
 
 
 def _hermite_work(body, t, y, v) -> float:

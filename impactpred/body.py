@@ -148,10 +148,10 @@ class Body:
         contribution to the contact point's displacement (m) and velocity (m/s).
     load : HarmonicForce, callable or (t, f) pair, keyword-only
         External force (N) on the body at the contact point, along ``+y``: a
-        :class:`~impactpred.HarmonicForce` (propagated in closed form by
-        ``method="laplace"``; ``"auto"`` takes the modal method for any load), a
-        vectorised callable ``load(t)`` or samples ``(t, f)`` (linear between samples, 0
-        outside), which the time-stepping solvers take.
+        :class:`~impactpred.HarmonicForce` (propagated in closed form by the exact
+        method, which ``method="auto"`` picks for it), a vectorised callable ``load(t)``
+        or samples ``(t, f)`` (linear between samples, 0 outside), which the
+        time-stepping solvers take.
     outputs : array_like, shape (n_points,), keyword-only
         For a ``data_synth`` ``Rod`` or ``CantileverBeam`` only: positions ``xi`` of output
         points as fractions of the length measured from the driving point (0 = the

@@ -253,5 +253,5 @@ def _result(bodies, sysm, points, raw, force_row, jdx, t_end, out_step, step, no
 def _body_forces(bodies, f, t):
     """The force (N, along +y) on each body at time ``t`` (s) with contact force ``f``:
     ``-f`` on body 1, ``+f`` on body 2, plus each body's load."""
-    loads = [float(b.load(t)) if b.load is not None else 0.0 for b in bodies]
+    loads = [float(b.load_samples(t)) for b in bodies]
     return (loads[0] - f, loads[1] + f)
