@@ -62,6 +62,101 @@ def free_displacements(body, grid: Grid, kernel: np.ndarray) -> np.ndarray:
     return y
 
 
+#: ``dS[1]/dS[0]`` of the pair's summed kernel above which a step sees the bodies as
+#: masses at the contact: a pure mass gives 3 (``S = t^2/2m``), a wave impedance
+#: (``h(0+) > 0``, a rod) 1, a beam's ``h ~ sqrt(t)`` 1.83, a flexibility term about 0
+MASS_LIKE_RATIO = 2.5
+
+
+class StepForce:
+    """The contact force of each step of the zero-order-hold solvers.
+
+    ``force(G, g_prev, g_before)`` gives ``f_n`` (N) from the gap ``G`` (m) the step
+    would end with at no force, the gap ``g_prev`` at its start and ``g_before`` one step
+    earlier; the law's own :meth:`~impactpred.contact.ContactLaw.step_force` does it,
+    except for ``Rigid`` contact between bodies that are masses at the contact at this
+    step (``dS[1] > MASS_LIKE_RATIO dS[0]``: ``h1(0+) + h2(0+) = 0``, two lumped masses,
+    a truncated modal model resolved by the step).
+
+    There the exact force starts with a plastic Dirac impulse (method.md, sections 1 and
+    5: undamped bodies lose energy at the Dirac parts only), and the law's
+    ``f = -G/K0``, which closes the gap within the step, sends the bodies apart at about
+    the speed they met (a constant force that stops a mass within a step sends it back):
+    a rebound of restitution up to 1. The step of such a contact's start takes the
+    plastic impulse instead, the force that zeroes the relative velocity at the step's
+    end: ``f = -v/S'(dt)``, with ``v`` the force-free end velocity from the last three
+    gaps, ``(3 G - 4 g_prev + g_before)/(2 dt)`` (exact under a constant acceleration),
+    and ``S'(dt) = (5 dS[0] + dS[1])/(4 dt)`` the velocity a unit force gives over the
+    step (exact for ``S = a t^2 + b t^3``; ``2 dS[0]/dt`` for masses). The gap it ends
+    with, about half a step's travel inside, is held while the contact presses
+    (``f = (g_held - G)/K0``, the law's rule about the held gap: the bodies stick where
+    they met); they part when holding them would pull, and touch again where they parted
+    (a short separation's return is timed by the relative motion, not by the offset,
+    which each contact moves by less than half a step's travel, either way). A contact
+    that starts at rest gets the law's force (the two rules agree there). First order in
+    ``dt``, like the zero-order hold at every event.
+
+    Parameters
+    ----------
+    contact : ContactLaw
+    k0, k1 : float
+        ``dS[0]``, ``dS[1]`` of the pair's summed kernel (m/N).
+    dt : float
+        Step (s).
+    gap_tolerance : float, keyword-only
+        Gap (m) below which a plastic contact's press or approach is rounding (the
+        history sums' error in the difference of two displacements): after a plastic
+        impact of two free masses the force needed is 0, and rounding must not keep them
+        "in contact" or start another impact (:func:`rounding_gap`).
+    """
+
+    def __init__(self, contact, k0: float, k1: float, dt: float, *, gap_tolerance=0.0):
+        from ..contact import Rigid
+
+        self.k0, self.dt, self._law = float(k0), float(dt), contact
+        self.plastic = type(contact) is Rigid and k1 > MASS_LIKE_RATIO * k0
+        # the velocity per unit force over a step, as a gap change: S'(dt) dt/2 (m/N)
+        self._k_velocity = (5.0 * k0 + k1) / 8.0
+        self.gap_tolerance = float(gap_tolerance)
+        self._held: float | None = None    # the gap held while a plastic contact presses
+        self._touch = 0.0              # the gap at which the bodies touch: where they parted
+
+    def force(self, G: float, g_prev: float, g_before: float) -> float:
+        """``f_n`` (N) of the next step; see the class docstring."""
+        if not self.plastic:
+            return self._law.step_force(G, self.k0, g_prev, self.dt)
+        tol = self.gap_tolerance
+        if self._held is not None:
+            press = self._held - G
+            if press > tol:
+                return press / self.k0
+            self._touch, self._held = self._held, None    # holding would pull: they part
+            return 0.0
+        if G >= self._touch:
+            return 0.0
+        # -v dt/2 with v the force-free end velocity: what the impulse must take away
+        approach = -(3.0 * G - 4.0 * g_prev + g_before) / 4.0
+        if approach <= tol:             # inside, but not closing at the step's end
+            return 0.0
+        f = approach / self._k_velocity
+        self._held = G + self.k0 * f
+        return f
+
+
+def backward_gap(gap0: float, free1: float, free2: float) -> float:
+    """The gap one step before ``t_0`` (m) on the quadratic through the force-free gaps
+    at ``t_0, t_1, t_2``: :class:`StepForce`'s ``g_before`` at the first step."""
+    return 3.0 * gap0 - 3.0 * free1 + free2
+
+
+def rounding_gap(y1, y2) -> float:
+    """Gap (m) within which a step's predicted gap is rounding: ``1e-12`` of the largest
+    displacement (the FFT history sums of the convolution solver err by up to about
+    ``1e-12`` of it after a plastic impact; a contact's own press one step after its
+    impact is 1e-11 of it and more on the test cases). :class:`StepForce`'s tolerance."""
+    return 1e-12 * max(float(np.max(np.abs(y1))), float(np.max(np.abs(y2))), 1e-300)
+
+
 def micro_separation_tolerance(y1, y2) -> float:
     """Gap (m) below which an opening is rounding, not a separation."""
     return 1e-10 * max(float(np.max(np.abs(y1))), float(np.max(np.abs(y2))), 1e-300)
@@ -73,7 +168,9 @@ def contact_runs(force: np.ndarray, gap_end: np.ndarray, tol: float):
     A step belongs to a contact when its force exceeds ``1e-10`` of the peak (the rest
     is rounding in the history sums: touching without pressing is not contact). Two runs
     separated by steps whose end-of-step gap never exceeds ``tol`` are one contact: such
-    an "opening" is rounding, not a separation (method.md, section 5).
+    an "opening" is rounding, not a separation (method.md, section 5). ``tol = inf``
+    merges nothing (a plastic contact's parting is decided by :class:`StepForce`, and
+    its gap stays at the held value, below 0, after it).
     """
     active = force > 1e-10 * float(np.max(force, initial=0.0))
     if not np.any(active):
@@ -83,7 +180,7 @@ def contact_runs(force: np.ndarray, gap_end: np.ndarray, tol: float):
     merged = [list(runs[0])]
     for start, stop in runs[1:]:
         prev_stop = merged[-1][1]
-        if np.all(gap_end[prev_stop:start] <= tol):
+        if np.isfinite(tol) and np.all(gap_end[prev_stop:start] <= tol):
             merged[-1][1] = stop
         else:
             merged.append([start, stop])
@@ -91,7 +188,7 @@ def contact_runs(force: np.ndarray, gap_end: np.ndarray, tol: float):
 
 
 def assemble_result(bodies, gap0, grid: Grid, force, kernels, y_free, *, method, notes=(),
-                    y=None, points=(None, None)):
+                    y=None, points=(None, None), plastic=False):
     """Build the :class:`ImpactResult` of a piecewise-constant force history.
 
     Parameters
@@ -104,6 +201,9 @@ def assemble_result(bodies, gap0, grid: Grid, force, kernels, y_free, *, method,
         Displacements on the grid if the solver already has them.
     points : pair of (PointResponse or None), optional
         Output points, if the solver computed them.
+    plastic : bool, keyword-only
+        The forces come from :class:`StepForce`'s plastic rule: every step without force
+        between two contacts is a separation.
     """
     b1, b2 = bodies
     if y is None:
@@ -112,7 +212,7 @@ def assemble_result(bodies, gap0, grid: Grid, force, kernels, y_free, *, method,
     else:
         y1, y2 = y
     gap = y2 - y1 + gap0
-    tol = micro_separation_tolerance(y1, y2)
+    tol = np.inf if plastic else micro_separation_tolerance(y1, y2)
     runs = contact_runs(force, gap[1:], tol)
     dt = grid.dt
     intervals = tuple((float(grid.t[a]), float(grid.t[b])) for a, b in runs)

@@ -4,7 +4,9 @@ While the force is piecewise constant, the gap at the end of step ``n`` is
 
     g_{n+1} = g_free(t_{n+1}) + sum_{j<n} f_j K[n-j] + K[0] f_n,   K = dS1 + dS2,
 
-so each step is one scalar complementarity problem (:meth:`ContactLaw.step_force`).
+so each step is one scalar complementarity problem (:meth:`ContactLaw.step_force`; a
+``Rigid`` contact between bodies that are masses at the contact takes a plastic impulse
+at its start, :class:`._stepping.StepForce`).
 The history sum is computed online by divide and conquer: once the forces of the first
 half of a block are known, their effect on the second half is one FFT convolution. The
 cost is O(N log^2 N) for N steps, with a Python loop over steps whose body is O(block).
@@ -16,14 +18,15 @@ import numpy as np
 from scipy.signal import fftconvolve
 
 from ._outputs import convolution_points
-from ._stepping import Grid, assemble_result, free_displacements, step_kernel
+from ._stepping import (Grid, StepForce, assemble_result, backward_gap, free_displacements,
+                        rounding_gap, step_kernel)
 
 __all__ = ["solve_convolution", "online_complementarity"]
 
 _BLOCK = 32
 
 
-def online_complementarity(kernel, free_gap, law, dt, gap_start):
+def online_complementarity(kernel, free_gap, law, dt, gap_start, *, gap_tolerance=0.0):
     """Forces ``f_n`` (N), ``n = 0..N-1``, of the discrete contact problem.
 
     Parameters
@@ -33,22 +36,27 @@ def online_complementarity(kernel, free_gap, law, dt, gap_start):
     free_gap : ndarray, shape (N,)
         Gap (m) at ``t_{n+1}`` without any contact force.
     law : ContactLaw
-        Its ``step_force(G, K0, g_prev, dt)`` gives ``f_n``.
+        Its ``step_force(G, K0, g_prev, dt)`` gives ``f_n`` (:class:`._stepping.StepForce`).
     dt : float
         Step (s).
     gap_start : float
         Gap at ``t_0`` (m).
+    gap_tolerance : float, keyword-only
+        Rounding level of the gaps (m), :class:`._stepping.StepForce`'s.
     """
     n_total = free_gap.size
     force = np.zeros(n_total)
     history = np.zeros(n_total)
     k0 = float(kernel[0])
     reversed_kernel = kernel[::-1].copy()
-    step_force = law.step_force
+    step_force = StepForce(law, k0, float(kernel[1]) if n_total > 1 else 0.0, dt,
+                           gap_tolerance=gap_tolerance).force
     g_prev = gap_start
+    g_before = backward_gap(gap_start, free_gap[0], free_gap[1] if n_total > 1 else
+                            2 * free_gap[0] - gap_start)
 
     def solve_block(lo, hi):
-        nonlocal g_prev
+        nonlocal g_prev, g_before
         for n in range(lo, hi):
             inner = 0.0
             if n > lo:
@@ -56,9 +64,9 @@ def online_complementarity(kernel, free_gap, law, dt, gap_start):
                 inner = float(np.dot(force[lo:n], reversed_kernel[n_total - (n - lo) - 1:
                                                                   n_total - 1]))
             g_free = free_gap[n] + history[n] + inner
-            f = step_force(g_free, k0, g_prev, dt)
+            f = step_force(g_free, g_prev, g_before)
             force[n] = f
-            g_prev = g_free + k0 * f
+            g_before, g_prev = g_prev, g_free + k0 * f
 
     def recurse(lo, hi):
         if hi - lo <= _BLOCK:
@@ -84,7 +92,10 @@ def solve_convolution(bodies, gap0, contact, t_end, dt, *, notes=()):
     kernels = tuple(step_kernel(b, grid) for b in bodies)
     y_free = tuple(free_displacements(b, grid, k) for b, k in zip(bodies, kernels))
     free_gap = y_free[1] - y_free[0] + gap0
-    force = online_complementarity(kernels[0] + kernels[1], free_gap[1:], contact, dt,
-                                   float(free_gap[0]))
+    kernel = kernels[0] + kernels[1]
+    force = online_complementarity(kernel, free_gap[1:], contact, dt, float(free_gap[0]),
+                                   gap_tolerance=rounding_gap(*y_free))
+    plastic = StepForce(contact, kernel[0], kernel[1] if kernel.size > 1 else 0.0, dt).plastic
     return assemble_result(bodies, gap0, grid, force, kernels, y_free, method="convolution",
-                           notes=notes, points=convolution_points(bodies, grid, force))
+                           notes=notes, points=convolution_points(bodies, grid, force),
+                           plastic=plastic)

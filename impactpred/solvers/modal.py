@@ -44,7 +44,8 @@ Zero-order hold (``hold="constant"``: unstable first-order hold, output points, 
 contact law other than ``Rigid``, ``LinearSpring``, ``Hertz``): the force is constant on
 every step, the same modal maps with ``C = 0`` and ``d += v dt + u dt^2/(2M)``; the
 force of each step solves the same scalar complementarity problem as the convolution
-solver, so the two agree to rounding on the same model. First order in ``dt`` at
+solver (:class:`._stepping.StepForce`: a plastic start where the bodies are masses at
+the contact), so the two agree to rounding on the same model. First order in ``dt`` at
 contact events; a Python loop, O(steps x modes).
 """
 
@@ -55,7 +56,8 @@ import numpy as np
 from ..contact import Hertz, LinearSpring, Rigid
 from ..result import BodyEnergy, ImpactResult
 from ._outputs import ModalOutputs, _require_multi
-from ._stepping import Grid, assemble_result, micro_separation_tolerance
+from ._stepping import (Grid, StepForce, assemble_result, backward_gap,
+                        micro_separation_tolerance, rounding_gap)
 
 __all__ = ["solve_modal"]
 
@@ -280,12 +282,17 @@ def _solve_constant_hold(bodies, gap0, contact, t_end, dt, *, notes=()):
     grid = Grid(t_end, dt)
     models = [b.modal_model() for b in bodies]
     steppers = [_ModalStepper(m, dt) for m in models]
-    # only the first step-response increment enters the stepping: S(dt) of each body
-    first = [float(m.step_response([dt])[0]) for m in models]
+    # the first step-response increment enters the stepping, S(dt) of each body, and the
+    # second tells a pair of masses at the contact (StepForce)
+    steps = np.array([m.step_response([dt, 2 * dt]) for m in models], dtype=float)
+    first = [float(x) for x in steps[:, 0]]
     if not all(x > 0 for x in first):
         raise ValueError(f"the step responses over the first step are {first} m/N, not "
                          "positive: not driving points")
     k0 = first[0] + first[1]
+    rule = StepForce(contact, k0, float(np.sum(steps[:, 1]) - k0), dt,
+                     gap_tolerance=rounding_gap(*(b.free_motion(grid.t) for b in bodies)))
+    law = rule.force
     loads = [b.load_samples(grid.midpoints) for b in bodies]
 
     z = _initial_states(bodies, models)
@@ -302,7 +309,6 @@ def _solve_constant_hold(bodies, gap0, contact, t_end, dt, *, notes=()):
     E1, G1, w1, E2, G2, w2 = s1.E, s1.G, s1.weight, s2.E, s2.G, s2.weight
     h, h2 = dt, 0.5 * dt * dt
     m1, m2 = s1.inverse_mass, s2.inverse_mass
-    law = contact.step_force
     z1, z2 = z
     rec1, rec2 = (ModalOutputs(b, m, grid.n_steps + 1, dt) if b.outputs is not None else None
                   for b, m in zip(bodies, models))
@@ -310,17 +316,29 @@ def _solve_constant_hold(bodies, gap0, contact, t_end, dt, *, notes=()):
         rec1.record(0, z1, d[0], v[0], 0.0)
     if rec2:
         rec2.record(0, z2, d[1], v[1], 0.0)
-    for n in range(grid.n_steps):
-        u1, u2 = loads[0][n], loads[1][n]
-        # the end-of-step state at zero contact force
+    def free_step(z1, z2, d, v, u1, u2):
+        """The end-of-step state at zero contact force, and its gap."""
         z1f = E1 * z1 + G1 * u1
         z2f = E2 * z2 + G2 * u2
         d1f = d[0] + v[0] * h + m1 * h2 * u1
         d2f = d[1] + v[1] * h + m2 * h2 * u2
         y1f = float(np.dot(w1, z1f).real) + d1f + s1.flexibility * u1
         y2f = float(np.dot(w2, z2f).real) + d2f + s2.flexibility * u2
-        G = y2f - y1f + gap0
-        f = law(G, k0, g_prev, h)
+        return z1f, z2f, d1f, d2f, y1f, y2f, y2f - y1f + gap0
+
+    # the gap a step before t_0 (StepForce), from the force-free gaps at t_1 and t_2
+    *state1, free1 = free_step(z1, z2, d, v, loads[0][0], loads[1][0])
+    if grid.n_steps > 1:
+        v1 = [v[0] + loads[0][0] * m1 * h, v[1] + loads[1][0] * m2 * h]
+        free2 = free_step(state1[0], state1[1], state1[2:4], v1, loads[0][1],
+                          loads[1][1])[-1]
+    else:
+        free2 = 2 * free1 - g_prev
+    g_before = backward_gap(g_prev, free1, free2)
+    for n in range(grid.n_steps):
+        u1, u2 = loads[0][n], loads[1][n]
+        z1f, z2f, d1f, d2f, y1f, y2f, G = free_step(z1, z2, d, v, u1, u2)
+        f = law(G, g_prev, g_before)
         force[n] = f
         if f:
             z1 = z1f - G1 * f
@@ -336,11 +354,11 @@ def _solve_constant_hold(bodies, gap0, contact, t_end, dt, *, notes=()):
             v[0] += u1 * m1 * h
             v[1] += u2 * m2 * h
             y1[n + 1], y2[n + 1] = y1f, y2f
-        g_prev = y2[n + 1] - y1[n + 1] + gap0
+        g_before, g_prev = g_prev, y2[n + 1] - y1[n + 1] + gap0
         if rec1:
             rec1.record(n + 1, z1, d[0], v[0], u1 - f)
         if rec2:
             rec2.record(n + 1, z2, d[1], v[1], u2 + f)
     points = tuple(r.response(b, grid.t) if r else None for r, b in zip((rec1, rec2), bodies))
     return assemble_result(bodies, gap0, grid, force, None, None, method="modal",
-                           notes=notes, y=(y1, y2), points=points)
+                           notes=notes, y=(y1, y2), points=points, plastic=rule.plastic)
