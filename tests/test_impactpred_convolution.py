@@ -1,5 +1,7 @@
 """The convolution solver (exact continua, samples) against exact answers."""
 
+import warnings
+
 import numpy as np
 import pytest
 
@@ -202,3 +204,17 @@ def test_a_mass_on_a_truncated_rod_matches_the_exact_solver(mass):
         assert len(r.contact_intervals) == len(exact.contact_intervals)
         np.testing.assert_allclose(r.contact_intervals, exact.contact_intervals, atol=4e-3)
         assert r.restitution == pytest.approx(exact.restitution, abs=1e-3)
+
+
+def test_a_step_too_fine_to_resolve_a_plastic_hold_says_so():
+    # a mass pressed by a 1e3 N/m spring-mass: at the automatic step one contact and no
+    # warning; over 10^5 steps of 0.2 us a step's gap change at the contact force is
+    # below the gaps' rounding, and the holds part and touch again on it
+    bodies = (Body(LumpedMass(1.0), velocity=1.0), Body(SpringMass(0.5, 1e3)))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        r = solve_impact(*bodies, gap=1e-4, t_end=0.02, method="convolution")
+    assert len(r.contact_intervals) == 1
+    with pytest.warns(RuntimeWarning, match="too fine for a rigid contact between masses"):
+        r = solve_impact(*bodies, gap=1e-4, t_end=0.02, dt=2e-7, method="convolution")
+    assert any("too fine" in note for note in r.notes)

@@ -14,6 +14,8 @@ cost is O(N log^2 N) for N steps, with a Python loop over steps whose body is O(
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 from scipy.signal import fftconvolve
 
@@ -35,8 +37,9 @@ def online_complementarity(kernel, free_gap, law, dt, gap_start, *, gap_toleranc
         ``K[k]`` (m/N), ``K[0] > 0``.
     free_gap : ndarray, shape (N,)
         Gap (m) at ``t_{n+1}`` without any contact force.
-    law : ContactLaw
-        Its ``step_force(G, K0, g_prev, dt)`` gives ``f_n`` (:class:`._stepping.StepForce`).
+    law : ContactLaw or StepForce
+        Its ``step_force(G, K0, g_prev, dt)`` gives ``f_n``, through a
+        :class:`._stepping.StepForce` (given, or made here).
     dt : float
         Step (s).
     gap_start : float
@@ -49,8 +52,10 @@ def online_complementarity(kernel, free_gap, law, dt, gap_start, *, gap_toleranc
     history = np.zeros(n_total)
     k0 = float(kernel[0])
     reversed_kernel = kernel[::-1].copy()
-    step_force = StepForce(law, k0, float(kernel[1]) if n_total > 1 else 0.0, dt,
-                           gap_tolerance=gap_tolerance).force
+    if not isinstance(law, StepForce):
+        law = StepForce(law, k0, float(kernel[1]) if n_total > 1 else 0.0, dt,
+                        gap_tolerance=gap_tolerance)
+    step_force = law.force
     g_prev = gap_start
     g_before = backward_gap(gap_start, free_gap[0], free_gap[1] if n_total > 1 else
                             2 * free_gap[0] - gap_start)
@@ -93,9 +98,12 @@ def solve_convolution(bodies, gap0, contact, t_end, dt, *, notes=()):
     y_free = tuple(free_displacements(b, grid, k) for b, k in zip(bodies, kernels))
     free_gap = y_free[1] - y_free[0] + gap0
     kernel = kernels[0] + kernels[1]
-    force = online_complementarity(kernel, free_gap[1:], contact, dt, float(free_gap[0]),
-                                   gap_tolerance=rounding_gap(*y_free))
-    plastic = StepForce(contact, kernel[0], kernel[1] if kernel.size > 1 else 0.0, dt).plastic
-    return assemble_result(bodies, gap0, grid, force, kernels, y_free, method="convolution",
-                           notes=notes, points=convolution_points(bodies, grid, force),
-                           plastic=plastic)
+    rule = StepForce(contact, kernel[0], kernel[1] if kernel.size > 1 else 0.0, dt,
+                     gap_tolerance=rounding_gap(*y_free))
+    force = online_complementarity(kernel, free_gap[1:], rule, dt, float(free_gap[0]))
+    result = assemble_result(bodies, gap0, grid, force, kernels, y_free,
+                             method="convolution", notes=notes,
+                             points=convolution_points(bodies, grid, force),
+                             plastic=rule.plastic)
+    said = rule.unresolved_notes(result.n_contacts)
+    return dataclasses.replace(result, notes=result.notes + said) if said else result

@@ -51,6 +51,8 @@ contact events; a Python loop, O(steps x modes).
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
 from ..contact import Hertz, LinearSpring, Rigid
@@ -360,5 +362,7 @@ def _solve_constant_hold(bodies, gap0, contact, t_end, dt, *, notes=()):
         if rec2:
             rec2.record(n + 1, z2, d[1], v[1], u2 + f)
     points = tuple(r.response(b, grid.t) if r else None for r, b in zip((rec1, rec2), bodies))
-    return assemble_result(bodies, gap0, grid, force, None, None, method="modal",
-                           notes=notes, y=(y1, y2), points=points, plastic=rule.plastic)
+    result = assemble_result(bodies, gap0, grid, force, None, None, method="modal",
+                             notes=notes, y=(y1, y2), points=points, plastic=rule.plastic)
+    said = rule.unresolved_notes(result.n_contacts)
+    return dataclasses.replace(result, notes=result.notes + said) if said else result
