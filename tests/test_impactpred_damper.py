@@ -7,10 +7,9 @@ import pytest
 import scipy.linalg
 
 from data_synth import CantileverBeam, LumpedMass, SpringMass
-from impactpred import Body, LinearSpring, Rigid, solve_impact
+from impactpred import Body, Hertz, LinearSpring, Rigid, solve_impact
 from impactpred.damper import (
     BaseExcitation,
-    DamperState,
     HarmonicForce,
     ImpactDamper,
     InstantaneousImpact,
@@ -32,11 +31,6 @@ def _forced_spring_mass(sm, f0, freq_hz, t, phase=0.0):
     return steady + np.exp(-z * wn * t) * (a * np.cos(wd * t) + b * np.sin(wd * t))
 
 
-def _start(damper, *, y_d=0.0, v_d=0.0):
-    eng = damper.engine()
-    x = np.zeros(eng.n)
-    x[eng.iy], x[eng.iv], x[eng.i1] = y_d, v_d, 1.0
-    return DamperState(0.0, x, "free", 0)
 
 
 def test_no_impact_follows_the_exact_forced_response():
@@ -78,7 +72,8 @@ def test_rigid_contact_matches_the_laplace_solver():
     md, c, gap = 0.4, 0.3, 1e-3
     d = ImpactDamper(sm, damper_mass=md, clearance=c, contact=Rigid(),
                      excitation=HarmonicForce(0.0, 5.0))
-    r = d.simulate(1, initial=_start(d, y_d=-c + gap, v_d=-1.0), samples_per_cycle=200)
+    start = d.initial_state(damper_displacement=-c + gap, damper_velocity=-1.0)
+    r = d.simulate(1, initial=start, samples_per_cycle=200)
     ref = solve_impact(Body(sm), Body(LumpedMass(md), velocity=-1.0), gap=gap,
                        contact=Rigid(), t_end=0.2, method="laplace")
     assert len(r.impacts) == 1 and len(ref.contact_intervals) == 1
@@ -487,3 +482,35 @@ def test_output_points_through_impacts_hold_the_driving_point_row(contact):
     plain = ImpactDamper(mo.driving, damper_mass=0.05, clearance=0.002, contact=contact,
                          excitation=force).simulate(2)
     assert plain.points is None
+
+
+# rigid and spring contacts: both exact; Hertz: both time-stepped (second order)
+@pytest.mark.parametrize("contact, rtol", [(Rigid(), 1e-6), (LinearSpring(1e6), 1e-6),
+                                           (Hertz(1e9), 1e-4)], ids=["rigid", "spring", "hertz"])
+def test_a_damper_mass_set_going_meets_its_stop_as_solve_impact_predicts(contact, rtol):
+    """The two-sided engine and solve_impact's one-sided methods on one impact: the damper
+    mass leaves the middle at v0 inside a primary at rest (no excitation) and strikes the
+    upper stop; solve_impact's striker is the same mass at the same gap."""
+    model = CantileverBeam(1.0, 0.0559591).modal_model(10, damping_ratio=0.01, residual=True)
+    md, c, v0 = 0.05, 1e-3, 0.5
+    d = ImpactDamper(model, damper_mass=md, clearance=c, contact=contact,
+                     excitation=HarmonicForce(0.0, 1.0))
+    first = d.simulate(1, initial=d.initial_state(damper_velocity=v0),
+                       samples_per_cycle=64).impacts.iloc[0]
+    one = solve_impact(Body(LumpedMass(md), velocity=v0), Body(model), gap=c, contact=contact,
+                       t_end=0.01)
+    (start, end), *_ = one.contact_intervals
+    assert first["side"] == 1 and first["time"] == pytest.approx(c / v0, rel=1e-12)
+    assert start == pytest.approx(c / v0, rel=1e-12)
+    assert first["duration"] == pytest.approx(end - start, rel=rtol)
+    assert first["impulse"] == pytest.approx(one.first_contact_impulse, rel=10 * rtol)
+
+
+def test_initial_state_refuses_a_damper_mass_past_the_stops():
+    d = ImpactDamper(SpringMass(1.0, 1e4), damper_mass=0.1, clearance=1e-3, contact=Rigid(),
+                     excitation=HarmonicForce(1.0, 10.0))
+    assert d.initial_state(damper_displacement=-1e-3).state[d.engine().iy] == -1e-3
+    with pytest.raises(ValueError, match="damper_displacement=0.0015 m .* past the stops"):
+        d.initial_state(damper_displacement=1.5e-3)
+    with pytest.raises(ValueError, match="damper_velocity"):
+        d.initial_state(damper_velocity=float("nan"))

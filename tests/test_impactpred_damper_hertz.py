@@ -7,15 +7,10 @@ import pytest
 
 from data_synth import LumpedMass, SpringMass
 from impactpred import Body, Hertz, solve_impact
-from impactpred.damper import DamperState, HarmonicForce, ImpactDamper
+from impactpred.damper import HarmonicForce, ImpactDamper
 from impactpred.engine import hertz as EH
 
 
-def _start(damper, *, y_d, v_d):
-    eng = damper.engine()
-    x = np.zeros(eng.n)
-    x[eng.iy], x[eng.iv], x[eng.i1] = y_d, v_d, 1.0
-    return DamperState(0.0, x, "free", 0)
 
 
 def test_hertz_duration_closed_form():
@@ -38,7 +33,8 @@ def test_sphere_on_a_heavy_primary_matches_hertz_and_converges_at_order_two(monk
         monkeypatch.setattr(EH, "STEPS_PER_CONTACT", steps)
         d = ImpactDamper(sm, damper_mass=md, clearance=c, contact=Hertz(k),
                          excitation=HarmonicForce(0.0, 5.0))
-        r = d.simulate(1, initial=_start(d, y_d=c - 1e-3, v_d=v), samples_per_cycle=32)
+        start = d.initial_state(damper_displacement=c - 1e-3, damper_velocity=v)
+        r = d.simulate(1, initial=start, samples_per_cycle=32)
         assert len(r.impacts) == 1
         imp = r.impacts.iloc[0]
         assert imp["side"] == 1
@@ -88,7 +84,8 @@ def test_one_impact_agrees_with_the_modal_solver():
     md, c, gap, kc, t_end = 0.4, 0.3, 1e-3, 1e8, 0.01
     d = ImpactDamper(sm, damper_mass=md, clearance=c, contact=Hertz(kc),
                      excitation=HarmonicForce(0.0, 1.0 / t_end))
-    r = d.simulate(1, initial=_start(d, y_d=-c + gap, v_d=-1.0), samples_per_cycle=200)
+    start = d.initial_state(damper_displacement=-c + gap, damper_velocity=-1.0)
+    r = d.simulate(1, initial=start, samples_per_cycle=200)
     assert len(r.impacts) == 1
     imp = r.impacts.iloc[0]
     assert imp["side"] == -1

@@ -18,7 +18,7 @@ import pytest
 
 from data_synth import SpringMass
 from impactpred import Rigid
-from impactpred.damper import DamperState, HarmonicForce, ImpactDamper, InstantaneousImpact
+from impactpred.damper import HarmonicForce, ImpactDamper, InstantaneousImpact
 from impactpred.engine import cycle_compiled as compiled
 from impactpred.engine import cycle_run as engine_run
 
@@ -53,11 +53,6 @@ def _damper(clearance, contact):
                         excitation=HarmonicForce(F0, FREQ))
 
 
-def _state(damper, *, y_d=0.0, v_d=0.0):
-    eng = damper.engine()
-    x = np.zeros(eng.n)
-    x[eng.iy], x[eng.iv], x[eng.i1] = y_d, v_d, 1.0
-    return DamperState(0.0, x, "free", 0)
 
 
 @pytest.mark.parametrize("contact", [InstantaneousImpact(0.6), InstantaneousImpact(0.95),
@@ -81,7 +76,7 @@ def test_zero_clearance_impact_is_plastic_and_conserves_momentum(e, loop):
     # impact, after which the two move together with the momentum m_d v
     d = _damper(0.0, InstantaneousImpact(e))
     v_d = 0.3
-    r = d.simulate(20, initial=_state(d, v_d=v_d))
+    r = d.simulate(20, initial=d.initial_state(damper_velocity=v_d))
     first = r.impacts.iloc[0]
     assert first["relative_velocity"] == pytest.approx(v_d, rel=1e-12)
     assert first["impulse"] == pytest.approx(v_d / (1 / MD + 1 / M), rel=1e-12)
@@ -117,7 +112,7 @@ def test_bouncing_sequence_accumulates_at_the_geometric_series_limit(loop):
     d = ImpactDamper(SpringMass(1.0, (2 * np.pi * 5e-3) ** 2), damper_mass=0.01,
                      clearance=c, contact=InstantaneousImpact(e),
                      excitation=HarmonicForce(1.0, 2.5e-3))
-    r = d.simulate(1, initial=_state(d, y_d=-c + delta))
+    r = d.simulate(1, initial=d.initial_state(damper_displacement=-c + delta))
     imp = r.impacts
     k = int(np.argmax(imp["duration"].to_numpy() > 0))    # the impact that closes it
     seq = imp.iloc[:k + 1]
@@ -148,11 +143,11 @@ def test_impacts_that_do_not_accumulate_raise_naming_the_cause(loop, monkeypatch
     d = _damper(1e-9, InstantaneousImpact(1.0))
     with pytest.raises(RuntimeError, match=r"more than 300 impacts within one forcing "
                                            r"period .*restitution 1\.0, clearance 1e-09 m"):
-        d.simulate(2, initial=_state(d, v_d=0.3))
+        d.simulate(2, initial=d.initial_state(damper_velocity=0.3))
     # with e < 1 the same start ends in sticking: after ~25 impacts, then a few per
     # change of stop (the mass crosses the 2 nm and bounces a few times)
     d = _damper(1e-9, InstantaneousImpact(0.6))
-    r = d.simulate(2, initial=_state(d, v_d=0.3))
+    r = d.simulate(2, initial=d.initial_state(damper_velocity=0.3))
     assert len(r.impacts) < 100
     assert r.final_state.mode == "stuck"
 
@@ -161,7 +156,7 @@ def test_elastic_impact_between_coincident_stops_raises(loop):
     d = _damper(0.0, InstantaneousImpact(1.0))
     with pytest.raises(RuntimeError, match="restitution 1 an impact between stops that "
                                            "coincide to rounding"):
-        d.simulate(1, initial=_state(d, v_d=0.3))
+        d.simulate(1, initial=d.initial_state(damper_velocity=0.3))
 
 
 def test_long_chunks_pause_to_draw_the_progress_bar_without_changing_the_run(capsys,

@@ -12,7 +12,8 @@ import numpy as np
 
 from data_synth import SpringMass
 from modalid import ModalModel, MultiOutputModalModel
-from modalid.validation import as_count, as_nonnegative_scalar, as_positive_scalar
+from modalid.validation import (as_count, as_nonnegative_scalar, as_positive_scalar,
+                                as_real_scalar)
 
 from ..body import check_driving_point
 from ..contact import Hertz, InstantaneousImpact, LinearSpring, Rigid
@@ -188,6 +189,40 @@ class ImpactDamper:
                 outputs=outputs))
         return self._engine_cache
 
+    def initial_state(self, *, damper_displacement=0.0, damper_velocity=0.0,
+                      time=0.0) -> DamperState:
+        """A start for :meth:`simulate` (``initial=``): the damper mass set going inside a
+        primary at rest.
+
+        Parameters
+        ----------
+        damper_displacement : float, keyword-only
+            The damper mass's displacement (m) from the middle of the clearance; it must
+            lie within the stops (``|y_d - y_p| <= clearance``, ``y_p`` the primary's
+            displacement at rest: 0, or its flexibility's response to the excitation's
+            force at ``time``).
+        damper_velocity : float, keyword-only
+            Its velocity (m/s), in free flight.
+        time : float, keyword-only
+            Start time (s); the excitation's phase follows from it.
+
+        Returns
+        -------
+        DamperState
+        """
+        y_d = as_real_scalar("damper_displacement", damper_displacement)
+        v_d = as_real_scalar("damper_velocity", damper_velocity)
+        t0 = as_real_scalar("time", time)
+        eng = self.engine()
+        x = np.zeros(eng.n)
+        x[eng.iy], x[eng.iv], x[eng.i1] = y_d, v_d, 1.0
+        y_p = float(eng.yp0 @ eng.augmented(x, t0))
+        if abs(y_d - y_p) > self.clearance:
+            raise ValueError(f"damper_displacement={y_d!r} m puts the damper mass "
+                             f"{abs(y_d - y_p):.4g} m from the primary ({y_p:.4g} m at "
+                             f"time={t0!r} s), past the stops at +-{self.clearance!r} m")
+        return DamperState(t0, x, "free", 0)
+
     # ------------------------------------------------------------------ simulation
     def simulate(self, n_cycles, *, initial=None, samples_per_cycle=32,
                  progress=False) -> DamperResult:
@@ -201,7 +236,8 @@ class ImpactDamper:
             ``None``: everything at rest at ``t = 0``, the damper mass centred. A
             ``DamperResult`` (or its ``final_state``) continues that run from its end,
             contact state included; the damper may differ (e.g. a frequency step) as long
-            as the primary has the same number of states.
+            as the primary has the same number of states. :meth:`initial_state` sets the
+            damper mass going inside a primary at rest.
         samples_per_cycle : int, keyword-only
             Output samples per forcing period (>= 4), plus every event time.
         progress : bool, keyword-only
