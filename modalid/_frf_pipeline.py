@@ -20,7 +20,7 @@ from scipy.signal import find_peaks
 from ._checks import as_count
 from ._lscf import lscf_subbands
 from ._pole_checks import PoleChecks
-from ._report import fit_report, residual_correlation_inflation
+from ._report import fit_report, local_misfit_inflation, residual_correlation_inflation
 from ._segments import MIN_SEGMENTED, segment_poles
 from ._lsfd import (Terms, design_matrix, evaluate, mass_line_significant, noise_level,
                     place_upper_modes, refine_varpro, release_gain, split_coefficients)
@@ -480,6 +480,7 @@ class FRFPipeline(PoleChecks):
         band = self._data_band
         own = receptance_to(band.quantity, fitted, band.omega) - band.values
         window = {}
+        fit_poles = poles                    # where the residual's lines are (windowed)
         if self._shift or self.record_length is not None:
             fitted_model, window = self._unwindow(fitted_model, kinds)
             poles, residues = fitted_model.poles, fitted_model.residues
@@ -493,10 +494,21 @@ class FRFPipeline(PoleChecks):
             order = np.argsort(np.abs(poles[physical]), kind="stable")
             self._mode_std_raw = std["modes"][physical][order]
         # the formula assumes independent lines; correlated residuals (model error, the
-        # estimator's smoothing) carry fewer independent ones: widen by Bartlett's factor
-        inflation = residual_correlation_inflation(self._final_weights * (fitted - h))
+        # estimator's smoothing) carry fewer independent ones: widen by Bartlett's factor;
+        # and its variance is the band's: a mode whose own lines the model misses by more
+        # than that is widened by the misfit there
+        weighted = self._final_weights * (fitted - h)
+        inflation = residual_correlation_inflation(weighted)
         if std is not None:
             std = {k: v * inflation for k, v in std.items()}
+            local = local_misfit_inflation(omega, weighted, fit_poles)
+            std["modes"] = std["modes"] * local[:, None]
+            for p_k, f_k in zip(poles[physical], local[physical]):
+                if f_k >= 2.0:
+                    notes = notes + [f"mode at {abs(p_k) / (2 * np.pi):.6g} Hz: the model "
+                                     f"misses its lines by {f_k ** 2:.3g} times the band's "
+                                     f"mean residual; its standard deviations are widened "
+                                     f"{f_k:.3g} times"]
         for name in ("frequency_hz_std", "damping_ratio_std", "residue_std"):
             modes[name] = np.nan
         if std is not None:
