@@ -20,7 +20,8 @@ from scipy.signal import fftconvolve
 
 from ..result import BodyEnergy, ImpactResult
 
-__all__ = ["Grid", "step_kernel", "free_displacements", "assemble_result", "causal_convolve"]
+__all__ = ["Grid", "step_kernel", "free_displacements", "assemble_result", "causal_convolve",
+           "energy_before"]
 
 
 class Grid:
@@ -174,6 +175,19 @@ def backward_gap(gap0: float, free1: float, free2: float) -> float:
     return 3.0 * gap0 - 3.0 * free1 + free2
 
 
+def energy_before(body) -> float:
+    """A body's vibration energy (J) at ``t = 0``: its modes', and the strain energy
+    ``D F(0)^2 / 2`` its load holds there in a flexibility term ``D`` (the exact method's
+    count, :meth:`impactpred.solvers.laplace.CoupledSystem.energies`; the bodies do not
+    touch before ``t = 0``). A rational body's ``D`` only: a continuum's response has no
+    instantaneous term."""
+    energy = body.vibration_energy()
+    if body.load is not None and body.is_rational:
+        force = float(body.load_samples(np.zeros(1))[0])
+        energy += 0.5 * body.modal_model().flexibility * force ** 2
+    return energy
+
+
 def rounding_gap(y1, y2) -> float:
     """Gap (m) within which a step's predicted gap is rounding: ``1e-12`` of the largest
     displacement (the FFT history sums of the convolution solver err by up to about
@@ -256,7 +270,7 @@ def assemble_result(bodies, gap0, grid: Grid, force, kernels, y_free, *, method,
         work = sign * float(np.dot(force, dy)) + float(np.dot(loads[i], dy))
         rigid_before = 0.5 * u_before[i] ** 2 / inv[i] if inv[i] > 0 else 0.0
         rigid_after = 0.5 * u_after[i] ** 2 / inv[i] if inv[i] > 0 else 0.0
-        vib_before = body.vibration_energy()
+        vib_before = energy_before(body)
         energies.append(BodyEnergy(rigid_before, vib_before, rigid_after,
                                    vib_before + work - (rigid_after - rigid_before)))
     force_out = np.append(force, force[-1])

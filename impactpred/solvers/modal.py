@@ -58,7 +58,7 @@ import numpy as np
 from ..contact import Hertz, LinearSpring, Rigid
 from ..result import BodyEnergy, ImpactResult
 from ._outputs import ModalOutputs, _require_multi
-from ._stepping import (Grid, StepForce, assemble_result, backward_gap,
+from ._stepping import (Grid, StepForce, assemble_result, backward_gap, energy_before,
                         micro_separation_tolerance, rounding_gap)
 
 __all__ = ["solve_modal"]
@@ -227,7 +227,7 @@ def _solve_linear_hold(bodies, models, steppers, gap0, contact, t_end, dt, notes
     for i, (body, work) in enumerate(((b1, work1), (b2, work2))):
         rigid_before = 0.5 * u_before[i] ** 2 / inv[i] if inv[i] > 0 else 0.0
         rigid_after = 0.5 * u_after[i] ** 2 / inv[i] if inv[i] > 0 else 0.0
-        vib_before = body.vibration_energy()
+        vib_before = energy_before(body)
         energies.append(BodyEnergy(rigid_before, vib_before, rigid_after,
                                    vib_before + work - (rigid_after - rigid_before)))
     return ImpactResult(t=grid.t, force=force, y1=y1, y2=y2, gap=gap,
