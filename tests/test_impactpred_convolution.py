@@ -7,8 +7,9 @@ import pytest
 
 from data_synth import CantileverBeam, LumpedMass, Rod, SpringMass
 from data_synth.reference_impacts import mass_on_fixed_rod, two_free_rods_equal_transit
-from impactpred import Body, Hertz, LinearSpring, Rigid, SampledResponse, solve_impact
-from impactpred.solvers._stepping import StepForce
+from impactpred import (Body, HarmonicForce, Hertz, LinearSpring, Rigid, SampledResponse,
+                        solve_impact)
+from impactpred.solvers._step_force import StepForce, kernel_ratio
 from impactpred.solvers.convolution import online_complementarity
 from impactpred.solvers.modal import solve_modal
 
@@ -202,7 +203,9 @@ def test_a_mass_on_a_truncated_rod_matches_the_exact_solver(mass):
     for method in ("modal", "convolution"):
         r = solve_impact(*bodies, t_end=8.0, dt=2e-3, method=method)
         assert len(r.contact_intervals) == len(exact.contact_intervals)
-        np.testing.assert_allclose(r.contact_intervals, exact.contact_intervals, atol=4e-3)
+        # within three steps: a contact starts inside the bodies by up to half a step's
+        # travel, and after a separation they touch again at a gap of 0
+        np.testing.assert_allclose(r.contact_intervals, exact.contact_intervals, atol=6e-3)
         assert r.restitution == pytest.approx(exact.restitution, abs=1e-3)
 
 
@@ -218,3 +221,33 @@ def test_a_step_too_fine_to_resolve_a_plastic_hold_says_so():
     with pytest.warns(RuntimeWarning, match="too fine for a rigid contact between masses"):
         r = solve_impact(*bodies, gap=1e-4, t_end=0.02, dt=2e-7, method="convolution")
     assert any("too fine" in note for note in r.notes)
+
+
+def test_many_plastic_contacts_neither_drift_nor_split():
+    """A forced spring-mass rattling against another: 65 contacts in 5 s (exact). The gap
+    each contact holds is off by less than half a step's travel; it must not carry from
+    contact to contact (it had random-walked to 30 mm in 20 s, the clearance 1 mm), and
+    the held force's step-to-step alternation must not part the bodies for a step (86
+    contacts had been counted)."""
+    k = (2 * np.pi * 10) ** 2
+    bodies = (Body(SpringMass(1.0, k), load=HarmonicForce(60.0, 13.0)),
+              Body(SpringMass(0.5, 2 * k)))
+    exact = solve_impact(*bodies, gap=1e-3, t_end=5.0, method="laplace")
+    r = solve_impact(*bodies, gap=1e-3, t_end=5.0, method="convolution")
+    assert len(r.contact_intervals) == len(exact.contact_intervals) == 65
+    assert r.total_impulse == pytest.approx(exact.total_impulse, rel=2e-3)
+    assert np.max(np.abs(r.gap[:-1][r.force[:-1] > 0])) < 1e-3
+
+
+def test_a_flexibility_seen_as_a_mass_by_a_coarse_step_keeps_the_laws_rule():
+    """A light mass on a beam with its residual flexibility: no Dirac part in the exact
+    force. At dt = 5 ms the step's kernel looks like a mass's (ratio above 2.5), the
+    small-time one does not (about 0): the law's rule, not the plastic start (which had
+    taken 78 % of the energy, e 0.021 for the exact 0.668)."""
+    bodies = (Body(LumpedMass(0.01), velocity=1.0),
+              Body(CantileverBeam(1.0, 1.0).modal_model(5, residual=True)))
+    ratio, small_time = kernel_ratio([b.step_response for b in bodies], 5e-3)
+    assert ratio > 2.5 and small_time < 0.5
+    assert not StepForce(Rigid(), 1.0, ratio, 5e-3, small_time_ratio=small_time).plastic
+    r = solve_impact(*bodies, t_end=2.0, method="convolution", dt=5e-3)
+    assert r.restitution > 0.5

@@ -6,7 +6,7 @@ While the force is piecewise constant, the gap at the end of step ``n`` is
 
 so each step is one scalar complementarity problem (:meth:`ContactLaw.step_force`; a
 ``Rigid`` contact between bodies that are masses at the contact takes a plastic impulse
-at its start, :class:`._stepping.StepForce`).
+at its start, :class:`._step_force.StepForce`).
 The history sum is computed online by divide and conquer: once the forces of the first
 half of a block are known, their effect on the second half is one FFT convolution. The
 cost is O(N log^2 N) for N steps, with a Python loop over steps whose body is O(block).
@@ -20,8 +20,8 @@ import numpy as np
 from scipy.signal import fftconvolve
 
 from ._outputs import convolution_points
-from ._stepping import (Grid, StepForce, assemble_result, backward_gap, free_displacements,
-                        rounding_gap, step_kernel)
+from ._step_force import StepForce, backward_gap, kernel_ratio, rounding_gap
+from ._stepping import Grid, assemble_result, free_displacements, step_kernel
 
 __all__ = ["solve_convolution", "online_complementarity"]
 
@@ -38,14 +38,16 @@ def online_complementarity(kernel, free_gap, law, dt, gap_start, *, gap_toleranc
     free_gap : ndarray, shape (N,)
         Gap (m) at ``t_{n+1}`` without any contact force.
     law : ContactLaw or StepForce
-        Its ``step_force(G, K0, g_prev, dt)`` gives ``f_n``, through a
-        :class:`._stepping.StepForce` (given, or made here).
+        The contact law, or the :class:`._step_force.StepForce` built for it (made here
+        from ``kernel`` and ``gap_tolerance`` when a law is given; its ``force`` gives
+        ``f_n``).
     dt : float
         Step (s).
     gap_start : float
         Gap at ``t_0`` (m).
     gap_tolerance : float, keyword-only
-        Rounding level of the gaps (m), :class:`._stepping.StepForce`'s.
+        Rounding level of the gaps (m) of the ``StepForce`` made here (a given one keeps
+        its own).
     """
     n_total = free_gap.size
     force = np.zeros(n_total)
@@ -98,12 +100,13 @@ def solve_convolution(bodies, gap0, contact, t_end, dt, *, notes=()):
     y_free = tuple(free_displacements(b, grid, k) for b, k in zip(bodies, kernels))
     free_gap = y_free[1] - y_free[0] + gap0
     kernel = kernels[0] + kernels[1]
-    rule = StepForce(contact, kernel[0], kernel[1] if kernel.size > 1 else 0.0, dt,
+    ratio, small_time = kernel_ratio([b.step_response for b in bodies], dt)
+    rule = StepForce(contact, kernel[0], ratio * kernel[0], dt, small_time_ratio=small_time,
                      gap_tolerance=rounding_gap(*y_free))
     force = online_complementarity(kernel, free_gap[1:], rule, dt, float(free_gap[0]))
     result = assemble_result(bodies, gap0, grid, force, kernels, y_free,
                              method="convolution", notes=notes,
                              points=convolution_points(bodies, grid, force),
-                             plastic=rule.plastic)
-    said = rule.unresolved_notes(result.n_contacts)
+                             holding=rule.holding if rule.plastic else None)
+    said = rule.unresolved_notes(result.n_contacts, stacklevel=3)
     return dataclasses.replace(result, notes=result.notes + said) if said else result

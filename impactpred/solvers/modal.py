@@ -44,7 +44,7 @@ Zero-order hold (``hold="constant"``: unstable first-order hold, output points, 
 contact law other than ``Rigid``, ``LinearSpring``, ``Hertz``): the force is constant on
 every step, the same modal maps with ``C = 0`` and ``d += v dt + u dt^2/(2M)``; the
 force of each step solves the same scalar complementarity problem as the convolution
-solver (:class:`._stepping.StepForce`: a plastic start where the bodies are masses at
+solver (:class:`._step_force.StepForce`: a plastic start where the bodies are masses at
 the contact), so the two agree to rounding on the same model. First order in ``dt`` at
 contact events; a Python loop, O(steps x modes).
 """
@@ -58,8 +58,9 @@ import numpy as np
 from ..contact import Hertz, LinearSpring, Rigid
 from ..result import BodyEnergy, ImpactResult
 from ._outputs import ModalOutputs, _require_multi
-from ._stepping import (Grid, StepForce, assemble_result, backward_gap, energy_before,
-                        micro_separation_tolerance, rounding_gap)
+from ._step_force import StepForce, backward_gap, kernel_ratio, rounding_gap
+from ._stepping import (Grid, assemble_result, energy_before, free_displacements,
+                        micro_separation_tolerance, step_kernel)
 
 __all__ = ["solve_modal"]
 
@@ -284,16 +285,18 @@ def _solve_constant_hold(bodies, gap0, contact, t_end, dt, *, notes=()):
     grid = Grid(t_end, dt)
     models = [b.modal_model() for b in bodies]
     steppers = [_ModalStepper(m, dt) for m in models]
-    # the first step-response increment enters the stepping, S(dt) of each body, and the
-    # second tells a pair of masses at the contact (StepForce)
-    steps = np.array([m.step_response([dt, 2 * dt]) for m in models], dtype=float)
-    first = [float(x) for x in steps[:, 0]]
+    # only the first step-response increment enters the stepping: S(dt) of each body
+    first = [float(m.step_response([dt])[0]) for m in models]
     if not all(x > 0 for x in first):
         raise ValueError(f"the step responses over the first step are {first} m/N, not "
                          "positive: not driving points")
     k0 = first[0] + first[1]
-    rule = StepForce(contact, k0, float(np.sum(steps[:, 1]) - k0), dt,
-                     gap_tolerance=rounding_gap(*(b.free_motion(grid.t) for b in bodies)))
+    # the contact rule as the convolution solver builds it (the two agree to rounding)
+    ratio, small_time = kernel_ratio([m.step_response for m in models], dt)
+    rule = StepForce(contact, k0, ratio * k0, dt, small_time_ratio=small_time,
+                     gap_tolerance=rounding_gap(*(free_displacements(b, grid,
+                                                                     step_kernel(b, grid))
+                                                  for b in bodies)))
     law = rule.force
     loads = [b.load_samples(grid.midpoints) for b in bodies]
 
@@ -363,6 +366,7 @@ def _solve_constant_hold(bodies, gap0, contact, t_end, dt, *, notes=()):
             rec2.record(n + 1, z2, d[1], v[1], u2 + f)
     points = tuple(r.response(b, grid.t) if r else None for r, b in zip((rec1, rec2), bodies))
     result = assemble_result(bodies, gap0, grid, force, None, None, method="modal",
-                             notes=notes, y=(y1, y2), points=points, plastic=rule.plastic)
-    said = rule.unresolved_notes(result.n_contacts)
+                             notes=notes, y=(y1, y2), points=points,
+                             holding=rule.holding if rule.plastic else None)
+    said = rule.unresolved_notes(result.n_contacts, stacklevel=4)
     return dataclasses.replace(result, notes=result.notes + said) if said else result
