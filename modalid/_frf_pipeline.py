@@ -501,7 +501,7 @@ class FRFPipeline(PoleChecks):
         inflation = residual_correlation_inflation(weighted)
         if std is not None:
             std = {k: v * inflation for k, v in std.items()}
-            local = local_misfit_inflation(omega, weighted, fit_poles)
+            local = local_misfit_inflation(omega, weighted, fit_poles, correlation=inflation)
             std["modes"] = std["modes"] * local[:, None]
             for p_k, f_k in zip(poles[physical], local[physical]):
                 if f_k >= 2.0:

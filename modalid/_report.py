@@ -100,7 +100,7 @@ def residual_correlation_inflation(residual) -> float:
     return float(np.sqrt((1.0 + rho) / (1.0 - rho)))
 
 
-def local_misfit_inflation(omega, residual, poles, *, quantile=0.99):
+def local_misfit_inflation(omega, residual, poles, *, correlation=1.0, quantile=0.99):
     """Per pole, a factor (>= 1) widening its standard deviations where the fit misses the
     lines it acts on by more than noise explains.
 
@@ -108,11 +108,13 @@ def local_misfit_inflation(omega, residual, poles, *, quantile=0.99):
     cannot follow a mode's own lines (a peak narrower than the lines, smeared by the
     analyzer's window: vtb case2's 192.4 Hz, 100 times the band's mean there) its
     parameters are as uncertain as that misfit says, not as the band's mean does. Over
-    the lines within five half-power half-widths of the pole (five lines at least, as
-    :func:`modalid._pole_checks.local_evidence`), the mean ``|r|^2`` over the band's,
+    the lines within five half-power half-widths or five lines of the pole, the wider
+    (as :func:`modalid._pole_checks.local_evidence`), the mean ``|r|^2`` over the band's,
     ``ratio``; the factor is ``sqrt(ratio)`` where ``ratio`` exceeds its ``quantile``
-    under the noise model (a chi-square with two degrees of freedom per line, over them),
-    else 1: a model that fits leaves about one mode in a hundred widened.
+    under the noise model (a chi-square with two degrees of freedom per line, over them;
+    per ``correlation**2`` lines where the residual is correlated, Bartlett's factor of
+    :func:`residual_correlation_inflation`), else 1: a model that fits leaves about one
+    mode in a hundred widened.
 
     Parameters
     ----------
@@ -121,6 +123,9 @@ def local_misfit_inflation(omega, residual, poles, *, quantile=0.99):
     residual : ndarray of complex, shape (n,)
         Weighted residual ``w (model - data)``.
     poles : ndarray of complex, shape (m,)
+    correlation : float, keyword-only
+        Bartlett's factor of the residual (>= 1): its lines count ``1/correlation**2``.
+    quantile : float, keyword-only
 
     Returns
     -------
@@ -140,7 +145,8 @@ def local_misfit_inflation(omega, residual, poles, *, quantile=0.99):
         if n == 0 or n == power.size:
             continue
         ratio = float(np.mean(power[near])) / mean
-        if ratio > chi2.ppf(quantile, 2 * n) / (2 * n):
+        dof = max(2.0 * n / correlation ** 2, 1.0)
+        if ratio > chi2.ppf(quantile, dof) / dof:
             factors[k] = np.sqrt(ratio)
     return factors
 

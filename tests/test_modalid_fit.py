@@ -724,13 +724,18 @@ def test_a_mode_whose_lines_the_model_misses_has_its_standard_deviations_widened
     over the band's. On noise alone about 1 % of the modes are widened; vtb's sharp
     analyzer peaks (missed 32 and 100 times the band's mean) are, and their sub-band
     refits then differ from the whole band's by about their std (7 and 2.5 before)."""
-    from modalid._report import local_misfit_inflation
+    from modalid._report import local_misfit_inflation, residual_correlation_inflation
 
     rng = np.random.default_rng(1)
     omega = np.linspace(1.0, 1000.0, 4000)
     white = rng.normal(size=omega.size) + 1j * rng.normal(size=omega.size)
     poles = -0.5 + 1j * rng.uniform(50.0, 950.0, 300)
     assert np.mean(local_misfit_inflation(omega, white, poles) > 1.0) < 0.03
+    # correlated noise (3 taps, Bartlett's factor 2.2): its lines count less
+    taps = white[2:] + white[1:-1] + white[:-2]
+    bartlett = residual_correlation_inflation(taps)
+    assert np.mean(local_misfit_inflation(omega[2:], taps, poles,
+                                          correlation=bartlett) > 1.0) < 0.03
     bad = white.copy()
     near = np.abs(omega - 500.0) <= 5 * np.median(np.diff(omega))
     bad[near] = np.sqrt(100.0)                      # 50 times the noise's mean power, 2

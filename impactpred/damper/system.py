@@ -197,10 +197,10 @@ class ImpactDamper:
         Parameters
         ----------
         damper_displacement : float, keyword-only
-            The damper mass's displacement (m) from the middle of the clearance; it must
-            lie within the stops (``|y_d - y_p| <= clearance``, ``y_p`` the primary's
-            displacement at rest: 0, or its flexibility's response to the excitation's
-            force at ``time``).
+            The damper mass's displacement (m) from the middle of the clearance, which
+            moves with the primary's driving point ``y_p`` (0 at rest, or its flexibility's
+            response ``D F(time)`` to a force excitation); within the stops,
+            ``|damper_displacement| <= clearance``.
         damper_velocity : float, keyword-only
             Its velocity (m/s), in free flight.
         time : float, keyword-only
@@ -209,18 +209,21 @@ class ImpactDamper:
         Returns
         -------
         DamperState
+            The primary's modal states at 0 (at rest; under a base excitation the base is
+            where the excitation puts it at ``time``, so the primary is not in equilibrium
+            there), the damper mass at ``y_p + damper_displacement`` in free flight.
         """
         y_d = as_real_scalar("damper_displacement", damper_displacement)
         v_d = as_real_scalar("damper_velocity", damper_velocity)
         t0 = as_real_scalar("time", time)
+        if abs(y_d) > self.clearance:
+            raise ValueError(f"damper_displacement={y_d!r} m puts the damper mass past the "
+                             f"stops at +-{self.clearance!r} m from the middle")
         eng = self.engine()
         x = np.zeros(eng.n)
-        x[eng.iy], x[eng.iv], x[eng.i1] = y_d, v_d, 1.0
-        y_p = float(eng.yp0 @ eng.augmented(x, t0))
-        if abs(y_d - y_p) > self.clearance:
-            raise ValueError(f"damper_displacement={y_d!r} m puts the damper mass "
-                             f"{abs(y_d - y_p):.4g} m from the primary ({y_p:.4g} m at "
-                             f"time={t0!r} s), past the stops at +-{self.clearance!r} m")
+        x[eng.i1] = 1.0
+        y_p = float(eng.yp0 @ eng.augmented(x, t0))      # the primary at rest
+        x[eng.iy], x[eng.iv] = y_p + y_d, v_d
         return DamperState(t0, x, "free", 0)
 
     # ------------------------------------------------------------------ simulation
@@ -233,7 +236,9 @@ class ImpactDamper:
         n_cycles : int
             Number of forcing periods (>= 1).
         initial : None, DamperResult or DamperState, keyword-only
-            ``None``: everything at rest at ``t = 0``, the damper mass centred. A
+            ``None``: ``initial_state()``, everything at rest at ``t = 0``, the damper
+            mass in the middle of the clearance (which a flexible primary's ``D F(0)``
+            moves). A
             ``DamperResult`` (or its ``final_state``) continues that run from its end,
             contact state included; the damper may differ (e.g. a frequency step) as long
             as the primary has the same number of states. :meth:`initial_state` sets the
@@ -262,19 +267,16 @@ class ImpactDamper:
         spc = as_count("samples_per_cycle", samples_per_cycle, minimum=4)
         eng = self.engine()
         if initial is None:
-            x0 = np.zeros(eng.n)
-            x0[eng.i1] = 1.0
-            start = EngineState(0.0, x0, "free", 0, None)
-        else:
-            state = initial.final_state if isinstance(initial, DamperResult) else initial
-            if not isinstance(state, DamperState):
-                raise TypeError(f"initial must be None, a DamperResult or a DamperState, got "
-                                f"{type(initial).__name__}")
-            if state.state.shape != (eng.n,):
-                raise ValueError(f"initial has {state.state.size} states, this damper's engine "
-                                 f"{eng.n}: it comes from another primary")
-            start = EngineState(state.time, state.state, state.mode, state.side,
-                                state.open_impact)
+            initial = self.initial_state()
+        state = initial.final_state if isinstance(initial, DamperResult) else initial
+        if not isinstance(state, DamperState):
+            raise TypeError(f"initial must be None, a DamperResult or a DamperState, got "
+                            f"{type(initial).__name__}")
+        if state.state.shape != (eng.n,):
+            raise ValueError(f"initial has {state.state.size} states, this damper's engine "
+                             f"{eng.n}: it comes from another primary")
+        start = EngineState(state.time, state.state, state.mode, state.side,
+                            state.open_impact)
         raw = run(eng, start=start, n_cycles=n_cycles, samples_per_cycle=spc,
                   progress=bool(progress))
         return build_result(self, raw, n_cycles=n_cycles, samples_per_cycle=spc)

@@ -59,18 +59,21 @@ class StepForce:
     gaps, ``(3 G - 4 g_prev + g_before)/(2 dt)`` (exact under a constant acceleration),
     and ``S'(dt) = (5 dS[0] + dS[1])/(4 dt)`` the velocity a unit force gives over the
     step (exact for ``S = a t^2 + b t^3``; ``2 dS[0]/dt`` for masses). The gap it ends
-    with, about half a step's travel inside, is held while the contact presses
+    with, ``g_prev + v dt/2``: within half a step's travel of 0, either side (inside the
+    bodies, or a gap across which the force acts), is held while the contact presses
     (``f = (g_held - G)/K0``: the bodies stick where they met).
 
     A held gap leaves the velocity the start step could not take away alternating in
     sign step to step (the hold's neutral mode ``v_{n+1} = -v_n``), and the force with
     it: the bodies part when holding them would pull on two steps running (a single
-    step's dip is that mode, and the step is held at no force); they touch again where
-    they parted, until the gap has opened by that offset again, and at 0 after (the
-    offset, less than half a step's travel, does not carry from contact to contact).
-    A contact that starts at rest under a constant acceleration gets the law's force
-    (the two rules agree there). First order in ``dt``, like the zero-order hold at every
-    event. ``holding`` lists, per step, whether the contact held (its force may be 0).
+    step's dip is that mode, and the step is held at no force). They touch again at the
+    gap they parted at, ``g_touch``, until the gap has passed ``|g_touch|`` above 0
+    (``2 g_touch`` for a positive one), and at 0 after: the offset does not carry from
+    contact to contact. A touch again before that is the same contact (a parting within
+    the offset is below the step's resolution): ``holding``, per step, whether a contact
+    held (its force may be 0), marks the steps between as held. A contact that starts at
+    rest under a constant acceleration gets the law's force (the two rules agree there).
+    First order in ``dt``, like the zero-order hold at every event.
 
     Parameters
     ----------
@@ -104,6 +107,7 @@ class StepForce:
         self._reopen = np.inf              # the gap past which that is 0 again
         self.impacts = 0                   # plastic starts (re-touches within a contact too)
         self.holding: list = []
+        self._parted = 0                   # the step at which the last hold parted
 
     def force(self, G: float, g_prev: float, g_before: float) -> float:
         """``f_n`` (N) of the next step; see the class docstring."""
@@ -124,6 +128,7 @@ class StepForce:
                 return 0.0
             touch = self._held                     # holding would pull: they part
             self._touch, self._reopen, self._held = touch, max(touch, 0.0) + abs(touch), None
+            self._parted = len(self.holding)
             return 0.0
         if G > self._reopen:                       # opened past the offset: touch at 0
             self._touch, self._reopen = 0.0, np.inf
@@ -134,6 +139,8 @@ class StepForce:
         if approach <= tol:                        # inside, but not closing at the end
             return 0.0
         f = approach / self._k_velocity
+        if np.isfinite(self._reopen):              # touched again within the offset:
+            self.holding[self._parted:] = [True] * (len(self.holding) - self._parted)
         self._held, self._press = G + self.k0 * f, 0.0
         self.impacts += 1
         return f
