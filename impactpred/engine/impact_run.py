@@ -151,6 +151,14 @@ class RawRun:
         self.first_impulse, self.kind = first_impulse, kind
 
 
+def _root(f, a, b):
+    """The root of ``f`` in ``[a, b]`` (a sign change) to ``1e-15`` of ``b``: Brent's method,
+    allowed the iterations its worst case needs (near a tangency, a root 1e-11 s into a
+    search step whose start is zero to rounding took 102, past scipy's default 100)."""
+    return brentq(f, a, b, xtol=1e-15 * max(b, 1e-300), rtol=4 * np.finfo(float).eps,
+                  maxiter=5000)
+
+
 def run_contact(free, stuck, xa, *, in_contact, rules, t_end, step, out_step, gap0):
     """Run the free-flight and contact phases from ``t = 0`` (state ``xa``) to ``t_end``.
 
@@ -234,7 +242,7 @@ def run_contact(free, stuck, xa, *, in_contact, rules, t_end, step, out_step, ga
             dips = np.flatnonzero((de_starts < 0) & (de > 0) & (e_starts >= threshold)
                                   & (e >= threshold))
             for d in dips:
-                t_min = brentq(rate, starts[d], taus[d], xtol=1e-15 * max(taus[d], 1e-300))
+                t_min = _root(rate, starts[d], taus[d])
                 if event(t_min) < threshold:
                     taus, e = np.append(taus[:d], t_min), np.append(e[:d], event(t_min))
                     break
@@ -257,8 +265,7 @@ def run_contact(free, stuck, xa, *, in_contact, rules, t_end, step, out_step, ga
                 if e_a <= zero_tol:
                     root = a
                 else:
-                    root = brentq(event, a, b, xtol=1e-15 * max(b, 1e-300),
-                                  rtol=4 * np.finfo(float).eps)
+                    root = _root(event, a, b)
                 emit(phase, out_coeffs, t0, t0, t0 + root, True)
                 return t0 + root, form.state(coords, root), True
             tau, e_prev, de_prev = float(taus[-1]), float(e[-1]), float(de[-1])
@@ -344,7 +351,7 @@ def insert_exact_peak(T, V, intervals, first_phase):
     lo, hi = max(lo, start), min(hi, end)
     for a, b in ((lo, T[i]), (T[i], hi)):
         if b > a and rate(a) > 0 >= rate(b):
-            t_peak = brentq(rate, a, b, xtol=1e-15 * max(b, 1e-300))
+            t_peak = _root(rate, a, b)
             values = form.evaluate(form.output_coefficients(phase.rows, coords), [t_peak - t0])
             k = int(np.searchsorted(T, t_peak))
             T_out, V_out = np.empty(T.size + 1), np.empty((V.shape[0], T.size + 1))
