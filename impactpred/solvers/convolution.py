@@ -38,9 +38,11 @@ def online_complementarity(kernel, free_gap, law, dt, gap_start, *, gap_toleranc
     free_gap : ndarray, shape (N,)
         Gap (m) at ``t_{n+1}`` without any contact force.
     law : ContactLaw or StepForce
-        The contact law, or the :class:`._step_force.StepForce` built for it (made here
-        from ``kernel`` and ``gap_tolerance`` when a law is given; its ``force`` gives
-        ``f_n``).
+        The contact law, or the :class:`._step_force.StepForce` built for it (its
+        ``force`` gives ``f_n``). Made here from ``kernel`` and ``gap_tolerance`` when a
+        law is given, which checks the kernel's ratio at the step only: the bodies'
+        small-time ratio (:func:`._step_force.kernel_ratio`) needs their step responses,
+        as :func:`solve_convolution` passes them.
     dt : float
         Step (s).
     gap_start : float
