@@ -137,10 +137,8 @@ def solve_impact(body1: Body, body2: Body, *, gap: float = 0.0, contact=Rigid(),
 def _start_displacement(body) -> float:
     """The contact point's displacement (m) at ``t = 0``: the free motion's, plus the
     direct term ``d F(0)`` of a rational model's residual flexibility under its load."""
-    y = float(body.free_motion(0.0))
-    if body.load is not None and body.is_rational:
-        y += body.modal_model().flexibility * float(body.load_samples(np.zeros(1))[0])
-    return y
+    d, force = body.load_direct_term()
+    return float(body.free_motion(0.0)) + d * force
 
 
 def _step_within_records(bodies, t_end, dt, notes):

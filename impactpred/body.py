@@ -363,6 +363,22 @@ class Body:
             y = y + 2.0 * np.sum((r * z0 * np.exp(p * t[..., None])).real, axis=-1)
         return y
 
+    def load_direct_term(self) -> tuple[float, float]:
+        """``(d, F(0))``: the flexibility term ``d`` (m/N) through which a rational model's
+        load moves the contact point at once, and the load at ``t = 0`` (N). ``(0.0, 0.0)``
+        without a load; ``d = 0`` for a non-rational model (a continuum's response has no
+        instantaneous term). ``d F(0)`` is the contact point's displacement from it at
+        ``t = 0``, ``d F(0)^2 / 2`` the strain energy it holds there.
+
+        Returns
+        -------
+        tuple of float
+        """
+        if self.load is None:
+            return 0.0, 0.0
+        d = self.modal_model().flexibility if self.is_rational else 0.0
+        return float(d), float(self.load_samples(np.zeros(1))[0])
+
     def load_samples(self, t) -> np.ndarray:
         """External force (N) at times ``t``; zeros without a load.
 

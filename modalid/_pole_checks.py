@@ -23,7 +23,7 @@ import numpy as np
 from ._band import noise_model
 from ._lsfd import evaluate, refine_varpro, removal_cost, split_coefficients
 
-__all__ = ["PoleChecks", "line_noise", "local_evidence"]
+__all__ = ["PoleChecks", "line_noise", "local_evidence", "pole_lines"]
 
 
 def line_noise(h, noise, coherence=None):
@@ -38,10 +38,17 @@ def line_noise(h, noise, coherence=None):
     return np.hypot(sigma_rel * np.abs(h), floor)
 
 
+def pole_lines(omega, p, spacing):
+    """The lines (bool, shape of ``omega``) a pole ``p`` acts on: within five half-power
+    half-widths ``|Re p|`` of its frequency, or five lines of ``spacing`` (rad/s), the
+    wider."""
+    return np.abs(omega - p.imag) <= max(5.0 * spacing, 5.0 * abs(p.real))
+
+
 def local_evidence(omega, h, w, sigma, poles, r, model):
     """Per pole, summed over the rows of ``h`` (shape (rows, lines)): how much worse the
-    model fits the lines the pole acts on without its term (within five half-power
-    half-widths, five lines at least; nothing refitted), over that row's noise there,
+    model fits the lines the pole acts on without its term (:func:`pole_lines`; nothing
+    refitted), over that row's noise there,
     ``sum |w (h - model + term)|^2 - sum |w (h - model)|^2`` over ``sum (w sigma)^2``.
     ``w``, ``sigma``, ``model``: shape of ``h``; ``r``: residues (rows, poles). A sum over
     the rows, not a noise-weighted mean: a mode seen in one row is not diluted by the
@@ -50,7 +57,7 @@ def local_evidence(omega, h, w, sigma, poles, r, model):
     spacing = float(np.median(np.diff(omega)))
     evidence = np.empty(poles.size)
     for k, p in enumerate(poles):
-        near = np.abs(omega - p.imag) <= max(5.0 * spacing, 5.0 * abs(p.real))
+        near = pole_lines(omega, p, spacing)
         s = 1j * omega[near]
         term = (r[:, k, None] / (s - p)[None, :]
                 + np.conj(r[:, k, None]) / (s - np.conj(p))[None, :])
@@ -334,7 +341,7 @@ class PoleChecks:
         terms held outside that model, added to it."""
         p = poles[new]
         spacing = float(np.median(np.diff(omega)))
-        near = np.abs(omega - p.imag) <= max(5.0 * spacing, 5.0 * abs(p.real))
+        near = pole_lines(omega, p, spacing)
         if lines is not None:
             near &= lines
         r, c, u, d = split_coefficients(x, poles.size, terms)

@@ -8,6 +8,8 @@ from collections.abc import Mapping
 
 import numpy as np
 
+from ._pole_checks import pole_lines
+
 __all__ = ["FitReport", "fit_report", "local_misfit_inflation",
            "residual_correlation_inflation"]
 
@@ -108,8 +110,8 @@ def local_misfit_inflation(omega, residual, poles, *, correlation=1.0, quantile=
     cannot follow a mode's own lines (a peak narrower than the lines, smeared by the
     analyzer's window: vtb case2's 192.4 Hz, 100 times the band's mean there) its
     parameters are as uncertain as that misfit says, not as the band's mean does. Over
-    the lines within five half-power half-widths or five lines of the pole, the wider
-    (as :func:`modalid._pole_checks.local_evidence`), the mean ``|r|^2`` over the band's,
+    the lines the pole acts on (:func:`modalid._pole_checks.pole_lines`), the mean
+    ``|r|^2`` over the band's,
     ``ratio``; the factor is ``sqrt(ratio)`` where ``ratio`` exceeds its ``quantile``
     under the noise model (a chi-square with two degrees of freedom per line, over them;
     per ``correlation**2`` lines where the residual is correlated, Bartlett's factor of
@@ -140,7 +142,7 @@ def local_misfit_inflation(omega, residual, poles, *, correlation=1.0, quantile=
         return factors
     spacing = float(np.median(np.diff(omega)))
     for k, p in enumerate(poles):
-        near = np.abs(omega - p.imag) <= max(5.0 * spacing, 5.0 * abs(p.real))
+        near = pole_lines(omega, p, spacing)
         n = int(np.count_nonzero(near))
         if n == 0 or n == power.size:
             continue

@@ -167,9 +167,12 @@ class StepForce:
         return (said,)
 
 
-def backward_gap(gap0: float, free1: float, free2: float) -> float:
+def backward_gap(gap0: float, free1: float, free2: float | None) -> float:
     """The gap one step before ``t_0`` (m) on the quadratic through the force-free gaps
-    at ``t_0, t_1, t_2``: :class:`StepForce`'s ``g_before`` at the first step."""
+    at ``t_0, t_1, t_2``: :class:`StepForce`'s ``g_before`` at the first step. With no
+    ``t_2`` (``free2=None``, a single step) the line through the first two."""
+    if free2 is None:
+        free2 = 2.0 * free1 - gap0
     return 3.0 * gap0 - 3.0 * free1 + free2
 
 

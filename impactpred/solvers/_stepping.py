@@ -67,13 +67,9 @@ def energy_before(body) -> float:
     """A body's vibration energy (J) at ``t = 0``: its modes', and the strain energy
     ``D F(0)^2 / 2`` its load holds there in a flexibility term ``D`` (the exact method's
     count, :meth:`impactpred.solvers.laplace.CoupledSystem.energies`; the bodies do not
-    touch before ``t = 0``). A rational body's ``D`` only: a continuum's response has no
-    instantaneous term."""
-    energy = body.vibration_energy()
-    if body.load is not None and body.is_rational:
-        force = float(body.load_samples(np.zeros(1))[0])
-        energy += 0.5 * body.modal_model().flexibility * force ** 2
-    return energy
+    touch before ``t = 0``; :meth:`impactpred.Body.load_direct_term`)."""
+    d, force = body.load_direct_term()
+    return body.vibration_energy() + 0.5 * d * force ** 2
 
 
 def micro_separation_tolerance(y1, y2) -> float:

@@ -61,8 +61,7 @@ def online_complementarity(kernel, free_gap, law, dt, gap_start, *, gap_toleranc
                         gap_tolerance=gap_tolerance)
     step_force = law.force
     g_prev = gap_start
-    g_before = backward_gap(gap_start, free_gap[0], free_gap[1] if n_total > 1 else
-                            2 * free_gap[0] - gap_start)
+    g_before = backward_gap(gap_start, free_gap[0], free_gap[1] if n_total > 1 else None)
 
     def solve_block(lo, hi):
         nonlocal g_prev, g_before
@@ -102,9 +101,9 @@ def solve_convolution(bodies, gap0, contact, t_end, dt, *, notes=()):
     y_free = tuple(free_displacements(b, grid, k) for b, k in zip(bodies, kernels))
     free_gap = y_free[1] - y_free[0] + gap0
     kernel = kernels[0] + kernels[1]
-    ratio, small_time = kernel_ratio([b.step_response for b in bodies], dt)
-    rule = StepForce(contact, kernel[0], ratio * kernel[0], dt, small_time_ratio=small_time,
-                     gap_tolerance=rounding_gap(*y_free))
+    _, small_time = kernel_ratio([b.step_response for b in bodies], dt)
+    rule = StepForce(contact, kernel[0], kernel[1] if kernel.size > 1 else 0.0, dt,
+                     small_time_ratio=small_time, gap_tolerance=rounding_gap(*y_free))
     force = online_complementarity(kernel, free_gap[1:], rule, dt, float(free_gap[0]))
     result = assemble_result(bodies, gap0, grid, force, kernels, y_free,
                              method="convolution", notes=notes,

@@ -291,12 +291,13 @@ def _solve_constant_hold(bodies, gap0, contact, t_end, dt, *, notes=()):
         raise ValueError(f"the step responses over the first step are {first} m/N, not "
                          "positive: not driving points")
     k0 = first[0] + first[1]
-    # the contact rule as the convolution solver builds it (the two agree to rounding)
+    # the contact rule as the convolution solver builds it (the two agree to rounding);
+    # its rounding scale, the free motion with the loads' response, only where it is used
     ratio, small_time = kernel_ratio([m.step_response for m in models], dt)
-    rule = StepForce(contact, k0, ratio * k0, dt, small_time_ratio=small_time,
-                     gap_tolerance=rounding_gap(*(free_displacements(b, grid,
-                                                                     step_kernel(b, grid))
-                                                  for b in bodies)))
+    rule = StepForce(contact, k0, ratio * k0, dt, small_time_ratio=small_time)
+    if rule.plastic:
+        rule.gap_tolerance = rounding_gap(*(free_displacements(b, grid, step_kernel(b, grid))
+                                            for b in bodies))
     law = rule.force
     loads = [b.load_samples(grid.midpoints) for b in bodies]
 
@@ -333,12 +334,11 @@ def _solve_constant_hold(bodies, gap0, contact, t_end, dt, *, notes=()):
 
     # the gap a step before t_0 (StepForce), from the force-free gaps at t_1 and t_2
     *state1, free1 = free_step(z1, z2, d, v, loads[0][0], loads[1][0])
+    free2 = None
     if grid.n_steps > 1:
         v1 = [v[0] + loads[0][0] * m1 * h, v[1] + loads[1][0] * m2 * h]
         free2 = free_step(state1[0], state1[1], state1[2:4], v1, loads[0][1],
                           loads[1][1])[-1]
-    else:
-        free2 = 2 * free1 - g_prev
     g_before = backward_gap(g_prev, free1, free2)
     for n in range(grid.n_steps):
         u1, u2 = loads[0][n], loads[1][n]
