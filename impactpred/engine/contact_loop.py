@@ -24,6 +24,9 @@ __all__ = ["relative_degree", "contact_start", "free_lobe_height", "phase_run", 
 
 #: an event loop that does not advance this many times in a row is stalled (grazing)
 MAX_STALLS = 50
+#: a free flight that starts where the loop decided the gap opens takes a start below
+#: zero by at most this share of the gap's terms as the previous phase's rounding
+_START_OFFSET = 1e-9
 
 
 def relative_degree(c0, c1, c2, scale):
@@ -172,6 +175,15 @@ def phase_run(rates, abs_rates, abs_rates4, order, modes_r, modes_i, proj_r, pro
     scale = np.empty(1)
     scale[0] = total
     open_row = 0 if on_boundary else -1
+    if on_boundary and not relative:
+        # the loop has decided the gap opens here, so it is zero here: a start below zero
+        # by the previous phase's rounding (a held gap's drift, above this phase's own
+        # rounding level) is not an event; the search takes the row from that offset
+        start = p_ev[0, 0]
+        for j in range(m):
+            start += b_ev[0, j].real
+        if -_START_OFFSET * total <= start < 0.0:
+            p_ev[0, 0] -= start
     if m:
         tau, _ = first_event(rates, abs_rates, abs_rates4, order, b_ev, p_ev, t_end - t0,
                              scale, tol, on_boundary, open_row)
