@@ -27,7 +27,7 @@ from scipy.signal import find_peaks
 from ._checks import as_count
 from ._frf_pipeline import ModalFitWarning
 from ._pole_checks import line_noise, local_evidence
-from ._report import fit_report
+from ._report import fit_report, local_misfit_inflation, residual_correlation_inflation
 from ._lm import bounded_lm, pole_limits
 from ._band import choose_band, noise_model
 from ._lscf import lscf_subbands
@@ -128,18 +128,44 @@ def refine_joint(omega, values, weights, poles, terms: Terms, *, passive_row=Non
                                  stat_tol=stat_tol, stall_tol=stall_tol, xtol=xtol)
     it, converged, message = lm_info["n_iter"], lm_info["converged"], lm_info["message"]
     info = {"n_iter": it, "converged": converged, "message": message, "cost": cur.cost,
-            "pole_std": None, "residue_std": None}
+            "pole_std": None, "residue_std": None, "weights": weights}
     if with_std and n:
-        n_lin = sum(p.mat.shape[1] for p in cur.rows)
-        sigma2 = cur.cost / max(n_data - n_lin - 2 * n, 1)
-        jtj, _ = cur.normal_equations()
-        norms = np.sqrt(np.maximum(np.diag(jtj), 1e-300))
-        cov = np.linalg.pinv(jtj / np.outer(norms, norms), hermitian=True) * sigma2
-        s = np.sqrt(np.clip(np.diag(cov), 0.0, None)) / norms
+        s = _joint_pole_std(cur.rows, n_data)
         info["pole_std"] = np.column_stack([s[0::2], s[1::2]])
         info["residue_std"] = np.array([_std(p, n, y.size)["modes"][:, 2:4]
                                         for p, y in zip(cur.rows, ys)])
     return x[0::2] + 1j * x[1::2], cur.xs, info
+
+
+def _joint_pole_std(rows, n_data):
+    """Standard deviations (shape (2 n,): Re p, Im p interleaved) of the shared poles.
+
+    From the full normal matrix of the poles and every row's free linear unknowns,
+    assembled from blocks (``[[sum G_i^T G_i, C_1^T, ...], [C_1, Phi_1^T Phi_1, 0], ...]``
+    with ``C_i = Phi_i^T G_i``), as :func:`modalid._lsfd._std` for one row. Its diagonal is
+    a sum of squares; the variable-projection form ``sum (G_i^T G_i - C_i^T Gram_i^-1 C_i)``
+    subtracts nearly equal terms for a pole the linear unknowns almost absorb (a residual
+    pseudo-mode below the band: a diagonal of -1e-8 against +4.5e-8, pyuff's three points),
+    and a negative diagonal there had made every pole's std 0.
+    """
+    gs = [p.derivative() for p in rows]
+    crosses = [(p.mat.T @ g)[p.free] for p, g in zip(rows, gs)]
+    grams = [p.gram[np.ix_(p.free, p.free)] for p in rows]
+    n2 = gs[0].shape[1]
+    size = n2 + sum(c.shape[0] for c in crosses)
+    normal = np.zeros((size, size))
+    normal[:n2, :n2] = sum(g.T @ g for g in gs)
+    at = n2
+    for c, gram in zip(crosses, grams):
+        k = c.shape[0]
+        normal[at:at + k, :n2] = c
+        normal[:n2, at:at + k] = c.T
+        normal[at:at + k, at:at + k] = gram
+        at += k
+    sigma2 = sum(p.cost for p in rows) / max(n_data - size, 1)
+    norms = np.sqrt(np.maximum(np.diag(normal), 1e-300))
+    cov = np.linalg.pinv(normal / np.outer(norms, norms), hermitian=True) * sigma2
+    return np.sqrt(np.clip(np.diag(cov)[:n2], 0.0, None)) / norms[:n2]
 
 
 def prefix_sse(omega, values, weights, candidates, terms: Terms, fixed=()):
@@ -407,26 +433,42 @@ def _store(est, rec, poles, kinds, xs, terms, info, notes, max_order, dp):
     def nrmse(a, b):
         return np.linalg.norm(a - b, axis=1) / np.linalg.norm(b, axis=1)
 
-    noise = np.array([np.sqrt(np.mean(noise_level(v) ** 2)) / np.sqrt(np.mean(np.abs(v) ** 2))
-                      for v in band.values])
+    scatter = np.array([noise_level(v) for v in band.values])     # per row and line
+    noise = np.sqrt(np.mean(scatter ** 2, axis=1) / np.mean(np.abs(band.values) ** 2, axis=1))
+    magnitude = np.maximum(np.abs(band.values), 1e-300)
     shapes = model.mode_shapes()                   # sorted by |p|: pick the physical ones
     all_order = np.argsort(np.abs(poles), kind="stable")
     est.mode_shapes_ = shapes[:, physical[all_order]]
     modes = ModalModel(poles=poles[physical], residues=r[dp][physical]).modes
     for name in ("frequency_hz_std", "damping_ratio_std", "residue_std"):
         modes[name] = np.nan
+    # as a single FRF's (ModalFit._store): the formula assumes independent lines and the
+    # band's mean residual; widen by Bartlett's factor of the rows' residuals and, per
+    # pole, by the misfit on its own lines where noise does not explain it
+    weighted = info["weights"] * (fitted - rec.values)
+    inflation = residual_correlation_inflation(weighted)
+    local = local_misfit_inflation(rec.omega, weighted, poles, correlation=inflation)
     if info.get("pole_std") is not None:
-        s2, p = info["pole_std"][physical][order], poles[physical][order]
+        widen = inflation * local[physical][order]
+        s2, p = info["pole_std"][physical][order] * widen[:, None], poles[physical][order]
         wn, sig, nu = np.abs(p), p.real, p.imag
         modes["frequency_hz_std"] = np.hypot(sig * s2[:, 0], nu * s2[:, 1]) / wn / (2 * np.pi)
         modes["damping_ratio_std"] = np.hypot(nu**2 * s2[:, 0], sig * nu * s2[:, 1]) / wn**3
         rs = info["residue_std"][dp][physical][order]
-        modes["residue_std"] = np.hypot(rs[:, 0], rs[:, 1])
+        modes["residue_std"] = np.hypot(rs[:, 0], rs[:, 1]) * widen
+        notes += [f"mode at {w_k / (2 * np.pi):.6g} Hz: the model misses its lines by "
+                  f"{f_k ** 2:.3g} times the band's mean residual; its standard deviations "
+                  f"are widened {f_k:.3g} times"
+                  for w_k, f_k in zip(wn, local[physical][order]) if f_k >= 2.0]
     est.report_ = fit_report(
         model.driving, kinds, info, notes, method=est.method, max_order=max_order,
         outputs=list(rec.outputs), driving_point=dp,
         frf_nrmse=nrmse(fitted, rec.values).tolist(),
         frf_nrmse_data=nrmse(own, band.values).tolist(),
         noise_estimate_data=noise.tolist(), data_quantity=band.quantity,
-        band_hz=(float(rec.freq_hz[0]), float(rec.freq_hz[-1])), modes=modes)
+        frf_median_relative_error=np.median(np.abs(own - band.values) / magnitude,
+                                            axis=1).tolist(),
+        noise_median_relative=np.median(scatter / magnitude, axis=1).tolist(),
+        band_hz=(float(rec.freq_hz[0]), float(rec.freq_hz[-1])), modes=modes,
+        std_inflation=inflation)
     return est

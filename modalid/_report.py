@@ -89,15 +89,15 @@ class FitReport(Mapping):
 def residual_correlation_inflation(residual) -> float:
     """Factor (>= 1) widening standard deviations computed as if the lines' errors were
     independent, from the lag-one correlation ``rho`` of the weighted residual (complex,
-    shape (n,)): ``sqrt((1 + rho) / (1 - rho))``, the ratio of the line count to the
-    effective count of independent lines for AR(1) errors (Bartlett). White residuals
-    (noise alone) give 1; a residual that is model error, smooth over the lines, more.
-    ``rho`` is taken in [0, 0.99]."""
-    r = np.asarray(residual, dtype=complex)
+    shape (n,), or (n_outputs, n) pooled over the rows): ``sqrt((1 + rho) / (1 - rho))``,
+    the ratio of the line count to the effective count of independent lines for AR(1)
+    errors (Bartlett). White residuals (noise alone) give 1; a residual that is model
+    error, smooth over the lines, more. ``rho`` is taken in [0, 0.99]."""
+    r = np.atleast_2d(np.asarray(residual, dtype=complex))
     power = float(np.sum(np.abs(r) ** 2))
-    if r.size < 3 or power <= 0:
+    if r.shape[1] < 3 or power <= 0:
         return 1.0
-    rho = float(np.real(np.sum(r[1:] * np.conj(r[:-1])))) / power
+    rho = float(np.real(np.sum(r[:, 1:] * np.conj(r[:, :-1])))) / power
     rho = min(max(rho, 0.0), 0.99)
     return float(np.sqrt((1.0 + rho) / (1.0 - rho)))
 
@@ -122,8 +122,9 @@ def local_misfit_inflation(omega, residual, poles, *, correlation=1.0, quantile=
     ----------
     omega : ndarray, shape (n,)
         Lines (rad/s).
-    residual : ndarray of complex, shape (n,)
-        Weighted residual ``w (model - data)``.
+    residual : ndarray of complex, shape (n,) or (n_outputs, n)
+        Weighted residual ``w (model - data)``; with several rows (common poles) the
+        means are over every row's lines.
     poles : ndarray of complex, shape (m,)
     correlation : float, keyword-only
         Bartlett's factor of the residual (>= 1): its lines count ``1/correlation**2``.
@@ -135,19 +136,20 @@ def local_misfit_inflation(omega, residual, poles, *, correlation=1.0, quantile=
     """
     from scipy.stats import chi2
 
-    power = np.abs(np.asarray(residual, dtype=complex)) ** 2
+    power = np.abs(np.atleast_2d(np.asarray(residual, dtype=complex))) ** 2
     mean = float(np.mean(power)) if power.size else 0.0
     factors = np.ones(len(poles))
-    if mean <= 0.0 or power.size < 3:
+    n_rows, n_lines = power.shape
+    if mean <= 0.0 or n_lines < 3:
         return factors
     spacing = float(np.median(np.diff(omega)))
     for k, p in enumerate(poles):
         near = pole_lines(omega, p, spacing)
         n = int(np.count_nonzero(near))
-        if n == 0 or n == power.size:
+        if n == 0 or n == n_lines:
             continue
-        ratio = float(np.mean(power[near])) / mean
-        dof = max(2.0 * n / correlation ** 2, 1.0)
+        ratio = float(np.mean(power[:, near])) / mean
+        dof = max(2.0 * n * n_rows / correlation ** 2, 1.0)
         if ratio > chi2.ppf(quantile, dof) / dof:
             factors[k] = np.sqrt(ratio)
     return factors

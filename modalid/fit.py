@@ -385,7 +385,15 @@ class ModalFit(FRFPipeline, FitLines, BaseEstimator):
             band = report["band_hz"]
             nrmse = report["frf_nrmse"]
             relative = (report["frf_median_relative_error"], report["noise_median_relative"])
-        else:                                     # an impulse response, or an FRFSet
+        elif isinstance(frf, FRFSet):             # judged by its worst row
+            spacing = float(np.median(np.diff(frf.freq_hz)))
+            band = report["band_hz"]
+            nrmse = float(np.max(report["frf_nrmse_data"]))
+            errors = np.asarray(report["frf_median_relative_error"])
+            noises = np.asarray(report["noise_median_relative"])
+            worst = int(np.argmax(errors / np.maximum(0.05, 3.0 * noises)))
+            relative = (float(errors[worst]), float(noises[worst]))
+        else:                                     # an impulse response
             spacing, band = 0.0, report.get("band_hz", (0.0, np.inf))
             nrmse = float(np.max(np.atleast_1d(report.get("frf_nrmse",
                                                           report.get("impulse_nrmse", 0.0)))))
