@@ -82,9 +82,11 @@ class ModalFit(FRFPipeline, FitLines, BaseEstimator):
         signs of the modal constants whether the FRF is a driving point (modes of
         positive modal mass carry 90 % of the modes' strength ``1/|m|`` and the mass line
         is not negative; :func:`modalid._verdict.driving_point_decision`) and, where it
-        is, identify with it (a quick unconstrained refinement decides; the full
-        identification follows with the constraint, and stays unconstrained when the
-        constraint raises the median error per line by half); ``report_["driving_point"]``
+        is, identify with it (a quick unconstrained refinement decides, or the full
+        unconstrained identification where the quick one finds no resonance or misses
+        lines by more than the verdict allows; the full identification follows with the
+        constraint, and stays unconstrained when the constraint raises the median error
+        per line by half); ``report_["driving_point"]``
         and ``report_["driving_point_reason"]`` say what was decided. An impulse response
         (``"era"``) or an FRFSet is taken as a driving point.
     refine : bool
@@ -320,11 +322,24 @@ class ModalFit(FRFPipeline, FitLines, BaseEstimator):
                 self._fit_frf(data)
             finally:
                 del self.__dict__["_probe"]
+            full = self._segment_count == 1 and not self._probe_suffices()
+            if full:
+                # the probe (its estimator's stable poles, no missed-mode search) missed
+                # what the band holds: the full unconstrained identification decides (the
+                # hammer test on 4000-4600 Hz: no stable cluster, eight modes found by the
+                # search, a transfer FRF; taken as a driving point for want of evidence,
+                # the passive fit had dropped them all)
+                with warnings.catch_warnings(record=True) as unconstrained:
+                    warnings.simplefilter("always")
+                    self._fit_frf(data)
             driving, reason = driving_point_decision(self.report_["modes"],
                                                      self._raw_inverse_mass)
             probe_error = self.report_["frf_median_relative_error"]
             self._passive_on = driving
-            if driving or self._segment_count == 1:
+            if full and not driving:
+                for w in unconstrained:           # the unconstrained fit stands
+                    warnings.warn(w.message, w.category, stacklevel=2)
+            elif driving or self._segment_count == 1:
                 self._fit_frf(data)
             else:
                 # a wide band fitted by segments: the probe was the whole unconstrained
@@ -341,6 +356,14 @@ class ModalFit(FRFPipeline, FitLines, BaseEstimator):
                     "unconstrained one: not a passive driving point")
             self.__dict__.pop("_stabilization_cache", None)
             return self._judge(driving_point=driving, reason=reason)
+
+    def _probe_suffices(self) -> bool:
+        """Whether the quick unconstrained probe's modes can decide the driving point: it
+        found a resonance and its median line error is within ``max(5 %, 3 x`` the data's
+        scatter) (the verdict's tolerance: no modes missing)."""
+        report = self.report_
+        tolerance = max(0.05, 3.0 * report["noise_median_relative"])
+        return len(report["modes"]) > 0 and report["frf_median_relative_error"] <= tolerance
 
     def _fit_set(self, data: FRFSet, auto: bool):
         """Common poles (:func:`modalid._global.fit_set`). ``weighting="auto"``: the
