@@ -25,7 +25,7 @@ from ._segments import MIN_SEGMENTED, segment_poles
 from ._lsfd import (Terms, design_matrix, evaluate, mass_line_significant, noise_level,
                     place_upper_modes, refine_varpro, release_gain, split_coefficients)
 from ._vf import vector_fit_poles
-from ._window import rigid_factor, truncation_factors, unwindow
+from ._window import structure_model
 from .frf import FRFData
 from .model import ModalModel
 from .quantities import receptance_to
@@ -500,7 +500,9 @@ class FRFPipeline(PoleChecks):
         window = {}
         fit_poles = poles                    # where the residual's lines are (windowed)
         if self._shift or self.record_length is not None:
-            fitted_model, window = self._unwindow(fitted_model, kinds)
+            fitted_model, window = structure_model(
+                fitted_model, kinds, decay_rate=self._shift, record_length=self.record_length,
+                quantity=self._data_band.quantity)
             poles, residues = fitted_model.poles, fitted_model.residues
         self.model_ = fitted_model
         physical = kinds == "mode"
@@ -571,33 +573,3 @@ class FRFPipeline(PoleChecks):
             flexibility_std=flexibility_std, std_inflation=inflation,
             **{k: v for k, v in window.items()
                if k not in ("truncation_factors", "rigid_factor")})
-
-    def _unwindow(self, model, kinds, min_damping=1e-5):
-        """The structure's model from the windowed fit ``model``, and what was done.
-
-        A pole whose damping the window's removal would leave under ``min_damping``
-        (noise in the windowed damping) is held at ``min_damping``: the structure is
-        passive; ``window_clipped`` counts them. The hold is applied to the windowed pole
-        before the record's end is divided out: a windowed pole that does not decay
-        within the record and sits on a line (a pseudo-mode on its bound at a multiple of
-        the band top) has a truncation factor ``1 - exp(p_w T)`` near 0 (1.4e-4 for the
-        ball's cantilever at 20 modes, 5 % noise, run 16), and dividing by it turned the
-        pseudo-mode into a static compliance of 1.5e-6 m/N where the omitted modes hold
-        about 2e-10: a soft spring under the contact."""
-        sigma, length = self._shift, self.record_length
-        windowed = model.poles
-        limit = -min_damping * np.abs(windowed + sigma)
-        clipped = ((windowed + sigma).real > limit) & (kinds != "far")
-        model = model.replace(poles=np.where(clipped, limit - sigma + 1j * windowed.imag,
-                                             windowed))
-        factors = (np.ones(model.poles.size) if length is None
-                   else truncation_factors(model.poles, length))
-        try:
-            out = unwindow(model, sigma, length, quantity=self._data_band.quantity)
-        except ValueError as exc:        # a rigid line with record_length and no window
-            raise ValueError(f"ModalFit(window_decay_rate={self.window_decay_rate!r}, "
-                             f"record_length={length!r}) found a rigid body: {exc}") from None
-        return out, {"window_decay_rate": sigma, "record_length": length,
-                     "window_clipped": int(np.sum(clipped)), "truncation_factors": factors,
-                     "rigid_factor": (rigid_factor(sigma, length, self._data_band.quantity)
-                                      if model.inverse_mass else 1.0)}

@@ -18,7 +18,11 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-__all__ = ["driving_point_decision", "quality_verdict", "damping_resolved"]
+from .frf import FRFData
+from .frf_set import FRFSet
+from .multi_output import MultiOutputModalModel
+
+__all__ = ["driving_point_decision", "quality_verdict", "damping_resolved", "judged_report"]
 
 _DOMINANT = 0.9       # share of the peak receptance that decides a driving point
 _MIN_DAMPING = 1e-6   # below this the damping ratio sits at the refinement's bound
@@ -156,3 +160,47 @@ def quality_verdict(modes: pd.DataFrame, *, band_hz, driving_point, nrmse, relat
     if failed:
         return "failed", failed + suspect
     return ("suspect", suspect) if suspect else ("ok", [])
+
+
+def judged_report(report, model, frf, *, driving_point, reason, weighting, weighting_reason,
+                  band_reason):
+    """``report`` (a fit's :class:`modalid._report.FitReport`) with the modes' damping
+    resolution, the driving-point decision and the quality verdict added.
+
+    ``frf``: the data fitted (``FRFData``; an ``FRFSet``, judged by its worst row in the
+    data's own quantity; None for an impulse response); ``model``: the fitted model;
+    ``driving_point``, ``reason``: the decision and why (a set's is its row's, not
+    stored); the weighting and band entries are stored as given.
+    """
+    modes = report["modes"].copy()
+    if isinstance(frf, FRFData):
+        spacing = float(np.median(np.diff(frf.freq_hz)))
+        band = report["band_hz"]
+        nrmse = report["frf_nrmse"]
+        relative = (report["frf_median_relative_error"], report["noise_median_relative"])
+    elif isinstance(frf, FRFSet):             # judged by its worst row
+        spacing = float(np.median(np.diff(frf.freq_hz)))
+        band = report["band_hz"]
+        nrmse = float(np.max(report["frf_nrmse_data"]))
+        errors = np.asarray(report["frf_median_relative_error"])
+        noises = np.asarray(report["noise_median_relative"])
+        worst = int(np.argmax(errors / np.maximum(0.05, 3.0 * noises)))
+        relative = (float(errors[worst]), float(noises[worst]))
+    else:                                     # an impulse response
+        spacing, band = 0.0, report.get("band_hz", (0.0, np.inf))
+        nrmse = float(np.max(np.atleast_1d(report.get("frf_nrmse",
+                                                      report.get("impulse_nrmse", 0.0)))))
+        relative = (0.0, np.nan)
+    modes["damping_resolved"] = damping_resolved(modes, spacing)
+    finite = all(np.all(np.isfinite(np.asarray(a))) for a in (
+        model.poles, model.residues, model.inverse_mass, model.flexibility,
+        modes["modal_mass"].to_numpy(float)))
+    verdict, reasons = quality_verdict(modes, band_hz=band, driving_point=driving_point,
+                                       nrmse=nrmse, relative_error=relative[0],
+                                       relative_noise=relative[1],
+                                       rigid_body=bool(report["rigid_body"]), finite=finite)
+    decision = ({} if isinstance(model, MultiOutputModalModel)   # a set's: the row's
+                else {"driving_point": driving_point, "driving_point_reason": reason})
+    return report.replace(modes=modes, **decision, weighting=weighting,
+                          weighting_reason=weighting_reason, verdict=verdict,
+                          verdict_reasons=reasons, band_reason=band_reason)

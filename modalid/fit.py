@@ -34,12 +34,11 @@ from ._era import identify_impulse, impulse_samples
 from ._fit_lines import FitLines
 from ._frf_pipeline import FRFPipeline, ModalFitWarning
 from ._report import fit_report
-from ._verdict import damping_resolved, driving_point_decision, quality_verdict
+from ._verdict import driving_point_decision, judged_report
 from ._window import windowed_receptance
 from .frf import FRFData
 from .frf_set import FRFSet
 from .model import ModalModel
-from .multi_output import MultiOutputModalModel
 from .quantities import receptance_to
 from .stabilization import plot_fit, plot_stabilization
 
@@ -399,46 +398,16 @@ class ModalFit(FRFPipeline, FitLines, BaseEstimator):
 
     def _judge(self, *, driving_point, reason):
         """Add the driving-point decision, damping resolution and the quality verdict
-        to ``report_``; warn (:class:`ModalFitWarning`) unless the verdict is ``"ok"``."""
-        report = self.report_
-        modes = report["modes"].copy()
-        frf = getattr(self, "frf_", None)
-        if isinstance(frf, FRFData):
-            spacing = float(np.median(np.diff(frf.freq_hz)))
-            band = report["band_hz"]
-            nrmse = report["frf_nrmse"]
-            relative = (report["frf_median_relative_error"], report["noise_median_relative"])
-        elif isinstance(frf, FRFSet):             # judged by its worst row
-            spacing = float(np.median(np.diff(frf.freq_hz)))
-            band = report["band_hz"]
-            nrmse = float(np.max(report["frf_nrmse_data"]))
-            errors = np.asarray(report["frf_median_relative_error"])
-            noises = np.asarray(report["noise_median_relative"])
-            worst = int(np.argmax(errors / np.maximum(0.05, 3.0 * noises)))
-            relative = (float(errors[worst]), float(noises[worst]))
-        else:                                     # an impulse response
-            spacing, band = 0.0, report.get("band_hz", (0.0, np.inf))
-            nrmse = float(np.max(np.atleast_1d(report.get("frf_nrmse",
-                                                          report.get("impulse_nrmse", 0.0)))))
-            relative = (0.0, np.nan)
-        modes["damping_resolved"] = damping_resolved(modes, spacing)
-        model = self.model_
-        finite = all(np.all(np.isfinite(np.asarray(a))) for a in (
-            model.poles, model.residues, model.inverse_mass, model.flexibility,
-            modes["modal_mass"].to_numpy(float)))
-        verdict, reasons = quality_verdict(modes, band_hz=band, driving_point=driving_point,
-                                           nrmse=nrmse, relative_error=relative[0],
-                                           relative_noise=relative[1],
-                                           rigid_body=bool(report["rigid_body"]),
-                                           finite=finite)
-        decision = ({} if isinstance(model, MultiOutputModalModel)   # a set's: the row's
-                    else {"driving_point": driving_point, "driving_point_reason": reason})
-        self.report_ = report.replace(
-            modes=modes, **decision, weighting=self._weighting_on,
-            weighting_reason=self._weighting_reason, verdict=verdict,
-            verdict_reasons=reasons, band_reason=getattr(self, "_band_reason", None))
-        if verdict != "ok":
-            warnings.warn(f"the fit is {verdict}: " + "; ".join(reasons), ModalFitWarning,
+        to ``report_`` (:func:`modalid._verdict.judged_report`); warn
+        (:class:`ModalFitWarning`) unless the verdict is ``"ok"``."""
+        self.report_ = judged_report(
+            self.report_, self.model_, getattr(self, "frf_", None),
+            driving_point=driving_point, reason=reason, weighting=self._weighting_on,
+            weighting_reason=self._weighting_reason,
+            band_reason=getattr(self, "_band_reason", None))
+        if self.report_["verdict"] != "ok":
+            warnings.warn(f"the fit is {self.report_['verdict']}: "
+                          + "; ".join(self.report_["verdict_reasons"]), ModalFitWarning,
                           stacklevel=3)
         return self
 

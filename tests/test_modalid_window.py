@@ -10,7 +10,7 @@ from scipy.integrate import trapezoid
 
 from data_synth import Rod, lightly_damped, synthetic_hammer_test
 from modalid import FRFData, FRFSet, ModalFit, ModalModel, frf_from_hammer
-from modalid._window import truncation_factors, unwindow, windowed_receptance
+from modalid._window import structure_model, truncation_factors, unwindow, windowed_receptance
 
 SIGMA, T = 0.3, 20.0          # window decay (1/s) and record length (s): ends at 0.25 %
 
@@ -99,7 +99,8 @@ def test_a_windowed_pole_on_a_line_that_does_not_decay_is_held_before_the_cut(fr
                           residues=np.append(free_body.residues, r_w))
     kinds = np.array(["mode"] * 3 + ["upper"])
     assert abs(truncation_factors(np.array([p_w]), T)[0]) < 1e-5
-    model, info = fit._unwindow(windowed, kinds)
+    model, info = structure_model(windowed, kinds, decay_rate=SIGMA, record_length=T,
+                                  quantity=fit.data_.quantity)
     assert info["window_clipped"] == 1
     assert model.poles[3].real == pytest.approx(-1e-5 * abs(model.poles[3]), rel=1e-5)
     assert abs(model.residues[3] / r_w - 1) < 3e-3
