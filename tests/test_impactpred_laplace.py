@@ -354,3 +354,25 @@ def test_a_free_flight_decided_at_a_held_gap_below_zero_by_rounding_is_not_an_ev
     ends_stepped = [b for a, b in stepped.contact_intervals if b > a]
     assert len(ends_exact) == len(ends_stepped) == 6
     assert np.allclose(ends_exact, ends_stepped, atol=1e-5)
+
+
+def test_the_matrix_exponential_path_takes_a_rounding_level_bracket_as_its_event():
+    """Two 2-mode cantilevers of nearly equal period (a random sweep's seed): the contact
+    phase is too close to defective for an eigendecomposition and runs on matrix
+    exponentials. Its event search bracketed a root between values evaluated on a grid;
+    re-evaluated alone, both ends were -2e-21 and -1e-21 m (a gap at rounding level
+    2e-10 s into a phase), and Brent's method raised "f(a) and f(b) must have different
+    signs" from inside scipy. The run completes, and its impulse is the stepped
+    solution's to 1e-3."""
+    from data_synth import CantileverBeam
+
+    b1 = Body(CantileverBeam(0.36838837572449734, 0.10248109134053971).modal_model(2),
+              load=HarmonicForce(9.475404003495555, 20.97312786206144,
+                                 phase=3.720972409939626))
+    b2 = Body(CantileverBeam(0.10420408983516347, 0.10177604256954445).modal_model(2))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        exact = solve_impact(b1, b2, t_end=0.1457224064543169, method="laplace")
+        stepped = solve_impact(b1, b2, t_end=0.1457224064543169, method="modal", dt=1e-5)
+    assert "matrix-exponential" in " ".join(exact.notes)
+    assert exact.total_impulse == pytest.approx(stepped.total_impulse, rel=1e-3)

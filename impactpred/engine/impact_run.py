@@ -151,10 +151,23 @@ class RawRun:
         self.first_impulse, self.kind = first_impulse, kind
 
 
-def _root(f, a, b):
-    """The root of ``f`` in ``[a, b]`` (a sign change) to ``1e-15`` of ``b``: Brent's method,
-    allowed the iterations its worst case needs (near a tangency, a root 1e-11 s into a
-    search step whose start is zero to rounding took 102, past scipy's default 100)."""
+def _root(f, a, b, *, rising=False):
+    """Where ``f`` changes sign in ``[a, b]`` (falling through 0, or ``rising``) to
+    ``1e-15`` of ``b``: Brent's method, allowed the iterations its worst case needs (near a
+    tangency, a root 1e-11 s into a search step whose start is zero to rounding took 102,
+    past scipy's default 100).
+
+    The bracket comes from values evaluated on a grid, which round differently from
+    ``f`` alone; where ``f`` itself shows no sign change the values are at rounding level
+    (a gap of 1e-21 m 2e-10 s into a phase): the change is at ``a`` if ``f(a)`` already
+    has the sign it changes to, else at ``b``."""
+    def changed(v):
+        return v >= 0.0 if rising else v <= 0.0
+
+    if changed(f(a)):
+        return a
+    if not changed(f(b)):
+        return b
     return brentq(f, a, b, xtol=1e-15 * max(b, 1e-300), rtol=4 * np.finfo(float).eps,
                   maxiter=5000)
 
@@ -227,7 +240,10 @@ def run_contact(free, stuck, xa, *, in_contact, rules, t_end, step, out_step, ga
         def rate(x):
             return form.scalar(ev_coeffs, x, derivative=1)
 
-        tau, e_prev, chunk = 0.0, float(phase.event_row @ Xa), 32
+        # the start's value as every later one is evaluated (``row @ Xa`` rounds
+        # differently: +1e-20 against -5e-20 at a gap that is 0, and the root's
+        # bracket then had one sign)
+        tau, e_prev, chunk = 0.0, event(0.0), 32
         de_prev = rate(0.0)
         while t0 + tau < t_end * (1 - 1e-15):
             taus = tau + step * np.arange(1, chunk + 1)
@@ -242,7 +258,7 @@ def run_contact(free, stuck, xa, *, in_contact, rules, t_end, step, out_step, ga
             dips = np.flatnonzero((de_starts < 0) & (de > 0) & (e_starts >= threshold)
                                   & (e >= threshold))
             for d in dips:
-                t_min = _root(rate, starts[d], taus[d])
+                t_min = _root(rate, starts[d], taus[d], rising=True)
                 if event(t_min) < threshold:
                     taus, e = np.append(taus[:d], t_min), np.append(e[:d], event(t_min))
                     break
