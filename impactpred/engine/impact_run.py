@@ -232,7 +232,12 @@ def run_contact(free, stuck, xa, *, in_contact, rules, t_end, step, out_step, ga
         if phase.contact and not phase_log:
             phase_log.append((phase, t0, coords))
         samples.append((np.array([t0]), form.evaluate(out_coeffs, [0.0])))
-        threshold = 0.0 if phase.contact else -tol_g
+        # the gap's rounding level: the caller's, or that of the gap's own size over the
+        # first chunk of steps (a run from rest under a load has no initial displacement
+        # to scale it by: 1e-312 let a dip of -5e-35 m 2e-18 s into the phase, the
+        # rounding of a plastic impulse's zero velocity, start a contact again at once)
+        gap_tol = tol_g
+        threshold = 0.0 if phase.contact else -gap_tol
 
         def event(x):
             return form.scalar(ev_coeffs, x)
@@ -250,6 +255,9 @@ def run_contact(free, stuck, xa, *, in_contact, rules, t_end, step, out_step, ga
             if t0 + taus[-1] >= t_end:  # the last chunk ends exactly at t_end
                 taus = np.append(taus[t0 + taus < t_end], t_end - t0)
             e, de = (row[0] for row in form.evaluate_orders(ev_coeffs, taus, (0, 1)))
+            if tau == 0.0 and not phase.contact:
+                gap_tol = max(tol_g, 4.0 * np.finfo(float).eps * float(np.max(np.abs(e))))
+                threshold = -gap_tol
             # a dip between samples (falling, then rising) may cross and come back: find
             # its minimum exactly and, if it crosses, cut the samples there
             starts = np.concatenate([[tau], taus[:-1]])
@@ -268,7 +276,7 @@ def run_contact(free, stuck, xa, *, in_contact, rules, t_end, step, out_step, ga
                 a, b = (taus[i - 1] if i else tau), taus[i]
                 e_a = e[i - 1] if i else e_prev
                 # rounding-level values count as zero
-                zero_tol = tol_g if not phase.contact else 1e-12 * float(np.max(np.abs(e)))
+                zero_tol = gap_tol if not phase.contact else 1e-12 * float(np.max(np.abs(e)))
                 if e_a <= zero_tol and a == 0.0:
                     # the phase starts at an event (e = 0): the event function may open a
                     # short positive lobe before it turns negative; look for it
