@@ -26,7 +26,7 @@ __all__ = ["relative_degree", "contact_start", "free_lobe_height", "phase_run", 
 MAX_STALLS = 50
 #: a free flight that starts where the loop decided the gap opens takes a start below
 #: zero by at most this share of the gap's terms as the previous phase's rounding
-_START_OFFSET = 1e-7
+_START_OFFSET = 1e-9
 
 
 def relative_degree(c0, c1, c2, scale):
