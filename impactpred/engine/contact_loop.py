@@ -24,8 +24,12 @@ __all__ = ["relative_degree", "contact_start", "free_lobe_height", "phase_run", 
 
 #: an event loop that does not advance this many times in a row is stalled (grazing)
 MAX_STALLS = 50
-#: a free flight that starts where the loop decided the gap opens takes a start below
-#: zero by at most this share of the gap's terms as the previous phase's rounding
+#: an event that advances time by at most this share of ``t_end`` does not advance it (a
+#: contact and a free flight alternating 1e-14 s apart at a graze would take 1e12 events,
+#: and their samples all memory, to reach ``t_end``)
+MIN_ADVANCE = 1e-12
+#: a phase that starts where the loop decided its event row opens takes a start below
+#: zero by at most this share of the row's terms as the previous phase's rounding
 _START_OFFSET = 1e-9
 
 
@@ -175,10 +179,12 @@ def phase_run(rates, abs_rates, abs_rates4, order, modes_r, modes_i, proj_r, pro
     scale = np.empty(1)
     scale[0] = total
     open_row = 0 if on_boundary else -1
-    if on_boundary and not relative:
-        # the loop has decided the gap opens here, so it is zero here: a start below zero
-        # by the previous phase's rounding (a held gap's drift, above this phase's own
-        # rounding level) is not an event; the search takes the row from that offset
+    if on_boundary:
+        # the loop has decided the row opens here (the gap in a free flight, the force in
+        # a contact), so it is zero here: a start below zero by the previous phase's
+        # rounding (a held gap's drift above this phase's own rounding level; a stiff
+        # spring's force -k g at a gap located to its tolerance) is not an event; the
+        # search takes the row from that offset
         start = p_ev[0, 0]
         for j in range(m):
             start += b_ev[0, j].real
@@ -356,7 +362,7 @@ def event_loop(free, stuck, xa0, in_contact, t_end, step, out_step, tol_g, rho, 
         xa = x_end
         happened = tau >= 0.0
         t_ev = t + tau if happened else t_end
-        stalled = stalled + 1 if t_ev == t else 0
+        stalled = stalled + 1 if t_ev - t <= MIN_ADVANCE * t_end else 0
         if stalled > MAX_STALLS:
             return (1, t, times[:used], values[:, :used], intervals[:n_iv], diracs[:n_d],
                     xa, first_impulse, first_t0, first_x)

@@ -26,7 +26,7 @@ import numpy as np
 import scipy.linalg
 from scipy.optimize import brentq
 
-from .contact_loop import MAX_STALLS, contact_start, event_loop
+from .contact_loop import MAX_STALLS, MIN_ADVANCE, contact_start, event_loop
 from .spectral import DefectiveSpectrum, SpectralPhase
 
 __all__ = ["Phase", "ExpmForm", "ContactRules", "RawRun", "run_contact", "search_step",
@@ -309,7 +309,7 @@ def run_contact(free, stuck, xa, *, in_contact, rules, t_end, step, out_step, ga
     stalled = 0
     while t < t_end * (1 - 1e-15):
         t_ev, Xa, happened = run_phase(stuck if in_contact else free, t, Xa)
-        stalled = stalled + 1 if t_ev == t else 0
+        stalled = stalled + 1 if t_ev - t <= MIN_ADVANCE * t_end else 0
         if stalled > MAX_STALLS:
             raise grazing_error(t)
         t = t_ev
