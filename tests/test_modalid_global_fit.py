@@ -49,6 +49,14 @@ def fitted(name, noise, **settings):
     return _FITS[key]
 
 
+def pyuff_set():
+    """pyuff's three measured accelerances (tests/data) as a set, point 1 the driving
+    point."""
+    return read_frf_set([DATA / f"meas_point_{k}.txt" for k in (1, 2, 3)],
+                        format="complex-lines", freq_hz=np.arange(1001.0),
+                        quantity="accelerance", driving_point=0)
+
+
 def errors(truth, fit):
     """Relative errors of frequency, damping and residues (per output, scaled by the
     driving point's residue) of the band's modes, each paired with the nearest pole."""
@@ -189,9 +197,7 @@ def test_measured_beam_three_points_common_poles():
     1 Hz and the separate fits' frequencies differ by up to 0.1 Hz, more than the
     half-power bandwidths: common poles cannot fit all three to the data's scatter).
     """
-    data = read_frf_set([DATA / f"meas_point_{k}.txt" for k in (1, 2, 3)],
-                        format="complex-lines", freq_hz=np.arange(1001.0),
-                        quantity="accelerance", driving_point=0).band((20, 1000))
+    data = pyuff_set().band((20, 1000))
     fit = ModalFit(passive=False, weighting="noise").fit(data)
     freqs = fit.report_["modes"]["frequency_hz"].to_numpy()
     np.testing.assert_allclose(freqs, [52, 142, 279, 460, 687, 959], atol=1.0)
@@ -224,9 +230,7 @@ def test_measured_beam_common_poles_with_no_options():
     (signs alternate: not a passive driving point, so no constraint) give the six peaks
     (51.52 Hz is the first resonance: the data change sign between its 51 and 52 Hz
     lines) with a verdict of ok."""
-    data = read_frf_set([DATA / f"meas_point_{k}.txt" for k in (1, 2, 3)],
-                        format="complex-lines", freq_hz=np.arange(1001.0),
-                        quantity="accelerance", driving_point=0)
+    data = pyuff_set()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         fit = ModalFit().fit(data)
@@ -318,9 +322,7 @@ def test_measured_beam_common_pole_standard_deviations_and_verdict():
     std came out 0. The verdict judges the worst row in the data's own quantity: on
     9-702 Hz (the 687 Hz peak 15 Hz below the top, not fitted) the rows' errors are
     76-92 % and the fit is not "ok" (it had been, judged on receptance)."""
-    data = read_frf_set([DATA / f"meas_point_{k}.txt" for k in (1, 2, 3)],
-                        format="complex-lines", freq_hz=np.arange(1001.0),
-                        quantity="accelerance", driving_point=0)
+    data = pyuff_set()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         fit = ModalFit().fit(data)
@@ -346,9 +348,7 @@ def test_measured_beam_common_poles_on_bands_the_user_chose(freq_range, peaks):
     the band top: the driving-point row's own fit (with its missed-mode search) adds its
     modes to the candidates. (The 430.77 Hz pole that point 2 alone shows, one line at its
     antiresonance, 18 times the noise there, may be kept on sub-bands.)"""
-    data = read_frf_set([DATA / f"meas_point_{k}.txt" for k in (1, 2, 3)],
-                        format="complex-lines", freq_hz=np.arange(1001.0),
-                        quantity="accelerance", driving_point=0)
+    data = pyuff_set()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         fit = ModalFit(freq_range=freq_range).fit(data)
