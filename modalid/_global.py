@@ -267,9 +267,10 @@ def _refine(est, omega, h, w, coh, poles, kinds, terms, dp):
                                 ** 2))
         if new_cost > REWEIGHT_LOSS * cost:
             # the model's weights chased lines the data do not follow: keep the fit
-            # weighted by the data
+            # weighted by the data, converged to the full tolerance (with its stds)
             if k == 0:
-                poles, xs, info = refine_joint(omega, h, w, poles, terms, max_iter=0, **kw)
+                poles, xs, info = refine_joint(omega, h, w, poles, terms, **kw)
+                n_iter += info["n_iter"]
             break
         poles, xs, info = new
         if info["n_iter"] <= 3:

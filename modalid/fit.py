@@ -351,8 +351,9 @@ class ModalFit(FRFPipeline, FitLines, BaseEstimator):
                 self._fit_frf(data)
                 driving, reason = False, (
                     f"{reason}, but the passive fit's median error per line is "
-                    f"{100 * error:.3g} % against {100 * probe_error:.3g} % for a quick "
-                    "unconstrained one: not a passive driving point")
+                    f"{100 * error:.3g} % against {100 * probe_error:.3g} % for "
+                    f"{'the full' if full else 'a quick'} unconstrained one: not a passive "
+                    "driving point")
             self.__dict__.pop("_stabilization_cache", None)
             return self._judge(driving_point=driving, reason=reason)
 

@@ -825,11 +825,12 @@ def test_modes_narrower_than_a_line_are_found_from_their_peaks(seed):
 def test_a_reweighting_that_chases_lines_the_data_do_not_follow_is_not_kept(freq_range):
     """pyuff point 1 on a band the user chose to start at 2 Hz (lines whose accelerance
     phase is noise, carried to receptance) or at 20 Hz: reweighting by the model
-    ``1/|H_model|`` gave a few lines most of the cost (weighted cost 27 -> 3e5 in one
-    reweighting), the poles ran to damping 0.5-0.7 and every mode was dropped as not
+    ``1/|H_model|`` gave a few lines most of the cost (its own cost 3e5), the poles ran
+    to damping 0.5-0.7 and every mode was dropped as not
     significant ("no resonance found", verdict failed). A reweighted refinement is kept
-    only when its cost weighted by the data at most doubles: every peak in the band is
-    found within 0.5 % and the verdict is ok."""
+    only when its cost weighted by the data at most doubles (27 -> 59 here: 2.2 times),
+    else the fit weighted by the data is converged in full: every peak in the band is
+    found within 0.5 %, the refinement converged and the verdict is ok."""
     peaks = np.array([51.52, 142.18, 278.67, 460.4, 687.17, 958.53])
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
@@ -838,4 +839,4 @@ def test_a_reweighting_that_chases_lines_the_data_do_not_follow_is_not_kept(freq
     expected = peaks[peaks < freq_range[1]]
     assert f.size == expected.size, f
     np.testing.assert_allclose(f, expected, rtol=5e-3)
-    assert fit.report_["verdict"] == "ok"
+    assert fit.report_["verdict"] == "ok" and fit.report_["converged"]
