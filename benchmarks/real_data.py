@@ -227,7 +227,6 @@ def user_bands(names):
     rows = []
     jobs = []
     for name in names:
-        key = "pyuff" if name.startswith("pyuff") else name
         jobs.append((name, load(name)))
         if name == "pyuff point 3":
             sets = [load(f"pyuff point {k}") for k in (1, 2, 3)]

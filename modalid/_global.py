@@ -358,8 +358,10 @@ def _driving_row_poles(est, data: FRFSet, dp, stable):
 
     The single fit searches its residual for the modes its estimator missed (which the
     global estimator's clusters cannot: pyuff's 278.7 Hz on 100-800 Hz was a cluster of
-    share 0.4, its 687 Hz 15 Hz below a 702 Hz band top none); the joint selection then
-    decides with every row."""
+    share 0.4, its 687 Hz 15 Hz below a 702 Hz band top none). They join the candidates
+    after the stable clusters, and the joint selection keeps a prefix of that order
+    (:func:`select_joint`, by the information criterion): a strong one is kept, a marginal
+    one only with every cluster before it."""
     from sklearn.base import clone
 
     single = clone(est).set_params(freq_range=(float(data.freq_hz[0]),
