@@ -330,6 +330,17 @@ def test_a_root_next_to_a_search_step_start_that_is_zero_to_rounding_is_found():
     assert exact.total_impulse == pytest.approx(stepped.total_impulse, rel=1e-3)
 
 
+def _rattling_beams():
+    """Two grounded cantilevers (2 and 4 modes) rattling under a harmonic load on the
+    first (a random sweep's seed): bodies and ``solve_impact``'s gap and ``t_end``."""
+    from data_synth import CantileverBeam
+
+    b1 = Body(CantileverBeam(9.430911874322746, 0.032936757541187868).modal_model(2),
+              load=HarmonicForce(50.0, 20.0))
+    b2 = Body(CantileverBeam(0.6055773359240837, 0.04333630483171343).modal_model(4))
+    return b1, b2, dict(gap=1.6364667774259216e-05, t_end=0.11033803627117057)
+
+
 def test_a_free_flight_decided_at_a_held_gap_below_zero_by_rounding_is_not_an_event():
     """Two grounded truncated beams under a harmonic load (a random sweep's seed): a
     contact ends where the held gap has drifted to -4.2e-17 m, below the free flight's
@@ -339,12 +350,7 @@ def test_a_free_flight_decided_at_a_held_gap_below_zero_by_rounding_is_not_an_ev
     offset the loop decided is zero: the run completes, and the stepped solution's
     impulse and contact intervals agree (its one contact at 0.0515 s is the exact
     solution's Dirac and re-contact 5e-5 s later)."""
-    from data_synth import CantileverBeam
-
-    b1 = Body(CantileverBeam(9.430911874322746, 0.032936757541187868).modal_model(2),
-              load=HarmonicForce(50.0, 20.0))
-    b2 = Body(CantileverBeam(0.6055773359240837, 0.04333630483171343).modal_model(4))
-    kw = dict(gap=1.6364667774259216e-05, t_end=0.11033803627117057)
+    b1, b2, kw = _rattling_beams()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         exact = solve_impact(b1, b2, method="laplace", **kw)
@@ -448,7 +454,6 @@ def test_the_matrix_exponential_path_matches_the_spectral_one(case, monkeypatch)
     stalls) and two grounded beams rattling under a load. Contacts, their ends and the
     impulse agree. (A dip between samples, located by the rate's rising root, does not
     occur in either.)"""
-    from data_synth import CantileverBeam
 
     import impactpred.engine.impact_run as impact_run
 
@@ -460,10 +465,7 @@ def test_the_matrix_exponential_path_matches_the_spectral_one(case, monkeypatch)
                                      phase=5.515920217524322))
         kw = dict(t_end=0.054292612863710746)
     else:
-        b1 = Body(CantileverBeam(9.430911874322746, 0.032936757541187868).modal_model(2),
-                  load=HarmonicForce(50.0, 20.0))
-        b2 = Body(CantileverBeam(0.6055773359240837, 0.04333630483171343).modal_model(4))
-        kw = dict(gap=1.6364667774259216e-05, t_end=0.11033803627117057)
+        b1, b2, kw = _rattling_beams()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         spectral = solve_impact(b1, b2, method="laplace", **kw)
