@@ -20,7 +20,8 @@ from scipy.signal import find_peaks
 from ._checks import as_count
 from ._lscf import lscf_subbands
 from ._pole_checks import PoleChecks
-from ._report import fit_report, local_misfit_inflation, residual_correlation_inflation
+from ._report import (fit_report, local_misfit_inflation, misfit_notes,
+                      residual_correlation_inflation)
 from ._segments import MIN_SEGMENTED, segment_poles
 from ._lsfd import (Terms, design_matrix, evaluate, mass_line_significant, noise_level,
                     place_upper_modes, refine_varpro, release_gain, split_coefficients)
@@ -53,6 +54,13 @@ _MAX_DROPS = 8      # non-physical poles dropped one at a time (each drop refits
 #: files' no-option fits and user bands (`benchmarks/real_data.py`) the ratio's median
 #: is 1.02 and 54 of 424 reweightings exceed 2: a continuum, not two populations
 REWEIGHT_LOSS = 2.0
+
+
+def reweighting_kept(fitted, h, w, cost):
+    """Whether a refinement reweighted by the model is kept: its model ``fitted`` misses
+    the data ``h`` weighted by the data's ``w`` (any shape: a set's rows too) by at most
+    :data:`REWEIGHT_LOSS` times the cost ``cost`` it started from."""
+    return float(np.sum(np.abs(w * (fitted - h)) ** 2)) <= REWEIGHT_LOSS * cost
 
 
 class ModalFitWarning(UserWarning):
@@ -472,7 +480,7 @@ class FRFPipeline(PoleChecks):
             n_iter += new[2]["n_iter"]
             r, _, u, d = split_coefficients(new[1], new[0].size, terms)
             fitted = evaluate(omega, new[0], r, (), (), u, d, terms.rigid_shift)
-            if float(np.sum(np.abs(w * (fitted - h)) ** 2)) > REWEIGHT_LOSS * cost:
+            if not reweighting_kept(fitted, h, w, cost):
                 # the model's weights chased lines the data do not follow: keep the fit
                 # weighted by the data, converged to the full tolerance (with its stds)
                 if k == 0:
@@ -527,12 +535,7 @@ class FRFPipeline(PoleChecks):
             std = {k: v * inflation for k, v in std.items()}
             local = local_misfit_inflation(omega, weighted, fit_poles, correlation=inflation)
             std["modes"] = std["modes"] * local[:, None]
-            for p_k, f_k in zip(poles[physical], local[physical]):
-                if f_k >= 2.0:
-                    notes = notes + [f"mode at {abs(p_k) / (2 * np.pi):.6g} Hz: the model "
-                                     f"misses its lines by {f_k ** 2:.3g} times the band's "
-                                     f"mean residual; its standard deviations are widened "
-                                     f"{f_k:.3g} times"]
+            notes = notes + misfit_notes(poles[physical], local[physical])
         for name in ("frequency_hz_std", "damping_ratio_std", "residue_std"):
             modes[name] = np.nan
         if std is not None:

@@ -25,9 +25,10 @@ from scipy.linalg import cholesky, solve_triangular
 from scipy.signal import find_peaks
 
 from ._checks import as_count
-from ._frf_pipeline import REWEIGHT_LOSS, ModalFitWarning
+from ._frf_pipeline import ModalFitWarning, reweighting_kept
 from ._pole_checks import line_noise, local_evidence
-from ._report import fit_report, local_misfit_inflation, residual_correlation_inflation
+from ._report import (fit_report, local_misfit_inflation, misfit_notes,
+                      residual_correlation_inflation)
 from ._lm import bounded_lm, pole_limits
 from ._band import choose_band, noise_model
 from ._lscf import lscf_subbands
@@ -263,9 +264,7 @@ def _refine(est, omega, h, w, coh, poles, kinds, terms, dp):
         wm = _model_weights(est, omega, poles, xs, terms, w, coh)
         new = refine_joint(omega, h, wm, poles, terms, **kw)
         n_iter += new[2]["n_iter"]
-        new_cost = float(np.sum(np.abs(w * (evaluate_rows(omega, new[0], new[1], terms) - h))
-                                ** 2))
-        if new_cost > REWEIGHT_LOSS * cost:
+        if not reweighting_kept(evaluate_rows(omega, new[0], new[1], terms), h, w, cost):
             # the model's weights chased lines the data do not follow: keep the fit
             # weighted by the data, converged to the full tolerance (with its stds)
             if k == 0:
@@ -499,10 +498,7 @@ def _store(est, rec, poles, kinds, xs, terms, info, notes, max_order, dp):
         modes["damping_ratio_std"] = np.hypot(nu**2 * s2[:, 0], sig * nu * s2[:, 1]) / wn**3
         rs = info["residue_std"][dp][physical][order]
         modes["residue_std"] = np.hypot(rs[:, 0], rs[:, 1]) * widen
-        notes += [f"mode at {w_k / (2 * np.pi):.6g} Hz: the model misses its lines by "
-                  f"{f_k ** 2:.3g} times the band's mean residual; its standard deviations "
-                  f"are widened {f_k:.3g} times"
-                  for w_k, f_k in zip(wn, local[physical][order]) if f_k >= 2.0]
+        notes += misfit_notes(p, local[physical][order])
     est.report_ = fit_report(
         model.driving, kinds, info, notes, method=est.method, max_order=max_order,
         outputs=list(rec.outputs), driving_point=dp,

@@ -11,7 +11,7 @@ import numpy as np
 from ._pole_checks import pole_lines
 
 __all__ = ["FitReport", "fit_report", "local_misfit_inflation",
-           "residual_correlation_inflation"]
+           "residual_correlation_inflation", "misfit_notes"]
 
 
 class FitReport(Mapping):
@@ -153,6 +153,14 @@ def local_misfit_inflation(omega, residual, poles, *, correlation=1.0, quantile=
         if ratio > chi2.ppf(quantile, dof) / dof:
             factors[k] = np.sqrt(ratio)
     return factors
+
+
+def misfit_notes(poles, factors):
+    """The report's notes on the modes :func:`local_misfit_inflation` widened by 2 or more:
+    ``poles`` (complex, rad/s) and their ``factors``, in the order given."""
+    return [f"mode at {abs(p) / (2 * np.pi):.6g} Hz: the model misses its lines by "
+            f"{f ** 2:.3g} times the band's mean residual; its standard deviations are "
+            f"widened {f:.3g} times" for p, f in zip(poles, factors) if f >= 2.0]
 
 
 def _high_frequency(model, physical):

@@ -22,7 +22,8 @@ from .frf import FRFData
 from .frf_set import FRFSet
 from .multi_output import MultiOutputModalModel
 
-__all__ = ["driving_point_decision", "quality_verdict", "damping_resolved", "judged_report"]
+__all__ = ["driving_point_decision", "quality_verdict", "damping_resolved", "judged_report",
+           "line_error_tolerance"]
 
 _DOMINANT = 0.9       # share of the peak receptance that decides a driving point
 _MIN_DAMPING = 1e-6   # below this the damping ratio sits at the refinement's bound
@@ -89,6 +90,15 @@ def damping_resolved(modes: pd.DataFrame, line_spacing_hz: float) -> np.ndarray:
     return ok
 
 
+def line_error_tolerance(relative_noise):
+    """The median line error (relative) a fit may leave before modes count as missing:
+    ``max(5 %, 3 x`` the data's median relative scatter), 5 % where the scatter is not
+    measured (NaN). Scalar or array."""
+    noise = np.asarray(relative_noise, dtype=float)
+    out = np.where(np.isfinite(noise), np.maximum(0.05, 3.0 * noise), 0.05)
+    return float(out) if out.ndim == 0 else out
+
+
 def quality_verdict(modes: pd.DataFrame, *, band_hz, driving_point, nrmse, relative_error,
                     relative_noise, rigid_body, finite):
     """``(verdict, reasons)``: ``"ok"``, ``"suspect"`` or ``"failed"`` and why.
@@ -129,7 +139,7 @@ def quality_verdict(modes: pd.DataFrame, *, band_hz, driving_point, nrmse, relat
     failed, suspect = [], []
     if not finite:
         failed.append("a parameter is not finite")
-    tolerance = max(0.05, 3.0 * relative_noise) if np.isfinite(relative_noise) else 0.05
+    tolerance = line_error_tolerance(relative_noise)
     if not np.isfinite(nrmse) or nrmse >= 1.0:
         failed.append(f"the FRF error ({100 * nrmse:.3g} %) is no better than a zero model")
     elif nrmse > 0.5 and relative_error > max(0.2, tolerance):
@@ -184,7 +194,7 @@ def judged_report(report, model, frf, *, driving_point, reason, weighting, weigh
         nrmse = float(np.max(report["frf_nrmse_data"]))
         errors = np.asarray(report["frf_median_relative_error"])
         noises = np.asarray(report["noise_median_relative"])
-        worst = int(np.argmax(errors / np.maximum(0.05, 3.0 * noises)))
+        worst = int(np.argmax(errors / line_error_tolerance(noises)))
         relative = (float(errors[worst]), float(noises[worst]))
     else:                                     # an impulse response
         spacing, band = 0.0, report.get("band_hz", (0.0, np.inf))

@@ -34,7 +34,7 @@ from ._era import identify_impulse, impulse_samples
 from ._fit_lines import FitLines
 from ._frf_pipeline import FRFPipeline, ModalFitWarning
 from ._report import fit_report
-from ._verdict import driving_point_decision, judged_report
+from ._verdict import driving_point_decision, judged_report, line_error_tolerance
 from ._window import windowed_receptance
 from .frf import FRFData
 from .frf_set import FRFSet
@@ -359,10 +359,10 @@ class ModalFit(FRFPipeline, FitLines, BaseEstimator):
 
     def _probe_suffices(self) -> bool:
         """Whether the quick unconstrained probe's modes can decide the driving point: it
-        found a resonance and its median line error is within ``max(5 %, 3 x`` the data's
-        scatter) (the verdict's tolerance: no modes missing)."""
+        found a resonance and its median line error is within the verdict's tolerance
+        (:func:`modalid._verdict.line_error_tolerance`: no modes missing)."""
         report = self.report_
-        tolerance = max(0.05, 3.0 * report["noise_median_relative"])
+        tolerance = line_error_tolerance(report["noise_median_relative"])
         return len(report["modes"]) > 0 and report["frf_median_relative_error"] <= tolerance
 
     def _fit_set(self, data: FRFSet, auto: bool):

@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .exp_kernels import sample_rows
+from .exp_kernels import row_value, sample_rows
 from .search import cabs, first_event
 
 __all__ = ["relative_degree", "contact_start", "free_lobe_height", "phase_run", "event_loop"]
@@ -185,9 +185,7 @@ def phase_run(rates, abs_rates, abs_rates4, order, modes_r, modes_i, proj_r, pro
         # rounding (a held gap's drift above this phase's own rounding level; a stiff
         # spring's force -k g at a gap located to its tolerance) is not an event; the
         # search takes the row from that offset
-        start = p_ev[0, 0]
-        for j in range(m):
-            start += b_ev[0, j].real
+        start = row_value(rates, b_ev[0], p_ev[0], 0.0, 0)
         if -_START_OFFSET * total <= start < 0.0:
             p_ev[0, 0] -= start
     if m:
