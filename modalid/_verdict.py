@@ -26,7 +26,7 @@ __all__ = ["driving_point_decision", "quality_verdict", "damping_resolved", "jud
            "line_error_tolerance"]
 
 _DOMINANT = 0.9       # share of the peak receptance that decides a driving point
-_MIN_DAMPING = 1e-6   # below this the damping ratio sits at the refinement's bound
+MIN_DAMPING = 1e-6   # below this the damping ratio sits at the refinement's bound
 
 
 def driving_point_decision(modes: pd.DataFrame, inverse_mass: float):
@@ -83,7 +83,7 @@ def damping_resolved(modes: pd.DataFrame, line_spacing_hz: float) -> np.ndarray:
     """
     zeta = modes["damping_ratio"].to_numpy(float)
     f = modes["frequency_hz"].to_numpy(float)
-    ok = (2.0 * zeta * f >= 0.5 * line_spacing_hz) & (zeta > _MIN_DAMPING)
+    ok = (2.0 * zeta * f >= 0.5 * line_spacing_hz) & (zeta > MIN_DAMPING)
     if "damping_ratio_std" in modes:
         std = modes["damping_ratio_std"].to_numpy(float)
         ok &= ~(std > 0.5 * zeta)              # NaN (not estimated) passes
@@ -165,7 +165,7 @@ def quality_verdict(modes: pd.DataFrame, *, band_hz, driving_point, nrmse, relat
             suspect.append(f"{name}: negative modal mass at a driving point")
         if not band_hz[0] <= f[k] <= band_hz[1]:
             suspect.append(f"{name}: outside the band {band_hz[0]:.6g}-{band_hz[1]:.6g} Hz")
-        if zeta[k] <= _MIN_DAMPING:
+        if zeta[k] <= MIN_DAMPING:
             suspect.append(f"{name}: damping ratio {zeta[k]:.2g} at its lower bound")
     if failed:
         return "failed", failed + suspect

@@ -821,6 +821,31 @@ def test_modes_narrower_than_a_line_are_found_from_their_peaks(seed):
     assert not modes["damping_resolved"].any()
 
 
+@pytest.mark.parametrize("seed", [0, 1])
+def test_a_damping_the_lines_cannot_resolve_is_not_left_at_the_bound(seed):
+    """Three all but undamped modes (zeta 1e-7: half-power widths of 1e-5 Hz) between 0.5
+    Hz lines, 1 % noise: every damping fits the lines alike down to zero, and the
+    refinement took some of them to its bound (1e-9, verdict suspect). Such a mode keeps
+    its frequency (to 0.002 Hz) and gets the largest small damping that fits as well (a
+    half-power bandwidth of at most a quarter of a line), flagged not resolved, with a
+    note; the verdict is ok."""
+    freq = np.arange(1, 601) * 0.5
+    fn = np.array([100.13, 163.37, 251.71])
+    truth = ModalModel.from_modes(2 * np.pi * fn, [1e-7] * 3, [1.0, 2.0, 1.5])
+    rng = np.random.default_rng(seed)
+    noise = rng.standard_normal(freq.size) + 1j * rng.standard_normal(freq.size)
+    values = truth.frf(2 * np.pi * freq, quantity="accelerance") * (1 + 0.01 * noise / np.sqrt(2))
+    fit = ModalFit().fit(FRFData(freq, values, quantity="accelerance"))
+    modes, report = fit.report_["modes"], fit.report_
+    assert len(modes) == 3 and report["verdict"] == "ok", report["verdict_reasons"]
+    np.testing.assert_allclose(modes["frequency_hz"], fn, rtol=0, atol=0.002)
+    zeta = modes["damping_ratio"].to_numpy()
+    assert np.all(zeta > 1e-6), zeta
+    assert np.all(2 * zeta * fn <= 0.25 * 0.5 * (1 + 1e-9)), zeta
+    assert not modes["damping_resolved"].any()
+    moved = [n for n in report["notes"] if "do not resolve it" in n]
+    assert moved and all("bound" in n for n in moved)
+
 @pytest.mark.parametrize("freq_range", [(2, 701), (2, 1000), (20, 1000)])
 def test_a_reweighting_that_chases_lines_the_data_do_not_follow_is_not_kept(freq_range):
     """pyuff point 1 on a band the user chose to start at 2 Hz (lines whose accelerance
