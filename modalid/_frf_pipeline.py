@@ -448,7 +448,8 @@ class FRFPipeline(PoleChecks):
                                  hold=hold | (kinds == "far"), **kw)
 
         spacing = float(np.median(np.diff(frf.freq_hz)))
-        fit, said = damping_off_bound(omega, spacing, poles, kinds, info["cost"], refit)
+        fit, said = damping_off_bound(2 * omega.size, x.size + 2 * poles.size, spacing, poles,
+                                      kinds, info["cost"], refit)
         notes += said
         if fit is None:
             return poles, x, info

@@ -31,6 +31,7 @@ from ._report import (fit_report, local_misfit_inflation, misfit_notes,
                       residual_correlation_inflation)
 from ._lm import bounded_lm, pole_limits
 from ._band import choose_band, noise_model
+from ._unresolved_damping import damping_off_bound
 from ._lscf import lscf_subbands
 from ._lsfd import (Terms, _bounds, _Projection, _realify, _std, design_matrix, noise_level,
                     split_coefficients)
@@ -278,6 +279,28 @@ def _refine(est, omega, h, w, coh, poles, kinds, terms, dp):
     return poles, xs, info
 
 
+def _unresolved_damping(est, rec, poles, kinds, xs, info, terms, dp, notes):
+    """Modes whose damping went to the refinement's bound, moved off it where the lines
+    cannot tell, as ``ModalFit``'s for one FRF
+    (:func:`modalid._unresolved_damping.damping_off_bound`). Returns ``(poles, xs, info,
+    n_iter)``: the fit, and the refinement steps this took."""
+    lo, hi = est._imag_bounds(kinds, rec.omega, poles)
+
+    def refit(trial, hold):
+        return refine_joint(rec.omega, rec.values, info["weights"], trial, terms,
+                            imag_lo=lo, imag_hi=hi, hold=hold | (kinds == "far"),
+                            passive_row=dp if est._passive_on else None)
+
+    n_params = 2 * poles.size + sum(x.size for x in xs)
+    spacing = float(np.median(np.diff(rec.freq_hz)))
+    fit, said = damping_off_bound(2 * rec.values.size, n_params, spacing, poles, kinds,
+                                  info["cost"], refit)
+    notes += said
+    if fit is None:
+        return poles, xs, info, 0
+    return (*fit, fit[2]["n_iter"])
+
+
 def _worst_pole(est, omega, h, w, coh, poles, xs, info, kinds, terms, dp):
     """The physical pole to drop first and why, as ``ModalFit._worst_pole`` with every
     row: no positive modal mass at the driving point (``passive``), out of the band, a
@@ -438,6 +461,10 @@ def fit_set(est, data: FRFSet):
             start, kinds = np.delete(start, k), np.delete(kinds, k)
             p, xs, info = _refine(est, omega, h, w, coh, start, kinds, terms, dp)
             n_iter += info["n_iter"]
+        if not est._selection():
+            p, xs, info, spent = _unresolved_damping(est, rec, p, kinds, xs, info, terms, dp,
+                                                     notes)
+            n_iter += spent
         info["n_iter_total"] = n_iter
     else:
         p, xs, info = refine_joint(omega, h, w, start, terms, max_iter=0,

@@ -23,15 +23,16 @@ __all__ = ["damping_off_bound", "BANDWIDTH_SHARES"]
 BANDWIDTH_SHARES = (0.25, 0.025, 0.0025)
 
 
-def damping_off_bound(omega, line_spacing_hz, poles, kinds, cost, refit):
+def damping_off_bound(n_data, n_params, line_spacing_hz, poles, kinds, cost, refit):
     """Move each physical pole whose damping ratio sits at the refinement's bound to the
     largest of :data:`BANDWIDTH_SHARES` (half-power bandwidth ``2 zeta f`` as a share of
     the line spacing) that the data cannot tell from the bound.
 
     Parameters
     ----------
-    omega : ndarray, shape (n_lines,)
-        The band's lines (rad/s).
+    n_data, n_params : int
+        The real residuals the cost sums (twice the lines, times the rows of a set) and
+        the real parameters fitted (poles, residues, extra terms).
     line_spacing_hz : float
         The lines' spacing (Hz).
     poles : ndarray of complex, shape (n,)
@@ -56,7 +57,7 @@ def damping_off_bound(omega, line_spacing_hz, poles, kinds, cost, refit):
     Notes
     -----
     A candidate is taken when holding the pole there raises the cost by less than
-    ``ln(2 n_lines)`` residual variances (the information criterion's price of the one
+    ``ln(n_data)`` residual variances (the information criterion's price of the one
     parameter, the damping, that the data would otherwise set). The frequency is the
     bound fit's: the lines' shape fixed it.
     """
@@ -64,8 +65,8 @@ def damping_off_bound(omega, line_spacing_hz, poles, kinds, cost, refit):
     at_bound = np.flatnonzero((kinds == "mode") & (zeta <= MIN_DAMPING))
     if at_bound.size == 0:
         return None, []
-    sigma2 = cost / max(2 * omega.size - 4 * poles.size, 1)
-    allowed = np.log(2 * omega.size)
+    sigma2 = cost / max(n_data - n_params, 1)
+    allowed = np.log(n_data)
     held = np.zeros(poles.size, bool)
     best, notes = None, []
     for k in at_bound:
