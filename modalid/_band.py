@@ -19,7 +19,9 @@ band is chosen from the data alone:
   or more has a ratio above ``max(1, 100 x`` the best) (the noise as strong as the signal,
   or a hundred times the file's best) and the lines do not recover for good. Without
   coherence the smoothed roughness plays the same part (above ``max(0.3, 4 x`` its
-  median).
+  median), and where the data carry the excitation's autospectrum (one hammer hit:
+  ``FRFData.excitation``) so does its fall to 20 dB below its peak (smoothed the same
+  way), whichever ends the band first.
 
 Which lines were dropped, and why, is returned as a sentence for ``report_``.
 """
@@ -38,6 +40,9 @@ __all__ = ["choose_band", "choose_weighting", "decimation", "noise_model", "roug
 _LOW_MAX_SHARE = 0.05        # the low-end cut takes at most this share of the lines
 _RUN_SHARE = 0.02            # a bad run at the top must span this share of the lines
 _MIN_COHERENCE = 0.1         # below this everywhere the lines hold no information
+#: without coherence, the band ends where the excitation's autospectrum has fallen this
+#: far below its peak (a hammer's usable band: 10-20 dB is the textbook range)
+_REACH_DB = 20.0
 MANY_LINES = 50_000          # bands of more lines than this are decimated where they can be
 _TARGET_LINES = 20_000       # ... towards this many lines
 _LINES_PER_WIDTH = 4         # ... keeping at least this many lines in a half-power band
@@ -94,18 +99,33 @@ def _rough_low_cut(h, rough) -> int:
     return cut
 
 
-def _top_run(bad, n) -> int | None:
-    """Index where the band ends: the start of the highest run of ``bad`` lines of at
-    least ``_RUN_SHARE`` of ``n`` in the upper half, after which fewer than half of the
-    lines recover; ``None`` when there is none."""
+def _top_run(bad, n, *, upper_half=True) -> int | None:
+    """Index where the band ends: the start of the lowest run of ``bad`` lines of at
+    least ``_RUN_SHARE`` of ``n`` (in the upper half, with ``upper_half``) after which
+    fewer than half of the lines recover; ``None`` when there is none."""
     run = max(3, int(_RUN_SHARE * n))
     edges = np.flatnonzero(np.diff(np.concatenate([[0], bad.astype(np.int8), [0]])))
     starts, stops = edges[::2], edges[1::2]
-    long_runs = [(a, b) for a, b in zip(starts, stops) if b - a >= run and a >= n // 2]
+    first = n // 2 if upper_half else 0
+    long_runs = [(a, b) for a, b in zip(starts, stops) if b - a >= run and a >= first]
     for a, _ in long_runs:
         if np.mean(bad[a:]) >= 0.5:          # the lines above do not recover for good
             return int(a)
     return None
+
+
+def _excitation_reach(excitation, window) -> int | None:
+    """Index where the excitation stops reaching: the start of the lowest run (as
+    :func:`_top_run`, anywhere in the band) of lines whose autospectrum (running median
+    of ``window`` lines) is :data:`_REACH_DB` dB or more below its largest; ``None`` when
+    there is none (or no excitation at all)."""
+    smooth = median_filter(np.asarray(excitation, float), size=window, mode="nearest")
+    peak = float(smooth.max())
+    if not peak > 0.0:
+        return None
+    # anywhere in the band: an autospectrum's fall is no resonance's trough
+    return _top_run(smooth < peak * 10.0 ** (-_REACH_DB / 10.0), smooth.size,
+                    upper_half=False)
 
 
 def choose_band(data: FRFData, *, low_end=True) -> tuple[tuple[float, float], str]:
@@ -164,7 +184,13 @@ def choose_band(data: FRFData, *, low_end=True) -> tuple[tuple[float, float], st
         smooth = median_filter(rough, size=window, mode="nearest")
         limit = max(0.3, 4.0 * float(np.median(rough)))
         hi = _top_run(smooth > limit, n)
-        if hi is not None:
+        reach = None if data.excitation is None else _excitation_reach(data.excitation, window)
+        if reach is not None and (hi is None or reach < hi):
+            reasons.append(f"dropped the {n - reach} lines above {f[reach - 1]:.6g} Hz (the "
+                           f"excitation's spectrum is {_REACH_DB:g} dB or more below its "
+                           "peak there)")
+            hi = reach
+        elif hi is not None:
             reasons.append(f"dropped the {n - hi} lines above {f[hi - 1]:.6g} Hz (the lines "
                            "scatter like noise there)")
     hi = n if hi is None else hi

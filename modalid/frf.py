@@ -46,21 +46,28 @@ class FRFData:
     quantity : {"receptance", "mobility", "accelerance"}, keyword-only
     coherence : array_like of float, shape (n,), optional
         Ordinary coherence in [0, 1], if measured.
+    excitation : array_like of float, shape (n,), optional
+        The excitation's autospectrum on the lines (any unit, e.g. a hammer's force
+        autospectrum in N^2), finite and non-negative, if recorded. Without coherence
+        (one hit) it tells the automatic band of :class:`modalid.ModalFit` where the
+        excitation stopped reaching (:func:`modalid._band.choose_band`).
 
     Attributes
     ----------
-    freq_hz, values, coherence : ndarray (read-only)
+    freq_hz, values, coherence, excitation : ndarray (read-only)
     omega : ndarray
         Angular frequency (rad/s).
     """
 
-    __slots__ = ("_freq_hz", "_values", "_quantity", "_coherence")
+    __slots__ = ("_freq_hz", "_values", "_quantity", "_coherence", "_excitation")
     _freq_hz: np.ndarray
     _values: np.ndarray
     _quantity: str
     _coherence: np.ndarray | None
+    _excitation: np.ndarray | None
 
-    def __init__(self, freq_hz, values, *, quantity="receptance", coherence=None):
+    def __init__(self, freq_hz, values, *, quantity="receptance", coherence=None,
+                 excitation=None):
         freq_hz = as_real_array("freq_hz", freq_hz, ndim=1)
         values = as_complex_array("values", values, ndim=1)
         as_choice("quantity", quantity, QUANTITIES)
@@ -85,7 +92,16 @@ class FRFData:
                 bad = coherence[(coherence < 0) | (coherence > 1 + 1e-9)][0]
                 raise ValueError(f"coherence must lie in [0, 1], got {bad!r}")
             coherence = np.clip(coherence, 0.0, 1.0)
-        for name, arr in (("_freq_hz", freq_hz), ("_values", values), ("_coherence", coherence)):
+        if excitation is not None:
+            excitation = as_real_array("excitation", excitation, ndim=1)
+            if excitation.shape != freq_hz.shape:
+                raise ValueError(f"excitation must have the length of freq_hz "
+                                 f"({freq_hz.size}), got {excitation.size}")
+            if np.any(excitation < 0):
+                raise ValueError(f"excitation must be non-negative (an autospectrum), got "
+                                 f"{excitation[excitation < 0][0]!r}")
+        for name, arr in (("_freq_hz", freq_hz), ("_values", values), ("_coherence", coherence),
+                          ("_excitation", excitation)):
             if arr is not None:
                 arr = np.array(arr)
                 arr.setflags(write=False)
@@ -98,12 +114,15 @@ class FRFData:
     def __reduce__(self):
         """Pickle through the constructor (fitted estimators keep their data)."""
         return (_rebuild, (FRFData, dict(freq_hz=self._freq_hz, values=self._values,
-                                         quantity=self._quantity, coherence=self._coherence)))
+                                         quantity=self._quantity, coherence=self._coherence,
+                                         excitation=self._excitation)))
 
     freq_hz = property(lambda self: self._freq_hz, doc="Frequencies (Hz).")
     values = property(lambda self: self._values, doc="FRF values (SI units of quantity).")
     quantity = property(lambda self: self._quantity, doc="receptance, mobility or accelerance.")
     coherence = property(lambda self: self._coherence, doc="Coherence, or None.")
+    excitation = property(lambda self: self._excitation,
+                          doc="The excitation's autospectrum on the lines, or None.")
 
     @property
     def omega(self) -> np.ndarray:
@@ -144,7 +163,8 @@ class FRFData:
             data = self.select(slice(1, None))
         receptance = to_receptance(data._quantity, data._values, data.omega)
         return FRFData(data._freq_hz, receptance_to(quantity, receptance, data.omega),
-                       quantity=quantity, coherence=data._coherence)
+                       quantity=quantity, coherence=data._coherence,
+                       excitation=data._excitation)
 
     def to_receptance(self) -> FRFData:
         """The FRF as receptance (m/N); see :meth:`convert` for the 0 Hz line.
@@ -168,8 +188,9 @@ class FRFData:
         FRFData
         """
         coherence = None if self._coherence is None else self._coherence[index]
+        excitation = None if self._excitation is None else self._excitation[index]
         return FRFData(self._freq_hz[index], self._values[index], quantity=self._quantity,
-                       coherence=coherence)
+                       coherence=coherence, excitation=excitation)
 
     def band(self, freq_range) -> FRFData:
         """The lines with ``fmin <= freq_hz <= fmax`` (Hz; ``fmax`` may be ``numpy.inf``);

@@ -405,7 +405,8 @@ def frf_from_hammer(force, response, fs, *, response_type="acceleration",
         h1 = h1 * (iw / (iw + decay)) ** k
     sff = np.array(sff)
     sff.setflags(write=False)
-    return HammerFRF(frf=FRFData(freq, h1, quantity=quantity, coherence=coherence),
+    return HammerFRF(frf=FRFData(freq, h1, quantity=quantity, coherence=coherence,
+                                 excitation=sff),
                      window_decay_rate=decay, n_hits=n_hits,
                      double_hits=tuple(i for i, *_ in found), force_spectrum=sff,
                      force_window_length=window_length,

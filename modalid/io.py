@@ -422,7 +422,7 @@ def read_frf(path, *, format=None, quantity=None, columns=None, index=None,
     if conjugate or negate:
         values = np.conj(frf.values) if conjugate else frf.values
         frf = FRFData(frf.freq_hz, -values if negate else values, quantity=frf.quantity,
-                      coherence=frf.coherence)
+                      coherence=frf.coherence, excitation=frf.excitation)
     return frf
 
 

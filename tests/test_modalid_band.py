@@ -84,6 +84,34 @@ def test_the_band_ends_where_the_coherence_collapses():
     assert hi == freq[-1]
 
 
+def half_sine_autospectrum(freq, width):
+    """``|F(f)|^2`` of a half-sine pulse ``width`` (s) long, 1 at 0 Hz."""
+    x = 2.0 * freq * width
+    with np.errstate(divide="ignore", invalid="ignore"):
+        amp = np.where(np.abs(x - 1.0) < 1e-9, np.pi / 4,
+                       np.cos(np.pi * x / 2) / (1.0 - x**2))
+    return amp**2
+
+
+def test_without_coherence_the_band_ends_where_the_hammer_stops_reaching():
+    """One hammer hit (no coherence) of a half-sine pulse: its force autospectrum falls
+    20 dB below its peak at ``f = 1.30 / width`` and has its first zero at ``1.5 /
+    width``. The band ends at the 20 dB point (to the smoothing's few lines), says so,
+    and a flat excitation or a measured coherence leaves the band as it was."""
+    freq, h = beam_frf()
+    width = 1.30 / freq[1200]                 # the 20 dB point near line 1200
+    force = half_sine_autospectrum(freq, width)
+    exact = freq[np.flatnonzero(force < 1e-2 * force.max())[0]]
+    (lo, hi), reason = choose_band(FRFData(freq, h, excitation=force))
+    assert lo == freq[0] and abs(hi - exact) <= 10 * (freq[1] - freq[0])
+    assert "excitation's spectrum is 20 dB or more below its peak" in reason
+    (_, hi), reason = choose_band(FRFData(freq, h, excitation=np.ones(freq.size)))
+    assert hi == freq[-1] and reason == "all lines"
+    (_, hi), _ = choose_band(FRFData(freq, h, coherence=np.full(freq.size, 0.999),
+                                     excitation=force))
+    assert hi == freq[-1]
+
+
 def test_no_usable_band_is_an_error():
     freq, h = beam_frf(n_lines=200)
     with pytest.raises(ValueError, match="no usable band"):

@@ -221,10 +221,12 @@ def test_frf_data_and_sets_pickle_through_their_constructors():
     """A fitted ModalFit keeps its data: it must pickle (process pools, joblib)."""
     import pickle
 
-    one = FRFData([1.0, 2.0], [1 + 1j, 2j], quantity="mobility", coherence=[0.9, 1.0])
+    one = FRFData([1.0, 2.0], [1 + 1j, 2j], quantity="mobility", coherence=[0.9, 1.0],
+                  excitation=[4.0, 3.0])
     back = pickle.loads(pickle.dumps(one))
     assert np.array_equal(back.values, one.values) and back.quantity == "mobility"
     assert np.array_equal(back.coherence, one.coherence)
+    assert np.array_equal(back.excitation, one.excitation)
     data = FRFSet([1.0, 2.0], [[1 + 1j, 2j], [3.0, 4.0]], outputs=("a", "b"), driving_point=1)
     again = pickle.loads(pickle.dumps(data))
     assert again.outputs == ("a", "b") and again.driving_point == 1
@@ -241,3 +243,21 @@ def test_auto_driving_point_refuses_a_record_measured_along_the_opposite_directi
         read_frf_set([tmp_path / "a.uff", tmp_path / "b.uff"])
     data = read_frf_set([tmp_path / "a.uff", tmp_path / "b.uff"], driving_point=0)
     assert data.driving_point == 0
+
+
+def test_frf_data_carries_its_excitation_spectrum_and_checks_it():
+    """``FRFData(excitation=...)``: the excitation's autospectrum per line (a hammer's force
+    spectrum), read-only, kept by select, band and conversion; a wrong length or a
+    negative value is refused, naming it."""
+    freq = np.array([0.0, 1.0, 2.0, 3.0])
+    one = FRFData(freq, [1.0, 1 + 1j, 2j, 3.0], quantity="accelerance",
+                  excitation=[4.0, 3.0, 2.0, 1.0])
+    assert not one.excitation.flags.writeable
+    assert np.array_equal(one.band((1.0, 2.0)).excitation, [3.0, 2.0])
+    with pytest.warns(UserWarning, match="dropped the 0 Hz line"):
+        assert np.array_equal(one.to_receptance().excitation, [3.0, 2.0, 1.0])
+    assert FRFData(freq, np.ones(4)).excitation is None
+    with pytest.raises(ValueError, match="excitation must have the length of freq_hz"):
+        FRFData(freq, np.ones(4), excitation=np.ones(3))
+    with pytest.raises(ValueError, match="excitation must be non-negative.*-1.0"):
+        FRFData(freq, np.ones(4), excitation=[1.0, -1.0, 1.0, 1.0])

@@ -255,6 +255,27 @@ def test_zero_padding_interpolates_the_same_frf(clean):
     assert rel_error(est, clean, band).max() < 1e-2
 
 
+def test_one_hit_is_fitted_where_the_hammer_reached(truth):
+    """One hit (no coherence) of a 2 ms half-sine pulse: its force autospectrum falls
+    20 dB below its peak at 650 Hz (1.3 / width) and has its first zero at 750 Hz;
+    above, the response is the sensor's noise over a force that is not there. The FRF
+    carries the force spectrum (``excitation``), and ``ModalFit()`` with no options ends
+    its band there, says why, and finds the three modes below it to 1e-3."""
+    test = synthetic_hammer_test(truth, FS, 2.0, pulse_width=2e-3, noise=(0.0, 0.002),
+                                 anti_alias=True, seed=1)
+    est = frf_from_hammer(test.force, test.response, FS)
+    assert est.coherence is None
+    np.testing.assert_array_equal(est.frf.excitation, est.force_spectrum)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        fit = ModalFit().fit(est.frf)
+    lo, hi = fit.report_["band_hz"]
+    assert 600 <= hi <= 700, (lo, hi)
+    assert "excitation's spectrum is 20 dB" in fit.report_["band_reason"]
+    found = np.sort(fit.report_["modes"]["frequency_hz"].to_numpy())
+    np.testing.assert_allclose(found, [100.0, 250.0, 600.0], rtol=1e-3)
+
+
 # ------------------------------------------------------------------- real data
 @pytest.fixture(scope="module")
 def real_records():
