@@ -530,9 +530,12 @@ class FRFPipeline(PoleChecks):
         # the model of the data fitted (the windowed FRF when there is a window), then the
         # structure's (the window and the record's end undone: modalid._window)
         self._raw_inverse_mass = float(u)     # its sign speaks of driving point or not
-        fitted_model = ModalModel(poles=poles, residues=residues, inverse_mass=max(u, 0.0),
+        # a transfer FRF (the unconstrained fit) keeps a negative mass line: a free body's
+        # rigid rotation, or the modes below the band, measured away from the hit point
+        u = float(u) if not self._passive_on else max(float(u), 0.0)
+        fitted_model = ModalModel(poles=poles, residues=residues, inverse_mass=u,
                                   flexibility=d)
-        fitted = evaluate(omega, poles, residues, (), (), max(u, 0.0), d, self._shift)
+        fitted = evaluate(omega, poles, residues, (), (), u, d, self._shift)
         band = self._data_band
         own = receptance_to(band.quantity, fitted, band.omega) - band.values
         window = {}
