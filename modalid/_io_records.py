@@ -2,7 +2,7 @@
 
 One job: from the columns or arrays a file holds to an :class:`FRFData`. Column headers
 and variable names are matched to roles (frequency, real/imag, magnitude/phase, values,
-coherence, quantity); what was read is checked (numeric, finite, vectors); the quantity
+coherence, excitation, quantity); what was read is checked (numeric, finite, vectors); the quantity
 the file states is settled against ``quantity=``; a raw record becomes an :class:`FRFData`.
 
 Private helpers of :mod:`modalid.io` (CSV, NPZ and MAT readers), :mod:`modalid._uff` and
@@ -38,6 +38,7 @@ _WORDS = {
     "magnitude": {"mag", "magnitude", "abs", "amplitude", "amp", "modulus"},
     "phase": {"phase", "arg", "angle", "phi"},
     "coherence": {"coh", "coherence", "gamma2", "gamma_2"},
+    "excitation": {"excitation", "force_spectrum", "input_spectrum", "excitation_spectrum"},
     "values": {"values", "value", "h", "frf", ""},
     "quantity": {"quantity"},
 }
@@ -48,10 +49,11 @@ _ROLES = {("freq", None): "freq_hz", ("freq", "hz"): "freq_hz", ("", "hz"): "fre
           ("magnitude", None): "magnitude", ("magnitude", "db"): "magnitude_db",
           ("", "db"): "magnitude_db", ("phase", "deg"): "phase_deg",
           ("phase", "rad"): "phase_rad", ("phase", None): "phase",
-          ("coherence", None): "coherence", ("quantity", None): "quantity"}
+          ("coherence", None): "coherence", ("excitation", None): "excitation",
+          ("quantity", None): "quantity"}
 TABLE_ROLES = ("freq_hz", "omega_rad_s", "real", "imag", "magnitude", "magnitude_db",
-               "phase_deg", "phase_rad", "coherence")
-ARRAY_ROLES = ("freq_hz", "omega_rad_s", "values", "coherence", "quantity")
+               "phase_deg", "phase_rad", "coherence", "excitation")
+ARRAY_ROLES = ("freq_hz", "omega_rad_s", "values", "coherence", "excitation", "quantity")
 
 
 def _column_role(name):
@@ -114,8 +116,10 @@ def _assign_roles(names, allowed, columns, source):
 _HELP = ("accepted names (case-insensitive, any word separator, optional [unit]): "
          "frequency f/freq/frequency [Hz] or omega/w [rad/s] (e.g. freq_hz, omega_rad_s); ")
 TABLE_HELP = _HELP + ("real re/real + imag im/imag, or magnitude mag/abs (dB if the name "
-                      "says so, e.g. mag_db) + phase_deg or phase_rad; coherence coh/coherence")
-ARRAY_HELP = _HELP + "values values/H/frf (complex); coherence coh/coherence; quantity"
+                      "says so, e.g. mag_db) + phase_deg or phase_rad; coherence coh/coherence;"
+                      " excitation excitation/force_spectrum")
+ARRAY_HELP = _HELP + ("values values/H/frf (complex); coherence coh/coherence; excitation "
+                      "excitation/force_spectrum; quantity")
 
 
 # ------------------------------------------------------------------ raw records
@@ -129,6 +133,7 @@ class _Raw:
     quantity: str | None
     names: tuple = ("freq_hz", "values", "coherence")
     meta: dict = field(default_factory=dict)
+    excitation: np.ndarray | None = None
 
 
 def _finite(source, name, arr):
@@ -184,8 +189,9 @@ def _build(source, raw, quantity):
                           f"lines (worst {coherence[i]:.6g} at {raw.freq_hz[i]:.6g} Hz); "
                           "clipped to [0, 1]", UserWarning, stacklevel=4)
             coherence = np.clip(coherence, 0.0, 1.0)
+    excitation = None if raw.excitation is None else np.real(raw.excitation).astype(float)
     try:
         return FRFData(raw.freq_hz.astype(float), raw.values.astype(complex),
-                       quantity=quantity, coherence=coherence)
+                       quantity=quantity, coherence=coherence, excitation=excitation)
     except ValueError as exc:
         raise ValueError(f"{source}: {exc}") from exc

@@ -167,8 +167,13 @@ def _cmd_hammer(args) -> int:
     if est.double_hits:
         print(f"double hits in hits {list(est.double_hits)} (averaged all the same)")
     target = out if out is not None else "FILE"
-    print(f"fit it with: modalid fit {target} {_fit_flags(est)} (and --fmax "
-          f"{_excited_top(est):.6g} to keep to the band the hammer excited); impactpred "
+    if frf.coherence is None and (out is None or out.suffix.lower() not in (".uff", ".unv")):
+        # one hit: the file keeps the force spectrum, and the fit's band ends with it
+        reach = (f"(its automatic band ends where the force spectrum the file keeps falls "
+                 f"20 dB, near {_excited_top(est):.6g} Hz)")
+    else:
+        reach = f"(and --fmax {_excited_top(est):.6g} to keep to the band the hammer excited)"
+    print(f"fit it with: modalid fit {target} {_fit_flags(est)} {reach}; impactpred "
           "predict takes the same flags")
     if out is None:
         print(nothing_saved("FILE writes the FRF with its coherence (.csv, .npz, .mat, .uff)"))

@@ -140,9 +140,10 @@ def _read_table(path, columns, table=None, stated=None):
     if len(stated) > 1:
         raise ValueError(f"{path} names several quantities: {sorted(stated)}")
     coherence = column("coherence") if "coherence" in found else None
+    excitation = column("excitation") if "excitation" in found else None
     return [_Raw(freq, values, coherence, stated.pop() if stated else None,
                  (found[freq_role[0]][0], "/".join(found[r][0] for r in used),
-                  found.get("coherence", ("coherence",))[0]))]
+                  found.get("coherence", ("coherence",))[0]), excitation=excitation)]
 
 
 def _is_complex_lines(path):
@@ -209,6 +210,8 @@ def _from_arrays(source, arrays, columns):
     values = _vector(source, v_name, arrays[v_name])
     c_name = found.get("coherence", ("coherence",))[0]
     coherence = _vector(source, c_name, arrays[c_name]) if "coherence" in found else None
+    e_name = found.get("excitation", ("excitation",))[0]
+    excitation = _vector(source, e_name, arrays[e_name]) if "excitation" in found else None
     stated = found["values"][1]
     if "quantity" in found:
         q = np.asarray(arrays[found["quantity"][0]])
@@ -219,7 +222,8 @@ def _from_arrays(source, arrays, columns):
         if stated is not None and stated != _QUANTITY_WORDS[text]:
             raise ValueError(f"{source} names two quantities: {stated} and {text}")
         stated = _QUANTITY_WORDS[text]
-    return _Raw(freq, values, coherence, stated, (f_name, v_name, c_name))
+    return _Raw(freq, values, coherence, stated, (f_name, v_name, c_name),
+                excitation=excitation)
 
 
 def _read_npz(path, columns):
@@ -347,8 +351,8 @@ def read_frfs(path, *, format=None, quantity=None, columns=None) -> list[FRFData
     columns : dict, optional
         Role -> column (CSV) or variable (NPZ/MAT) name, overriding name detection.
         CSV roles: freq_hz | omega_rad_s, real + imag or magnitude | magnitude_db +
-        phase_deg | phase_rad, coherence. NPZ/MAT roles: freq_hz | omega_rad_s, values,
-        coherence, quantity.
+        phase_deg | phase_rad, coherence, excitation. NPZ/MAT roles: freq_hz | omega_rad_s,
+        values, coherence, excitation, quantity.
 
     Returns
     -------
@@ -364,13 +368,15 @@ def read_frfs(path, *, format=None, quantity=None, columns=None) -> list[FRFData
     ``frequency`` (Hz unless rad/s is said), ``omega``/``w`` (rad/s); ``re``/``real`` and
     ``im``/``imag``; ``mag``/``magnitude``/``abs``/``amplitude`` (linear, or dB =
     ``20 log10 |H|`` when the name says dB) with ``phase``/``arg``/``angle`` + ``deg`` or
-    ``rad`` (a phase without unit is refused); ``coh``/``coherence``. An ``H`` word is
+    ``rad`` (a phase without unit is refused); ``coh``/``coherence``;
+    ``excitation``/``force_spectrum`` (the excitation's autospectrum per line, which the
+    automatic band reads where there is no coherence). An ``H`` word is
     ignored (``H_real``, ``|H| (dB)``); a quantity word (``accelerance_real``) states the
     quantity. With both real/imag and magnitude/phase, real/imag are used. Separator:
     ``,``, ``;``, tab or white space.
 
-    *NPZ*: ``freq_hz`` (or ``omega_rad_s``), ``values``, optional ``coherence`` and
-    ``quantity`` (a string), matched as above.
+    *NPZ*: ``freq_hz`` (or ``omega_rad_s``), ``values``, optional ``coherence``,
+    ``excitation`` and ``quantity`` (a string), matched as above.
 
     *MAT*: the analyzer export (``Freq_domain`` in Hz, ``Hf_chan_N``, ``Hf_coh_chan_N``;
     one FRF per N; quantity not stated) or the NPZ names; v7.3 (HDF5) is not supported.
@@ -497,10 +503,11 @@ def write_frf(path, frf, *, format=None, binary=False, response=None, reference=
 
     Notes
     -----
-    CSV: ``# quantity: <q>`` then ``freq_hz,real,imag[,coherence]``, shortest round-trip
-    decimals (bit-exact). NPZ and MAT (v5): ``freq_hz``, ``values``, ``quantity``
-    [, ``coherence``] (bit-exact). UFF: dataset 58, function type 4, ordinate type 8/11/12
-    over 13 (force), abscissa type 18 in Hz; coherence as a second dataset 58 of type 6.
+    CSV: ``# quantity: <q>`` then ``freq_hz,real,imag[,coherence][,excitation]``, shortest
+    round-trip decimals (bit-exact). NPZ and MAT (v5): ``freq_hz``, ``values``,
+    ``quantity`` [, ``coherence``][, ``excitation``] (bit-exact). UFF: dataset 58, function
+    type 4, ordinate type 8/11/12 over 13 (force), abscissa type 18 in Hz; coherence as a
+    second dataset 58 of type 6 (the excitation's spectrum is not written).
     ASCII UFF holds 12 significant digits per value (format E20.12) and frequencies as
     f0 + k*df with f0, df in 6 digits: a grid not of that form is refused (use binary).
     """
@@ -513,12 +520,12 @@ def write_frf(path, frf, *, format=None, binary=False, response=None, reference=
     if fmt != "uff" and (binary or response is not None or reference is not None):
         raise ValueError(f"binary, response and reference apply to UFF files, not to {fmt}")
     arrays = {"freq_hz": frf.freq_hz, "values": frf.values, "quantity": np.str_(frf.quantity)}
-    if frf.coherence is not None:
-        arrays["coherence"] = frf.coherence
+    extra = {k: v for k, v in (("coherence", frf.coherence), ("excitation", frf.excitation))
+             if v is not None}
+    arrays.update(extra)
     if fmt == "csv":
-        cols = [frf.freq_hz, frf.values.real, frf.values.imag]
-        cols += [] if frf.coherence is None else [frf.coherence]
-        head = "freq_hz,real,imag" + ("" if frf.coherence is None else ",coherence")
+        cols = [frf.freq_hz, frf.values.real, frf.values.imag, *extra.values()]
+        head = ",".join(["freq_hz", "real", "imag", *extra])
         rows = (",".join(repr(float(v)) for v in row) for row in zip(*cols))
         with open(path, "w", encoding="utf-8", newline="\n") as fh:
             fh.write(f"# quantity: {frf.quantity}\n{head}\n" + "\n".join(rows) + "\n")

@@ -233,6 +233,28 @@ def test_hammer_command_writes_the_h1_and_the_flags_of_a_later_fit(hammer_test, 
     assert mass == pytest.approx(1.0, rel=3e-3)
 
 
+@pytest.mark.filterwarnings("ignore::UserWarning")
+def test_one_hit_writes_its_force_spectrum_and_the_fit_ends_its_band_there(hammer_test,
+                                                                          tmp_path, capsys):
+    """One hit (no coherence): the CSV keeps the force spectrum (``excitation``), the
+    printed advice says the automatic band ends with it, and ``modalid fit`` on the file
+    says it ended the band where the spectrum fell 20 dB."""
+    from modalid import frf_from_hammer, read_frf
+
+    test, _ = hammer_test
+    out = tmp_path / "one.csv"
+    (path,) = save_rows(tmp_path, type(test)(**{**vars(test), "force": test.force[:1],
+                                                "response": test.response[:1]}))
+    assert main(["hammer", path, "--response-type", "velocity", "--out", str(out)]) == 0
+    assert "its automatic band ends where the force spectrum the file keeps falls 20 dB" in (
+        capsys.readouterr().out)
+    expected = frf_from_hammer(test.force[:1], test.response[:1], test.fs,
+                               response_type="velocity")
+    np.testing.assert_array_equal(read_frf(out).excitation, expected.force_spectrum)
+    assert main(["fit", str(out), "--not-driving-point"]) == 0
+    assert "the excitation's spectrum is 20 dB or more below its peak" in capsys.readouterr().out
+
+
 def test_hammer_command_reads_csv_and_npz_records(hammer_test, tmp_path, capsys):
     """A CSV with a header (time, force, velocity columns) and an .npz of hits x samples
     with --fs give the same FRF as the .npy rows; nothing saved without --out."""
