@@ -116,16 +116,18 @@ def _top_run(bad, n, *, upper_half=True) -> int | None:
 
 def _excitation_reach(excitation, window) -> int | None:
     """Index where the excitation stops reaching: the start of the lowest run (as
-    :func:`_top_run`, anywhere in the band) of lines whose autospectrum (running median
-    of ``window`` lines) is :data:`_REACH_DB` dB or more below its largest; ``None`` when
-    there is none (or no excitation at all)."""
+    :func:`_top_run`) above its peak of lines whose autospectrum (running median of
+    ``window`` lines) is :data:`_REACH_DB` dB or more below that peak; ``None`` when there
+    is none (or no excitation at all). Below the peak it is not looked for: a shaker's
+    band-limited drive, or a hammer's low end, rises there."""
     smooth = median_filter(np.asarray(excitation, float), size=window, mode="nearest")
-    peak = float(smooth.max())
-    if not peak > 0.0:
+    top = int(np.argmax(smooth))
+    if not smooth[top] > 0.0:
         return None
-    # anywhere in the band: an autospectrum's fall is no resonance's trough
-    return _top_run(smooth < peak * 10.0 ** (-_REACH_DB / 10.0), smooth.size,
-                    upper_half=False)
+    # anywhere above the peak: an autospectrum's fall is no resonance's trough
+    start = _top_run(smooth[top:] < smooth[top] * 10.0 ** (-_REACH_DB / 10.0), smooth.size,
+                     upper_half=False)
+    return None if start is None else top + start
 
 
 def choose_band(data: FRFData, *, low_end=True) -> tuple[tuple[float, float], str]:
@@ -185,7 +187,7 @@ def choose_band(data: FRFData, *, low_end=True) -> tuple[tuple[float, float], st
         limit = max(0.3, 4.0 * float(np.median(rough)))
         hi = _top_run(smooth > limit, n)
         reach = None if data.excitation is None else _excitation_reach(data.excitation, window)
-        if reach is not None and (hi is None or reach < hi):
+        if reach is not None and reach > lo and (hi is None or reach < hi):
             reasons.append(f"dropped the {n - reach} lines above {f[reach - 1]:.6g} Hz (the "
                            f"excitation's spectrum is {_REACH_DB:g} dB or more below its "
                            "peak there)")

@@ -26,7 +26,7 @@ from ._segments import MIN_SEGMENTED, segment_poles
 from ._lsfd import (Terms, design_matrix, evaluate, mass_line_significant, noise_level,
                     place_upper_modes, refine_varpro, release_gain, split_coefficients)
 from ._vf import vector_fit_poles
-from ._unresolved_damping import damping_off_bound
+from ._unresolved_damping import lift_single
 from ._window import structure_model
 from .frf import FRFData
 from .model import ModalModel
@@ -305,7 +305,7 @@ class FRFPipeline(PoleChecks):
                 break
             poles, x, info = self._refine(omega, h, w, poles, kinds, terms)
         if segment_std is None and self.refine and not self.__dict__.get("_probe"):
-            poles, x, info = self._unresolved_damping(frf, poles, kinds, x, info, terms, notes)
+            poles, x, info = lift_single(self, frf, poles, kinds, x, info, terms, notes)
         residues, _, u, d = split_coefficients(x, poles.size, terms)
         info["n_iter_total"] = self._iterations
         said = []
@@ -433,29 +433,6 @@ class FRFPipeline(PoleChecks):
                                f"pole by more than {change:.2g} of its standard deviation")
         return info["converged"]
 
-    def _unresolved_damping(self, frf, poles, kinds, x, info, terms, notes):
-        """Modes whose damping went to the refinement's bound, moved off it where the
-        lines cannot tell (:func:`modalid._unresolved_damping.damping_off_bound`)."""
-        omega, h = frf.omega, frf.values
-        lo, hi = self._imag_bounds(kinds, omega, poles)
-        kw = dict(imag_lo=lo, imag_hi=hi, passive=self._passive_on, buffers=self._buffers,
-                  max_iter=max(50, 4 * poles.size))
-        if self.max_real is not None:
-            kw["max_real"] = self.max_real
-
-        def refit(trial, hold):
-            return refine_varpro(omega, h, self._final_weights, trial, terms,
-                                 hold=hold | (kinds == "far"), **kw)
-
-        spacing = float(np.median(np.diff(frf.freq_hz)))
-        fit, said = damping_off_bound(2 * omega.size, x.size + 2 * poles.size, spacing, poles,
-                                      kinds, info["cost"], refit)
-        notes += said
-        if fit is None:
-            return poles, x, info
-        self._iterations += fit[2]["n_iter"]
-        return fit
-
     def _imag_bounds(self, kinds, omega, poles):
         """Bounds on ``Im p``: pseudo-modes stay outside the band, a physical pole within
         10 % of where it started; with ``n_modes`` as frequencies, within 5 % of its own
@@ -582,7 +559,7 @@ class FRFPipeline(PoleChecks):
         inverse_mass_std = flexibility_std = np.nan
         if std is not None:
             extra = std["extra"][len(terms.real_poles):]
-            if terms.rigid and u > 0 and not np.any(kinds == "lower"):
+            if terms.rigid and u != 0 and not np.any(kinds == "lower"):
                 inverse_mass_std = float(extra[0]) / window.get("rigid_factor", 1.0)
             if terms.upper and not np.any((kinds == "upper") | (kinds == "far")):
                 flexibility_std = float(extra[int(terms.rigid)])

@@ -293,12 +293,10 @@ def _unresolved_damping(est, rec, poles, kinds, xs, info, terms, dp, notes):
 
     n_params = 2 * poles.size + sum(x.size for x in xs)
     spacing = float(np.median(np.diff(rec.freq_hz)))
-    fit, said = damping_off_bound(2 * rec.values.size, n_params, spacing, poles, kinds,
-                                  info["cost"], refit)
+    fit, said, n_iter = damping_off_bound(2 * rec.values.size, n_params, spacing, poles, kinds,
+                                          info["cost"], refit)
     notes += said
-    if fit is None:
-        return poles, xs, info, 0
-    return (*fit, fit[2]["n_iter"])
+    return (poles, xs, info, n_iter) if fit is None else (*fit, n_iter)
 
 
 def _worst_pole(est, omega, h, w, coh, poles, xs, info, kinds, terms, dp):
@@ -461,10 +459,8 @@ def fit_set(est, data: FRFSet):
             start, kinds = np.delete(start, k), np.delete(kinds, k)
             p, xs, info = _refine(est, omega, h, w, coh, start, kinds, terms, dp)
             n_iter += info["n_iter"]
-        if not est._selection():
-            p, xs, info, spent = _unresolved_damping(est, rec, p, kinds, xs, info, terms, dp,
-                                                     notes)
-            n_iter += spent
+        p, xs, info, spent = _unresolved_damping(est, rec, p, kinds, xs, info, terms, dp, notes)
+        n_iter += spent
         info["n_iter_total"] = n_iter
     else:
         p, xs, info = refine_joint(omega, h, w, start, terms, max_iter=0,

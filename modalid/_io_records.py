@@ -189,7 +189,12 @@ def _build(source, raw, quantity):
                           f"lines (worst {coherence[i]:.6g} at {raw.freq_hz[i]:.6g} Hz); "
                           "clipped to [0, 1]", UserWarning, stacklevel=4)
             coherence = np.clip(coherence, 0.0, 1.0)
-    excitation = None if raw.excitation is None else np.real(raw.excitation).astype(float)
+    excitation = raw.excitation
+    if excitation is not None:
+        if np.iscomplexobj(excitation) and np.any(np.imag(excitation) != 0):
+            raise ValueError(f"the excitation of {source} must be real (an autospectrum), "
+                             f"got complex values")
+        excitation = np.real(excitation).astype(float)
     try:
         return FRFData(raw.freq_hz.astype(float), raw.values.astype(complex),
                        quantity=quantity, coherence=coherence, excitation=excitation)

@@ -22,7 +22,9 @@ class FitReport(Mapping):
     ``n_iterations``, ``max_order``, ``n_modes``, ``modes`` (a DataFrame, one row per
     physical mode: frequency, damping, residue, modal mass, their standard deviations,
     ``damping_resolved``), ``lower_residual_mode``, ``upper_residual_modes``,
-    ``rigid_body``, ``inverse_mass`` (1/kg), ``rigid_mass`` (kg), ``effective_mass``,
+    ``rigid_body``, ``inverse_mass`` (1/kg), ``rigid_mass`` (kg; ``rigid_body`` and
+    ``rigid_mass`` speak of a positive mass line, a transfer FRF's negative one is in
+    ``inverse_mass`` alone), ``effective_mass``,
     ``effective_mass_physical`` (kg), ``residual_flexibility`` (m/N), ``notes``,
     ``verdict`` (``"ok"``, ``"suspect"`` or ``"failed"``) and ``verdict_reasons``; an FRF
     fit adds its band (``band_hz``, ``band_reason``), weighting, driving-point decision
@@ -164,12 +166,14 @@ def misfit_notes(poles, factors):
 
 
 def _high_frequency(model, physical):
-    """Effective mass ``1/(sum 1/m_k + 1/M)`` and residual flexibility of a model."""
+    """Effective mass ``1/(sum 1/m_k + 1/M)`` over the positive masses (a driving point's)
+    and residual flexibility of a model."""
     masses = model.modes["modal_mass"].to_numpy()
-    inv_all = model.inverse_mass + float(np.sum(1.0 / masses[masses > 0]))
+    rigid = max(model.inverse_mass, 0.0)
+    inv_all = rigid + float(np.sum(1.0 / masses[masses > 0]))
     order = np.argsort(np.abs(model.poles), kind="stable")
     phys = masses[physical[order]]
-    inv_band = model.inverse_mass + float(np.sum(1.0 / phys[phys > 0]))
+    inv_band = rigid + float(np.sum(1.0 / phys[phys > 0]))
     return {"effective_mass": 1.0 / inv_all if inv_all > 0 else np.inf,
             "effective_mass_physical": 1.0 / inv_band if inv_band > 0 else np.inf,
             "residual_flexibility": model.flexibility}

@@ -168,9 +168,11 @@ def _cmd_hammer(args) -> int:
         print(f"double hits in hits {list(est.double_hits)} (averaged all the same)")
     target = out if out is not None else "FILE"
     if frf.coherence is None and (out is None or out.suffix.lower() not in (".uff", ".unv")):
-        # one hit: the file keeps the force spectrum, and the fit's band ends with it
-        reach = (f"(its automatic band ends where the force spectrum the file keeps falls "
-                 f"20 dB, near {_excited_top(est):.6g} Hz)")
+        # one hit: a CSV/NPZ/MAT file keeps the force spectrum, and the fit's band ends
+        # with it
+        kept = "the file keeps" if out is not None else "a .csv, .npz or .mat file keeps"
+        reach = (f"(its automatic band ends where the force spectrum {kept} falls 20 dB, "
+                 f"near {_excited_top(est):.6g} Hz)")
     else:
         reach = f"(and --fmax {_excited_top(est):.6g} to keep to the band the hammer excited)"
     print(f"fit it with: modalid fit {target} {_fit_flags(est)} {reach}; impactpred "

@@ -62,9 +62,10 @@ class ModalFit(FRFPipeline, FitLines, BaseEstimator):
     freq_range : (float, float), optional
         Band (Hz) to fit. Default: chosen from the data (:func:`modalid._band.choose_band`):
         the lowest lines are dropped while they scatter like noise, the top ones where the
-        coherence (or, without it, the lines' scatter) says the data stop being
-        informative; ``report_["band_hz"]`` and ``report_["band_reason"]`` say which and
-        why. ``(0, numpy.inf)`` fits every line above 0 Hz.
+        coherence (or, without it, the lines' scatter, or the fall of the excitation's
+        spectrum the data carry, ``FRFData.excitation``, 20 dB below its peak) says the
+        data stop being informative; ``report_["band_hz"]`` and ``report_["band_reason"]``
+        say which and why. ``(0, numpy.inf)`` fits every line above 0 Hz.
     rigid_body : {"auto", True, False}
         Fit a rigid-body mass line ``1/(M s^2)``; ``"auto"`` keeps it when the lines well
         below the first resonance show one (negative real receptance falling like

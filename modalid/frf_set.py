@@ -228,7 +228,9 @@ class FRFSet:
 
         Different grids are refused (``ValueError`` naming the rows and how they differ):
         resample them yourself if that is what you mean, this never interpolates.
-        Coherence is kept when every row has it.
+        Coherence is kept when every row has it; an excitation spectrum
+        (``FRFData.excitation``) is not (a set's band comes from its rows' coherence or
+        scatter).
 
         Parameters
         ----------

@@ -112,6 +112,18 @@ def test_without_coherence_the_band_ends_where_the_hammer_stops_reaching():
     assert hi == freq[-1]
 
 
+def test_a_band_limited_excitation_ends_the_band_above_its_peak_only():
+    """A shaker driven over the middle of the band only: its autospectrum is 40 dB down
+    over the lowest 500 lines, flat over lines 500-1499 and falls away above. The band
+    ends where it falls above its peak (the lowest lines are no fall: the data there are
+    judged by their scatter, as without excitation)."""
+    freq, h = beam_frf()
+    drive = np.where((freq >= freq[500]) & (freq < freq[1500]), 1.0, 1e-4)
+    (lo, hi), reason = choose_band(FRFData(freq, h, excitation=drive))
+    assert lo == freq[0] and freq[1495] <= hi <= freq[1505]
+    assert f"above {hi:.6g} Hz (the excitation's spectrum" in reason
+
+
 def test_no_usable_band_is_an_error():
     freq, h = beam_frf(n_lines=200)
     with pytest.raises(ValueError, match="no usable band"):

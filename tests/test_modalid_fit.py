@@ -882,7 +882,13 @@ def test_a_transfer_fit_keeps_its_negative_mass_line():
         fit = ModalFit(rigid_body=True, passive=False).fit(data)
     assert fit.model_.inverse_mass == pytest.approx(-0.25, rel=1e-6)
     np.testing.assert_allclose(fit.model_.frf(2 * np.pi * freq), data.values, rtol=1e-6)
-    assert fit.report_["verdict"] == "ok" and fit.report_["driving_point"] is False
+    r = fit.report_
+    assert r["verdict"] == "ok" and r["driving_point"] is False
+    # its standard deviation is reported; "rigid body" and the effective mass speak of a
+    # positive mass line (a driving point's) only
+    assert 0 < r["inverse_mass_std"] < 1e-6
+    assert not r["rigid_body"] and r["rigid_mass"] == np.inf
+    assert r["effective_mass"] == pytest.approx(1 / (1 / 2.0 + 1 / 3.0), rel=1e-6)
 
 
 def test_a_one_hit_hammer_record_with_no_options():
