@@ -23,10 +23,10 @@ Data (see each README for source and license):
 * ``../shared/data/measured/pyfrf_hammer_impacts``: five hammer hits (GPL-3.0, read in
   place, never copied); H1 by ``frf_from_hammer`` with its defaults; 15 observed peaks.
 * ``tests/data/acceleration.lvm.gz``: one hammer hit on a free beam with an accelerometer
-  (ladisk's image-based modal analysis tutorial, MIT; LabVIEW text, 50 kHz, 1 s), FRF by
-  ``frf_from_hammer`` with its defaults; published 695.0, 1897.6, 2777.3 and 3671.2 Hz
-  with damping ratios 0.0047, 0.0031, 0.0024 and 0.0020 (the tutorial's pyEMA LSCF on
-  1-4000 Hz).
+  (ladisk's image-based modal analysis tutorial, MIT; LabVIEW text, 50 kHz, 1 s) read as
+  ``modalid hammer`` reads it, FRF by ``frf_from_hammer`` with its defaults; published
+  695.0, 1897.6, 2777.3 and 3671.2 Hz with damping ratios 0.0047, 0.0031, 0.0024 and
+  0.0020 (the tutorial's pyEMA LSCF on 1-4000 Hz).
 
 It asserts nothing and always exits 0.
 """
@@ -62,18 +62,6 @@ PUBLISHED_DAMPING = {"ladisk beam, one hit": [0.0047, 0.0031, 0.0024, 0.0020]}
 PUBLISHED_TOP = {"ladisk beam, one hit": 4000.0}
 
 
-def read_lvm_hit(path):
-    """``(fs, force (N), acceleration (m/s^2))`` of the tutorial's LabVIEW text record:
-    23 header lines, tab-separated, decimal commas, acceleration (g) then force (N) at
-    50 kHz; the last 30 samples dropped as the publisher does ("30 pre-samples")."""
-    def comma(text):
-        return float(text.replace(",", "."))
-
-    rows = np.loadtxt(path, skiprows=23, usecols=(1, 2), delimiter="\t",
-                      converters={1: comma, 2: comma})[:-30]
-    return 50_000.0, rows[:, 1], rows[:, 0] * 9.81
-
-
 def load(name):
     """The FRF of a benchmark file, as ``FRFData``."""
     from modalid import frf_from_hammer, read_frf
@@ -87,9 +75,11 @@ def load(name):
         n = sum(1 for _ in open(DATA / file))
         return read_frf(DATA / file, format="complex-lines", freq_hz=np.arange(float(n)),
                         quantity="accelerance")
-    if name.startswith("ladisk"):
-        fs, force, acc = read_lvm_hit(DATA / file)
-        return frf_from_hammer(force[None, :], acc[None, :], fs,
+    if name.startswith("ladisk"):                 # as `modalid hammer FILE` reads it
+        from modalid._hammer_files import read_hammer_records
+
+        hit = read_hammer_records([DATA / file])
+        return frf_from_hammer(hit.force, hit.response, hit.fs,
                                response_type="acceleration").frf
     recs = [np.load(SHARED / f"measurements_{i}.npy", allow_pickle=False) for i in range(1, 6)]
     fs = 1.0 / (recs[0][0, 1] - recs[0][0, 0])

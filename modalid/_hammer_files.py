@@ -7,7 +7,9 @@ then given), the hammer force and the response. Formats:
   ``measurements_*.npy``: t, force, acceleration) or as columns (the longer axis is time);
 * ``.npz``: named arrays, each a channel (1-D) or several hits of it (2-D, hits x
   samples);
-* CSV/text: a column per channel, with a header line (names) or without (positions).
+* CSV/text: a column per channel, with a header line (names) or without (positions);
+* ``.lvm`` (or gzipped, ``.lvm.gz``): a LabVIEW measurement file (:mod:`modalid._lvm`),
+  its channels by name, a channel in g scaled to m/s^2, the time from its ``Delta_X``.
 
 Channels are picked by name or 0-based position (``time``, ``force``, ``response``);
 by default by their names (time/t, force/f/excitation, response/acceleration/velocity/
@@ -65,9 +67,15 @@ def _normal(name) -> str:
 
 
 def _load(path: Path):
-    """``(channels, names)``: a dict name -> array (1-D or hits x samples) and whether the
-    names are the file's (else positions "0", "1", ...)."""
+    """``(channels, names, units)``: a dict name -> array (1-D or hits x samples), whether
+    the names are the file's (else positions "0", "1", ...) and what was scaled to SI (a
+    LabVIEW file's channel in g: ``{name: (label, factor)}``)."""
     suffix = path.suffix.lower()
+    if suffix == ".lvm" or path.name.lower().endswith(".lvm.gz"):
+        from ._lvm import read_lvm
+
+        channels, units = read_lvm(path)
+        return channels, True, {k: v for k, v in units.items() if v[1] != 1.0}
     if suffix in (".npy", ".npz"):
         try:
             loaded = np.load(path, allow_pickle=False)
@@ -78,12 +86,12 @@ def _load(path: Path):
             raise ValueError(f"{path} is not a readable {suffix} file: {exc}") from None
         if isinstance(loaded, np.lib.npyio.NpzFile):
             with loaded:
-                return {k: loaded[k] for k in loaded.files}, True
-        return _positional(path, loaded), False
+                return {k: loaded[k] for k in loaded.files}, True, {}
+        return _positional(path, loaded), False, {}
     if suffix in (".csv", ".tsv", ".txt"):
-        return _load_text(path)
+        return (*_load_text(path), {})
     raise ValueError(f"cannot tell the format of {str(path)!r} from its extension "
-                     f"{suffix!r}: accepted are .npy, .npz, .csv, .tsv, .txt")
+                     f"{suffix!r}: accepted are .npy, .npz, .csv, .tsv, .txt, .lvm, .lvm.gz")
 
 
 def _positional(path, array):
@@ -215,7 +223,7 @@ def read_hammer_records(paths, *, fs=None, time=None, force=None,
     for path in paths:
         if not path.is_file():
             raise FileNotFoundError(f"no such file: {str(path)!r}")
-        channels, named = _load(path)
+        channels, named, units = _load(path)
         t, f, r, picks = _channels_of(path, channels, named, time=time, force=force,
                                       response=response)
         f, r = np.atleast_2d(f), np.atleast_2d(r)
@@ -240,7 +248,8 @@ def read_hammer_records(paths, *, fs=None, time=None, force=None,
         responses.append(r)
         sources += [path.name] * f.shape[0]
         if len(forces) == 1:
-            read = ", ".join(f"{role} {picks[role]}" for role in picks
-                             if picks[role] is not None)
+            read = ", ".join(f"{role} {picks[role]}" + (
+                f" (x {units[picks[role]][1]:g}: {units[picks[role]][0]} to SI)"
+                if picks[role] in units else "") for role in picks if picks[role] is not None)
     return HammerRecords(np.concatenate(forces), np.concatenate(responses), float(rate),
                          tuple(sources), read)

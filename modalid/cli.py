@@ -205,8 +205,9 @@ def _add_hammer_parser(sub) -> None:
     hammer = sub.add_parser("hammer", help="raw impact-hammer records -> an FRF file (H1 "
                                            "with coherence)")
     hammer.add_argument("files", nargs="+", metavar="FILE",
-                        help=".npy (channels as rows or columns), .npz (named arrays) or "
-                             "CSV records; several files are several hits, averaged")
+                        help=".npy (channels as rows or columns), .npz (named arrays), "
+                             "CSV or LabVIEW .lvm (.lvm.gz) records; several files (or .lvm "
+                             "segments) are several hits, averaged")
     hammer.add_argument("--fs", type=float, default=None, metavar="HZ",
                         help="sample rate (Hz) when the files have no time channel")
     hammer.add_argument("--time", type=_channel, default=None, metavar="NAME|INDEX",

@@ -255,6 +255,25 @@ def test_one_hit_writes_its_force_spectrum_and_the_fit_ends_its_band_there(hamme
     assert "the excitation's spectrum is 20 dB or more below its peak" in capsys.readouterr().out
 
 
+@pytest.mark.filterwarnings("ignore::UserWarning")
+def test_a_labview_hammer_record_to_its_modes_from_the_command_line(tmp_path, capsys):
+    """ladisk's one hit as LabVIEW wrote it (tests/data/acceleration.lvm.gz): modalid
+    hammer reads it (the acceleration in g scaled to m/s^2) and writes the FRF with its
+    force spectrum; modalid fit with no options ends the band where that spectrum falls
+    20 dB and finds the tutorial's four modes within 0.1 %, verdict ok."""
+    record = Path(__file__).parent / "data" / "acceleration.lvm.gz"
+    out, fitted = tmp_path / "beam.csv", tmp_path / "fit"
+    assert main(["hammer", str(record), "--out", str(out)]) == 0
+    assert "response Acceleration (Trigger) (x 9.80665: g to SI)" in capsys.readouterr().out
+    assert main(["fit", str(out), "--out", str(fitted)]) == 0
+    printed = capsys.readouterr().out
+    assert "20 dB or more below its peak" in printed and "verdict: ok" in printed
+    model = ModalModel.from_json(fitted / "beam_model.json")
+    found = model.modes["frequency_hz"].to_numpy()
+    for p in (695.0, 1897.6, 2777.3, 3671.2):
+        assert np.min(np.abs(found / p - 1)) < 1e-3, (p, found)
+
+
 def test_hammer_command_reads_csv_and_npz_records(hammer_test, tmp_path, capsys):
     """A CSV with a header (time, force, velocity columns) and an .npz of hits x samples
     with --fs give the same FRF as the .npy rows; nothing saved without --out."""

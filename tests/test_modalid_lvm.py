@@ -1,0 +1,90 @@
+"""LabVIEW measurement files (modalid._lvm): the tutorial's real record and written ones
+with two segments, comma separators and a point decimal; bad files refused by name."""
+
+import gzip
+
+import numpy as np
+import pytest
+
+from modalid._lvm import STANDARD_GRAVITY, read_lvm
+from modalid._hammer_files import read_hammer_records
+
+from pathlib import Path
+
+DATA = Path(__file__).parent / "data"
+
+FILE_HEADER = """LabVIEW Measurement{s}
+Writer_Version{s}2
+Separator{s}{sep_word}
+Decimal_Separator{s}{dec}
+Multi_Headings{s}Yes
+X_Columns{s}No
+***End_of_Header***{s}
+"""
+SEGMENT = """Channels{s}2{s}
+Samples{s}{n}{s}{n}
+Y_Unit_Label{s}N{s}g
+X0{s}0{dec}0{s}0{dec}0
+Delta_X{s}0{dec}001{s}0{dec}001
+***End_of_Header***{s}
+X_Value{s}Force{s}Acc{s}Comment
+"""
+
+
+def write_lvm(path, segments, *, sep="\t", dec=","):
+    """An .lvm of ``segments`` (each an (n, 2) array: force, acceleration in g)."""
+    s, word = sep, {"\t": "Tab", ",": "Comma"}[sep]
+    text = FILE_HEADER.format(s=s, sep_word=word, dec=dec)
+    for rows in segments:
+        text += SEGMENT.format(s=s, n=len(rows), dec=dec)
+        for f, a in rows:
+            text += f"{s}{repr(float(f)).replace('.', dec)}{s}{repr(float(a)).replace('.', dec)}\n"
+    path.write_text(text)
+    return path
+
+
+def test_the_tutorials_record_is_read_in_si_units():
+    """ladisk's one hit: 50 030 samples at 50 kHz, the acceleration in g scaled by the
+    standard gravity, the force in newtons as written, the time from Delta_X."""
+    channels, units = read_lvm(DATA / "acceleration.lvm.gz")
+    assert list(channels) == ["time", "Acceleration (Trigger)", "Force (Trigger)"]
+    assert channels["time"][1] == pytest.approx(2e-5) and channels["time"].size == 50030
+    assert units == {"Acceleration (Trigger)": ("g", STANDARD_GRAVITY),
+                     "Force (Trigger)": ("Newtons", 1.0)}
+    # the first row as written: -0,007387 g and 0,232147 N
+    assert channels["Acceleration (Trigger)"][0] == pytest.approx(-0.007387 * 9.80665)
+    assert channels["Force (Trigger)"][0] == 0.232147
+    assert channels["Force (Trigger)"].max() == pytest.approx(195.6, abs=0.1)
+
+
+@pytest.mark.parametrize("sep, dec", [("\t", ","), (",", ".")])
+def test_two_segments_are_two_hits(tmp_path, sep, dec):
+    rng = np.random.default_rng(0)
+    hits = [rng.normal(size=(40, 2)) for _ in range(2)]
+    path = write_lvm(tmp_path / "two.lvm", hits, sep=sep, dec=dec)
+    channels, _ = read_lvm(path)
+    np.testing.assert_array_equal(channels["Force"], [h[:, 0] for h in hits])
+    np.testing.assert_allclose(channels["Acc"], [h[:, 1] * STANDARD_GRAVITY for h in hits])
+    gz = tmp_path / "two.lvm.gz"
+    gz.write_bytes(gzip.compress(path.read_bytes()))
+    records = read_hammer_records([gz])
+    assert records.force.shape == (2, 40) and records.fs == pytest.approx(1000.0)
+    assert records.channels == ("time time, force Force, response Acc (x 9.80665: g to SI)")
+
+
+def test_bad_files_are_refused_naming_them(tmp_path):
+    plain = tmp_path / "plain.lvm"
+    plain.write_text("1\t2\n3\t4\n")
+    with pytest.raises(ValueError, match="plain.lvm is not a LabVIEW measurement file"):
+        read_lvm(plain)
+    bad = write_lvm(tmp_path / "bad.lvm", [np.ones((3, 2))])
+    bad.write_text(bad.read_text().replace("\t1,0\t1,0\n", "\tone\t1,0\n", 1))
+    with pytest.raises(ValueError, match="bad.lvm: a sample of segment 1 is not a number"):
+        read_lvm(bad)
+    two = write_lvm(tmp_path / "two.lvm", [np.ones((3, 2)), np.ones((4, 2))])
+    with pytest.raises(ValueError, match="two.lvm: segment 2 holds .* one test per file"):
+        read_lvm(two)
+    fake = tmp_path / "fake.lvm.gz"
+    fake.write_text("not gzip")
+    with pytest.raises(ValueError, match="fake.lvm.gz is not a readable gzip file"):
+        read_lvm(fake)
