@@ -89,7 +89,11 @@ def bounded_lm(x, *, project, limits, n_data, hold=None, max_iter=50, stat_tol=1
     while not converged and it < max_iter:
         jtj, jtr = cur.normal_equations()
         norms = np.sqrt(np.maximum(np.diag(jtj), 1e-300))
-        a_s, g_s = jtj / np.outer(norms, norms), jtr / norms
+        # where coinciding poles make Kaufman's normal matrix singular, its rounding can
+        # turn a diagonal negative (-1.9e11 beside +8e4 on a measured beam) and the scaled
+        # system overflow: the steps it gives are not finite, and are rejected below
+        with np.errstate(over="ignore", invalid="ignore"):
+            a_s, g_s = jtj / np.outer(norms, norms), jtr / norms
         # active set: parameters on a bound whose gradient step points outwards
         low, high = limits(x)
         tol_b = 1e-12 * np.repeat(np.hypot(x[0::2], x[1::2]), 2)
@@ -127,8 +131,15 @@ def bounded_lm(x, *, project, limits, n_data, hold=None, max_iter=50, stat_tol=1
             move = np.hypot(step[0::2], step[1::2]) / np.hypot(x[0::2], x[1::2])
             if move.max() > 0.1:
                 step *= np.repeat(np.minimum(1.0, 0.1 / np.maximum(move, 1e-300)), 2)
+            if not np.all(np.isfinite(step)):     # a singular system's overflow
+                lam, nu = lam * nu, nu * 2.0
+                continue
             x_new = np.clip(x + step, *limits(x + step))
-            trial = project(x_new)
+            try:
+                trial = project(x_new)
+            except np.linalg.LinAlgError:         # no projection there: a rejected step
+                lam, nu = lam * nu, nu * 2.0
+                continue
             actual = cur.cost - trial.cost
             if actual >= 0.0:
                 taken = (x_new - x) * norms
