@@ -5,7 +5,8 @@ The format (LabVIEW's "Write To Measurement File", text): a file header ending i
 comma), then one or more segments, each a header (``Channels``, ``Samples``, ``Delta_X``
 per channel, ``Y_Unit_Label``, ...) ending in ``***End_of_Header***``, a line of column
 names (``X_Value``, the channels, ``Comment``) and the rows of samples. Several segments
-are several acquisitions of the same channels: hits, stacked (hits x samples).
+are several acquisitions of the same channels: hits, stacked (hits x samples). A file
+with an X column per channel (``X_Columns`` Multi) is refused.
 
 Units are SI on return: a channel whose unit label is ``g`` is multiplied by the standard
 gravity 9.80665 m/s^2 (an accelerometer's usual LabVIEW scale), ``kN`` by 1000; other
@@ -85,6 +86,9 @@ def read_lvm(path) -> tuple[dict, dict]:
     sep = seps[sep_word.lower()]
     fhead = _fields(blocks[0].splitlines(), sep)
     comma = fhead.get("Decimal_Separator", ["."])[0] == ","
+    if fhead.get("X_Columns", ["No"])[0].lower() == "multi":
+        raise ValueError(f"{path} has an X column per channel (X_Columns Multi): write it "
+                         "with one X column (No or One), or export the channels as CSV")
     segments: list[tuple[list[str], np.ndarray, dict]] = []
     head_lines = blocks[1].splitlines()
     for block in blocks[2:]:

@@ -84,6 +84,10 @@ def test_bad_files_are_refused_naming_them(tmp_path):
     two = write_lvm(tmp_path / "two.lvm", [np.ones((3, 2)), np.ones((4, 2))])
     with pytest.raises(ValueError, match="two.lvm: segment 2 holds .* one test per file"):
         read_lvm(two)
+    multi = write_lvm(tmp_path / "multi.lvm", [np.ones((3, 2))])
+    multi.write_text(multi.read_text().replace("X_Columns\tNo", "X_Columns\tMulti"))
+    with pytest.raises(ValueError, match="multi.lvm has an X column per channel"):
+        read_lvm(multi)
     fake = tmp_path / "fake.lvm.gz"
     fake.write_text("not gzip")
     with pytest.raises(ValueError, match="fake.lvm.gz is not a readable gzip file"):
