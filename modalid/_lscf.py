@@ -59,7 +59,10 @@ def lscf_normal_matrix(omega, values, weights, max_order, dt=None):
     pos = g[:, 1]                       # m = k - j >= 0: sum w^2 h z^m
     neg = np.conj(g[:, 2])              # m <= 0: sum w^2 h z^-|m| = conj(sum w^2 conj(h) z^|m|)
     s = -toeplitz(neg.real, pos.real)   # first column m = -j, first row m = k
-    return t - s.T @ np.linalg.solve(r, s)
+    try:
+        return t - s.T @ np.linalg.solve(r, s)
+    except np.linalg.LinAlgError:       # fewer independent lines than the order needs
+        return t - s.T @ np.linalg.lstsq(r, s, rcond=None)[0]
 
 
 def lscf_poles_all_orders(omega, values, weights, max_order, *, orders=None, dt=None,
