@@ -77,10 +77,14 @@ def vector_fit_poles(omega, values, weights, n_pairs, *, start=None, rigid=False
         rhs = np.append(rhs, np.sqrt(np.sum(np.abs(values * w) ** 2)))
         scale = np.linalg.norm(rows, axis=0)
         scale[scale == 0] = 1.0
-        q, r = np.linalg.qr(rows / scale)
-        try:
-            x = solve_triangular(r, q.T @ rhs) / scale
-        except np.linalg.LinAlgError:
+        x = None
+        if rows.shape[0] >= rows.shape[1]:         # else a few-line band: minimum norm
+            q, r = np.linalg.qr(rows / scale)
+            try:
+                x = solve_triangular(r, q.T @ rhs) / scale
+            except np.linalg.LinAlgError:
+                x = None
+        if x is None:
             x = np.linalg.lstsq(rows / scale, rhs, rcond=None)[0] / scale
         m, k = phi.shape[1], known.shape[1]
         c_tilde, d_tilde = x[m + k:2 * m + k], x[2 * m + k]
