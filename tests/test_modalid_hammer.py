@@ -357,3 +357,28 @@ def test_real_hammer_frf_on_a_band_the_user_chose(real_records, freq_range, peak
     for p in peaks:
         assert np.min(np.abs(f - p)) < 3e-3 * p, (p, f)
     assert fit.report_["verdict"] == "ok" and not fit.report_["driving_point"]
+
+
+def test_real_hammer_frf_on_a_wide_band_the_user_chose(real_records):
+    """The real hammer test's H1 on 10-4600 Hz (4590 lines, 22 peaks of |H|) and 100-6000
+    Hz (27 peaks), fitted as one band: the missed-mode search added at most six modes per
+    pass, used them all on stronger peaks, and never reached the 3108 Hz mode (a weak
+    peak between the 3035 and 3669 Hz ones; 100-6000 Hz at 11.5 % FRF error). Its budget
+    now grows with the band's peaks (half of them per pass): every documented peak in
+    these bands but 3162 Hz (the file's deepest antiresonance, benchmarks/README.md)
+    within 0.3 %, and 100-6000 Hz at 6.6 %."""
+    t = real_records[0, 0]
+    fs = 1.0 / np.mean(np.diff(t))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        frf = frf_from_hammer(real_records[:, 1], real_records[:, 2], fs,
+                              response_type="acceleration").frf
+        fits = [ModalFit(freq_range=band).fit(frf) for band in ((10, 4600), (100, 6000))]
+    peaks = (810, 824, 851, 900, 1518, 2640, 3008, 3035, 3108, 3669, 4128, 4164, 4392, 4470)
+    for fit in fits:
+        report = fit.report_
+        assert report["segments"] == 1 and report["verdict"] == "ok"
+        f = report["modes"]["frequency_hz"].to_numpy()
+        for p in peaks:
+            assert np.min(np.abs(f - p)) < 3e-3 * p, (p, f)
+        assert report["frf_nrmse"] < 0.07
