@@ -44,6 +44,7 @@ _FAR = 2.0          # the held upper pseudo-mode sits at twice the top of the ba
 # its 4163 Hz mode); a band of many peaks may add half of them per pass (the hammer test
 # on 100-6000 Hz, 27 peaks, spent six additions on strong peaks and missed 3108 Hz)
 _MAX_ADDED = {"strict": 6, "dense": 60}
+_MAX_BUDGET = 30    # ... and at most this many per pass for the band's peaks
 _MAX_MISSES = {"strict": 3, "dense": 3}
 _MAX_DROPS = 8      # non-physical poles dropped one at a time (each drop refits)
 #: a refinement reweighted by the model (relative weighting) is kept only if its cost
@@ -344,8 +345,8 @@ class FRFPipeline(PoleChecks):
             tried = []
             # (segments searched their own lines for missed modes already)
             search = not self._selection() and self._segment_count == 1
-            budget = max(_MAX_ADDED[self.missed_modes],
-                         find_peaks(np.log10(np.abs(h)), prominence=0.3)[0].size // 2)
+            budget = max(_MAX_ADDED[self.missed_modes], min(
+                find_peaks(np.log10(np.abs(h)), prominence=0.3)[0].size // 2, _MAX_BUDGET))
             for _ in range(0 if self.__dict__.get("_probe") else 2):
                 added = misses = 0
                 while search and added < budget:

@@ -66,15 +66,18 @@ def _normal(name) -> str:
     return re.sub(r"[^a-z]", "", text)
 
 
-def _load(path: Path):
+def _load(path: Path, fs=None):
     """``(channels, names, units)``: a dict name -> array (1-D or hits x samples), whether
-    the names are the file's (else positions "0", "1", ...) and what was scaled to SI (a
-    LabVIEW file's channel in g: ``{name: (label, factor)}``)."""
+    the names are the file's (else positions "0", "1", ...) and what a LabVIEW file's
+    units said: ``{name: (label, factor)}`` for the channels scaled to SI or not known
+    (factor None). Its time channel gives way to ``fs`` (Hz) when given."""
     suffix = path.suffix.lower()
     if suffix == ".lvm" or path.name.lower().endswith(".lvm.gz"):
         from ._lvm import read_lvm
 
         channels, units = read_lvm(path)
+        if fs is not None:
+            channels.pop("time")
         return channels, True, {k: v for k, v in units.items() if v[1] != 1.0}
     if suffix in (".npy", ".npz"):
         try:
@@ -189,6 +192,15 @@ def _rate(path, t, n_samples):
     return 1.0 / step
 
 
+def _unit_note(unit) -> str:
+    """What a LabVIEW channel's unit label said: scaled to SI, or kept not knowing it."""
+    if unit is None:
+        return ""
+    label, factor = unit
+    return (f" (x {factor:g}: {label} to SI)" if factor is not None
+            else f" (in {label}, not scaled: a unit not known)")
+
+
 def read_hammer_records(paths, *, fs=None, time=None, force=None,
                         response=None) -> HammerRecords:
     """Force and response records of one or more files (see the module docstring).
@@ -223,7 +235,7 @@ def read_hammer_records(paths, *, fs=None, time=None, force=None,
     for path in paths:
         if not path.is_file():
             raise FileNotFoundError(f"no such file: {str(path)!r}")
-        channels, named, units = _load(path)
+        channels, named, units = _load(path, fs)
         t, f, r, picks = _channels_of(path, channels, named, time=time, force=force,
                                       response=response)
         f, r = np.atleast_2d(f), np.atleast_2d(r)
@@ -248,8 +260,7 @@ def read_hammer_records(paths, *, fs=None, time=None, force=None,
         responses.append(r)
         sources += [path.name] * f.shape[0]
         if len(forces) == 1:
-            read = ", ".join(f"{role} {picks[role]}" + (
-                f" (x {units[picks[role]][1]:g}: {units[picks[role]][0]} to SI)"
-                if picks[role] in units else "") for role in picks if picks[role] is not None)
+            read = ", ".join(f"{role} {picks[role]}" + _unit_note(units.get(picks[role]))
+                             for role in picks if picks[role] is not None)
     return HammerRecords(np.concatenate(forces), np.concatenate(responses), float(rate),
                          tuple(sources), read)

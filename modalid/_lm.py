@@ -115,7 +115,7 @@ def bounded_lm(x, *, project, limits, n_data, hold=None, max_iter=50, stat_tol=1
             converged, message = True, "converged"
             break
         it += 1
-        accepted = False
+        accepted = singular = False
         while lam < 1e12:
             step = np.zeros(2 * n)
             try:
@@ -132,7 +132,7 @@ def bounded_lm(x, *, project, limits, n_data, hold=None, max_iter=50, stat_tol=1
             if move.max() > 0.1:
                 step *= np.repeat(np.minimum(1.0, 0.1 / np.maximum(move, 1e-300)), 2)
             if not np.all(np.isfinite(step)):     # a singular system's overflow
-                lam, nu = lam * nu, nu * 2.0
+                lam, nu, singular = lam * nu, nu * 2.0, True
                 continue
             x_new = np.clip(x + step, *limits(x + step))
             try:
@@ -151,6 +151,10 @@ def bounded_lm(x, *, project, limits, n_data, hold=None, max_iter=50, stat_tol=1
             if release is not None:
                 release(trial)
             lam, nu = lam * nu, nu * 2.0
+        if not accepted and singular:
+            converged, message = False, ("stopped: the normal matrix is singular (poles "
+                                         "that coincide?)")
+            break
         if not accepted:
             converged, message = True, "no further decrease of the cost"
             break

@@ -5,19 +5,27 @@ The format (LabVIEW's "Write To Measurement File", text): a file header ending i
 comma), then one or more segments, each a header (``Channels``, ``Samples``, ``Delta_X``
 per channel, ``Y_Unit_Label``, ...) ending in ``***End_of_Header***``, a line of column
 names (``X_Value``, the channels, ``Comment``) and the rows of samples. Several segments
-are several acquisitions of the same channels: hits, stacked (hits x samples). A file
-with an X column per channel (``X_Columns`` Multi) is refused.
+are several acquisitions of the same channels: hits, stacked (hits x samples); with
+``Multi_Headings No`` the later ones follow as bare rows, ``Samples`` rows each. A
+segment whose rows are not a whole number of its ``Samples``, a row without a finite
+number for every channel, anything after the last segment's rows, repeated channel names
+or one called ``time``, and an X column per channel (``X_Columns`` Multi) are refused,
+naming the file and the row.
 
-Units are SI on return: a channel whose unit label is ``g`` is multiplied by the standard
-gravity 9.80665 m/s^2 (an accelerometer's usual LabVIEW scale), ``kN`` by 1000; other
-labels are kept as they are and reported. The time channel is ``X0 + k Delta_X`` of the
-first segment (the ``X_Value`` column is empty unless the file was written with it).
-Nothing read is executed: numbers are parsed with ``float``.
+Units: a channel labelled ``g`` or ``mg`` is scaled to m/s^2 by the standard gravity
+9.80665, ``kN``/``lbf`` to N, ``in/s^2``, ``in/s``, ``mm/s``, ``mm/s^2`` to SI; N, m/s^2,
+m/s and m are kept; any other label (``V``: an unscaled sensor) is kept as it is and
+reported (``units``, factor None). The time channel is ``k Delta_X`` from 0 (``X0``, an
+absolute clock, is not used); a ``Delta_X`` written with fewer than six significant
+digits is warned about (its sample rate may be off: give it instead). Nothing read is
+executed: numbers are parsed with ``float``; a file not in UTF-8 is read as cp1252.
 """
 
 from __future__ import annotations
 
 import gzip
+import re
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -25,7 +33,11 @@ import numpy as np
 __all__ = ["read_lvm", "STANDARD_GRAVITY"]
 
 STANDARD_GRAVITY = 9.80665           # m/s^2 per g
-_TO_SI = {"g": STANDARD_GRAVITY, "kn": 1000.0}
+#: unit labels scaled to SI (N, m/s^2, m/s, m), and labels taken as SI already
+_TO_SI = {"g": STANDARD_GRAVITY, "mg": 1e-3 * STANDARD_GRAVITY, "kn": 1000.0,
+          "lbf": 4.4482216152605, "in/s^2": 0.0254, "in/s": 0.0254, "mm/s": 1e-3,
+          "mm/s^2": 1e-3}
+_SI = {"", "n", "newton", "newtons", "m/s^2", "m/s2", "m/s²", "m/s", "m"}
 _END = "***End_of_Header***"
 
 
@@ -36,7 +48,10 @@ def _text(path: Path) -> str:
             raw = gzip.decompress(raw)
         except (OSError, EOFError) as exc:
             raise ValueError(f"{path} is not a readable gzip file: {exc}") from None
-    return raw.decode("utf-8-sig", errors="replace")
+    try:
+        return raw.decode("utf-8-sig")
+    except UnicodeDecodeError:            # a Windows LabVIEW's code page
+        return raw.decode("cp1252", errors="replace")
 
 
 def _fields(lines, sep):
@@ -63,13 +78,14 @@ def read_lvm(path) -> tuple[dict, dict]:
         ``"time"`` (s, 1-D) and each channel by its name: 1-D for one segment, hits x
         samples for several.
     units : dict
-        Per channel name, ``(label in the file, factor applied)``.
+        Per channel name, ``(label in the file, factor applied)``; factor 1.0 for an SI
+        label, None for a label not known (kept as it is).
 
     Raises
     ------
     ValueError
         Naming the file: no header end, an unknown separator, segments of different
-        channels or lengths, a value that is not a number.
+        channels or lengths, rows that are not whole samples (see the module docstring).
     """
     path = Path(path)
     text = _text(path)
@@ -91,49 +107,76 @@ def read_lvm(path) -> tuple[dict, dict]:
                          "with one X column (No or One), or export the channels as CSV")
     segments: list[tuple[list[str], np.ndarray, dict]] = []
     head_lines = blocks[1].splitlines()
-    for block in blocks[2:]:
+    for b, block in enumerate(blocks[2:], start=2):
         # a segment's column names and rows, then (but in the last) the next one's header
+        k = len(segments) + 1
         lines = [line for line in block.splitlines() if line.replace(sep, "").strip()]
-        if not lines:
-            raise ValueError(f"{path}: segment {len(segments) + 1} holds no samples")
+        if not lines or not lines[0].strip().lower().startswith("x_value"):
+            raise ValueError(f"{path}: segment {k} has no X_Value line of channel names "
+                             "after its header")
         end = 1
         while end < len(lines) and not lines[end].split(sep)[0].strip()[:1].isalpha():
             end += 1
         head = _fields(head_lines, sep)
         names, rows, head_lines = lines[0].split(sep), lines[1:end], lines[end:]
+        if b == len(blocks) - 1 and head_lines:
+            raise ValueError(f"{path}: segment {k} ends at a line that is not samples: "
+                             f"{head_lines[0][:60]!r}")
         n = int(head.get("Channels", ["0"])[0])
         cols = [c.strip() for c in names[1:1 + n]]
-        try:
-            data = np.array([[float(v.replace(",", ".") if comma else v)
-                              for v in row.split(sep)[1:1 + n]] for row in rows])
-        except ValueError as exc:
-            raise ValueError(f"{path}: a sample of segment {len(segments) + 1} is not a "
-                             f"number: {exc}") from None
-        if data.ndim != 2 or data.shape[1] != n:
-            raise ValueError(f"{path}: segment {len(segments) + 1} does not hold {n} "
-                             "channels on every row")
-        segments.append((cols, data, head))
+        data = _samples(path, k, rows, sep, n, comma)
+        samples = [int(v) for v in head.get("Samples", []) if v.strip()]
+        declared = max(samples) if samples else data.shape[0]
+        if declared <= 0 or data.shape[0] % declared:
+            raise ValueError(f"{path}: segment {k} holds {data.shape[0]} rows, its header "
+                             f"says {declared} samples")
+        # Multi_Headings No: later segments follow as bare rows, Samples rows each
+        segments += [(cols, part, head) for part in np.split(data, data.shape[0] // declared)]
     cols, first, head = segments[0]
     for k, (c, d, _) in enumerate(segments[1:], start=2):
         if c != cols or d.shape != first.shape:
             raise ValueError(f"{path}: segment {k} holds {c} x {d.shape[0]} samples, segment "
                              f"1 {cols} x {first.shape[0]}: one test per file")
-
-    def number(key, j, default):
-        values = head.get(key, [])
-        value = values[j] if j < len(values) and values[j] else default
-        return float(value.replace(",", ".") if comma else value)
-
+    if len(set(cols)) < len(cols) or "time" in {c.lower() for c in cols}:
+        raise ValueError(f"{path}: its channel names {cols} repeat, or one is 'time': "
+                         "rename them")
     labels = head.get("Y_Unit_Label", [""] * len(cols))
     channels, units = {}, {}
     for j, name in enumerate(cols):
         label = labels[j] if j < len(labels) else ""
-        factor = _TO_SI.get(label.lower(), 1.0)
-        stack = np.array([d[:, j] for _, d, _ in segments]) * factor
+        factor = _TO_SI.get(label.lower(), 1.0 if label.lower() in _SI else None)
+        stack = np.array([d[:, j] for _, d, _ in segments]) * (factor or 1.0)
         channels[name] = stack[0] if len(segments) == 1 else stack
         units[name] = (label, factor)
-    step = number("Delta_X", 0, "nan")
+    text_step = (head.get("Delta_X") or ["nan"])[0]
+    step = float(text_step.replace(",", ".") if comma else text_step)
     if not step > 0:
-        raise ValueError(f"{path}: its Delta_X (sample interval) is {step!r}")
-    channels = {"time": number("X0", 0, "0") + step * np.arange(first.shape[0]), **channels}
+        raise ValueError(f"{path}: its Delta_X (sample interval) is {text_step!r}")
+    digits = len(re.sub(r"[^0-9]", "", re.split(r"[eE]", text_step)[0]).lstrip("0"))
+    if digits < 6:
+        warnings.warn(f"{path}: its Delta_X {text_step!r} has {digits} significant digits: "
+                      f"the sample rate {1 / step:.9g} Hz may be off by up to "
+                      f"{100 * 0.5 * 10.0 ** (1 - digits):.2g} %; give it with --fs",
+                      UserWarning, stacklevel=3)
+    # the time from 0 (X0, an absolute clock, would round the steps at 1e9 s)
+    channels = {"time": step * np.arange(first.shape[0]), **channels}
     return channels, units
+
+
+def _samples(path, k, rows, sep, n, comma):
+    """The ``(rows, n)`` samples of segment ``k``: every row ``n`` finite numbers after its
+    X field."""
+    data = np.empty((len(rows), n))
+    for i, row in enumerate(rows):
+        values = row.split(sep)[1:1 + n]
+        try:
+            if len(values) != n or not all(v.strip() for v in values):
+                raise ValueError(f"{len(values)} fields, some empty")
+            data[i] = [float(v.replace(",", ".") if comma else v) for v in values]
+        except ValueError as exc:
+            raise ValueError(f"{path}: row {i + 1} of segment {k} does not hold {n} numbers "
+                             f"({exc}): {row[:60]!r}") from None
+        if not np.all(np.isfinite(data[i])):
+            raise ValueError(f"{path}: row {i + 1} of segment {k} holds a value that is not "
+                             f"finite: {row[:60]!r}")
+    return data

@@ -141,7 +141,8 @@ class ModalFit(FRFPipeline, FitLines, BaseEstimator):
         How readily a peak of the fit's residual becomes a mode the pole estimator
         missed. ``"strict"`` (default): when the mode halves the weighted residual on the
         lines around it, by much more than the data's noise there (mains-hum lines, steps
-        in the data and broad residual trends stay out).
+        in the data and broad residual trends stay out); up to six modes per pass, or
+        half the band's peaks (at most 30) where it has more.
         ``"dense"``: when the information criterion supports it (the cost drops by more
         than ``4 ln(n)`` residual variances), the mode lies two lines or more from every
         other and its damping ratio (window removed) is under 0.1; up to 60 modes per

@@ -25,7 +25,7 @@ SEGMENT = """Channels{s}2{s}
 Samples{s}{n}{s}{n}
 Y_Unit_Label{s}N{s}g
 X0{s}0{dec}0{s}0{dec}0
-Delta_X{s}0{dec}001{s}0{dec}001
+Delta_X{s}1{dec}000000E-3{s}1{dec}000000E-3
 ***End_of_Header***{s}
 X_Value{s}Force{s}Acc{s}Comment
 """
@@ -79,8 +79,23 @@ def test_bad_files_are_refused_naming_them(tmp_path):
         read_lvm(plain)
     bad = write_lvm(tmp_path / "bad.lvm", [np.ones((3, 2))])
     bad.write_text(bad.read_text().replace("\t1,0\t1,0\n", "\tone\t1,0\n", 1))
-    with pytest.raises(ValueError, match="bad.lvm: a sample of segment 1 is not a number"):
+    with pytest.raises(ValueError, match="bad.lvm: row 1 of segment 1 does not hold 2 numbers"):
         read_lvm(bad)
+    bad.write_text(bad.read_text().replace("\tone\t1,0\n", "\tNaN\t1,0\n", 1))
+    with pytest.raises(ValueError, match="row 1 of segment 1 holds a value that is not finite"):
+        read_lvm(bad)
+    short = write_lvm(tmp_path / "short.lvm", [np.ones((3, 2))])
+    short.write_text(short.read_text().replace("Samples\t3\t3", "Samples\t500\t500"))
+    with pytest.raises(ValueError, match="segment 1 holds 3 rows, its header says 500"):
+        read_lvm(short)
+    tail = write_lvm(tmp_path / "tail.lvm", [np.ones((3, 2))])
+    tail.write_text(tail.read_text() + "Comment\tthe end\n\t1,0\t1,0\n")
+    with pytest.raises(ValueError, match="segment 1 ends at a line that is not samples"):
+        read_lvm(tail)
+    same = write_lvm(tmp_path / "same.lvm", [np.ones((3, 2))])
+    same.write_text(same.read_text().replace("X_Value\tForce\tAcc", "X_Value\tForce\tForce"))
+    with pytest.raises(ValueError, match="repeat, or one is 'time'"):
+        read_lvm(same)
     two = write_lvm(tmp_path / "two.lvm", [np.ones((3, 2)), np.ones((4, 2))])
     with pytest.raises(ValueError, match="two.lvm: segment 2 holds .* one test per file"):
         read_lvm(two)
@@ -92,3 +107,24 @@ def test_bad_files_are_refused_naming_them(tmp_path):
     fake.write_text("not gzip")
     with pytest.raises(ValueError, match="fake.lvm.gz is not a readable gzip file"):
         read_lvm(fake)
+
+
+def test_bare_rows_of_several_hits_rounded_intervals_and_unknown_units(tmp_path):
+    """Multi_Headings No: the second hit follows as bare rows, ``Samples`` of them, and is
+    a hit of its own; a Delta_X written with three digits is warned about and ``--fs``
+    replaces the time it gives; a channel in volts is kept unscaled and said so."""
+    rng = np.random.default_rng(1)
+    hits = [rng.normal(size=(20, 2)) for _ in range(2)]
+    path = write_lvm(tmp_path / "bare.lvm", [np.vstack(hits)])
+    text = path.read_text().replace("Samples\t40\t40", "Samples\t20\t20")
+    path.write_text(text.replace("Y_Unit_Label\tN\tg", "Y_Unit_Label\tN\tV"))
+    channels, units = read_lvm(path)
+    np.testing.assert_array_equal(channels["Force"], [h[:, 0] for h in hits])
+    assert units["Acc"] == ("V", None) and channels["time"].size == 20
+    records = read_hammer_records([path])
+    assert records.force.shape == (2, 20)
+    assert "response Acc (in V, not scaled: a unit not known)" in records.channels
+    path.write_text(path.read_text().replace("1,000000E-3", "0,000977"))
+    with pytest.warns(UserWarning, match="Delta_X '0,000977' has 3 significant digits"):
+        records = read_hammer_records([path], fs=1024.0)
+    assert records.fs == 1024.0
