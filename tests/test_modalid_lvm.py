@@ -72,37 +72,36 @@ def test_two_segments_are_two_hits(tmp_path, sep, dec):
     assert records.channels == ("time time, force Force, response Acc (x 9.80665: g to SI)")
 
 
-def test_bad_files_are_refused_naming_them(tmp_path):
+# each a well-formed file edited into a bad one: (text replaced, by, the error's words)
+BAD_EDITS = [
+    ("\t1,0\t1,0\n", "\tone\t1,0\n", "row 1 of segment 1 does not hold 2 numbers"),
+    ("\t1,0\t1,0\n", "\tNaN\t1,0\n", "row 1 of segment 1 holds a value that is not finite"),
+    ("Samples\t3\t3", "Samples\t500\t500", "segment 1 holds 3 rows, its header says 500"),
+    ("\t1,0\t1,0\n\t1,0\t1,0\n\t1,0\t1,0\n",
+     "\t1,0\t1,0\n\t1,0\t1,0\n\t1,0\t1,0\nComment\tthe end\n\t1,0\t1,0\n",
+     "segment 1 ends at a line that is not samples"),
+    ("X_Value\tForce\tAcc", "X_Value\tForce\tForce", "repeat, or one is 'time'"),
+    ("X_Columns\tNo", "X_Columns\tMulti", "has an X column per channel"),
+]
+
+
+@pytest.mark.parametrize("old, new, message", BAD_EDITS)
+def test_bad_files_are_refused_naming_them(tmp_path, old, new, message):
+    path = write_lvm(tmp_path / "bad.lvm", [np.ones((3, 2))])
+    assert old in path.read_text()
+    path.write_text(path.read_text().replace(old, new, 1))
+    with pytest.raises(ValueError, match=f"bad.lvm.*{message}"):
+        read_lvm(path)
+
+
+def test_files_that_are_no_measurement_are_refused_naming_them(tmp_path):
     plain = tmp_path / "plain.lvm"
     plain.write_text("1\t2\n3\t4\n")
     with pytest.raises(ValueError, match="plain.lvm is not a LabVIEW measurement file"):
         read_lvm(plain)
-    bad = write_lvm(tmp_path / "bad.lvm", [np.ones((3, 2))])
-    bad.write_text(bad.read_text().replace("\t1,0\t1,0\n", "\tone\t1,0\n", 1))
-    with pytest.raises(ValueError, match="bad.lvm: row 1 of segment 1 does not hold 2 numbers"):
-        read_lvm(bad)
-    bad.write_text(bad.read_text().replace("\tone\t1,0\n", "\tNaN\t1,0\n", 1))
-    with pytest.raises(ValueError, match="row 1 of segment 1 holds a value that is not finite"):
-        read_lvm(bad)
-    short = write_lvm(tmp_path / "short.lvm", [np.ones((3, 2))])
-    short.write_text(short.read_text().replace("Samples\t3\t3", "Samples\t500\t500"))
-    with pytest.raises(ValueError, match="segment 1 holds 3 rows, its header says 500"):
-        read_lvm(short)
-    tail = write_lvm(tmp_path / "tail.lvm", [np.ones((3, 2))])
-    tail.write_text(tail.read_text() + "Comment\tthe end\n\t1,0\t1,0\n")
-    with pytest.raises(ValueError, match="segment 1 ends at a line that is not samples"):
-        read_lvm(tail)
-    same = write_lvm(tmp_path / "same.lvm", [np.ones((3, 2))])
-    same.write_text(same.read_text().replace("X_Value\tForce\tAcc", "X_Value\tForce\tForce"))
-    with pytest.raises(ValueError, match="repeat, or one is 'time'"):
-        read_lvm(same)
     two = write_lvm(tmp_path / "two.lvm", [np.ones((3, 2)), np.ones((4, 2))])
     with pytest.raises(ValueError, match="two.lvm: segment 2 holds .* one test per file"):
         read_lvm(two)
-    multi = write_lvm(tmp_path / "multi.lvm", [np.ones((3, 2))])
-    multi.write_text(multi.read_text().replace("X_Columns\tNo", "X_Columns\tMulti"))
-    with pytest.raises(ValueError, match="multi.lvm has an X column per channel"):
-        read_lvm(multi)
     fake = tmp_path / "fake.lvm.gz"
     fake.write_text("not gzip")
     with pytest.raises(ValueError, match="fake.lvm.gz is not a readable gzip file"):
