@@ -34,7 +34,8 @@ from ._era import identify_impulse, impulse_samples
 from ._fit_lines import FitLines
 from ._frf_pipeline import FRFPipeline, ModalFitWarning
 from ._report import fit_report
-from ._verdict import driving_point_decision, judged_report, line_error_tolerance
+from ._verdict import (driving_point_decision, judged_report, line_error_tolerance,
+                       satisfies_passivity)
 from ._window import windowed_receptance
 from .frf import FRFData
 from .frf_set import FRFSet
@@ -349,13 +350,17 @@ class ModalFit(FRFPipeline, FitLines, BaseEstimator):
                     warnings.warn(message, ModalFitWarning, stacklevel=2)
             error = self.report_["frf_median_relative_error"]
             if driving and error > 1.5 * probe_error + 0.01:
-                self._passive_on = False          # the data contradict a passive model
-                self._fit_frf(data)
-                driving, reason = False, (
-                    f"{reason}, but the passive fit's median error per line is "
-                    f"{100 * error:.3g} % against {100 * probe_error:.3g} % for "
-                    f"{'the full' if full else 'a quick'} unconstrained one: not a passive "
-                    "driving point")
+                self._passive_on = False          # the data contradict a passive model,
+                self._fit_frf(data)               # or the passive fit stalled
+                stalled = (f"the passive fit's median error per line is {100 * error:.3g} "
+                           f"% against {100 * probe_error:.3g} % for "
+                           f"{'the full' if full else 'a quick'} unconstrained one")
+                if self._shift == 0 and satisfies_passivity(self.model_):
+                    reason = (f"{reason}; {stalled}, which satisfies the passivity "
+                              "constraint itself and stands")
+                else:
+                    driving, reason = False, (f"{reason}, but {stalled}: not a passive "
+                                              "driving point")
             self.__dict__.pop("_stabilization_cache", None)
             return self._judge(driving_point=driving, reason=reason)
 
