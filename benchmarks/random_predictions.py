@@ -57,18 +57,35 @@ def random_body(rng):
     return kind, body, model, top * (3.0 if kind == "spring-mass" else 1.0), wn[0]
 
 
+def one_prediction(path, mass, velocity, contact, t_end):
+    """``"predicted"``, ``"refused"`` (the documented step-count limit) or what went
+    wrong, for the impact of ``mass:M`` at ``velocity`` (m/s) on the body of the FRF file
+    ``path``."""
+    from impactpred import predict
+
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            e = predict(f"mass:{mass}", str(path), velocity1=velocity, contact=contact,
+                        t_end=t_end).result.restitution
+    except ValueError as exc:
+        return "refused" if any(d in str(exc) for d in DOCUMENTED) else f"ValueError: {exc}"
+    except Exception as exc:                      # noqa: BLE001 - every other is a failure
+        return f"{type(exc).__name__}: {exc}"
+    return "predicted" if 0.0 <= e <= 1.0 + 1e-9 else f"restitution {e!r}"
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--cases", type=int, default=60)
     args = parser.parse_args(argv)
     from data_synth import synthetic_frf
-    from impactpred import predict
     from modalid import write_frf
 
     rng = np.random.default_rng(args.seed)
     folder = Path(tempfile.mkdtemp(prefix="random_predictions_"))
-    t0, failures, predicted, refused = time.perf_counter(), 0, 0, 0
+    t0, outcomes = time.perf_counter(), {"predicted": 0, "refused": 0, "failed": 0}
     for case in range(args.cases):
         kind, body, model, top, w1 = random_body(rng)
         freq = np.linspace(top / 2000, top, 2000)
@@ -79,30 +96,16 @@ def main(argv=None):
         mass, velocity = float(rng.uniform(0.01, 2)), float(rng.uniform(0.1, 3))
         contact = str(rng.choice(["rigid", "rigid", "spring:1e6", "hertz:1e9"]))
         t_end = float(rng.uniform(2, 20)) * 2 * np.pi / w1
-        replay = (f"case {case}: {body}, {quantity}, noise {noise}, top {top:.6g} Hz; "
-                  f"mass:{mass:.6g} at {velocity:.6g} m/s, {contact}, t_end {t_end:.6g} s")
-        try:
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore")
-                e = predict(f"mass:{mass}", str(path), velocity1=velocity, contact=contact,
-                            t_end=t_end).result.restitution
-        except ValueError as exc:
-            if any(d in str(exc) for d in DOCUMENTED):
-                refused += 1
-                continue
-            failures += 1
-            print(f"FAILED {replay}: ValueError: {str(exc)[:200]}")
-            continue
-        except Exception as exc:                  # noqa: BLE001 - every other is a failure
-            failures += 1
-            print(f"FAILED {replay}: {type(exc).__name__}: {str(exc)[:200]}")
-            continue
-        predicted += 1
-        if not 0.0 <= e <= 1.0 + 1e-9:
-            failures += 1
-            print(f"FAILED {replay}: restitution {e!r}")
-    print(f"{args.cases} cases (seed {args.seed}): {predicted} predicted, {refused} refused "
-          f"(step-count limit), {failures} failures, {time.perf_counter() - t0:.0f} s")
+        outcome = one_prediction(path, mass, velocity, contact, t_end)
+        if outcome not in outcomes:
+            print(f"FAILED case {case}: {body}, {quantity}, noise {noise}, top {top:.6g} Hz; "
+                  f"mass:{mass:.6g} at {velocity:.6g} m/s, {contact}, t_end {t_end:.6g} s: "
+                  f"{outcome[:200]}")
+            outcome = "failed"
+        outcomes[outcome] += 1
+    print(f"{args.cases} cases (seed {args.seed}): {outcomes['predicted']} predicted, "
+          f"{outcomes['refused']} refused (step-count limit), {outcomes['failed']} failures, "
+          f"{time.perf_counter() - t0:.0f} s")
     return 0
 
 
