@@ -23,7 +23,7 @@ from .frf_set import FRFSet
 from .multi_output import MultiOutputModalModel
 
 __all__ = ["driving_point_decision", "quality_verdict", "damping_resolved", "judged_report",
-           "line_error_tolerance", "satisfies_passivity"]
+           "line_error_tolerance"]
 
 _DOMINANT = 0.9       # share of the peak receptance that decides a driving point
 MIN_DAMPING = 1e-6   # below this the damping ratio sits at the refinement's bound
@@ -72,19 +72,6 @@ def driving_point_decision(modes: pd.DataFrame, inverse_mass: float):
     if inverse_mass < 0:
         why += " and a negative mass line"
     return False, why + ": a transfer FRF"
-
-
-def satisfies_passivity(model) -> bool:
-    """Whether a model fitted without the passivity constraint satisfies it anyway: every
-    pole's residue with ``Im r <= 0`` (a positive modal mass, pseudo-modes included),
-    and real residues, inverse mass and flexibility ``>= 0`` (to ``1e-9`` of the largest
-    of their kind). Its fit is then the constrained fit's optimum as well."""
-    r = np.asarray(model.residues)
-    scale = float(np.max(np.abs(r), initial=0.0))
-    real = np.asarray(model.real_residues, dtype=float)
-    return bool(np.all(r.imag <= 1e-9 * scale)
-                and np.all(real >= -1e-9 * float(np.max(np.abs(real), initial=0.0)))
-                and model.inverse_mass >= 0 and model.flexibility >= 0)
 
 
 def damping_resolved(modes: pd.DataFrame, line_spacing_hz: float) -> np.ndarray:

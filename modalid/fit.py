@@ -34,8 +34,7 @@ from ._era import identify_impulse, impulse_samples
 from ._fit_lines import FitLines
 from ._frf_pipeline import FRFPipeline, ModalFitWarning
 from ._report import fit_report
-from ._verdict import (driving_point_decision, judged_report, line_error_tolerance,
-                       satisfies_passivity)
+from ._verdict import driving_point_decision, judged_report, line_error_tolerance
 from ._window import windowed_receptance
 from .frf import FRFData
 from .frf_set import FRFSet
@@ -355,7 +354,7 @@ class ModalFit(FRFPipeline, FitLines, BaseEstimator):
                 stalled = (f"the passive fit's median error per line is {100 * error:.3g} "
                            f"% against {100 * probe_error:.3g} % for "
                            f"{'the full' if full else 'a quick'} unconstrained one")
-                if self._shift == 0 and satisfies_passivity(self.model_):
+                if self._shift == 0 and self.model_.is_passive():
                     reason = (f"{reason}; {stalled}, which satisfies the passivity "
                               "constraint itself and stands")
                 else:
