@@ -59,6 +59,12 @@ _MAX_DROPS = 8      # non-physical poles dropped one at a time (each drop refits
 REWEIGHT_LOSS = 2.0
 
 
+def resonance_peaks(h):
+    """Indices of the peaks of ``|h|`` standing a factor 2 (0.3 in log10) above their
+    surroundings: what sets the diagram's default order and the missed-mode budget."""
+    return find_peaks(np.log10(np.abs(h)), prominence=0.3)[0]
+
+
 def reweighting_kept(fitted, h, w, cost):
     """Whether a refinement reweighted by the model is kept: its model ``fitted`` misses
     the data ``h`` weighted by the data's ``w`` (any shape: a set's rows too) by at most
@@ -87,7 +93,7 @@ class FRFPipeline(PoleChecks):
             return self._identify(frf, w, poles, cut, max_order, None, segment_std=std)
         self._segment_count = 1
         omega, h = frf.omega, frf.values
-        peaks, _ = find_peaks(np.log10(np.abs(h)), prominence=0.3)
+        peaks = resonance_peaks(h)
         max_order = (as_count("max_order", self.max_order, minimum=2) if self.max_order
                      else int(min(120, 4 * max(peaks.size, 2) + 16)))
 
@@ -346,7 +352,7 @@ class FRFPipeline(PoleChecks):
             # (segments searched their own lines for missed modes already)
             search = not self._selection() and self._segment_count == 1
             budget = max(_MAX_ADDED[self.missed_modes], min(
-                find_peaks(np.log10(np.abs(h)), prominence=0.3)[0].size // 2, _MAX_BUDGET))
+                resonance_peaks(h).size // 2, _MAX_BUDGET))
             for _ in range(0 if self.__dict__.get("_probe") else 2):
                 added = misses = 0
                 while search and added < budget:

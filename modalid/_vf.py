@@ -83,7 +83,7 @@ def vector_fit_poles(omega, values, weights, n_pairs, *, start=None, rigid=False
             try:
                 x = solve_triangular(r, q.T @ rhs) / scale
             except np.linalg.LinAlgError:
-                x = None
+                pass                               # singular: the minimum-norm solution
         if x is None:
             x = np.linalg.lstsq(rows / scale, rhs, rcond=None)[0] / scale
         m, k = phi.shape[1], known.shape[1]
