@@ -15,10 +15,9 @@ the documented step-count limit (a stiff contact over a long ``t_end``); anythin
 failure, printed with what is needed to replay it.
 
 It asserts nothing and always exits 0. In session #12 it found a driving point called a
-transfer FRF because its passive fit stalled (mended, with a test), and a spring-mass
-whose passive fit keeps an upper pseudo-mode with a real residue (an impulse response
-that jumps at t = 0): the exact method stalls and the modal solver refuses it (open;
-benchmarks/README.md).
+transfer FRF because its passive fit stalled, and passive fits whose impulse response
+started against the force (a pseudo-mode's real residue, ``h(0) < 0``), refused by both
+solvers; both mended, with tests (benchmarks/README.md).
 """
 
 from __future__ import annotations

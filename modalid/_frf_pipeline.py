@@ -307,6 +307,9 @@ class FRFPipeline(PoleChecks):
             poles, x, info = self._assemble(omega, h, w, poles, kinds, terms, segment_std)
         else:
             poles, kinds, x, info, terms = self._refine_poles(omega, h, w, poles, cut, notes)
+        if self._passive_on and not self.__dict__.get("_probe"):
+            poles, kinds, x, info = self._start_at_zero(omega, h, w, poles, kinds, x, info,
+                                                        terms, segment_std, notes)
         # unconverged: stop if more steps would not move the poles, else refine on
         for _ in range(0 if self.__dict__.get("_probe") or not self.refine else 2):
             if info["converged"] or self._settled(omega, h, poles, kinds, terms, info):
@@ -330,7 +333,43 @@ class FRFPipeline(PoleChecks):
         self._store(frf, poles, kinds, residues, u, d, info, notes, max_order, vf_iterations,
                     terms)
         del self._buffers
+        self.__dict__.pop("_zero_start", None)
         return self
+
+    @property
+    def _zero_start(self) -> bool:
+        """Do the fits of this stage hold the impulse response at 0 at ``t = 0``?"""
+        return self.__dict__.get("_zero_start", False)
+
+    def _start_at_zero(self, omega, h, w, poles, kinds, x, info, terms, segment_std, notes):
+        """A driving point's receptance whose impulse response starts the wrong way: hold
+        it at 0 at ``t = 0`` from here on and fit again from the poles found.
+
+        ``h(0) = sum 2 Re r_k`` is the mobility's limit at high frequency, ``Re Y(i oo)``:
+        a passive driving point has it ``>= 0`` (0 for any structure, whose displacement
+        does not jump under an impulse; the passivity bounds ``Im r <= 0`` do not see it).
+        A negative one (a pseudo-mode's real residue, fitted to the band's background) is
+        a response that starts against the force, refused by the impact solvers. Held
+        from the start the equality would couple the candidate modes' residues and the
+        search loses modes; held once the poles are found it costs the fit little. A
+        positive ``h(0)`` (a dashpot's instantaneous give) is passive and left as it is.
+        Returns ``(poles, kinds, x, info)``."""
+        residues = split_coefficients(x, poles.size, terms)[0]
+        jump = 2 * float(np.sum(residues.real))
+        if jump >= -1e-12 * float(np.sum(np.abs(residues))):
+            return poles, kinds, x, info
+        self.__dict__["_zero_start"] = True
+        if segment_std is None and self.refine:
+            poles, x, info = self._refine(omega, h, w, poles, kinds, terms)
+            # a pseudo-mode left with a real residue only, at zero modal mass: dropped
+            poles, kinds, x, info = self._drop_idle(omega, h, w, poles, kinds, x, info, terms)
+        else:
+            kept = info
+            poles, x, info = self._linear_fit(omega, h, w, poles, terms)
+            info = {**kept, "cost": info["cost"]}
+        notes.append(f"the impulse response held at 0 at t = 0, as a driving point's (the "
+                     f"fit had a 1/s term of {jump:.3g} m/(N s): a jump at the impact)")
+        return poles, kinds, x, info
 
     def _refine_poles(self, omega, h, w, poles, cut, notes):
         """The nonlinear refinement of one band: a quick pass, the modes the estimator
@@ -384,19 +423,25 @@ class FRFPipeline(PoleChecks):
             if np.any(kinds == "far") and not self.__dict__.get("_segment_of"):
                 poles, kinds, x, info = self._release_far(omega, h, w, poles, kinds, x,
                                                           info, terms)
-            # a pseudo-mode held at zero modal mass by passivity carries nothing physical
-            for _ in range(2 if self._passive_on else 0):
-                idle = (kinds != "mode") & (split_coefficients(x, poles.size, terms)[0].imag >= 0)
-                if not idle.any():
-                    break
-                poles, x, info = self._refine(omega, h, w, poles[~idle], kinds[~idle], terms)
-                kinds = kinds[~idle]
+            poles, kinds, x, info = self._drop_idle(omega, h, w, poles, kinds, x, info, terms)
         else:
             poles, x, info = refine_varpro(omega, h, w, poles, terms, passive=self._passive_on,
                                            max_iter=0, max_real=self.max_real)
             self._final_weights = w
             info.update(converged=True, message="linear least squares (refine=False)")
         return poles, kinds, x, info, terms
+
+    def _drop_idle(self, omega, h, w, poles, kinds, x, info, terms):
+        """Pseudo-modes held at zero modal mass by passivity (``Im r`` at its bound 0) carry
+        nothing physical: drop them and refine (twice at most). Returns ``(poles, kinds,
+        x, info)``."""
+        for _ in range(2 if self._passive_on else 0):
+            idle = (kinds != "mode") & (split_coefficients(x, poles.size, terms)[0].imag >= 0)
+            if not idle.any():
+                break
+            poles, x, info = self._refine(omega, h, w, poles[~idle], kinds[~idle], terms)
+            kinds = kinds[~idle]
+        return poles, kinds, x, info
 
     def _assemble(self, omega, h, w, poles, kinds, terms, mode_std):
         """The whole band's linear unknowns for held poles (segment fits' poles, the
@@ -418,8 +463,9 @@ class FRFPipeline(PoleChecks):
         """The linear unknowns for the poles held (one weighted least-squares solve, passive
         when the constraint is on, no standard deviations): ``(poles, x, info)``."""
         kw = {} if self.max_real is None else {"max_real": self.max_real}
-        return refine_varpro(omega, h, w, poles, terms, passive=self._passive_on, max_iter=0,
-                             with_std=False, buffers=self._buffers, **kw)
+        return refine_varpro(omega, h, w, poles, terms, passive=self._passive_on,
+                             zero_start=self._zero_start, max_iter=0, with_std=False,
+                             buffers=self._buffers, **kw)
 
     def _settled(self, omega, h, poles, kinds, terms, info, more=10, within=0.1):
         """Does an unconverged result depend on more iterations? ``more`` further steps
@@ -428,7 +474,7 @@ class FRFPipeline(PoleChecks):
         (converged, the step limit named in the message). Returns whether it stands."""
         lo, hi = self._imag_bounds(kinds, omega, poles)
         kw = dict(imag_lo=lo, imag_hi=hi, passive=self._passive_on, hold=kinds == "far",
-                  with_std=False)
+                  zero_start=self._zero_start, with_std=False)
         if self.max_real is not None:
             kw["max_real"] = self.max_real
         moved, _, _ = refine_varpro(omega, h, self._final_weights, poles, terms,
@@ -477,7 +523,7 @@ class FRFPipeline(PoleChecks):
         if that moved the poles much. ``quick``: the first stage only, 15 steps at most."""
         lo, hi = self._imag_bounds(kinds, omega, poles)
         kw = dict(imag_lo=lo, imag_hi=hi, passive=self._passive_on, hold=kinds == "far",
-                  buffers=self._buffers)
+                  zero_start=self._zero_start, buffers=self._buffers)
         if self.max_real is not None:
             kw["max_real"] = self.max_real
         relative = self._relative()

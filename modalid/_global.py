@@ -78,8 +78,8 @@ class _Joint:
 
 
 def refine_joint(omega, values, weights, poles, terms: Terms, *, passive_row=None,
-                 imag_lo=None, imag_hi=None, hold=None, max_iter=50, stat_tol=1e-4,
-                 stall_tol=1e-3, xtol=1e-12, with_std=True):
+                 zero_start=False, imag_lo=None, imag_hi=None, hold=None, max_iter=50,
+                 stat_tol=1e-4, stall_tol=1e-3, xtol=1e-12, with_std=True):
     """Shared poles and per-row residues by variable projection (Levenberg-Marquardt).
 
     Parameters
@@ -94,6 +94,9 @@ def refine_joint(omega, values, weights, poles, terms: Terms, *, passive_row=Non
         The same extra terms for every row.
     passive_row : int, optional
         The row whose linear unknowns are bounded for passivity (the driving point).
+    zero_start : bool
+        Hold that row's impulse response at 0 at ``t = 0`` (``sum 2 Re r_k = 0``; see
+        :func:`modalid._lsfd.refine_varpro`).
     imag_lo, imag_hi, hold, max_iter, stat_tol, stall_tol, xtol
         As :func:`modalid._lsfd.refine_varpro`.
 
@@ -115,7 +118,8 @@ def refine_joint(omega, values, weights, poles, terms: Terms, *, passive_row=Non
     extras = [_realify(base * weights[i][:, None]) for i in range(n_out)]
     x = np.empty(2 * np.size(poles))
     n = x.size // 2
-    bounds = [_bounds(n, terms, True) if i == passive_row else None for i in range(n_out)]
+    bounds = [_bounds(n, terms, True, zero_start) if i == passive_row else None
+              for i in range(n_out)]
     lo = np.zeros(n) if imag_lo is None else np.asarray(imag_lo, float)
     hi = np.full(n, np.inf) if imag_hi is None else np.asarray(imag_hi, float)
     limits = pole_limits(lo, hi)
@@ -255,7 +259,7 @@ def _refine(est, omega, h, w, coh, poles, kinds, terms, dp):
     """Data weights, then (relative weighting) model weights, as ``ModalFit._refine``."""
     lo, hi = est._imag_bounds(kinds, omega, poles)
     kw = dict(imag_lo=lo, imag_hi=hi, hold=kinds == "far",
-              passive_row=dp if est._passive_on else None)
+              passive_row=dp if est._passive_on else None, zero_start=est._zero_start)
     relative = est._weighting_on == "relative"
     poles, xs, info = refine_joint(omega, h, w, poles, terms, with_std=not relative,
                                    stat_tol=0.1 if relative else 1e-4, **kw)
@@ -289,7 +293,8 @@ def _unresolved_damping(est, rec, poles, kinds, xs, info, terms, dp, notes):
     def refit(trial, hold):
         return refine_joint(rec.omega, rec.values, info["weights"], trial, terms,
                             imag_lo=lo, imag_hi=hi, hold=hold | (kinds == "far"),
-                            passive_row=dp if est._passive_on else None)
+                            passive_row=dp if est._passive_on else None,
+                            zero_start=est._zero_start)
 
     n_params = 2 * poles.size + sum(x.size for x in xs)
     spacing = float(np.median(np.diff(rec.freq_hz)))
@@ -459,6 +464,10 @@ def fit_set(est, data: FRFSet):
             start, kinds = np.delete(start, k), np.delete(kinds, k)
             p, xs, info = _refine(est, omega, h, w, coh, start, kinds, terms, dp)
             n_iter += info["n_iter"]
+        if est._passive_on:
+            p, kinds, xs, info, spent = _start_at_zero(est, omega, h, w, coh, p, kinds, xs,
+                                                       info, terms, dp, notes)
+            n_iter += spent
         p, xs, info, spent = _unresolved_damping(est, rec, p, kinds, xs, info, terms, dp, notes)
         n_iter += spent
         info["n_iter_total"] = n_iter
@@ -473,7 +482,30 @@ def fit_set(est, data: FRFSet):
     if not np.any(kinds == "mode"):
         warnings.warn("no resonance found in the band: the model holds only residual terms; "
                       "see stabilization_", _fit_warning(), stacklevel=4)
+    est.__dict__.pop("_zero_start", None)
     return _store(est, rec, p, kinds, xs, terms, info, notes, max_order, dp)
+
+
+def _start_at_zero(est, omega, h, w, coh, poles, kinds, xs, info, terms, dp, notes):
+    """The driving-point row's impulse response, if it starts the wrong way (``h(0) =
+    sum 2 Re r_k < 0``), held at 0 from here on and the set refined again from its
+    poles, as ``ModalFit._start_at_zero`` for one FRF; a pseudo-mode then left at zero
+    modal mass in that row is dropped. Returns ``(poles, kinds, xs, info, n_iter)``."""
+    residues = split_rows(xs, poles.size, terms)[0][dp]
+    jump = 2 * float(np.sum(residues.real))
+    if jump >= -1e-12 * float(np.sum(np.abs(residues))):
+        return poles, kinds, xs, info, 0
+    est.__dict__["_zero_start"] = True
+    poles, xs, info = _refine(est, omega, h, w, coh, poles, kinds, terms, dp)
+    n_iter = info["n_iter"]
+    idle = (kinds != "mode") & (split_rows(xs, poles.size, terms)[0][dp].imag >= 0)
+    if idle.any():
+        poles, kinds = poles[~idle], kinds[~idle]
+        poles, xs, info = _refine(est, omega, h, w, coh, poles, kinds, terms, dp)
+        n_iter += info["n_iter"]
+    notes.append(f"the driving point's impulse response held at 0 at t = 0 (the fit had a "
+                 f"1/s term of {jump:.3g} m/(N s): a jump at the impact)")
+    return poles, kinds, xs, info, n_iter
 
 
 def _store(est, rec, poles, kinds, xs, terms, info, notes, max_order, dp):

@@ -8,8 +8,12 @@ The receptance model, ``s = i omega``:
 with real unknowns ``Re r_k, Im r_k, c_j, u, d``. Passivity of a driving point (positive
 modal mass ``-1/(2 Im p Im r)``) is ``Im r_k <= 0``; with ``u, d, c_j >= 0`` it makes a
 bound-constrained linear least-squares problem (solved by an active set on the Gram
-matrix). Columns are scaled to unit norm, so the solve does not depend on the frequency
-units.
+matrix). On request (``zero_start``) it also holds ``sum_k 2 Re r_k + sum_j c_j = 0``:
+the impulse response of a receptance starts at 0 (a displacement does not jump under an
+impulse), exact for every mechanical system, normal or complex modes; without it a
+pseudo-mode's real residue gives the model a ``1/s`` term, a negative one a response that
+starts the wrong way, which the impact solvers rightly refuse. Columns are scaled to unit
+norm, so the solve does not depend on the frequency units.
 
 The refinement (:func:`refine_varpro`) is a Levenberg-Marquardt iteration on the poles
 alone with the residues eliminated (variable projection, Golub and Pereyra 1973, with
@@ -78,13 +82,21 @@ def _realify(m):
     return np.concatenate([m.real, m.imag])
 
 
-def _bounds(n_modes, terms: Terms, passive):
+def _bounds(n_modes, terms: Terms, passive, zero_start=False):
+    """``(lo, hi, start)``: bounds on the linear unknowns (passivity) and, with
+    ``zero_start``, the row ``e`` of the equality ``e @ x = 0`` that makes the impulse
+    response start at 0, ``h(0) = sum 2 Re r_k + sum c_j = 0`` (else None)."""
     n = 2 * n_modes + terms.n_extra
     lo, hi = np.full(n, -np.inf), np.full(n, np.inf)
     if passive:
         hi[1:2 * n_modes:2] = 0.0                    # Im r <= 0
         lo[2 * n_modes:] = 0.0                       # c_j, u, d >= 0
-    return lo, hi
+    start = None
+    if zero_start:
+        start = np.zeros(n)
+        start[0:2 * n_modes:2] = 2.0
+        start[2 * n_modes:2 * n_modes + len(terms.real_poles)] = 1.0
+    return lo, hi, start
 
 
 def split_coefficients(x, n_modes, terms: Terms):
@@ -153,9 +165,11 @@ class _Projection:
     Solved through the Gram matrix (columns scaled to unit norm inside the Cholesky
     factorisation, one step of iterative refinement against the explicit residual): a
     tenth of the cost of a QR factorisation of the tall matrix, and accurate to the level
-    the fit needs. With ``bounds`` (all at 0 here: passivity) a violated unconstrained
+    the fit needs. With ``bounds`` (passivity: :func:`_bounds`) a violated unconstrained
     solution is replaced by the bounded one (an active set); the columns held at 0 then
-    drop out of the projection.
+    drop out of the projection. The equality ``e @ x = 0`` of the bounds is kept by its
+    Lagrange multiplier: ``x = x_u - G^-1 e (e^T x_u)/(e^T G^-1 e)`` on the free columns,
+    and the projection is the one onto the columns restricted to that plane.
 
     The partial-fraction columns and their derivatives are written by the compiled
     kernels of :mod:`modalid._vp_kernels` (real arithmetic, formulas there).
@@ -177,6 +191,8 @@ class _Projection:
         self.scale = scale
         rhs = mat.T @ y
         self.free = np.ones(mat.shape[1], bool)
+        self.equality = None if bounds is None else bounds[2]
+        self.multiplier = 0.0
         x = self._lstsq(rhs, y)
         if bounds is not None and (np.any(x < bounds[0]) or np.any(x > bounds[1])):
             x = self._bounded(rhs, y, bounds)
@@ -184,22 +200,41 @@ class _Projection:
         self.cost = float(self.residual @ self.residual)
         self.x = x
 
+    def _gram_solve(self, rhs, cols=None):
+        """``G^-1 rhs`` for the Gram matrix of ``cols`` (default: the free columns), from
+        the factor of the last :meth:`_lstsq`."""
+        cols = self.free if cols is None else cols
+        d = self.scale[cols][:, None] if rhs.ndim == 2 else self.scale[cols]
+        if self.factor is not None:
+            return _cho_solve(self.factor, rhs / d) / d
+        return np.linalg.lstsq(self.gram[np.ix_(cols, cols)], rhs, rcond=None)[0]
+
     def _lstsq(self, rhs, y, cols=None):
         mat = self.mat if cols is None else self.mat[:, cols]
         d = self.scale if cols is None else self.scale[cols]
         gram = self.gram if cols is None else self.gram[np.ix_(cols, cols)]
         self.factor = _cholesky(gram / np.outer(d, d))
+        cols = np.ones(d.size, bool) if cols is None else cols
+        self.multiplier = 0.0
         if self.factor is None:
-            return np.linalg.lstsq(mat, y, rcond=None)[0]
-        x = _cho_solve(self.factor, rhs / d) / d
-        x += _cho_solve(self.factor, mat.T @ (y - mat @ x) / d) / d
+            x = np.linalg.lstsq(mat, y, rcond=None)[0]
+        else:
+            x = _cho_solve(self.factor, rhs / d) / d
+            x += _cho_solve(self.factor, mat.T @ (y - mat @ x) / d) / d
+        self._plane = None
+        if self.equality is not None and np.any(self.equality[cols]):
+            e = self.equality[cols]
+            v = self._gram_solve(e, cols)
+            self._plane = (e, v, float(e @ v))
+            self.multiplier = float(e @ x) / self._plane[2]
+            x = x - self.multiplier * v
         return x
 
     def _bounded(self, rhs, y, bounds):
         """Least squares with each unknown at a bound of 0 or free (active set: the most
         violated unknown goes to its bound, a bound whose gradient points inwards is
         released; a few small Cholesky solves)."""
-        lo, hi = bounds
+        lo, hi, equality = bounds
         at_bound = np.zeros(rhs.size, bool)
         x = np.zeros(rhs.size)
         for _ in range(3 * rhs.size):
@@ -211,6 +246,8 @@ class _Projection:
                 at_bound[int(np.argmax(excess))] = True
                 continue
             grad = rhs - self.gram @ x                     # -d(cost/2)/dx
+            if equality is not None:
+                grad -= self.multiplier * equality         # ... of the Lagrangian
             wrong = at_bound & (((lo == 0) & (grad > 0)) | ((hi == 0) & (grad < 0)))
             if not np.any(wrong):
                 break
@@ -218,11 +255,13 @@ class _Projection:
         return np.clip(x, lo, hi)
 
     def _solve(self, rhs):
-        """``G^-1 rhs`` for the Gram matrix of the free columns."""
-        d = self.scale[self.free][:, None] if rhs.ndim == 2 else self.scale[self.free]
-        if self.factor is not None:
-            return _cho_solve(self.factor, rhs / d) / d
-        return np.linalg.lstsq(self.gram[np.ix_(self.free, self.free)], rhs, rcond=None)[0]
+        """``S rhs`` with ``S`` the inverse Gram matrix of the free columns restricted to
+        the equality's plane (``P = M S M^T`` projects onto the model's columns)."""
+        out = self._gram_solve(rhs)
+        if self._plane is not None:
+            e, v, evv = self._plane
+            out = out - np.multiply.outer(v, e @ out) / evv
+        return out
 
     def derivative(self, out=None):
         """Columns ``d(Phi x)/d(Re p, Im p)`` of each pole (weighted, real form), shape
@@ -245,8 +284,8 @@ class _Projection:
 
 
 def refine_varpro(omega, values, weights, poles, terms: Terms, *, imag_lo=None, imag_hi=None,
-                  hold=None, passive=False, max_iter=50, xtol=1e-12, stat_tol=1e-4,
-                  stall_tol=1e-3, with_std=True, buffers=None, max_real=None):
+                  hold=None, passive=False, zero_start=False, max_iter=50, xtol=1e-12,
+                  stat_tol=1e-4, stall_tol=1e-3, with_std=True, buffers=None, max_real=None):
     """Weighted nonlinear least squares of poles and residues by variable projection.
 
     Parameters
@@ -262,6 +301,10 @@ def refine_varpro(omega, values, weights, poles, terms: Terms, *, imag_lo=None, 
         while the gradient pushes it outwards.
     hold : ndarray of bool, shape (n,), optional
         Poles held fixed (their residues are still fitted).
+    passive : bool
+        Passivity bounds on the linear unknowns (``Im r <= 0``; ``c_j, u, d >= 0``).
+    zero_start : bool
+        Hold ``sum 2 Re r_k + sum c_j = 0``: an impulse response that starts at 0.
     buffers : dict, optional
         Work arrays kept between calls (pass the same empty dict to a series of calls on
         one data set: a fresh large array costs page faults on first use).
@@ -286,7 +329,7 @@ def refine_varpro(omega, values, weights, poles, terms: Terms, *, imag_lo=None, 
     p = np.asarray(poles, dtype=complex).copy()
     n = p.size
     extra = _realify(design_matrix(1j * omega, np.zeros(0), terms) * w[:, None])
-    bounds = _bounds(n, terms, True) if passive else None
+    bounds = _bounds(n, terms, passive, zero_start) if passive or zero_start else None
     key = (omega.size, n, 2 * n + extra.shape[1])
     buffers = {} if buffers is None else buffers
     if key not in buffers:

@@ -113,7 +113,8 @@ def lift_single(est, frf, poles, kinds, x, info, terms, notes):
     ``notes`` and counts the steps in ``est._iterations``."""
     omega, h = frf.omega, frf.values
     lo, hi = est._imag_bounds(kinds, omega, poles)
-    kw = dict(imag_lo=lo, imag_hi=hi, passive=est._passive_on, buffers=est._buffers,
+    kw = dict(imag_lo=lo, imag_hi=hi, passive=est._passive_on, zero_start=est._zero_start,
+              buffers=est._buffers,
               max_iter=max(50, 4 * poles.size))
     if est.max_real is not None:
         kw["max_real"] = est.max_real
