@@ -18,6 +18,15 @@ __all__ = ["Body", "SampledResponse", "check_driving_point", "driving_point_prob
 #: cannot change an impact by more than that share, so its sign is not judged
 NEGLIGIBLE_SHARE = 1e-6
 
+#: a mobility whose real part (conductance) falls below minus this share of its largest
+#: value somewhere is not passive: the body can give back more energy than it received.
+#: Each term of a model made of normal modes (``Re r = 0``, ``Im r <= 0``), positive
+#: real-pole residues, mass line and flexibility has a conductance >= 0; a mode with a
+#: real residue ``a`` and ``Im r = b`` has one that changes sign unless
+#: ``0 <= a <= 2 zeta |b|`` roughly (a pseudo-mode with ``a = 50 |b|`` gave a restitution
+#: of 2.8). Rounding and the real parts noise leaves on complex modes stay far below
+NEGATIVE_CONDUCTANCE = 1e-3
+
 _WHAT_TO_DO = ("What to do: a transfer FRF is not a driving point: a body needs its "
                "driving-point receptance (force and response at the contact point, same "
                "direction); check the FRF's sign and quantity; refit the band (a passive fit "
@@ -416,7 +425,9 @@ def driving_point_problems(model: ModalModel) -> list:
         Empty for a stable, passive driving point. Faults: a pole with ``Re p > 0``
         (unstable) or a real pole ``>= 0``; a mode whose modal mass
         ``-1/(2 Im p Im r)`` (kg) is negative or not finite; a negative real residue, rigid
-        term ``inverse_mass`` (1/kg) or ``flexibility`` (m/N).
+        term ``inverse_mass`` (1/kg) or ``flexibility`` (m/N); where none of these, a
+        mobility whose real part is negative somewhere (below
+        :data:`NEGATIVE_CONDUCTANCE` of its largest).
 
     Notes
     -----
@@ -454,7 +465,43 @@ def driving_point_problems(model: ModalModel) -> list:
         problems.append(f"its rigid-body term 1/M = {model.inverse_mass:.4g} 1/kg is negative")
     if model.flexibility < 0.0:
         problems.append(f"its residual flexibility {model.flexibility:.4g} m/N is negative")
+    if not problems:
+        worst = _negative_conductance(model)
+        if worst is not None:
+            problems.append(f"its mobility's real part is {worst[1]:.4g} s/kg at "
+                            f"{worst[0]:.6g} Hz ({worst[1] / worst[2]:.2g} of its largest): "
+                            "not passive, the body can give back more energy than it "
+                            "received (a mode's residue with a real part out of proportion "
+                            "to its imaginary part)")
     return problems
+
+
+def _negative_conductance(model: ModalModel):
+    """``(freq_hz, value, largest)`` where the mobility's real part is most negative, if
+    below :data:`NEGATIVE_CONDUCTANCE` times its largest value; else None. Sampled at
+    each mode's resonance and 0.25-16 half-power bandwidths either side, and on a
+    logarithmic grid from 1/100 of the lowest pole to 100 times the highest (a few
+    thousand evaluations)."""
+    p = model.poles
+    if p.size == 0:
+        return None
+    offsets = np.concatenate([-np.geomspace(0.25, 16, 7)[::-1], [0.0], np.geomspace(0.25, 16, 7)])
+    damped = p.real < 0                    # an undamped mode's conductance is a Dirac
+    near = (p.imag[damped, None] + np.abs(p.real[damped, None]) * offsets).ravel()
+    w = np.abs(p)
+    omega = np.concatenate([near[near > 0], np.geomspace(w.min() / 100, w.max() * 100, 400)])
+    omega = omega[np.min(np.abs(omega[:, None] - p.imag[None, :]), axis=1) > 0]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        conductance = model.frf(omega, quantity="mobility").real
+    finite = np.isfinite(conductance)
+    omega, conductance = omega[finite], conductance[finite]
+    if conductance.size == 0:
+        return None
+    largest = float(np.max(conductance))
+    k = int(np.argmin(conductance))
+    if largest <= 0.0 or conductance[k] >= -NEGATIVE_CONDUCTANCE * largest:
+        return None
+    return float(omega[k] / (2 * np.pi)), float(conductance[k]), largest
 
 
 def check_driving_point(model, *, name: str = "model", opt_out: str = "") -> None:

@@ -32,7 +32,7 @@ from ._specs import READ_OPTIONS, check_estimator, identify, parse_contact, read
 from .api import solve_impact
 from .body import Body, check_driving_point
 from .result import ImpactResult
-from .truncation import identified_model
+from .truncation import NoComplianceAbove, identified_model
 from .uncertainty import uncertainty_band
 
 __all__ = ["predict", "Prediction", "parse_body", "parse_contact", "BandWarning",
@@ -120,6 +120,11 @@ def _continued(fit, *, label=""):
     :class:`ContinuationWarning`); the note says which."""
     try:
         model = identified_model(fit, continuation=True)
+    except NoComplianceAbove as exc:
+        warnings.warn(f"{label}not continued above its band ({exc}): its upper residual "
+                      "terms dropped", ContinuationWarning, stacklevel=3)
+        return (identified_model(fit, continuation=False, upper_residual=False),
+                f"not possible ({exc}; upper residual terms dropped)")
     except ValueError as exc:
         warnings.warn(f"{label}not continued above its band ({exc}): the prediction relies "
                       "on the model's residual terms there", ContinuationWarning, stacklevel=3)

@@ -31,7 +31,8 @@ from modalid import ModalModel
 
 from .contact import ContactLaw, Rigid
 from .parallel import check_executor, resolve_executor
-from .truncation import FIGURES, band_resolution, identified_model, impact_figures, tail_extent
+from .truncation import (FIGURES, NoComplianceAbove, band_resolution, identified_model,
+                         impact_figures, tail_extent)
 
 __all__ = ["UncertaintyBand", "band_half_width", "front_allowance", "front_jump",
            "perturb_residues", "refit_on_cut_band", "truncation_error", "uncertainty_band"]
@@ -100,16 +101,20 @@ class UncertaintyBand:
         return lo * (1 - rel) <= value <= hi * (1 + rel) if lo >= 0 else lo <= value <= hi
 
     def table(self) -> str:
-        """A short text table: figure, nominal, low, high.
+        """A short text table: figure, nominal, low, high (``-`` for a figure the run does
+        not define, e.g. the restitution of bodies still in contact at ``t_end``).
 
         Returns
         -------
         str
         """
+        def cell(value):
+            return f"{'-':>14}" if value is None else f"{value:>14.6g}"
+
         lines = [f"{'figure':<18}{'nominal':>14}{'low':>14}{'high':>14}"]
         for name in FIGURES:
-            lines.append(f"{name:<18}{self.nominal[name]:>14.6g}{self.low[name]:>14.6g}"
-                         f"{self.high[name]:>14.6g}")
+            lines.append(f"{name:<18}{cell(self.nominal[name])}{cell(self.low[name])}"
+                         f"{cell(self.high[name])}")
         return "\n".join(lines)
 
 
@@ -475,9 +480,19 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
         return tail_extent(fit.report_.get("n_modes", 0)) if extend is None else extend
 
     def continued(fit, share=1.0, of=None, **kw):
-        """``fit`` (or ``of``, a refit) continued to ``share`` of ``fit``'s extent."""
-        return identified_model(fit if of is None else of, continuation=continuation,
-                                n_top=n_top, extend=share * extent(fit), **kw)
+        """``fit`` (or ``of``, a refit) continued to ``share`` of ``fit``'s extent; as
+        identified where it cannot be continued (as ``predict`` did for the nominal
+        model: no mode in its band, or no compliance above it)."""
+        source = fit if of is None else of
+        try:
+            return identified_model(source, continuation=continuation, n_top=n_top,
+                                    extend=share * extent(fit), **kw)
+        except NoComplianceAbove:
+            return identified_model(source, continuation=False, upper_residual=False, **kw)
+        except ValueError:
+            if not continuation:
+                raise
+            return identified_model(source, continuation=False, **kw)
 
     # the re-identifications on the cut bands start first: they run while the tail solves
     pool = resolve_executor(executor, default=1)

@@ -1,6 +1,8 @@
 """continue_above_band: exact answers on uniform rods (G = T/m; fixed rod e = 0.6989; two
 equal free rods: a rectangular force Z v high and 2T long, e = 1)."""
 
+import warnings
+
 import numpy as np
 import pytest
 from scipy.integrate import trapezoid
@@ -9,6 +11,7 @@ from data_synth import CantileverBeam, LumpedMass, Rod, lightly_damped
 from data_synth.reference_impacts import mass_on_fixed_rod
 from impactpred import Body, solve_impact
 from impactpred.truncation import (
+    NoComplianceAbove,
     continue_above_band,
     high_frequency_conductance,
     identified_model,
@@ -292,7 +295,8 @@ def test_impact_figures_ringing_after_separation_is_not_contact():
 
 def test_identified_model_as_normal_modes_has_no_spurious_h0():
     """The identified residues' real parts (noise) would give h(0+) != 0: dropped inside
-    the band, kept on pseudo-modes and with normal_modes=False."""
+    the band; the pseudo-modes above it become normal modes of the same static compliance
+    (a real residue is not a passive term); kept with normal_modes=False."""
     from modalid import FRFData, ModalFit
 
     truth = lightly_damped(Rod(1.0, 1.0, support="fixed"), 14, 0.001)
@@ -308,7 +312,13 @@ def test_identified_model_as_normal_modes_has_no_spurious_h0():
     assert abs(2 * np.sum(raw.residues[inside].real)) > 1e-6     # noise leaves some
     assert np.all(normal.residues[inside].real == 0.0)
     np.testing.assert_array_equal(normal.residues[inside].imag, raw.residues[inside].imag)
-    np.testing.assert_array_equal(normal.residues[~inside], raw.residues[~inside])
+    above = np.abs(raw.poles) > top
+    assert above.any() and np.all(normal.residues[above].real == 0.0)
+    assert np.all(normal.residues[above].imag <= 0.0)
+    np.testing.assert_allclose((normal.residues[above] / normal.poles[above]).real,
+                               (raw.residues[above] / raw.poles[above]).real, rtol=1e-12)
+    np.testing.assert_array_equal(normal.residues[~inside & ~above],
+                                  raw.residues[~inside & ~above])
     assert raw is fit.model_
 
 
@@ -363,3 +373,37 @@ def test_a_weakly_coupled_mode_stays_out_of_the_top_modes_pattern():
     a, b = (continue_above_band(m, top_hz, extend=4.0) for m in (clean, weak))
     assert len(b.poles) == len(a.poles) + 1
     assert np.sort(np.abs(b.poles))[-1] == pytest.approx(np.sort(np.abs(a.poles))[-1])
+
+
+@pytest.mark.parametrize("noise", [0.0, 0.03])
+def test_a_band_with_no_compliance_above_it_is_not_continued(noise):
+    """A spring-mass's accelerance to 2.6 times its mode: above the mode the band is the
+    mass line, and its fit has no upper residual flexibility (0 to 1e-4 of the
+    continuation's compliance). Continued as a continuum it had given a 0.42 kg mass's
+    Hertz impact a restitution of 0.135 for the exact 0.622; it is refused by name.
+    A cantilever cut below its second mode, whose band does show the modes above it
+    (upper residual flexibility 4.5 % of that compliance), is continued."""
+    from data_synth import SpringMass, synthetic_frf
+    from modalid import ModalFit
+
+    def fitted(truth, top_hz):
+        freq = np.linspace(top_hz / 2000, top_hz, 2000)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            return ModalFit().fit(synthetic_frf(truth, freq, quantity="accelerance",
+                                                noise=noise, seed=39))
+
+    spring_mass = lightly_damped(SpringMass(1.773799480628025, 920663.2681301013), 1, 3e-4)
+    fit = fitted(spring_mass, 297.7377776232762)
+    with pytest.raises(NoComplianceAbove, match="no compliance above"):
+        identified_model(fit)
+    assert identified_model(fit, continuation=False).n_modes == fit.model_.n_modes
+    bare = identified_model(fit, continuation=False, upper_residual=False)
+    assert bare.flexibility == 0.0 and bare.n_modes == 1
+    assert bare.modes["frequency_hz"][0] == pytest.approx(114.66, rel=1e-3)
+    with pytest.raises(ValueError, match="upper_residual=False drops"):
+        identified_model(fit, upper_residual=False)
+    beam = lightly_damped(CantileverBeam(1.0, 1.0), 300, 1e-3)
+    fit = fitted(beam, 2.6 * beam.modes["frequency_hz"][0])
+    assert fit.report_["n_modes"] == 1
+    assert identified_model(fit).n_modes > 1                # continued

@@ -276,3 +276,34 @@ def test_draws_that_cannot_be_solved_are_said_not_dropped_silently():
                                              r".*no spread part"):
         band = uncertainty_band(models, [None, fit], refuse, n_draws=3, nominal=nominal)
     assert all(v == 0.0 for v in band.spread.values())
+
+
+def test_a_band_for_one_continued_and_one_lumped_body(tmp_path):
+    """A free rod's file (continued above its band) striking a spring-mass's (its band
+    shows no compliance above it: not continued): the band's variants continue each body
+    as the nominal prediction did; asking the spring-mass's for a continuation raised
+    "no compliance above it" from inside the band. Still in contact at ``t_end``, the
+    restitution is undefined and the table says so."""
+    import warnings
+
+    from data_synth import SpringMass, synthetic_frf
+    from impactpred import predict
+    from modalid import write_frf
+
+    spring_mass = lightly_damped(SpringMass(1.773799480628025, 920663.2681301013), 1, 3e-4)
+    write_frf(tmp_path / "spring_mass.csv",
+              synthetic_frf(spring_mass, np.linspace(297.7 / 2000, 297.7, 2000),
+                            quantity="accelerance", noise=0.01, seed=1))
+    rod = lightly_damped(Rod(1.0, 0.01), 300, 1e-3)
+    write_frf(tmp_path / "rod.csv", synthetic_frf(rod, np.linspace(0.25, 500.0, 2000),
+                                                  quantity="accelerance", noise=0.01, seed=2))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        pred = predict(tmp_path / "rod.csv", tmp_path / "spring_mass.csv", velocity1=1.0,
+                       contact="hertz:1e9", t_end=0.02, uncertainty=True)
+    assert pred.continuation[0].startswith("on")
+    assert "no compliance above" in pred.continuation[1]
+    band = pred.uncertainty
+    assert band.nominal["restitution"] is None
+    assert band.low["peak_force"] <= band.nominal["peak_force"] <= band.high["peak_force"]
+    assert "restitution" in band.table() and " -" in band.table()
