@@ -18,7 +18,13 @@ from ._pattern_tail import PATTERN_BETA, compliance_beyond, growth_pattern, patt
 from ._smooth_tail import smooth_tail_design
 
 __all__ = ["ContinuationInfo", "continue_above_band", "high_frequency_conductance",
-           "pattern_share"]
+           "pattern_share", "static_compliance"]
+
+
+def static_compliance(poles, residues):
+    """Each mode's static compliance ``-2 Re(r/p)`` (m/N): its share of the receptance
+    at ``s = 0``, by which a pseudo-mode is folded into a residual flexibility."""
+    return -2.0 * (np.asarray(residues) / np.asarray(poles)).real
 
 
 #: lowest allowed sigma, in units of omega_top: below it the term would reach into the band
@@ -197,7 +203,7 @@ def continue_above_band(model: ModalModel, band_top_hz: float, *, n_top: int = 3
     if fold_pseudo_modes:
         above = np.abs(poles) > 2 * math.pi * band_top_hz * (1 + 1e-9)
         if np.any(above):
-            flexibility -= 2.0 * float(np.sum((residues[above] / poles[above]).real))
+            flexibility += float(np.sum(static_compliance(poles[above], residues[above])))
             poles, residues = poles[~above], residues[~above]
             folded = int(np.sum(above))
     upper = flexibility

@@ -24,7 +24,8 @@ NEGLIGIBLE_SHARE = 1e-6
 #: real-pole residues, mass line and flexibility has a conductance >= 0; a mode with a
 #: real residue ``a`` and ``Im r = b`` has one that changes sign unless
 #: ``0 <= a <= 2 zeta |b|`` roughly (a pseudo-mode with ``a = 50 |b|`` gave a restitution
-#: of 2.8). Rounding and the real parts noise leaves on complex modes stay far below
+#: of 2.8). An identified model for an impact (``truncation.identified_model``: normal
+#: modes) has none; a fit's raw ``model_`` may (its residues' real parts)
 NEGATIVE_CONDUCTANCE = 1e-3
 
 _WHAT_TO_DO = ("What to do: a transfer FRF is not a driving point: a body needs its "
@@ -431,7 +432,9 @@ def driving_point_problems(model: ModalModel) -> list:
 
     Notes
     -----
-    The same conditions as :meth:`modalid.ModalModel.is_passive`, except that a mode
+    The conditions of :meth:`modalid.ModalModel.is_passive` and the mobility's real part
+    (which ``is_passive`` does not sample: a fit's raw ``model_`` can pass it and fail
+    here; give ``impactpred.truncation.identified_model(fit)``), except that a mode
     whose shares of the model's inverse mass ``sum |2 Im p Im r|`` and static flexibility
     ``sum |r/p|`` are both below :data:`NEGLIGIBLE_SHARE` is not judged: a pseudo-mode with
     a rounding-level residue has an undefined (infinite) modal mass of either sign and no
@@ -469,16 +472,18 @@ def driving_point_problems(model: ModalModel) -> list:
         worst = _negative_conductance(model)
         if worst is not None:
             problems.append(f"its mobility's real part is {worst[1]:.4g} s/kg at "
-                            f"{worst[0]:.6g} Hz ({worst[1] / worst[2]:.2g} of its largest): "
+                            f"{worst[0]:.6g} Hz ({worst[1] / worst[2]:.2g} of its largest "
+                            "magnitude): "
                             "not passive, the body can give back more energy than it "
                             "received (a mode's residue with a real part out of proportion "
-                            "to its imaginary part)")
+                            "to its imaginary part; of a fit, give "
+                            "impactpred.truncation.identified_model(fit): normal modes)")
     return problems
 
 
 def _negative_conductance(model: ModalModel):
     """``(freq_hz, value, largest)`` where the mobility's real part is most negative, if
-    below :data:`NEGATIVE_CONDUCTANCE` times its largest value; else None. Sampled at
+    below :data:`NEGATIVE_CONDUCTANCE` times its largest magnitude; else None. Sampled at
     each mode's resonance and 0.25-16 half-power bandwidths either side, and on a
     logarithmic grid from 1/100 of the lowest pole to 100 times the highest (a few
     thousand evaluations)."""
@@ -497,9 +502,9 @@ def _negative_conductance(model: ModalModel):
     omega, conductance = omega[finite], conductance[finite]
     if conductance.size == 0:
         return None
-    largest = float(np.max(conductance))
+    largest = float(np.max(np.abs(conductance)))
     k = int(np.argmin(conductance))
-    if largest <= 0.0 or conductance[k] >= -NEGATIVE_CONDUCTANCE * largest:
+    if conductance[k] >= -NEGATIVE_CONDUCTANCE * largest:
         return None
     return float(omega[k] / (2 * np.pi)), float(conductance[k]), largest
 

@@ -123,7 +123,7 @@ def _continued(fit, *, label=""):
     except NoComplianceAbove as exc:
         warnings.warn(f"{label}not continued above its band ({exc}): its upper residual "
                       "terms dropped", ContinuationWarning, stacklevel=3)
-        return (identified_model(fit, continuation=False, upper_residual=False),
+        return (identified_model(fit, continuation=False),      # drops them: "auto"
                 f"not possible ({exc}; upper residual terms dropped)")
     except ValueError as exc:
         warnings.warn(f"{label}not continued above its band ({exc}): the prediction relies "

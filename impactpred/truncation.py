@@ -76,7 +76,7 @@ import numpy as np
 from modalid import ModalModel, MultiOutputModalModel
 
 from ._continuation import (ContinuationInfo, continue_above_band, high_frequency_conductance,
-                            pattern_share)
+                            pattern_share, static_compliance)
 from ._figures import FIGURES, band_resolution, impact_figures
 from ._smooth_tail import TailDesign, smooth_tail_design
 
@@ -93,7 +93,7 @@ def _fold_multi_output(model, band_hz, *, normal_modes):
     w = np.abs(model.poles)
     inside = (w >= low * (1 - 1e-9)) & (w <= top * (1 + 1e-9))
     r = model.residues
-    static = -2.0 * np.sum((r[:, ~inside] / model.poles[~inside]).real, axis=1)
+    static = np.sum(static_compliance(model.poles[~inside], r[:, ~inside]), axis=1)
     kept = r[:, inside]
     if normal_modes:
         kept = 1j * kept.imag
@@ -145,57 +145,60 @@ MIN_COMPLIANCE_ABOVE = 0.01
 
 class NoComplianceAbove(ValueError):
     """A band that shows no compliance above it (:data:`MIN_COMPLIANCE_ABOVE`): not
-    continued, and its upper residual terms, noise, are better dropped
-    (``identified_model(..., upper_residual=False)``)."""
+    continued, and its upper residual terms, noise there, dropped (``identified_model``'s
+    default ``upper_residual="auto"``)."""
 
 
-def _require_compliance_above(model, band_top_hz, *, n_top):
-    """Raise ``ValueError`` where ``model``'s band shows no compliance above it (see
-    :data:`MIN_COMPLIANCE_ABOVE`)."""
+def _no_compliance_above(model, band_top_hz, *, n_top):
+    """Why ``model``'s band shows no compliance above it (see
+    :data:`MIN_COMPLIANCE_ABOVE`), or None. Raises ``ValueError`` when it has no passive
+    mode inside the band to judge by."""
     G, omega_top, dw, _ = high_frequency_conductance(model, band_top_hz, n_top=n_top)
     tail = 2.0 * G / (math.pi * (omega_top + 0.5 * dw))
     above = np.abs(model.poles) > 2 * math.pi * band_top_hz * (1 + 1e-9)
-    upper = model.flexibility - 2.0 * float(np.sum((model.residues[above]
-                                                    / model.poles[above]).real))
-    if upper < MIN_COMPLIANCE_ABOVE * tail:
-        raise NoComplianceAbove(f"the band shows no compliance above it: its upper residual "
-                         f"flexibility {upper:.3g} m/N is {upper / tail:.2g} of the "
-                         f"{tail:.3g} m/N a continuum above it would hold, as a lumped "
-                         "body's (its receptance above the band is its mass line)")
+    upper = model.flexibility + float(np.sum(static_compliance(model.poles[above],
+                                                               model.residues[above])))
+    if upper >= MIN_COMPLIANCE_ABOVE * tail:
+        return None
+    return (f"the band shows no compliance above it: its upper residual flexibility "
+            f"{upper:.3g} m/N is {upper / tail:.2g} of the {tail:.3g} m/N a continuum "
+            "above it would hold, as a lumped body's (its receptance above the band is its "
+            "mass line)")
 
 
 def _normal_residues(model, low, top):
     """``model``'s residues as normal modes' (``Re r = 0``): inside the band ``[low, top]``
-    (rad/s) their imaginary parts kept (the modal masses); above it, each pseudo-mode
-    keeps its static compliance ``K = -2 Re(r/p)`` (the share of the omitted modes it
-    stands for), ``Im r = -K |p|^2/(2 Im p)`` (0 where ``K <= 0``); below it, as they are
-    (a lower pseudo-mode stands in for a mass line).
+    (rad/s) and below it their imaginary parts kept (the modal masses; a lower
+    pseudo-mode's share of the mass line); above it, each pseudo-mode keeps its static
+    compliance ``K = -2 Re(r/p)`` (the share of the omitted modes it stands for),
+    ``Im r = -K |p|^2/(2 Im p)`` (0 where ``K <= 0``).
 
-    A pseudo-mode's real residue is not a passive term: its mobility's real part changes
-    sign across its resonance. A spring-mass's noisy mobility fitted a pseudo-mode at 25
-    times its mode with ``Re r`` 50 times ``|Im r|``, and its impact came out with a
-    restitution of 2.8."""
+    A residue's real part is not a passive term: the mobility's real part changes sign
+    across the resonance (unless ``Re r`` is under about ``2 zeta |Im r|``), and their sum
+    ``h(0)`` is a jump of the impulse response, which no structure has. A spring-mass's
+    noisy mobility fitted a pseudo-mode at 10 times its mode with ``Re r`` 50 times
+    ``|Im r|``, and its impact came out with a restitution of 2.8; a fixed rod fitted
+    from between its second and third modes kept a lower pseudo-mode's real residue, a
+    negative ``h(0)`` the impact solvers refused."""
     p, r = model.poles, model.residues
     w = np.abs(p)
-    inside = (w >= low * (1 - 1e-9)) & (w <= top * (1 + 1e-9))
     above = w > top * (1 + 1e-9)
-    static = -2.0 * (r / p).real
     with np.errstate(divide="ignore", invalid="ignore"):
-        im_above = np.minimum(-static * w**2 / (2.0 * p.imag), 0.0)
-    return np.where(inside, 1j * r.imag, np.where(above, 1j * im_above, r))
+        im_above = np.minimum(-static_compliance(p, r) * w**2 / (2.0 * p.imag), 0.0)
+    return 1j * np.where(above, im_above, r.imag)
 
 
 def identified_model(fit, *, continuation: bool = True, n_top: int = 3,
-                     extend: float | None = None, model=None,
-                     normal_modes: bool = True, upper_residual: bool = True) -> ModalModel:
+                     extend: float | None = None, model=None, normal_modes: bool = True,
+                     upper_residual="auto") -> ModalModel:
     """The model of ``fit`` (or ``model``) for an impact, continued above the fit's band
     when asked (to ``extend`` times the band top; default :func:`tail_extent` of the
     fit's modes: 16 up to 10 modes).
 
-    ``normal_modes``: drop the real parts of the residues of the modes inside the band
-    (keep their modal masses) and above it (keep their static compliances, by which
-    :func:`continue_above_band` folds them); a mode is inside when ``|p|`` lies in the
-    fit's band (:func:`_normal_residues`).
+    ``normal_modes``: drop the real parts of the residues (keep the modal masses of the
+    modes inside the band and below it, the static compliances of those above it, by
+    which :func:`continue_above_band` folds them); a mode is inside when ``|p|`` lies in
+    the fit's band (:func:`_normal_residues`).
     A driving point's displacement starts from 0 after an impulse, ``h(0+) = sum 2 Re r_k
     = 0``: the real parts an identification leaves (noise; or non-proportional damping,
     whose sum over all modes is 0) act as a spurious instantaneous compliance that a short
@@ -224,16 +227,15 @@ def identified_model(fit, *, continuation: bool = True, n_top: int = 3,
     model : ModalModel or MultiOutputModalModel, optional, keyword-only
         The model to use instead of ``fit.model_`` (a drawn or refitted one).
     normal_modes : bool, keyword-only
-        Drop the real parts of the residues of the modes inside the band and above it
-        (the pseudo-modes there keep their static compliances; see
-        :func:`_normal_residues`).
-    upper_residual : bool, keyword-only
+        Drop the real parts of the residues (see :func:`_normal_residues`).
+    upper_residual : {"auto", True, False}, keyword-only
         Keep the terms that stand for the modes above the band (the pseudo-modes there,
-        the flexibility). ``False`` drops them, for a band that shows no compliance above
-        it (:class:`NoComplianceAbove`): a noise-level flexibility turns a rigid contact
-        on a lumped body from a plastic impulse into a bounce on a stiff spring (a
-        spring-mass's restitution 0.984 for the exact 0.880). Only without
-        ``continuation``.
+        the flexibility). ``"auto"`` drops them where the band shows no compliance above
+        it (:class:`NoComplianceAbove`; noise there): a noise-level flexibility of
+        1.6e-10 m/N turned a rigid contact on a spring-mass from a plastic impulse into
+        six bounces on a stiff spring (restitution 0.984 for the exact 0.880). ``False``
+        drops them always (not with ``continuation``, which is built from them), ``True``
+        never.
 
     Returns
     -------
@@ -249,29 +251,40 @@ def identified_model(fit, *, continuation: bool = True, n_top: int = 3,
         its mass line); ``predict`` then keeps the model as identified (without its
         upper residual terms in the second case) and says so.
     """
+    if not (upper_residual == "auto" or isinstance(upper_residual, (bool, np.bool_))):
+        raise ValueError(f"upper_residual must be 'auto', True or False, got "
+                         f"{upper_residual!r}")
+    if continuation and upper_residual is False:
+        raise ValueError("identified_model: the continuation is built from the upper "
+                         "residual terms; upper_residual=False needs continuation=False")
     model = fit.model_ if model is None else model
     if isinstance(model, MultiOutputModalModel):
-        if continuation:
-            raise ValueError("identified_model: the continuation applies to a driving-point "
-                             "ModalModel; for a MultiOutputModalModel pass continuation=False")
+        if continuation or upper_residual is False:
+            raise ValueError("identified_model: the continuation and upper_residual=False "
+                             "apply to a driving-point ModalModel; for a "
+                             "MultiOutputModalModel pass continuation=False")
         return _fold_multi_output(model, fit.report_["band_hz"], normal_modes=normal_modes)
+    band_top = fit.report_["band_hz"][1]
     if normal_modes and model.n_modes:
         low, top = (2 * math.pi * f for f in fit.report_["band_hz"])
         model = model.replace(residues=_normal_residues(model, low, top))
-    if not upper_residual:
-        if continuation:
-            raise ValueError("identified_model: upper_residual=False drops what the "
-                             "continuation is built from; pass continuation=False")
-        top = 2 * math.pi * fit.report_["band_hz"][1] * (1 + 1e-9)
-        inside = np.abs(model.poles) <= top
+    lumped = None
+    if continuation or upper_residual == "auto":
+        try:
+            lumped = _no_compliance_above(model, band_top, n_top=n_top)
+        except ValueError:
+            if continuation:
+                raise                            # no passive mode inside the band
+    if continuation:
+        if lumped:
+            raise NoComplianceAbove(lumped)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)
+            if extend is None:
+                extend = tail_extent(fit.report_.get("n_modes", 0))
+            return continue_above_band(model, band_top, n_top=n_top, extend=extend)
+    if upper_residual is False or (upper_residual == "auto" and lumped):
+        inside = np.abs(model.poles) <= 2 * math.pi * band_top * (1 + 1e-9)
         model = model.replace(poles=model.poles[inside], residues=model.residues[inside],
                               flexibility=0.0)
-    if not continuation:
-        return model
-    _require_compliance_above(model, fit.report_["band_hz"][1], n_top=n_top)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", RuntimeWarning)
-        if extend is None:
-            extend = tail_extent(fit.report_.get("n_modes", 0))
-        return continue_above_band(model, fit.report_["band_hz"][1], n_top=n_top,
-                                   extend=extend)
+    return model

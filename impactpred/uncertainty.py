@@ -487,8 +487,8 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
         try:
             return identified_model(source, continuation=continuation, n_top=n_top,
                                     extend=share * extent(fit), **kw)
-        except NoComplianceAbove:
-            return identified_model(source, continuation=False, upper_residual=False, **kw)
+        except NoComplianceAbove:                 # as identified, its upper terms dropped
+            return identified_model(source, continuation=False, **kw)
         except ValueError:
             if not continuation:
                 raise

@@ -26,6 +26,7 @@ from ._segments import MIN_SEGMENTED, segment_poles
 from ._lsfd import (Terms, design_matrix, evaluate, mass_line_significant, noise_level,
                     place_upper_modes, refine_varpro, release_gain, split_coefficients)
 from ._vf import vector_fit_poles
+from ._zero_start import hold_single
 from ._unresolved_damping import lift_single
 from ._window import structure_model
 from .frf import FRFData
@@ -308,8 +309,8 @@ class FRFPipeline(PoleChecks):
         else:
             poles, kinds, x, info, terms = self._refine_poles(omega, h, w, poles, cut, notes)
         if self._passive_on and not self.__dict__.get("_probe"):
-            poles, kinds, x, info = self._start_at_zero(omega, h, w, poles, kinds, x, info,
-                                                        terms, segment_std, notes)
+            poles, kinds, x, info = hold_single(self, omega, h, w, poles, kinds, x, info,
+                                                terms, segment_std, notes)
         # unconverged: stop if more steps would not move the poles, else refine on
         for _ in range(0 if self.__dict__.get("_probe") or not self.refine else 2):
             if info["converged"] or self._settled(omega, h, poles, kinds, terms, info):
@@ -340,36 +341,6 @@ class FRFPipeline(PoleChecks):
     def _zero_start(self) -> bool:
         """Do the fits of this stage hold the impulse response at 0 at ``t = 0``?"""
         return self.__dict__.get("_zero_start", False)
-
-    def _start_at_zero(self, omega, h, w, poles, kinds, x, info, terms, segment_std, notes):
-        """A driving point's receptance whose impulse response starts the wrong way: hold
-        it at 0 at ``t = 0`` from here on and fit again from the poles found.
-
-        ``h(0) = sum 2 Re r_k`` is the mobility's limit at high frequency, ``Re Y(i oo)``:
-        a passive driving point has it ``>= 0`` (0 for any structure, whose displacement
-        does not jump under an impulse; the passivity bounds ``Im r <= 0`` do not see it).
-        A negative one (a pseudo-mode's real residue, fitted to the band's background) is
-        a response that starts against the force, refused by the impact solvers. Held
-        from the start the equality would couple the candidate modes' residues and the
-        search loses modes; held once the poles are found it costs the fit little. A
-        positive ``h(0)`` (a dashpot's instantaneous give) is passive and left as it is.
-        Returns ``(poles, kinds, x, info)``."""
-        residues = split_coefficients(x, poles.size, terms)[0]
-        jump = 2 * float(np.sum(residues.real))
-        if jump >= -1e-12 * float(np.sum(np.abs(residues))):
-            return poles, kinds, x, info
-        self.__dict__["_zero_start"] = True
-        if segment_std is None and self.refine:
-            poles, x, info = self._refine(omega, h, w, poles, kinds, terms)
-            # a pseudo-mode left with a real residue only, at zero modal mass: dropped
-            poles, kinds, x, info = self._drop_idle(omega, h, w, poles, kinds, x, info, terms)
-        else:
-            kept = info
-            poles, x, info = self._linear_fit(omega, h, w, poles, terms)
-            info = {**kept, "cost": info["cost"]}
-        notes.append(f"the impulse response held at 0 at t = 0, as a driving point's (the "
-                     f"fit had a 1/s term of {jump:.3g} m/(N s): a jump at the impact)")
-        return poles, kinds, x, info
 
     def _refine_poles(self, omega, h, w, poles, cut, notes):
         """The nonlinear refinement of one band: a quick pass, the modes the estimator

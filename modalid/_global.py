@@ -32,6 +32,7 @@ from ._report import (fit_report, local_misfit_inflation, misfit_notes,
 from ._lm import bounded_lm, pole_limits
 from ._band import choose_band, noise_model
 from ._unresolved_damping import damping_off_bound
+from ._zero_start import hold_at_zero
 from ._lscf import lscf_subbands
 from ._lsfd import (Terms, _bounds, _Projection, _realify, _std, design_matrix, noise_level,
                     split_coefficients)
@@ -465,9 +466,10 @@ def fit_set(est, data: FRFSet):
             p, xs, info = _refine(est, omega, h, w, coh, start, kinds, terms, dp)
             n_iter += info["n_iter"]
         if est._passive_on:
-            p, kinds, xs, info, spent = _start_at_zero(est, omega, h, w, coh, p, kinds, xs,
-                                                       info, terms, dp, notes)
-            n_iter += spent
+            p, xs, new = _start_at_zero(est, omega, h, w, coh, p, kinds, xs, info, terms,
+                                        dp, notes)
+            n_iter += new["n_iter"] if new is not info else 0
+            info = new
         p, xs, info, spent = _unresolved_damping(est, rec, p, kinds, xs, info, terms, dp, notes)
         n_iter += spent
         info["n_iter_total"] = n_iter
@@ -487,25 +489,14 @@ def fit_set(est, data: FRFSet):
 
 
 def _start_at_zero(est, omega, h, w, coh, poles, kinds, xs, info, terms, dp, notes):
-    """The driving-point row's impulse response, if it starts the wrong way (``h(0) =
-    sum 2 Re r_k < 0``), held at 0 from here on and the set refined again from its
-    poles, as ``ModalFit._start_at_zero`` for one FRF; a pseudo-mode then left at zero
-    modal mass in that row is dropped. Returns ``(poles, kinds, xs, info, n_iter)``."""
-    residues = split_rows(xs, poles.size, terms)[0][dp]
-    jump = 2 * float(np.sum(residues.real))
-    if jump >= -1e-12 * float(np.sum(np.abs(residues))):
-        return poles, kinds, xs, info, 0
-    est.__dict__["_zero_start"] = True
-    poles, xs, info = _refine(est, omega, h, w, coh, poles, kinds, terms, dp)
-    n_iter = info["n_iter"]
-    idle = (kinds != "mode") & (split_rows(xs, poles.size, terms)[0][dp].imag >= 0)
-    if idle.any():
-        poles, kinds = poles[~idle], kinds[~idle]
-        poles, xs, info = _refine(est, omega, h, w, coh, poles, kinds, terms, dp)
-        n_iter += info["n_iter"]
-    notes.append(f"the driving point's impulse response held at 0 at t = 0 (the fit had a "
-                 f"1/s term of {jump:.3g} m/(N s): a jump at the impact)")
-    return poles, kinds, xs, info, n_iter
+    """The set refined again from its poles holding the driving-point row's ``h(0) = 0``,
+    where that row's impulse response starts against the force (as for one FRF,
+    :mod:`modalid._zero_start`; no pseudo-mode is dropped: the transfer rows may need
+    it). Returns ``(poles, xs, info)``."""
+    out = hold_at_zero(est, xs[dp], poles.size, terms,
+                       lambda: _refine(est, omega, h, w, coh, poles, kinds, terms, dp), notes,
+                       what="the driving point's impulse response")
+    return (poles, xs, info) if out is None else out
 
 
 def _store(est, rec, poles, kinds, xs, terms, info, notes, max_order, dp):

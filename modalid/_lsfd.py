@@ -10,9 +10,9 @@ modal mass ``-1/(2 Im p Im r)``) is ``Im r_k <= 0``; with ``u, d, c_j >= 0`` it 
 bound-constrained linear least-squares problem (solved by an active set on the Gram
 matrix). On request (``zero_start``) it also holds ``sum_k 2 Re r_k + sum_j c_j = 0``:
 the impulse response of a receptance starts at 0 (a displacement does not jump under an
-impulse), exact for every mechanical system, normal or complex modes; without it a
-pseudo-mode's real residue gives the model a ``1/s`` term, a negative one a response that
-starts the wrong way, which the impact solvers rightly refuse. Columns are scaled to unit
+impulse), exact for every mechanical system, normal or complex modes (a driving point's
+fit holds it where its ``h(0)`` came out negative: :mod:`modalid._zero_start`). Columns
+are scaled to unit
 norm, so the solve does not depend on the frequency units.
 
 The refinement (:func:`refine_varpro`) is a Levenberg-Marquardt iteration on the poles

@@ -281,7 +281,7 @@ class ModalFit(FRFPipeline, FitLines, BaseEstimator):
         self._selection()                        # validates n_modes
         for name in ("model_", "poles_", "stabilization_", "clusters_", "report_", "frf_",
                      "data_", "weights_", "impulse_", "mode_shapes_", "_stabilization_cache",
-                     "_probe"):
+                     "_probe", "_zero_start"):
             self.__dict__.pop(name, None)         # a second fit starts afresh
         self._check_window()
         windowed = self._windowed

@@ -11,6 +11,7 @@ from data_synth import (CantileverBeam, LumpedMass, Rod, SpringMass, lightly_dam
 from impactpred import BandWarning, Body, Hertz, LinearSpring, Rigid, predict, solve_impact
 from impactpred.cli import main
 from impactpred.predict import force_energy_above, parse_body, parse_contact
+from impactpred.truncation import identified_model
 from modalid import ModalFit, write_frf
 
 
@@ -249,3 +250,46 @@ def test_a_rigid_contact_on_a_spring_mass_file_is_its_exact_impact(tmp_path):
     assert "upper residual terms dropped" in pred.continuation[1]
     assert pred.result.n_contacts == exact.n_contacts == 1
     assert pred.result.restitution == pytest.approx(exact.restitution, rel=1e-3)
+    # without the continuation, and in the uncertainty band's variants, the same model
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        plain = predict("mass:1.6813642268525035", path, continuation=False, **kw).result
+        banded = predict("mass:1.6813642268525035", path, uncertainty=True, **kw)
+    assert plain.restitution == pytest.approx(exact.restitution, rel=1e-3)
+    band = banded.uncertainty
+    for name in ("restitution", "contact_duration", "peak_force", "impulse"):
+        assert 0 < band.low[name] <= band.nominal[name] <= band.high[name]
+    assert band.high["restitution"] - band.low["restitution"] < 0.02
+
+
+@pytest.mark.parametrize("contact, t_end", [("rigid", 6.0), ("hertz:1e9", 0.2)])
+def test_a_rod_fitted_from_between_its_modes_keeps_a_passive_lower_pseudo_mode(tmp_path,
+                                                                              contact, t_end):
+    """A fixed rod's accelerance fitted on a band from between its second and third modes
+    to between its eighth and ninth (1 % noise): the modes below the band are a lower
+    pseudo-mode, whose real residue the identified model kept, a negative h(0) (the
+    impulse response starting against the force): Hertz contact refused ("not driving
+    points"), rigid contact stalled (grazing at t = 1e-9 s). Its real part dropped (its
+    modal mass kept), the impact is predicted and physical (not accurate: the band
+    leaves out the two modes a 1 kg mass mostly strikes)."""
+    truth = lightly_damped(Rod(1.0, 1.0, support="fixed"), 300, 0.002)
+    f = truth.modes["frequency_hz"].to_numpy()
+    freq = np.linspace(0.1, 6.0, 3000)
+    path = tmp_path / "rod.csv"
+    write_frf(path, synthetic_frf(truth, freq, quantity="accelerance", noise=0.01, seed=3))
+    estimator = ModalFit(freq_range=((f[1] + f[2]) / 2, (f[7] + f[8]) / 2))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        pred = predict("mass:1", path, estimator=estimator, velocity1=1.0, contact=contact,
+                       t_end=t_end, continuation=False)
+    fit = pred.fits[1]
+    low = 2 * np.pi * fit.report_["band_hz"][0]
+    lower = np.abs(fit.model_.poles) < low
+    assert np.any(lower) and np.all(fit.model_.residues[lower].real != 0)
+    model = identified_model(fit, continuation=False)
+    assert np.all(model.residues.real == 0)                  # h(0) = 0, every term passive
+    np.testing.assert_array_equal(model.residues[lower].imag, fit.model_.residues[lower].imag)
+    result = pred.result
+    assert result.energy_audit.ok and result.n_contacts >= 1
+    # (a restitution below 0: parted while the rod's end recoiled, to strike again later)
+    assert result.restitution is None or -1 <= result.restitution <= 1

@@ -397,13 +397,19 @@ def test_a_band_with_no_compliance_above_it_is_not_continued(noise):
     fit = fitted(spring_mass, 297.7377776232762)
     with pytest.raises(NoComplianceAbove, match="no compliance above"):
         identified_model(fit)
-    assert identified_model(fit, continuation=False).n_modes == fit.model_.n_modes
-    bare = identified_model(fit, continuation=False, upper_residual=False)
+    kept = identified_model(fit, continuation=False, upper_residual=True)
+    assert kept.n_modes == fit.model_.n_modes
+    # by default the terms above the band, noise there, are dropped
+    bare = identified_model(fit, continuation=False)
     assert bare.flexibility == 0.0 and bare.n_modes == 1
     assert bare.modes["frequency_hz"][0] == pytest.approx(114.66, rel=1e-3)
-    with pytest.raises(ValueError, match="upper_residual=False drops"):
+    assert bare == identified_model(fit, continuation=False, upper_residual=False)
+    with pytest.raises(ValueError, match="upper_residual=False needs continuation=False"):
         identified_model(fit, upper_residual=False)
     beam = lightly_damped(CantileverBeam(1.0, 1.0), 300, 1e-3)
     fit = fitted(beam, 2.6 * beam.modes["frequency_hz"][0])
     assert fit.report_["n_modes"] == 1
     assert identified_model(fit).n_modes > 1                # continued
+    kept = identified_model(fit, continuation=False)        # its upper terms kept
+    top = 2 * np.pi * fit.report_["band_hz"][1]
+    assert kept.flexibility > 0 or np.any(np.abs(kept.poles) > top)

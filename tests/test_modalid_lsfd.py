@@ -28,6 +28,21 @@ def _data(seed=0, noise=0.02):
     return omega, h, np.full(omega.size, 1e3), np.concatenate([poles, pseudo])
 
 
+def _slsqp_optimum(mat, y, lo, hi, e, *, start=None, ftol=1e-15):
+    """The bounded least squares ``|y - mat x|`` with ``e @ x = 0`` by SLSQP, columns
+    scaled to unit norm (``fun``: the cost)."""
+    scale = np.linalg.norm(mat, axis=0)
+    a = mat / scale
+    box = [(None if np.isinf(low) else low, None if np.isinf(high) else high)
+           for low, high in zip(lo, hi)]
+    z0 = np.zeros(a.shape[1]) if start is None else start * scale
+    return minimize(lambda z: np.sum((y - a @ z) ** 2), z0,
+                    jac=lambda z: -2 * a.T @ (y - a @ z), bounds=box,
+                    constraints=[{"type": "eq", "fun": lambda z: e @ (z / scale),
+                                  "jac": lambda z: e / scale}],
+                    method="SLSQP", options={"maxiter": 1000, "ftol": ftol})
+
+
 def _jump(x, n):
     return 2 * float(np.sum(x[0:2 * n:2]))
 
@@ -43,20 +58,7 @@ def test_projection_with_the_equality_is_the_constrained_least_squares_optimum()
     assert abs(_jump(free.x, n)) > 1e-5                      # the data leave a 1/s term
     assert abs(_jump(held.x, n)) < 1e-12 * np.abs(held.x).sum()
     assert np.all(held.x >= lo) and np.all(held.x <= hi)
-    # the same problem handed to SLSQP (columns scaled to unit norm)
-    scale = np.linalg.norm(held.mat, axis=0)
-    a = held.mat / scale
-
-    def cost(z):
-        r = y - a @ z
-        return r @ r
-
-    box = [(None if np.isinf(low) else low, None if np.isinf(high) else high)
-           for low, high in zip(lo, hi)]
-    ref = minimize(cost, held.x * scale, jac=lambda z: -2 * a.T @ (y - a @ z), bounds=box,
-                   constraints=[{"type": "eq", "fun": lambda z: e @ (z / scale),
-                                 "jac": lambda z: e / scale}],
-                   method="SLSQP", options={"maxiter": 500, "ftol": 1e-15})
+    ref = _slsqp_optimum(held.mat, y, lo, hi, e, start=held.x)
     assert ref.success
     assert held.cost == pytest.approx(ref.fun, rel=1e-9)
     assert held.cost <= ref.fun * (1 + 1e-12)
@@ -131,3 +133,25 @@ def test_common_poles_hold_the_equality_in_the_driving_point_row_only():
     assert np.all(residues[0].imag <= 0)
     r, _, _, d = split_coefficients(xs[0], p.size, UPPER)
     assert d >= 0 and np.allclose(r, residues[0])
+
+
+def test_the_multiplier_releases_a_bounded_real_pole_residue_the_right_way():
+    """Real-pole residues are bounded (``c_j >= 0``) and enter the equality (``h(0) =
+    sum 2 Re r + sum c_j``): whether a bound is released depends on the Lagrangian's
+    gradient, multiplier included. Twenty random problems, each the constrained optimum
+    SLSQP finds (with the multiplier's sign flipped, about 40 % of such problems are
+    not)."""
+    terms = Terms(np.array([-60.0, -250.0]), False, True)
+    rng = np.random.default_rng(11)
+    omega = np.linspace(20.0, 400.0, 200)
+    for _ in range(20):
+        poles = np.sort(rng.uniform(60, 380, 2)) * (-rng.uniform(0.01, 0.1, 2) + 1j)
+        y = _realify((rng.standard_normal(omega.size) + 1j * rng.standard_normal(omega.size))
+                     * 1e-3)
+        w = np.ones(omega.size)
+        extra = _realify(design_matrix(1j * omega, np.zeros(0), terms))
+        lo, hi, e = _bounds(poles.size, terms, True, zero_start=True)
+        held = _Projection(omega, w, y, poles, extra, (lo, hi, e))
+        ref = _slsqp_optimum(held.mat, y, lo, hi, e, ftol=1e-16)
+        assert held.cost == pytest.approx(ref.fun, rel=1e-7)
+        assert abs(e @ held.x) < 1e-9 * np.abs(held.x).sum()
