@@ -221,6 +221,11 @@ def _cmd_predict(args) -> int:
                             "impact.png"))
     else:
         _save_predict(pred, summary, out)
+    if not pred.result.energy_audit.ok:
+        # written for inspection, but not an answer: the books do not balance
+        print("error: the energy audit flags this prediction (see energy_audit above): "
+              "it is not physical; exit status 3", file=sys.stderr)
+        return 3
     return 0
 
 
@@ -364,7 +369,8 @@ def main(argv=None) -> int:
     Returns
     -------
     int
-        The exit status: 0 on success, 2 for a refused input.
+        The exit status: 0 on success, 2 for a refused input, 3 for a prediction whose
+        energy audit fails (written, but not physical).
     """
     return run_command(build_parser(), argv)
 

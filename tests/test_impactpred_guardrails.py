@@ -313,10 +313,12 @@ def test_command_line_refuses_a_non_passive_model_unless_told(tmp_path, capsys):
     assert "body 2" in err and "modal mass" in err and "--no-passivity-check" in err
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", EnergyWarning)
-        assert main(args + ["--no-passivity-check", "--out", str(tmp_path)]) == 0
+        # made and written for inspection, but flagged: not an answer (exit 3)
+        assert main(args + ["--no-passivity-check", "--out", str(tmp_path)]) == 3
     out = capsys.readouterr()
     assert "energy_audit: created" in out.out and "FLAGGED" in out.out
     assert "restitution = 1.79162 > 1" in out.err
+    assert "not physical; exit status 3" in out.err
     summary = pd.read_csv(tmp_path / "summary.csv")
     assert not summary["energy_audit_ok"].iloc[0]
     assert summary["restitution"].iloc[0] == pytest.approx(1.7916179, abs=1e-6)
