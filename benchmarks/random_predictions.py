@@ -16,7 +16,9 @@ documented step-count limit (a stiff contact over a long ``t_end``); anything el
 exception, a refusal of the driving point, a failed energy audit, a restitution above 1)
 is a failure, printed with what is needed to replay it.
 
-Each prediction is also compared with the same impact on the exact body (the model the
+Every tenth case also asks for the uncertainty band, which must hold its nominal figures
+(durations, peaks and impulses positive). Each prediction is also compared with the same
+impact on the exact body (the model the
 file was made from): the summary gives the restitution's error (median, 90th
 percentile, the worst cases), with and without the continuation above the band.
 
@@ -67,18 +69,33 @@ def random_body(rng):
     return kind, body, model, top * (3.0 if kind == "spring-mass" else 1.0), wn[0]
 
 
-def one_prediction(body, mass, velocity, contact, t_end):
+def band_problem(band):
+    """What is wrong with an uncertainty band (a figure's nominal outside its interval, a
+    negative duration or peak), or None."""
+    for name, nominal in band.nominal.items():
+        if name not in band.low or nominal is None or band.low[name] is None:
+            continue
+        low, high = band.low[name], band.high[name]
+        if not low - 1e-12 * abs(nominal) <= nominal <= high + 1e-12 * abs(nominal):
+            return f"band: {name} {nominal:.6g} outside [{low:.6g}, {high:.6g}]"
+        if name in ("contact_duration", "peak_force", "impulse") and low < 0:
+            return f"band: {name} reaches {low:.6g} < 0"
+    return None
+
+
+def one_prediction(body, mass, velocity, contact, t_end, *, uncertainty=False):
     """``(outcome, restitution, continuation)`` of the impact of ``mass:M`` at
     ``velocity`` (m/s) on ``body`` (an FRF file or a model): ``"predicted"``,
-    ``"refused"`` (the documented step-count limit) or what went wrong; the restitution
-    (NaN unless predicted) and what ``predict`` said of the body's continuation."""
+    ``"refused"`` (the documented step-count limit) or what went wrong (with
+    ``uncertainty``, also the band's :func:`band_problem`); the restitution (NaN unless
+    predicted) and what ``predict`` said of the body's continuation."""
     from impactpred import predict
 
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             pred = predict(f"mass:{mass}", body, velocity1=velocity, contact=contact,
-                           t_end=t_end)
+                           t_end=t_end, uncertainty=uncertainty)
     except ValueError as exc:
         outcome = ("refused" if any(d in str(exc) for d in DOCUMENTED)
                    else f"ValueError: {exc}")
@@ -88,6 +105,8 @@ def one_prediction(body, mass, velocity, contact, t_end):
     e, audit = pred.result.restitution, pred.result.energy_audit
     if not audit.ok:
         return f"energy audit: {'; '.join(audit.reasons)}", np.nan, None
+    if pred.uncertainty is not None and band_problem(pred.uncertainty):
+        return band_problem(pred.uncertainty), np.nan, None
     if e is None:                                 # still in contact at t_end
         return "predicted", np.nan, pred.continuation[1]
     # e < 0: the bodies parted while the struck point recoiled, to strike again later
@@ -137,7 +156,9 @@ def main(argv=None):
         mass, velocity = float(rng.uniform(0.01, 2)), float(rng.uniform(0.1, 3))
         contact = str(rng.choice(["rigid", "rigid", "spring:1e6", "hertz:1e9"]))
         t_end = float(rng.uniform(2, 20)) * 2 * np.pi / w1
-        outcome, e, continued = one_prediction(str(path), mass, velocity, contact, t_end)
+        # every tenth case with the uncertainty band too
+        outcome, e, continued = one_prediction(str(path), mass, velocity, contact, t_end,
+                                               uncertainty=case % 10 == 0)
         if outcome == "predicted":
             exact, e_exact, _ = one_prediction(model, mass, velocity, contact, t_end)
             if exact == "predicted" and np.isfinite(e) and np.isfinite(e_exact):

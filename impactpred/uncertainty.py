@@ -118,6 +118,16 @@ class UncertaintyBand:
         return "\n".join(lines)
 
 
+def _physical_interval(figure: str, low: float, high: float) -> tuple:
+    """``(low, high)`` within what ``figure`` can be: a duration, peak force or impulse
+    is not negative, a coefficient of restitution lies in [-1, 1] (below 0: the bodies
+    parted while the struck point recoiled). A spread wider than the figure (a chattering
+    run's peak force, from 4 draws) had given a peak force's interval down to -272 N."""
+    if figure == "restitution":
+        return max(low, -1.0), min(high, 1.0)
+    return max(low, 0.0), high
+
+
 def refit_on_cut_band(fit, fraction: float):
     """A new ``ModalFit`` like ``fit``, on the lines up to ``fraction`` of its band top.
 
@@ -602,7 +612,8 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
         if base[k] is None:
             low[k] = high[k] = None
             continue
-        low[k], high[k] = base[k] - halves[k] - front[k], base[k] + halves[k]
+        low[k], high[k] = _physical_interval(k, base[k] - halves[k] - front[k],
+                                             base[k] + halves[k])
     return UncertaintyBand(nominal=base, low=low, high=high, variants=tuple(variants),
                            truncation=trunc, tail=tail, spread=spread, level=level,
                            front=front)

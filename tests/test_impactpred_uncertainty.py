@@ -307,3 +307,16 @@ def test_a_band_for_one_continued_and_one_lumped_body(tmp_path):
     assert band.nominal["restitution"] is None
     assert band.low["peak_force"] <= band.nominal["peak_force"] <= band.high["peak_force"]
     assert "restitution" in band.table() and " -" in band.table()
+
+
+def test_a_band_stays_within_what_each_figure_can_be():
+    """A spread wider than the figure (a chattering run's peak force, from four draws:
+    random_predictions.py seed 1 case 10) had given a peak force's interval down to
+    -272 N; the interval is cut to what the figure can be."""
+    from impactpred.uncertainty import _physical_interval
+
+    assert _physical_interval("peak_force", -272.0, 900.0) == (0.0, 900.0)
+    assert _physical_interval("contact_duration", 0.01, 0.02) == (0.01, 0.02)
+    assert _physical_interval("impulse", -1e-3, 2.0) == (0.0, 2.0)
+    assert _physical_interval("restitution", -1.4, 1.2) == (-1.0, 1.0)
+    assert _physical_interval("restitution", 0.5, 0.7) == (0.5, 0.7)
