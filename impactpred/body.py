@@ -476,8 +476,8 @@ def driving_point_problems(model: ModalModel) -> list:
                             "magnitude): "
                             "not passive, the body can give back more energy than it "
                             "received (a mode's residue with a real part out of proportion "
-                            "to its imaginary part; of a fit, give "
-                            "impactpred.truncation.identified_model(fit): normal modes)")
+                            "to its imaginary part; for a fitted model, predict from its FRF "
+                            "file, which takes the fit's normal modes)")
     return problems
 
 
