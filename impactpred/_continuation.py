@@ -18,7 +18,12 @@ from ._pattern_tail import PATTERN_BETA, compliance_beyond, growth_pattern, patt
 from ._smooth_tail import smooth_tail_design
 
 __all__ = ["ContinuationInfo", "continue_above_band", "high_frequency_conductance",
-           "pattern_share", "static_compliance"]
+           "pattern_share", "static_compliance", "above_band"]
+
+
+def above_band(poles, band_top_hz):
+    """Which ``poles`` lie above the band top (Hz): the fit's pseudo-modes there."""
+    return np.abs(poles) > 2 * math.pi * band_top_hz * (1 + 1e-9)
 
 
 def static_compliance(poles, residues):
@@ -201,7 +206,7 @@ def continue_above_band(model: ModalModel, band_top_hz: float, *, n_top: int = 3
     flexibility = model.flexibility
     folded = 0
     if fold_pseudo_modes:
-        above = np.abs(poles) > 2 * math.pi * band_top_hz * (1 + 1e-9)
+        above = above_band(poles, band_top_hz)
         if np.any(above):
             flexibility += float(np.sum(static_compliance(poles[above], residues[above])))
             poles, residues = poles[~above], residues[~above]

@@ -76,7 +76,7 @@ import numpy as np
 from modalid import ModalModel, MultiOutputModalModel
 
 from ._continuation import (ContinuationInfo, continue_above_band, high_frequency_conductance,
-                            pattern_share, static_compliance)
+                            pattern_share, above_band, static_compliance)
 from ._figures import FIGURES, band_resolution, impact_figures
 from ._smooth_tail import TailDesign, smooth_tail_design
 
@@ -155,7 +155,7 @@ def _no_compliance_above(model, band_top_hz, *, n_top):
     mode inside the band to judge by."""
     G, omega_top, dw, _ = high_frequency_conductance(model, band_top_hz, n_top=n_top)
     tail = 2.0 * G / (math.pi * (omega_top + 0.5 * dw))
-    above = np.abs(model.poles) > 2 * math.pi * band_top_hz * (1 + 1e-9)
+    above = above_band(model.poles, band_top_hz)
     upper = model.flexibility + float(np.sum(static_compliance(model.poles[above],
                                                                model.residues[above])))
     if upper >= MIN_COMPLIANCE_ABOVE * tail:
@@ -166,9 +166,9 @@ def _no_compliance_above(model, band_top_hz, *, n_top):
             "mass line)")
 
 
-def _normal_residues(model, low, top):
-    """``model``'s residues as normal modes' (``Re r = 0``): inside the band ``[low, top]``
-    (rad/s) and below it their imaginary parts kept (the modal masses; a lower
+def _normal_residues(model, band_top_hz):
+    """``model``'s residues as normal modes' (``Re r = 0``): inside the band (top
+    ``band_top_hz``, Hz) and below it their imaginary parts kept (the modal masses; a lower
     pseudo-mode's share of the mass line); above it, each pseudo-mode keeps its static
     compliance ``K = -2 Re(r/p)`` (the share of the omitted modes it stands for),
     ``Im r = -K |p|^2/(2 Im p)`` (0 where ``K <= 0``).
@@ -181,11 +181,9 @@ def _normal_residues(model, low, top):
     from between its second and third modes kept a lower pseudo-mode's real residue, a
     negative ``h(0)`` the impact solvers refused."""
     p, r = model.poles, model.residues
-    w = np.abs(p)
-    above = w > top * (1 + 1e-9)
     with np.errstate(divide="ignore", invalid="ignore"):
-        im_above = np.minimum(-static_compliance(p, r) * w**2 / (2.0 * p.imag), 0.0)
-    return 1j * np.where(above, im_above, r.imag)
+        im_above = np.minimum(-static_compliance(p, r) * np.abs(p)**2 / (2.0 * p.imag), 0.0)
+    return 1j * np.where(above_band(p, band_top_hz), im_above, r.imag)
 
 
 def identified_model(fit, *, continuation: bool = True, n_top: int = 3,
@@ -266,8 +264,7 @@ def identified_model(fit, *, continuation: bool = True, n_top: int = 3,
         return _fold_multi_output(model, fit.report_["band_hz"], normal_modes=normal_modes)
     band_top = fit.report_["band_hz"][1]
     if normal_modes and model.n_modes:
-        low, top = (2 * math.pi * f for f in fit.report_["band_hz"])
-        model = model.replace(residues=_normal_residues(model, low, top))
+        model = model.replace(residues=_normal_residues(model, band_top))
     lumped = None
     if continuation or upper_residual == "auto":
         try:
@@ -284,7 +281,7 @@ def identified_model(fit, *, continuation: bool = True, n_top: int = 3,
                 extend = tail_extent(fit.report_.get("n_modes", 0))
             return continue_above_band(model, band_top, n_top=n_top, extend=extend)
     if upper_residual is False or (upper_residual == "auto" and lumped):
-        inside = np.abs(model.poles) <= 2 * math.pi * band_top * (1 + 1e-9)
+        inside = ~above_band(model.poles, band_top)
         model = model.replace(poles=model.poles[inside], residues=model.residues[inside],
                               flexibility=0.0)
     return model

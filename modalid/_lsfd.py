@@ -192,7 +192,6 @@ class _Projection:
         rhs = mat.T @ y
         self.free = np.ones(mat.shape[1], bool)
         self.equality = None if bounds is None else bounds[2]
-        self.multiplier = 0.0
         x = self._lstsq(rhs, y)
         if bounds is not None and (np.any(x < bounds[0]) or np.any(x > bounds[1])):
             x = self._bounded(rhs, y, bounds)
@@ -234,7 +233,7 @@ class _Projection:
         """Least squares with each unknown at a bound of 0 or free (active set: the most
         violated unknown goes to its bound, a bound whose gradient points inwards is
         released; a few small Cholesky solves)."""
-        lo, hi, equality = bounds
+        lo, hi, _ = bounds
         at_bound = np.zeros(rhs.size, bool)
         x = np.zeros(rhs.size)
         for _ in range(3 * rhs.size):
@@ -246,8 +245,8 @@ class _Projection:
                 at_bound[int(np.argmax(excess))] = True
                 continue
             grad = rhs - self.gram @ x                     # -d(cost/2)/dx
-            if equality is not None:
-                grad -= self.multiplier * equality         # ... of the Lagrangian
+            if self.equality is not None:
+                grad -= self.multiplier * self.equality    # ... of the Lagrangian
             wrong = at_bound & (((lo == 0) & (grad > 0)) | ((hi == 0) & (grad < 0)))
             if not np.any(wrong):
                 break
