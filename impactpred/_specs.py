@@ -1,5 +1,5 @@
 """What a user gives ``predict`` and ``parse_body``, read: a body as a spec string
-(``mass:M``, ``rod:...``, ``spring-mass:...``, ``beam:...``), a saved model (``.json``), a
+(``mass:M``, ``rod:...``, ``spring-mass:...``, ``beam:...``), a saved model or fit (``.json``), a
 measured FRF file (identified by a clone of the estimator given) or a model object; a
 contact law as a spec string. Errors name the spec or the file.
 """
@@ -12,7 +12,7 @@ from typing import Any
 from sklearn.base import clone
 
 from data_synth import CantileverBeam, LumpedMass, Rod, SpringMass
-from modalid import ModalFit, ModalModel, MultiOutputModalModel
+from modalid import ModalFit, ModalModel, MultiOutputModalModel, SavedFit
 from modalid.io import check_sign, read_frf
 from modalid.model import read_model_json
 from modalid.receptance import Receptance
@@ -81,11 +81,14 @@ def _read_options(read_options, quantity):
 
 
 def _saved_model(path: Path):
-    """The model of a saved ``.json`` file (a ``ModalModel`` or a
-    ``MultiOutputModalModel``), in SI units; errors name the file."""
+    """What a saved ``.json`` file holds, in SI units: a :class:`modalid.SavedFit` when it
+    carries a fit's report (``modalid fit --out``, ``SavedFit.to_json``), else the bare
+    model (a ``ModalModel`` or a ``MultiOutputModalModel``); errors name the file."""
     import json
 
     payload, label = read_model_json(path)
+    if "identification" in payload:               # a fit with its band and verdict
+        return SavedFit.from_json(path)
     if payload["format"] == "modalid.MultiOutputModalModel":   # several points: all of them
         try:
             return MultiOutputModalModel.from_json(json.dumps(payload))
@@ -137,9 +140,12 @@ def identify(spec, *, quantity=None, estimator=None, read_options=None, check_pa
               label=""):
     """``(model, None)`` of a spec, saved model or model object; ``(None, fitted
     ModalFit)`` of an FRF file, fitted by a clone of ``estimator`` (default
-    ``ModalFit()``)."""
+    ``ModalFit()``); ``(None, SavedFit)`` of a saved fit (a ``.json`` file with the fit's
+    report, or the object)."""
     if isinstance(spec, (Receptance, MultiOutputModalModel)):
         return spec, None
+    if isinstance(spec, SavedFit):
+        return None, spec
     if not isinstance(spec, (str, Path)):
         raise TypeError(f"a body must be a file, a spec string or a model, got "
                         f"{type(spec).__name__}")
@@ -156,7 +162,8 @@ def identify(spec, *, quantity=None, estimator=None, read_options=None, check_pa
         raise ValueError(f"body {text!r} is neither an existing file nor a spec "
                          f"({', '.join(k + ':...' for k in _SPECS)})")
     if path.suffix.lower() == ".json":
-        return _saved_model(path), None
+        saved = _saved_model(path)
+        return (None, saved) if isinstance(saved, SavedFit) else (saved, None)
     data = _checked_frf(path, _read_options(read_options, quantity), label=label,
                         check_passive=check_passive)
     estimator = ModalFit() if estimator is None else clone(estimator)

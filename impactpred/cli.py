@@ -135,11 +135,14 @@ def _run_predict(args):
 def _print_bodies(args, pred) -> None:
     import pandas as pd
 
+    from modalid import SavedFit
+
     for i, fit in enumerate(pred.fits, start=1):
         if fit is None:
             continue
         report = fit.report_
-        print(f"body {i}: identified from {getattr(args, f'body{i}')} "
+        how = "saved fit" if isinstance(fit, SavedFit) else "identified from"
+        print(f"body {i}: {how} {getattr(args, f'body{i}')} "
               f"({report['band_hz'][0]:.4g}-{report['band_hz'][1]:.4g} Hz, "
               f"FRF NRMSE {report['frf_nrmse']:.3g}, verdict {report.get('verdict', 'ok')})")
         with pd.option_context("display.width", 140, "display.float_format", "{:.6g}".format):

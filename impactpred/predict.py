@@ -5,8 +5,15 @@ A body is given as
 
 * a measured FRF file (CSV, ``.npz``, ``.mat``, UFF 58): identified with
   :class:`modalid.ModalFit`;
+* a saved fit (``.json`` from ``modalid fit --out`` or :meth:`modalid.SavedFit.to_json`,
+  or the :class:`~modalid.SavedFit` itself): used as the FRF file's fit is (its verdict
+  and driving-point decision judged, its model continued above its band, the band
+  checked), with the same figures; only the uncertainty band, which re-identifies the
+  data, needs the FRF file;
 * a saved model (``.json`` from ``ModalModel.to_json``, or from
-  ``MultiOutputModalModel.to_json``: the prediction then gives every point's response);
+  ``MultiOutputModalModel.to_json``: the prediction then gives every point's response),
+  used as it is: a bare identified model has lost its band, so it is neither continued
+  nor checked (save the fit instead);
 * a spec string: ``mass:M``, ``rod:mass=..,transit_time=..[,support=free|fixed]``,
   ``spring-mass:mass=..,stiffness=..[,damping_ratio=..]``,
   ``beam:mass=..,time_scale=..`` (SI units);
@@ -25,7 +32,7 @@ from pathlib import Path
 
 import numpy as np
 
-from modalid import ModalModel, MultiOutputModalModel
+from modalid import ModalModel, MultiOutputModalModel, SavedFit
 
 from ._figures import band_resolution, impact_figures
 from ._specs import READ_OPTIONS, check_estimator, identify, parse_contact, read_options_pair
@@ -160,6 +167,7 @@ def parse_body(spec, *, quantity=None, estimator=None, continuation=True,
     Returns
     -------
     (model, fit_or_None)
+        ``fit_or_None``: the ``ModalFit`` of an FRF file, the ``SavedFit`` of a saved fit.
 
     Raises
     ------
@@ -191,7 +199,8 @@ class Prediction:
     ----------
     result : ImpactResult
     fits : tuple
-        The ``ModalFit`` of each body identified from measured data (None otherwise).
+        The ``ModalFit`` of each body identified from measured data, or its
+        :class:`~modalid.SavedFit` when given as a saved fit (None otherwise).
     band_reach : tuple
         Per identified body: the share of the contact force's energy above the top of
         the band its model was identified on (None for the others).
@@ -241,12 +250,16 @@ def force_energy_above(result: ImpactResult, freq_hz: float) -> float:
     return float(np.sum(spectrum[freq > freq_hz]) / total) if total > 0 else 0.0
 
 
+def _label(spec) -> str:
+    """How a body's spec is named in messages: the file or spec, else its type."""
+    return str(spec) if isinstance(spec, (str, Path)) else f"a {type(spec).__name__}"
+
+
 def _check_model(model, spec, body: int, check_passive: bool) -> None:
     """Refuse a modal model that is not a stable, passive driving point (see
     :func:`check_driving_point`), unless ``check_passive`` is False."""
     if check_passive and isinstance(model, (ModalModel, MultiOutputModalModel)):
-        label = spec if isinstance(spec, (str, Path)) else f"a {type(spec).__name__}"
-        check_driving_point(model, name=f"body {body} ({label})",
+        check_driving_point(model, name=f"body {body} ({_label(spec)})",
                             opt_out="to use it anyway, check_passive=False")
 
 
@@ -377,6 +390,13 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
     specs = (body1, body2)
     models, fits = _bodies(specs, quantity=quantity, estimator=estimator,
                            read_options=read_options, check_passive=check_passive)
+    if uncertainty:
+        for i, (spec, fit) in enumerate(zip(specs, fits), start=1):
+            if isinstance(fit, SavedFit):
+                raise ValueError(
+                    f"body {i} ({_label(spec)}) is a saved fit: the uncertainty band "
+                    "re-identifies each measured body on cut bands of its data, which a "
+                    "saved fit does not hold; predict from its FRF file for the band")
     law = parse_contact(contact)
 
     # a partial of a module-level function: it pickles, for the band's process pools

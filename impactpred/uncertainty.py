@@ -27,15 +27,17 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from modalid import ModalModel
+from modalid import ModalModel, SavedFit
 
 from .contact import ContactLaw, Rigid
+from ._wave_front import FRONT_OVERSHOOT, front_allowance, front_jump
 from .parallel import check_executor, resolve_executor
 from .truncation import (FIGURES, NoComplianceAbove, band_resolution, identified_model,
                          impact_figures, tail_extent)
 
-__all__ = ["UncertaintyBand", "band_half_width", "front_allowance", "front_jump",
-           "perturb_residues", "refit_on_cut_band", "truncation_error", "uncertainty_band"]
+__all__ = ["UncertaintyBand", "band_half_width", "FRONT_OVERSHOOT", "front_allowance",
+           "front_jump", "perturb_residues", "refit_on_cut_band", "truncation_error",
+           "uncertainty_band"]
 
 
 @dataclass(frozen=True)
@@ -128,6 +130,14 @@ def _physical_interval(figure: str, low: float, high: float) -> tuple:
     return max(low, 0.0), high
 
 
+def _check_refittable(fit) -> None:
+    """Refuse a fit that holds no data to re-identify (a :class:`modalid.SavedFit`)."""
+    if isinstance(fit, SavedFit):
+        where = f" ({fit.source})" if fit.source else ""
+        raise ValueError(f"a SavedFit{where} holds no data to re-identify on a cut band: the "
+                         "uncertainty band needs the fitted ModalFit (or its FRF file)")
+
+
 def refit_on_cut_band(fit, fraction: float):
     """A new ``ModalFit`` like ``fit``, on the lines up to ``fraction`` of its band top.
 
@@ -143,6 +153,7 @@ def refit_on_cut_band(fit, fraction: float):
     ModalFit
         The new, fitted estimator.
     """
+    _check_refittable(fit)
     low, top = fit.report_["band_hz"]
     params = fit.get_params()
     params["freq_range"] = (low, fraction * top)
@@ -300,76 +311,6 @@ def band_half_width(spread: float, truncation: float, tail: float, *, figure: st
     return math.hypot(z * SPREAD_FACTOR * spread, TRUNCATION_FACTOR * left) + TAIL_FACTOR * tail
 
 
-#: a continued model's overshoot where the force jumps (a wave front under a rigid contact),
-#: per continued body, as a share of the jump: measured on the benchmark's damped truths,
-#: noise-free, their first 10, 20 and 40 modes continued as a fit's are (0.003-0.024 for the
-#: mass on a fixed rod, 0.018-0.029 per rod for two free rods; two rods' overshoots add).
-#: Without continuation the residual flexibility rounds the front off instead (the mass on
-#: the rod: the peak 20-27 % low), an error on the other side, which the truncation
-#: estimate sees
-FRONT_OVERSHOOT = 0.03
-
-
-def front_jump(result, resolution: float) -> float:
-    """The jump of the force at the first contact's peak: its range (max - min) within
-    ``resolution`` of the peak.
-
-    A model identified up to ``f_top`` resolves no feature shorter than ``resolution =
-    1/(2 f_top)``; where the exact force jumps (a wave front), the model's force rises or
-    falls within that time and overshoots the jump at its crest. A smooth peak (a Hertz
-    pulse, a mass on a spring) changes little within it, so the range is small there.
-
-    Parameters
-    ----------
-    result : ImpactResult
-        The nominal prediction.
-    resolution : float
-        The band's resolution (s), :func:`~impactpred.truncation.band_resolution`; 0
-        gives 0.
-
-    Returns
-    -------
-    float
-        The jump (N), 0 without a contact.
-    """
-    if resolution <= 0.0:
-        return 0.0
-    figs = impact_figures(result, resolution=resolution)
-    if figs["n_contacts"] == 0:
-        return 0.0
-    t, force = np.asarray(result.t), np.asarray(result.force)
-    start = result.contact_intervals[0][0]
-    inside = np.flatnonzero((t >= start) & (t <= start + figs["contact_duration"]))
-    if inside.size == 0:
-        return 0.0
-    t_peak = t[inside[int(np.argmax(force[inside]))]]
-    near = force[np.abs(t - t_peak) <= resolution]
-    return float(near.max() - near.min())
-
-
-def front_allowance(jump: float, n_bodies: int) -> float:
-    """How far below the nominal peak force the exact one may lie at a wave front.
-
-    A continued model's force overshoots a jump of the exact force (Gibbs, softened by
-    the continuation's smooth tail): by up to :data:`FRONT_OVERSHOOT` of the jump per
-    continued body. The overshoot is an error of a known sign (the crest is above the
-    plateau), so the peak's interval is widened downwards only.
-
-    Parameters
-    ----------
-    jump : float
-        The force's jump at the peak (N), :func:`front_jump`.
-    n_bodies : int
-        The identified, continued bodies (each rings at the front).
-
-    Returns
-    -------
-    float
-        The allowance (N).
-    """
-    return FRONT_OVERSHOOT * n_bodies * max(jump, 0.0)
-
-
 #: the variants are solved with the tail to half as far when the widest band holds more
 #: than this many modes (the solve's cost grows like the square of the modes the tail
 #: synthesizes: a free rod at 40 modes 13.6 s with the tail to 16x, 1.2 s to 8x); their
@@ -418,7 +359,8 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
     models : sequence of 2 models
         The nominal model of each body (as used for the nominal prediction).
     fits : sequence of 2 (ModalFit or None)
-        The fit of each body identified from an FRF; only these are varied.
+        The fit of each body identified from an FRF; only these are varied (a
+        :class:`modalid.SavedFit` has no data to re-identify: ValueError).
     solve : callable
         ``solve(model1, model2) -> ImpactResult``.
     fractions : sequence of float
@@ -476,6 +418,8 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
     if not isinstance(contact, ContactLaw):
         raise TypeError(f"contact must be a ContactLaw, got {contact!r}")
     check_executor(executor, counts=False)
+    for fit in fits:
+        _check_refittable(fit)
     if cheap_variants is None:
         cheap_variants = _bands_modes(fits) > CHEAP_VARIANTS_ABOVE
     models = list(models)

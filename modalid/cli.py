@@ -43,14 +43,18 @@ def _print_report(args, data, report) -> None:
                                                     for r in report["verdict_reasons"]))
 
 
-def _save_fit(fit, out: Path, stem: str) -> None:
+def _save_fit(fit, out: Path, stem: str, source: str) -> None:
     import matplotlib
+
+    from .saved_fit import SavedFit
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     out.mkdir(parents=True, exist_ok=True)
-    fit.model_.to_json(out / f"{stem}_model.json")
+    # the model with the fit's band, verdict and decisions: a prediction uses it as it
+    # uses the FRF file's fit (the bare model would be used raw, without its band)
+    SavedFit.from_fit(fit, source=source).to_json(out / f"{stem}_model.json")
     coherence = getattr(fit.data_, "coherence", None) is not None
     rows = 3 if coherence else 2                  # magnitude, phase (, coherence)
     # constrained layout: the chart's legend above it takes its own room, not a gap
@@ -88,7 +92,7 @@ def _cmd_fit(args) -> int:
     if out is None:
         print(nothing_saved("DIR writes the model JSON and the plots"))
     else:
-        _save_fit(fit, out, Path(args.file).stem)
+        _save_fit(fit, out, Path(args.file).stem, Path(args.file).name)
     if report["verdict"] == "failed":
         fix = (f"; {in_flags(sign.problem(args.file))}" if sign.verdict != "ok" else "")
         print(f"{args.file}: the fit failed (see the verdict); try --fmin/--fmax, "

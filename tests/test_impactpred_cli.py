@@ -163,6 +163,28 @@ def test_predict_reads_bare_complex_lines_and_takes_the_fit_flags(two_mode_accel
             "lay above the band without it)") in out
 
 
+@pytest.mark.filterwarnings("ignore::UserWarning")
+def test_the_model_modalid_fit_saves_predicts_as_its_frf_file(two_mode_accelerance,
+                                                               tmp_path, capsys):
+    """``modalid fit --out`` then ``impactpred predict`` on its JSON: the fit's band,
+    verdict and continuation come with it, and every figure is the FRF file's."""
+    from modalid.cli import main as modalid_main
+
+    path = tmp_path / "body.csv"
+    write_frf(path, two_mode_accelerance)
+    assert modalid_main(["fit", str(path), "--out", str(tmp_path / "fit")]) == 0
+    capsys.readouterr()
+    saved = tmp_path / "fit" / "body_model.json"
+    args = ["--v1", "0.1", "--t-end", "0.3", "--contact", "spring:stiffness=1e3"]
+    printed = {}
+    for body in (path, saved):
+        assert main(["predict", "mass:1", str(body), *args]) == 0
+        printed[body] = capsys.readouterr().out.splitlines()
+    assert printed[saved][0] == printed[path][0].replace(f"identified from {path}",
+                                                         f"saved fit {saved}")
+    assert printed[saved][1:] == printed[path][1:]
+
+
 def test_out_naming_a_file_is_refused_before_any_work(tmp_path, monkeypatch, capsys):
     import importlib
 

@@ -81,6 +81,40 @@ def test_measured_frf_body_without_continuation_chatters_and_the_band_is_checked
         predict("mass:1", measured_rod, velocity1=1.0, t_end=8.0, continuation="yes")
 
 
+def test_a_saved_fit_predicts_as_its_frf_file_and_a_bare_model_does_not(measured_rod,
+                                                                        tmp_path):
+    """``SavedFit`` (what ``modalid fit --out`` writes): the same figures as the FRF file,
+    to the last digit (judged, continued, band checked). The same model saved bare has
+    lost its band: used raw, the rigid contact chatters on the fit's pseudo-modes (the
+    answer a saved model gave before)."""
+    from modalid import SavedFit, read_frf
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        fit = ModalFit().fit(read_frf(measured_rod))
+        from_file = predict("mass:1", measured_rod, velocity1=1.0, t_end=8.0)
+    saved_path, bare_path = tmp_path / "rod_fit.json", tmp_path / "rod_bare.json"
+    SavedFit.from_fit(fit, source=str(measured_rod)).to_json(saved_path)
+    fit.model_.to_json(bare_path)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", BandWarning)
+        from_saved = predict("mass:1", saved_path, velocity1=1.0, t_end=8.0)
+    assert isinstance(from_saved.fits[1], SavedFit)
+    assert from_saved.figures == from_file.figures
+    assert from_saved.continuation == from_file.continuation
+    assert from_saved.band_reach == from_file.band_reach
+    np.testing.assert_array_equal(from_saved.result.force, from_file.result.force)
+    assert from_saved.result.n_contacts == 1
+    bare = predict("mass:1", bare_path, velocity1=1.0, t_end=8.0)
+    assert bare.fits == (None, None) and bare.result.n_contacts > 5
+    with pytest.raises(ValueError, match=r"^body 2 \(.*rod_fit\.json\) is a saved fit: the "
+                                         r"uncertainty band re-identifies"):
+        predict("mass:1", saved_path, velocity1=1.0, t_end=8.0, uncertainty=True)
+    # the object itself is a body too
+    again = predict("mass:1", SavedFit.from_json(saved_path), velocity1=1.0, t_end=8.0)
+    assert again.figures == from_file.figures
+
+
 def test_force_energy_above_a_frequency():
     r = solve_impact(Body(LumpedMass(1.0), velocity=1.0), Body(LumpedMass(1.0)),
                      contact=LinearSpring(1e4), t_end=0.2)

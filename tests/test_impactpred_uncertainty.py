@@ -320,3 +320,19 @@ def test_a_band_stays_within_what_each_figure_can_be():
     assert _physical_interval("impulse", -1e-3, 2.0) == (0.0, 2.0)
     assert _physical_interval("restitution", -1.4, 1.2) == (-1.0, 1.0)
     assert _physical_interval("restitution", 0.5, 0.7) == (0.5, 0.7)
+
+
+def test_a_saved_fit_has_no_data_to_re_identify():
+    """A SavedFit keeps the model and report, not the data: the band (and its cut-band
+    re-identification) refuses it before any solve, naming where it came from."""
+    from impactpred.uncertainty import refit_on_cut_band
+    from modalid import FitReport, ModalModel, SavedFit
+
+    model = ModalModel.from_modes([2 * np.pi * 10.0], [0.02], [1.0])
+    saved = SavedFit(model_=model, report_=FitReport({"band_hz": (1.0, 40.0), "n_modes": 1,
+                                                      "verdict": "ok"}), source="body.csv")
+    message = r"^a SavedFit \(body\.csv\) holds no data to re-identify on a cut band"
+    with pytest.raises(ValueError, match=message):
+        refit_on_cut_band(saved, 0.8)
+    with pytest.raises(ValueError, match=message):
+        uncertainty_band([LumpedMass(1.0), model], [None, saved], None)

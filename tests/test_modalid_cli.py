@@ -5,7 +5,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from modalid import ModalModel
+from modalid import ModalModel, SavedFit
 from modalid.cli import main
 
 CASE1 = str(Path(__file__).parent / "data" / "case1.mat")
@@ -21,6 +21,10 @@ def test_fit_command_prints_the_modes_and_writes_the_model(tmp_path, capsys):
     assert "212.08" in out
     model = ModalModel.from_json(tmp_path / "case1_model.json")
     assert model.n_modes >= 4
+    # the same file holds the fit's report: a prediction judges and continues it
+    saved = SavedFit.from_json(tmp_path / "case1_model.json")
+    assert saved.source == "case1.mat" and saved.report_["driving_point"] is False
+    assert saved.report_["band_hz"] == (20.0, 400.0) and saved.report_["verdict"] == "ok"
     assert (tmp_path / "case1_fit.png").stat().st_size > 1000
 
 

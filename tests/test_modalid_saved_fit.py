@@ -1,0 +1,101 @@
+"""modalid.SavedFit: a fit's model and report in one JSON file, read back exactly."""
+
+import json
+import warnings
+
+import numpy as np
+import pandas as pd
+import pytest
+from sklearn.exceptions import NotFittedError
+
+from data_synth import CantileverBeam, Rod, lightly_damped, synthetic_frf
+from modalid import FRFSet, ModalFit, ModalModel, MultiOutputModalModel, SavedFit
+
+
+@pytest.fixture(scope="module")
+def rod_fit():
+    """A fixed rod's accelerance (12 modes in band, 1 % noise), fitted with no options."""
+    truth = lightly_damped(Rod(1.0, 1e-3, support="fixed"), 20, 1e-3)
+    frf = synthetic_frf(truth, np.arange(1.0, 6000.0, 2.0), quantity="accelerance",
+                        noise=0.01, seed=1)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return ModalFit().fit(frf)
+
+
+def assert_same_report(saved, fit):
+    """Every entry JSON can hold comes back equal (the modes table column by column)."""
+    for name, value in fit.report_.items():
+        if name == "modes":
+            pd.testing.assert_frame_equal(saved.report_["modes"], value)
+        elif isinstance(value, float) and np.isnan(value):
+            assert np.isnan(saved.report_[name]), name
+        else:
+            assert saved.report_[name] == value, name
+
+
+def test_round_trip_is_exact_and_the_file_is_still_a_model(rod_fit, tmp_path):
+    path = tmp_path / "rod_model.json"
+    SavedFit.from_fit(rod_fit, source="rod.csv").to_json(path)
+    saved = SavedFit.from_json(path)
+    np.testing.assert_array_equal(saved.model_.poles, rod_fit.model_.poles)
+    np.testing.assert_array_equal(saved.model_.residues, rod_fit.model_.residues)
+    assert saved.model_.flexibility == rod_fit.model_.flexibility
+    assert saved.source == "rod.csv"
+    assert saved.report_["band_hz"] == rod_fit.report_["band_hz"] == (7.0, 5999.0)
+    assert saved.report_.verdict == "ok" and saved.report_["n_modes"] == 12
+    assert saved.report_["modes"]["residue"].dtype == complex
+    assert saved.report_["modes"]["damping_resolved"].dtype == bool
+    assert_same_report(saved, rod_fit)
+    # the same file read as a bare model: the model alone, exactly
+    bare = ModalModel.from_json(path)
+    np.testing.assert_array_equal(bare.residues, rod_fit.model_.residues)
+    # a copy: the saved fit does not share the fit's objects
+    assert saved.model_ is not rod_fit.model_
+
+
+def test_entries_json_cannot_hold_are_left_out(rod_fit):
+    saved = SavedFit.from_fit(rod_fit)
+    odd = SavedFit(model_=saved.model_, report_=saved.report_.replace(callback=print))
+    again = SavedFit.from_json(odd.to_json())
+    assert "callback" not in again.report_ and again.report_["n_modes"] == 12
+    assert again.source is None
+
+
+def test_a_multi_output_fit_round_trips():
+    beam = CantileverBeam(1.0, 1.0)
+    truth = beam.multi_output_model([0.0, 0.5, 0.8], 18, damping_ratio=0.01, residual=True)
+    freq_hz = np.linspace(0.05, 80.0, 3000)
+    frfs = [synthetic_frf(truth.row(i), freq_hz, noise=0.01, seed=i) for i in range(3)]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        fit = ModalFit().fit(FRFSet.from_frfs(frfs, driving_point=0, outputs=truth.outputs))
+    saved = SavedFit.from_json(SavedFit.from_fit(fit).to_json())
+    assert isinstance(saved.model_, MultiOutputModalModel)
+    np.testing.assert_array_equal(saved.model_.residues, fit.model_.residues)
+    assert saved.model_.outputs == fit.model_.outputs
+    assert saved.report_["band_hz"] == fit.report_["band_hz"]
+
+
+def test_bad_input_is_named(rod_fit, tmp_path):
+    with pytest.raises(NotFittedError, match="not fitted"):
+        SavedFit.from_fit(ModalFit())
+    bare = tmp_path / "bare.json"
+    rod_fit.model_.to_json(bare)
+    with pytest.raises(ValueError, match=r"bare\.json holds a bare model, not a saved fit .*"
+                                         r"ModalModel\.from_json"):
+        SavedFit.from_json(bare)
+    payload = json.loads(SavedFit.from_fit(rod_fit).to_json())
+    for field, value, message in [("band_hz", [10.0, 5.0], "band_hz must be finite with"),
+                                  ("band_hz", "7-5999", "band_hz must be two frequencies"),
+                                  ("n_modes", 2.5, "n_modes must be an integer"),
+                                  ("verdict", "great", "verdict must be one of"),
+                                  ("driving_point", "yes", "driving_point must be")]:
+        broken = json.loads(json.dumps(payload))
+        broken["identification"]["report"][field] = value
+        path = tmp_path / f"broken_{field}.json"
+        path.write_text(json.dumps(broken))
+        with pytest.raises(ValueError, match=rf"broken_{field}\.json: .*{message}"):
+            SavedFit.from_json(path)
+    with pytest.raises(TypeError, match="model_ must be a ModalModel"):
+        SavedFit(model_="rod", report_=SavedFit.from_fit(rod_fit).report_)
