@@ -16,6 +16,11 @@ documented step-count limit (a stiff contact over a long ``t_end``); anything el
 exception, a refusal of the driving point, a failed energy audit, a restitution above 1)
 is a failure, printed with what is needed to replay it.
 
+Every fourth case (but the spring-masses) is also measured from above its first mode
+(1.2-4 times its frequency, from a generator of its own: the other cases stay as they
+were) and predicted: the summary splits those predictions' errors by whether ``predict``
+warned that the force's energy lies below the band where the model stands in for it.
+
 Every tenth case also asks for the uncertainty band, which must hold its nominal figures
 (durations, peaks and impulses positive). Each prediction is also compared with the same
 impact on the exact body (the model the
@@ -84,34 +89,57 @@ def band_problem(band):
 
 
 def one_prediction(body, mass, velocity, contact, t_end, *, uncertainty=False):
-    """``(outcome, restitution, continuation)`` of the impact of ``mass:M`` at
-    ``velocity`` (m/s) on ``body`` (an FRF file or a model): ``"predicted"``,
+    """``(outcome, restitution, continuation, warned_below)`` of the impact of ``mass:M``
+    at ``velocity`` (m/s) on ``body`` (an FRF file or a model): ``"predicted"``,
     ``"refused"`` (the documented step-count limit) or what went wrong (with
     ``uncertainty``, also the band's :func:`band_problem`); the restitution (NaN unless
-    predicted) and what ``predict`` said of the body's continuation."""
-    from impactpred import predict
+    predicted), what ``predict`` said of the body's continuation, and whether it warned
+    that the force's energy lies below the body's band where the model stands in for it
+    (a ``BandWarning``)."""
+    from impactpred import BandWarning, predict
 
     try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
             pred = predict(f"mass:{mass}", body, velocity1=velocity, contact=contact,
                            t_end=t_end, uncertainty=uncertainty)
     except ValueError as exc:
         outcome = ("refused" if any(d in str(exc) for d in DOCUMENTED)
                    else f"ValueError: {exc}")
-        return outcome, np.nan, None
+        return outcome, np.nan, None, False
     except Exception as exc:                      # noqa: BLE001 - every other is a failure
-        return f"{type(exc).__name__}: {exc}", np.nan, None
+        return f"{type(exc).__name__}: {exc}", np.nan, None, False
+    below = any(issubclass(w.category, BandWarning) and "below its measured band"
+                in str(w.message) for w in caught)
     e, audit = pred.result.restitution, pred.result.energy_audit
     if not audit.ok:
-        return f"energy audit: {'; '.join(audit.reasons)}", np.nan, None
+        return f"energy audit: {'; '.join(audit.reasons)}", np.nan, None, below
     if pred.uncertainty is not None and band_problem(pred.uncertainty):
-        return band_problem(pred.uncertainty), np.nan, None
+        return band_problem(pred.uncertainty), np.nan, None, below
     if e is None:                                 # still in contact at t_end
-        return "predicted", np.nan, pred.continuation[1]
+        return "predicted", np.nan, pred.continuation[1], below
     # e < 0: the bodies parted while the struck point recoiled, to strike again later
     outcome = "predicted" if -1.0 <= e <= 1.0 + 1e-9 else f"restitution {e!r}"
-    return outcome, e, pred.continuation[1]
+    return outcome, e, pred.continuation[1], below
+
+
+def below_band_summary(rows):
+    """Lines on the predictions from bands that start above the first mode, split by
+    whether ``predict`` warned that the force's energy lies below the band (``rows``:
+    dicts with ``error``, ``warned``, ``case``, ``what``)."""
+    if not rows:
+        return ["no prediction from a band starting above the first mode"]
+    lines = [f"bands starting above the first mode ({len(rows)} pairs with the exact "
+             "body's restitution):"]
+    for label, on in (("warned (force energy below the band)", True), ("not warned", False)):
+        err = np.array([r["error"] for r in rows if r["warned"] == on])
+        lines.append(f"  {label}: {err.size} pairs" + (
+            f", median |de| {np.median(err):.3g}, worst {err.max():.3g}, "
+            f"{int(np.sum(err > 0.05))} above 0.05" if err.size else ""))
+    for r in sorted(rows, key=lambda r: -r["error"])[:3]:
+        if not r["warned"] and r["error"] > 0.05:
+            lines.append(f"  not warned, case {r['case']}: |de| {r['error']:.3g} ({r['what']})")
+    return lines
 
 
 def accuracy_summary(rows):
@@ -145,7 +173,7 @@ def main(argv=None):
     rng = np.random.default_rng(args.seed)
     folder = Path(tempfile.mkdtemp(prefix="random_predictions_"))
     t0, outcomes = time.perf_counter(), {"predicted": 0, "refused": 0, "failed": 0}
-    rows = []
+    rows, rows_above, warned_main = [], [], 0
     for case in range(args.cases):
         kind, body, model, top, w1 = random_body(rng)
         freq = np.linspace(top / 2000, top, 2000)
@@ -157,15 +185,37 @@ def main(argv=None):
         contact = str(rng.choice(["rigid", "rigid", "spring:1e6", "hertz:1e9"]))
         t_end = float(rng.uniform(2, 20)) * 2 * np.pi / w1
         # every tenth case with the uncertainty band too
-        outcome, e, continued = one_prediction(str(path), mass, velocity, contact, t_end,
-                                               uncertainty=case % 10 == 0)
+        outcome, e, continued, warned = one_prediction(str(path), mass, velocity, contact,
+                                                       t_end, uncertainty=case % 10 == 0)
+        warned_main += warned
+        exact, e_exact, _, _ = one_prediction(model, mass, velocity, contact, t_end)
         if outcome == "predicted":
-            exact, e_exact, _ = one_prediction(model, mass, velocity, contact, t_end)
             if exact == "predicted" and np.isfinite(e) and np.isfinite(e_exact):
                 rows.append({"error": abs(e - e_exact), "case": case,
                              "continued": bool(continued and continued.startswith("on")),
                              "what": f"{kind}, {quantity}, noise {noise}, {contact}: e "
                                      f"{e:.4g} for {e_exact:.4g}, continuation {continued}"})
+        # every fourth case: the same body measured from above its first mode, from its
+        # own generator (the cases above stay those of earlier runs)
+        if case % 4 == 1 and kind != "spring-mass" and exact == "predicted" \
+                and np.isfinite(e_exact):
+            extra = np.random.default_rng([args.seed, case])
+            low = float(extra.uniform(1.2, 4.0)) * w1 / (2 * np.pi)
+            if low < 0.5 * top:
+                above = folder / f"case{case}_from_{low:.4g}Hz.csv"
+                write_frf(above, synthetic_frf(model, np.linspace(low, top, 2000),
+                                               quantity=quantity, noise=noise, seed=case))
+                outcome, e, _, warned = one_prediction(str(above), mass, velocity, contact,
+                                                       t_end)
+                if outcome not in ("predicted", "refused"):
+                    print(f"FAILED case {case} from {low:.6g} Hz: {outcome[:200]}")
+                    outcomes["failed"] += 1
+                elif outcome == "predicted" and np.isfinite(e):
+                    rows_above.append({"error": abs(e - e_exact), "case": case,
+                                       "warned": warned,
+                                       "what": f"{kind}, from {low:.4g} Hz (mode 1 at "
+                                               f"{w1 / (2 * np.pi):.4g} Hz), {contact}: e "
+                                               f"{e:.4g} for {e_exact:.4g}"})
         if outcome not in outcomes:
             print(f"FAILED case {case}: {body}, {quantity}, noise {noise}, top {top:.6g} Hz; "
                   f"mass:{mass:.6g} at {velocity:.6g} m/s, {contact}, t_end {t_end:.6g} s: "
@@ -176,6 +226,9 @@ def main(argv=None):
           f"{outcomes['refused']} refused (step-count limit), {outcomes['failed']} failures, "
           f"{time.perf_counter() - t0:.0f} s")
     print("\n".join(accuracy_summary(rows)))
+    print(f"warned of the force's energy below the band (bands from 1/2000 of the top): "
+          f"{warned_main} of {args.cases}")
+    print("\n".join(below_band_summary(rows_above)))
     return 0
 
 

@@ -150,7 +150,8 @@ def _print_bodies(args, pred) -> None:
         print(f"  rigid body: {report['rigid_body']}, effective mass "
               f"{report['effective_mass']:.6g} kg, residual flexibility "
               f"{report['residual_flexibility']:.6g} m/N; force energy above the band: "
-              f"{100 * pred.band_reach[i - 1]:.2f} %")
+              f"{100 * pred.band_reach[i - 1]:.2f} %, below it: "
+              f"{100 * pred.band_reach_below[i - 1]:.2f} %")
 
 
 def _continuation_line(pred) -> str:
