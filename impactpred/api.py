@@ -77,7 +77,9 @@ def solve_impact(body1: Body, body2: Body, *, gap: float = 0.0, contact=Rigid(),
     -----
     UserWarning
         When the last contact is still closed at ``t_end`` (``in_contact_at_end``): no
-        restitution (None); the same words go into the result's ``notes``.
+        restitution (None); when the bodies never touch before ``t_end`` (no impact: the
+        message gives the gap, the closing speed and when rigid motion alone would close
+        the gap). The same words go into the result's ``notes``.
     """
     for name, body in (("body1", body1), ("body2", body2)):
         if not isinstance(body, Body):
@@ -140,6 +142,20 @@ def solve_impact(body1: Body, body2: Body, *, gap: float = 0.0, contact=Rigid(),
                 f"closed at t_end = {t_end:.6g} s: no restitution (None), and the figures "
                 "after it describe the bodies pressed together; a longer t_end shows whether "
                 "they separate")
+        warnings.warn(said, UserWarning, stacklevel=2)
+        result = dataclasses.replace(result, notes=result.notes + (said,))
+    if not result.touched:
+        closing = body1.velocity - body2.velocity
+        driven = any(b.load is not None or b.vibration is not None for b in bodies)
+        said = (f"no contact by t_end = {t_end:.6g} s: the contact points start "
+                f"{start_gap:.6g} m apart, the bodies closing at {closing:.6g} m/s"
+                + ((f" (rigid motion alone would close the gap at t = "
+                    f"{start_gap / closing:.6g} s)" if start_gap > 0 else "")
+                   + "; no impact to predict before a longer t_end" if closing > 0 else
+                   " and their loads or vibration did not close the gap: no impact to "
+                   "predict before a longer t_end" if driven else
+                   "; they do not approach (+y points from body 1 to body 2): no impact "
+                   "to predict"))
         warnings.warn(said, UserWarning, stacklevel=2)
         result = dataclasses.replace(result, notes=result.notes + (said,))
     if math.isinf(audit.tolerance):

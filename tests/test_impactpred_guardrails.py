@@ -115,18 +115,33 @@ def test_check_passive_must_be_a_bool():
 # ------------------------------------------------------------------ 2. energy audit
 @pytest.mark.parametrize("method", ["laplace", "modal", "convolution"])
 def test_no_contact_means_no_restitution(method):
-    """gap = 100 m: the bodies never touch within t_end; restitution was -1.0 before."""
-    res = solve_impact(Body(LumpedMass(1.0), velocity=1.0), Body(SpringMass(1.0, 100.0)),
-                       gap=100.0, t_end=1.0, method=method)
+    """gap = 100 m: the bodies never touch within t_end; restitution was -1.0 before. A
+    warning (and a note) says so, with when rigid motion would close the gap."""
+    said = (r"^no contact by t_end = 1 s: the contact points start 100 m apart, the bodies "
+            r"closing at 1 m/s \(rigid motion alone would close the gap at t = 100 s\); no "
+            r"impact to predict before a longer t_end$")
+    with pytest.warns(UserWarning, match=said):
+        res = solve_impact(Body(LumpedMass(1.0), velocity=1.0), Body(SpringMass(1.0, 100.0)),
+                           gap=100.0, t_end=1.0, method=method)
+    assert res.notes[-1].startswith("no contact by t_end = 1 s")
     assert res.n_contacts == 0 and not res.touched
     assert res.restitution is None and res.restitution_first is None
     assert res.energy_audit.ok and res.energy_audit.created == pytest.approx(0.0, abs=1e-12)
 
 
 def test_no_contact_closed_form_has_no_restitution():
-    res = solve_impact(Body(Rod(1.0, 1.0, support="free"), velocity=1.0),
-                       Body(Rod(1.0, 1.0, support="free")), gap=100.0, t_end=2.0)
+    with pytest.warns(UserWarning, match="^no contact by t_end = 2 s"):
+        res = solve_impact(Body(Rod(1.0, 1.0, support="free"), velocity=1.0),
+                           Body(Rod(1.0, 1.0, support="free")), gap=100.0, t_end=2.0)
     assert res.method == "closed_form" and res.restitution is None
+
+
+def test_bodies_moving_apart_are_said_not_to_approach():
+    with pytest.warns(UserWarning, match=r"closing at -2 m/s; they do not approach \(\+y "
+                                         r"points from body 1 to body 2\): no impact"):
+        res = solve_impact(Body(LumpedMass(1.0), velocity=-1.0),
+                           Body(LumpedMass(1.0), velocity=1.0), t_end=1.0)
+    assert not res.touched
 
 
 def test_energy_audit_of_exact_solutions_is_rounding():
