@@ -147,11 +147,14 @@ def solve_impact(body1: Body, body2: Body, *, gap: float = 0.0, contact=Rigid(),
     if not result.touched:
         closing = body1.velocity - body2.velocity
         driven = any(b.load is not None or b.vibration is not None for b in bodies)
+        meet = start_gap / closing if closing > 0 else math.inf    # rigid motion alone
         said = (f"no contact by t_end = {t_end:.6g} s: the contact points start "
                 f"{start_gap:.6g} m apart, the bodies closing at {closing:.6g} m/s"
-                + ((f" (rigid motion alone would close the gap at t = "
-                    f"{start_gap / closing:.6g} s)" if start_gap > 0 else "")
-                   + "; no impact to predict before a longer t_end" if closing > 0 else
+                + ((f" (rigid motion alone would close the gap at t = {meet:.6g} s)"
+                    "; no impact to predict before a longer t_end") if t_end < meet < math.inf
+                   else (f" (rigid motion alone would close the gap at t = {meet:.6g} s), yet "
+                         "their loads or vibration kept them apart: no impact to predict")
+                   if closing > 0 else
                    " and their loads or vibration did not close the gap: no impact to "
                    "predict before a longer t_end" if driven else
                    "; they do not approach (+y points from body 1 to body 2): no impact "

@@ -137,6 +137,16 @@ def _print_bodies(args, pred) -> None:
 
     from modalid import SavedFit
 
+    def figure(report, key, spec):
+        """An entry formatted, the worst row's for a fit of several points; "n/a" where a
+        saved fit's report lacks it."""
+        value = report.get(key)
+        if value is None:
+            return "n/a"
+        if isinstance(value, (list, tuple)):
+            value = max(value)
+        return format(value, spec)
+
     for i, fit in enumerate(pred.fits, start=1):
         if fit is None:
             continue
@@ -144,13 +154,18 @@ def _print_bodies(args, pred) -> None:
         how = "saved fit" if isinstance(fit, SavedFit) else "identified from"
         print(f"body {i}: {how} {getattr(args, f'body{i}')} "
               f"({report['band_hz'][0]:.4g}-{report['band_hz'][1]:.4g} Hz, "
-              f"FRF NRMSE {report['frf_nrmse']:.3g}, verdict {report.get('verdict', 'ok')})")
-        with pd.option_context("display.width", 140, "display.float_format", "{:.6g}".format):
-            print(report["modes"][["frequency_hz", "damping_ratio", "modal_mass"]].to_string())
-        print(f"  rigid body: {report['rigid_body']}, effective mass "
-              f"{report['effective_mass']:.6g} kg, residual flexibility "
-              f"{report['residual_flexibility']:.6g} m/N; force energy above the band: "
-              f"{100 * pred.band_reach[i - 1]:.2f} %, below it: "
+              f"FRF NRMSE {figure(report, 'frf_nrmse', '.3g')}, verdict "
+              f"{report.get('verdict', 'ok')})")
+        modes = report.get("modes")
+        columns = ["frequency_hz", "damping_ratio", "modal_mass"]
+        if modes is not None and set(columns) <= set(modes.columns):
+            with pd.option_context("display.width", 140,
+                                   "display.float_format", "{:.6g}".format):
+                print(modes[columns].to_string())
+        print(f"  rigid body: {report.get('rigid_body', 'n/a')}, effective mass "
+              f"{figure(report, 'effective_mass', '.6g')} kg, residual flexibility "
+              f"{figure(report, 'residual_flexibility', '.6g')} m/N; force energy above the "
+              f"band: {100 * pred.band_reach[i - 1]:.2f} %, below it: "
               f"{100 * pred.band_reach_below[i - 1]:.2f} %")
 
 
@@ -287,8 +302,10 @@ def _cmd_benchmark(args) -> int:
 
 def _add_predict_parser(sub) -> None:
     pred = sub.add_parser("predict", help="predict the impact of two bodies given as FRF "
-                                          "files, saved models or specs (mass:M, rod:..)")
-    pred.add_argument("body1", help="body 1 (moving towards +y): FRF file, model .json or spec")
+                                          "files, saved fits or models (.json) or specs "
+                                          "(mass:M, rod:..)")
+    pred.add_argument("body1", help="body 1 (moving towards +y): FRF file, saved fit or model "
+                                    ".json, or spec")
     pred.add_argument("body2", help="body 2")
     pred.add_argument("--v1", type=float, default=0.0, help="rigid velocity of body 1 (m/s)")
     pred.add_argument("--v2", type=float, default=0.0, help="rigid velocity of body 2 (m/s)")

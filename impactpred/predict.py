@@ -75,7 +75,8 @@ _FIT_REMEDIES = ("quantity=... if the file does not state its quantity or states
                  "missed_modes='dense' for a band with many weak or close modes; "
                  "window_decay_rate=... and record_length=... for FRFs measured with an "
                  "exponential window; a band that holds whole resonances, or identify the "
-                 "body yourself (modalid.ModalFit) and give the saved model (.json)")
+                 "body yourself (modalid.ModalFit) and give the saved fit "
+                 "(modalid.SavedFit.to_json, or modalid fit --out)")
 
 
 def check_identification(fit, source, *, body: int) -> None:
@@ -83,8 +84,8 @@ def check_identification(fit, source, *, body: int) -> None:
 
     Parameters
     ----------
-    fit : modalid.ModalFit
-        Fitted on the FRF file ``source``; reads ``report_["verdict"]`` (``"ok"``,
+    fit : modalid.ModalFit or modalid.SavedFit
+        Fitted on the FRF file ``source`` (or saved); reads ``report_["verdict"]`` (``"ok"``,
         ``"suspect"`` or ``"failed"``, ``"ok"`` when absent), ``report_["verdict_reasons"]``
         and ``report_["driving_point"]`` (True, False or None: not decided).
     source : str or Path
@@ -106,17 +107,21 @@ def check_identification(fit, source, *, body: int) -> None:
     report = fit.report_
     verdict = report.get("verdict", "ok")
     reasons = "; ".join(report.get("verdict_reasons", ())) or "no reason given"
+    # a saved fit is not refitted here: its remedies apply to the FRF it was made from
+    saved = isinstance(fit, SavedFit)
+    refit = (f" (fit {fit.source or 'its FRF file'} again with them and save it)" if saved
+             else "")
     if report.get("driving_point") is False:
         why = report.get("driving_point_reason") or reasons
         fix = (" (or, if it is the driving point with its sign reversed, read it with "
-               "read_options={'negate': True})" if "sign reversed" in why else "")
+               f"read_options={{'negate': True}}{refit})" if "sign reversed" in why else "")
         raise ValueError(f"body {body}: {source} is not a driving-point FRF ({why}): a "
                          "transfer FRF cannot be an impact body, a body needs its "
                          "driving-point receptance (force and response at the contact "
                          f"point); give the FRF measured there{fix}")
     if verdict == "failed":
         raise ValueError(f"body {body}: the identification of {source} failed ({reasons}); "
-                         f"options that may fix it: {_FIT_REMEDIES}")
+                         f"options that may fix it{refit}: {_FIT_REMEDIES}")
     if verdict == "suspect":
         warnings.warn(f"body {body}: the identification of {source} is suspect ({reasons}); "
                       "the prediction relies on it", IdentificationWarning, stacklevel=4)
@@ -125,7 +130,14 @@ def check_identification(fit, source, *, body: int) -> None:
 def _continued(fit, *, label=""):
     """``(model, note)``: ``fit``'s model for an impact continued above its band, or, where
     its band holds no mode to continue from, as identified (with a
-    :class:`ContinuationWarning`); the note says which."""
+    :class:`ContinuationWarning`); the note says which. A fit of several points (a saved
+    FRF-set fit) is not continued: the continuation is built for one driving point."""
+    if isinstance(fit.model_, MultiOutputModalModel):
+        warnings.warn(f"{label}not continued above its band (a model of several points: the "
+                      "continuation is built for one driving point): the prediction relies "
+                      "on its residual terms there", ContinuationWarning, stacklevel=3)
+        return (identified_model(fit, continuation=False),
+                "not possible (a model of several points)")
     try:
         model = identified_model(fit, continuation=True)
     except NoComplianceAbove as exc:
@@ -227,8 +239,9 @@ class Prediction:
         its band (None for the others); a :class:`BandWarning` when the model has a term
         standing for what lies there and the share exceeds what that term is trusted
         with: ``band_tolerance`` for a lower residual pseudo-mode or a rigid-body line the
-        band shows over less than a decade below its first mode, :data:`RIGID_LINE_SHARE`
-        (10 %) for one it shows over a decade (:data:`RIGID_LINE_SPAN`; a fixed rod fitted
+        band shows over less than a decade below its first mode, the larger of it and
+        :data:`RIGID_LINE_SHARE` (10 %) for one it shows over a decade
+        (:data:`RIGID_LINE_SPAN`; a fixed rod fitted
         from above its first mode took that mode for a rigid body, and a mass striking it
         rebounded with 0.46 for the exact 0.70).
     """
@@ -275,10 +288,13 @@ def force_energy_below(result: ImpactResult, freq_hz: float) -> float:
     As :func:`force_energy_above` (the force resampled on a uniform grid, Dirac parts white
     over the grid's band), with the record padded with zeros (the force after the run:
     none, unless the bodies are still in contact at its end) until its spectral lines lie
-    at most ``freq_hz / 16`` apart (at most 2**22 samples), so that a low ``freq_hz`` is
-    resolved: the run's own length, 1/t_end apart, may not. Each line holds the energy of
-    its own width (the DC line half of one), read linearly within the line at
-    ``freq_hz``.
+    at most ``freq_hz / 16`` apart (padded to 2**22 samples at most), so that a low
+    ``freq_hz`` is resolved: the run's own length, 1/t_end apart, may not. Each line holds
+    the energy of its own width (the DC line half of one), read linearly within the line
+    at ``freq_hz``. (The share above of :func:`force_energy_above`, the continuation's
+    rule, leaves the DC line out of its total and is not padded, so it sees nothing
+    between its lines, 1/t_end apart: the two need not add to 1. A half-sine pulse in a
+    run of 0.2 s: 0.97-0.99 together at 5-50 Hz, 1.07 at 2 Hz.)
 
     Parameters
     ----------
@@ -294,7 +310,7 @@ def force_energy_below(result: ImpactResult, freq_hz: float) -> float:
     """
     signal, dt = _force_samples(result)
     lines = 16.0 / (freq_hz * dt) if freq_hz > 0 else 1.0      # lines freq_hz / 16 apart
-    padded = min(max(signal.size, int(2 ** np.ceil(np.log2(lines)))), 2 ** 22)
+    padded = max(signal.size, min(int(2 ** np.ceil(np.log2(lines))), 2 ** 22))
     spectrum = np.abs(np.fft.rfft(signal, padded)) ** 2
     spectrum[0] *= 0.5                   # the DC line holds [0, df/2), the others df each
     df = 1.0 / (padded * dt)
@@ -341,8 +357,10 @@ def _lower_terms(fit, band_tolerance: float) -> tuple:
         if low <= RIGID_LINE_SPAN * lowest:
             return ("a rigid-body line (a free body's, seen over a decade below its first "
                     "mode)", max(band_tolerance, RIGID_LINE_SHARE))
-        return (f"a rigid-body line seen over {lowest / low:.2g} times the band's bottom "
-                "(a mode just below the band looks the same from above it)", band_tolerance)
+        seen = (f"seen up to {lowest / low:.2g} times the band's bottom" if lowest > low
+                else "beside a mode at the band's bottom")
+        return (f"a rigid-body line {seen} (a mode just below the band looks the same from "
+                "above it)", band_tolerance)
     return None, np.inf
 
 
@@ -369,7 +387,7 @@ def _bodies(specs, *, quantity, estimator, read_options, check_passive):
                                read_options=options, check_passive=check_passive,
                                label=f"body {i}: ")
         if fit is not None:
-            check_identification(fit, spec, body=i)
+            check_identification(fit, _label(spec), body=i)
             model = identified_model(fit, continuation=False)
         _check_model(model, spec, i, check_passive)
         models.append(model)
@@ -406,8 +424,8 @@ def _band_reach(result, fits, notes, band_tolerance) -> tuple:
             warnings.warn(f"body {i + 1}: {100 * share:.1f} % of the contact force's energy "
                           f"lies below its measured band ({low:.4g} Hz), where its model "
                           f"has only {terms}: the prediction relies on it there; an FRF "
-                          "measured from below the body's first mode and the force's "
-                          "spectrum decides it", BandWarning, stacklevel=3)
+                          "measured from below both the body's first mode and the bulk of "
+                          "the force's spectrum would settle it", BandWarning, stacklevel=3)
     return above, below
 
 

@@ -25,7 +25,7 @@ import numpy as np
 import pandas as pd
 from sklearn.exceptions import NotFittedError
 
-from ._model_json import read_model_json
+from ._model_json import _json_text, read_model_json
 from ._report import FitReport
 from .model import ModalModel
 from .multi_output import MultiOutputModalModel
@@ -52,24 +52,33 @@ def _scalar(value):
 
 
 def _entry(value):
-    """A report entry as JSON (a scalar or a list of scalars), or raise TypeError."""
+    """A report entry as JSON (a scalar or a list of scalars: a tuple or a 1-D array
+    becomes a list), or raise TypeError."""
+    if isinstance(value, np.ndarray) and value.ndim == 1:
+        value = value.tolist()
     if isinstance(value, (list, tuple)):
         return [_scalar(v) for v in value]
     return _scalar(value)
 
 
 def _modes_payload(modes: pd.DataFrame) -> dict:
-    """The modes table column by column; complex columns as ``[re, im]`` pairs."""
+    """The modes table column by column (complex columns as ``[re, im]`` pairs) with each
+    column's dtype, so that an empty table comes back with its dtypes too."""
     columns, complex_columns = {}, []
     for name in modes.columns:
         values = modes[name].to_numpy()
         if np.iscomplexobj(values):
             complex_columns.append(str(name))
             columns[str(name)] = [[float(v.real), float(v.imag)] for v in values]
-        else:
+            continue
+        try:
             columns[str(name)] = [_scalar(v.item() if hasattr(v, "item") else v)
                                   for v in values]
-    return {"columns": columns, "complex_columns": complex_columns}
+        except TypeError as exc:
+            raise TypeError(f"SavedFit.to_json: the modes table's column {name!r} holds a "
+                            f"{exc}, which JSON cannot hold") from None
+    return {"columns": columns, "complex_columns": complex_columns,
+            "dtypes": {str(name): str(modes[name].dtype) for name in modes.columns}}
 
 
 def _modes_table(payload, label: str) -> pd.DataFrame:
@@ -88,12 +97,18 @@ def _modes_table(payload, label: str) -> pd.DataFrame:
     if len(lengths) > 1:
         raise ValueError(f"{label}: the columns of its identification's 'modes' differ in "
                          f"length ({sorted(lengths)})")
-    return pd.DataFrame(data)
+    table = pd.DataFrame(data)
+    dtypes = payload.get("dtypes", {})
+    try:
+        return table.astype({name: dtypes[name] for name in table.columns if name in dtypes})
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"{label}: its identification's 'modes' dtypes: {exc}") from None
 
 
-def _checked_report(entries: dict, label: str) -> dict:
+def _checked_report(entries: dict, label: str, n_outputs: int | None = None) -> dict:
     """``entries`` with the fields a prediction reads checked (ValueError naming
-    ``label`` and the field) and ``band_hz`` as a tuple."""
+    ``label`` and the field) and ``band_hz`` as a tuple; ``n_outputs``: the rows of a
+    multi-output model, whose ``driving_point`` may be a row index."""
     band = entries.get("band_hz")
     try:
         low, top = (float(x) for x in band)  # type: ignore[union-attr]  # None: TypeError
@@ -110,13 +125,22 @@ def _checked_report(entries: dict, label: str) -> dict:
     if entries.get("verdict", "ok") not in _VERDICTS:
         raise ValueError(f"{label}: its identification's verdict must be one of {_VERDICTS}, "
                          f"got {entries.get('verdict')!r}")
-    if entries.get("driving_point") not in (True, False, None):
+    driving = entries.get("driving_point")
+    row = (n_outputs is not None and isinstance(driving, (int, np.integer))
+           and not isinstance(driving, (bool, np.bool_)) and 0 <= driving < n_outputs)
+    if not (row or driving is None or isinstance(driving, (bool, np.bool_))):
+        rows = f", or a row index < {n_outputs}" if n_outputs is not None else ""
         raise ValueError(f"{label}: its identification's driving_point must be true, false "
-                         f"or null, got {entries.get('driving_point')!r}")
+                         f"or null{rows}, got {driving!r}")
     return {**entries, "band_hz": (low, top)}
 
 
-@dataclass(frozen=True)
+def _n_outputs(model) -> int | None:
+    """The rows of a multi-output model, None for a single FRF's."""
+    return len(model.outputs) if isinstance(model, MultiOutputModalModel) else None
+
+
+@dataclass(frozen=True, eq=False)
 class SavedFit:
     """A fit's model and report, without its data: what :meth:`to_json` saves and
     :meth:`from_json` reads back.
@@ -127,6 +151,11 @@ class SavedFit:
     ``driving_point``, the errors; every report entry that is a number, a string, a
     list of them or the modes table). It holds no data: what needs the data (a re-fit,
     :func:`impactpred.uncertainty.uncertainty_band`) needs the FRF file.
+
+    Through JSON the model comes back exactly (every float round-trips); the report as
+    JSON holds it: numbers, strings and booleans exactly, tuples and 1-D arrays as lists
+    (``band_hz`` as a tuple), the modes table with its columns' dtypes. Two saved fits
+    compare by identity (``==`` is ``is``).
 
     Attributes
     ----------
@@ -151,7 +180,9 @@ class SavedFit:
             raise TypeError(f"report_ must be a FitReport, got {type(self.report_).__name__}")
         if self.source is not None and not isinstance(self.source, str):
             raise TypeError(f"source must be a string or None, got {self.source!r}")
-        _checked_report(dict(self.report_), "SavedFit")
+        checked = _checked_report(dict(self.report_), "SavedFit", _n_outputs(self.model_))
+        if not isinstance(self.report_["band_hz"], tuple):     # e.g. an array: a tuple
+            object.__setattr__(self, "report_", self.report_.replace(band_hz=checked["band_hz"]))
 
     @classmethod
     def from_fit(cls, fit, *, source=None) -> SavedFit:
@@ -184,7 +215,9 @@ class SavedFit:
                              "only a fit of an FRF or an FRF set can be saved with its band")
         text = fit.model_.to_json()
         model = type(fit.model_).from_json(text)               # a copy
-        return cls(model_=model, report_=FitReport(dict(fit.report_)),
+        entries = {name: (value.copy() if isinstance(value, pd.DataFrame) else value)
+                   for name, value in fit.report_.items()}
+        return cls(model_=model, report_=FitReport(entries),
                    source=None if source is None else str(source))
 
     def to_json(self, path=None) -> str:
@@ -245,13 +278,23 @@ class SavedFit:
             bare model, e.g. ``ModalModel.to_json``'s; read it with ``from_json`` of its
             class), or a field out of range.
         """
+        text, _ = _json_text(source)
         payload, label = read_model_json(source)
         label = label or "the JSON text"
         block = payload.pop(_KEY, None)
-        if not (isinstance(block, dict) and isinstance(block.get("report"), dict)):
+        if block is None:
             raise ValueError(f"{label} holds a bare model, not a saved fit (no "
-                             f"'{_KEY}' with a 'report'): read it with "
+                             f"'{_KEY}'): read it with "
                              f"{payload['format'].split('.')[-1]}.from_json")
+        if not (isinstance(block, dict) and isinstance(block.get("report"), dict)):
+            raise ValueError(f"{label}: its '{_KEY}' must be an object holding a 'report' "
+                             f"object, got {str(block)[:80]!r}")
+        units = json.loads(text).get("units") or {}
+        stated = str(units.get("receptance", "m/N")).replace(" ", "").lower()
+        if stated != "m/n":
+            raise ValueError(f"{label}: a saved fit's report is in SI units, so its model "
+                             f"must be too (units.receptance 'm/N', got "
+                             f"{units.get('receptance')!r})")
         model_class = (MultiOutputModalModel
                        if payload["format"] == "modalid.MultiOutputModalModel" else ModalModel)
         try:
@@ -261,7 +304,7 @@ class SavedFit:
         entries = dict(block["report"])
         if "modes" in entries:
             entries["modes"] = _modes_table(entries["modes"], label)
-        entries = _checked_report(entries, label)
+        entries = _checked_report(entries, label, _n_outputs(model))
         where = block.get("source")
         return cls(model_=model, report_=FitReport(entries),
                    source=where if isinstance(where, str) else None)

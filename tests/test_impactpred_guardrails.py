@@ -136,6 +136,17 @@ def test_no_contact_closed_form_has_no_restitution():
     assert res.method == "closed_form" and res.restitution is None
 
 
+def test_bodies_a_load_keeps_apart_are_said_so():
+    """Closing at 1 m/s over a 0.1 m gap, but the striking mass is pushed back by a
+    constant 100 N: rigid motion would meet at 0.1 s, the run of 0.5 s has no contact."""
+    with pytest.warns(UserWarning, match=r"close the gap at t = 0\.1 s\), yet their loads or "
+                                         r"vibration kept them apart: no impact to predict$"):
+        res = solve_impact(Body(LumpedMass(1.0), velocity=1.0,
+                                load=([0.0, 1.0], [-100.0, -100.0])),
+                           Body(LumpedMass(1.0)), gap=0.1, t_end=0.5)
+    assert not res.touched
+
+
 def test_bodies_moving_apart_are_said_not_to_approach():
     with pytest.warns(UserWarning, match=r"closing at -2 m/s; they do not approach \(\+y "
                                          r"points from body 1 to body 2\): no impact"):

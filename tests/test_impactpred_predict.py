@@ -123,6 +123,46 @@ def test_force_energy_above_a_frequency():
     assert force_energy_above(r, 0.01) > 0.9
 
 
+@pytest.mark.filterwarnings("ignore::UserWarning")
+def test_a_saved_fit_of_several_points_is_a_body(tmp_path, capsys):
+    """A cantilever fitted at three points with common poles, struck at its last (the
+    driving row 2), saved: predicted with every point's response, not continued (said),
+    the worst row's FRF error printed."""
+    from modalid import FRFSet, SavedFit
+
+    truth = CantileverBeam(1.0, 1.0).multi_output_model([0.8, 0.5, 0.0], 18,
+                                                         damping_ratio=0.01, residual=True)
+    freq_hz = np.linspace(0.05, 80.0, 3000)
+    frfs = [synthetic_frf(truth.row(i), freq_hz, noise=0.01, seed=i) for i in range(3)]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        fit = ModalFit().fit(FRFSet.from_frfs(frfs, driving_point=2, outputs=truth.outputs))
+    path = tmp_path / "beam_set.json"
+    SavedFit.from_fit(fit, source="beam_set.uff").to_json(path)
+    assert main(["predict", "mass:0.1", str(path), "--v1", "1", "--t-end", "0.5"]) == 0
+    out = capsys.readouterr().out
+    worst = max(fit.report_["frf_nrmse"])
+    assert f"body 2: saved fit {path} (" in out and f"FRF NRMSE {worst:.3g}," in out
+    assert "continuation: body 2: not possible (a model of several points)" in out
+    assert "peaks at the output points" in out
+
+
+def test_a_saved_failed_fit_names_the_file_to_refit(tmp_path):
+    """A saved fit is not refitted by predict: a failed one is refused, and the options
+    that may fix it are for the FRF file it came from."""
+    from modalid import FitReport, ModalModel, SavedFit
+
+    model = ModalModel.from_modes([2 * np.pi * 10.0], [0.02], [1.0])
+    saved = SavedFit(model_=model, report_=FitReport({
+        "band_hz": (1.0, 40.0), "n_modes": 1, "verdict": "failed",
+        "verdict_reasons": ["the FRF error is 140 %"], "driving_point": True}),
+        source="tip.csv")
+    with pytest.raises(ValueError, match=r"^body 2: the identification of a SavedFit failed "
+                                         r"\(the FRF error is 140 %\); options that may fix "
+                                         r"it \(fit tip\.csv again with them and save it\): "):
+        predict("mass:1", saved, velocity1=1.0, t_end=1.0)
+
+
 def test_force_energy_below_a_frequency_is_the_half_sines():
     """Two 1 kg masses on a spring: the force is a half-sine of duration pi/w, whose
     energy spectrum is |F(f)|^2 ~ cos^2(pi f tau) / (w^2 - (2 pi f)^2)^2; the share below
@@ -147,6 +187,13 @@ def test_force_energy_below_a_frequency_is_the_half_sines():
                  + (quad(density, pole, f0)[0] if f0 > pole else 0.0)) / total
         assert force_energy_below(r, f0) == pytest.approx(exact, abs=1e-3), f0
     assert force_energy_below(r, 1e4) == pytest.approx(1.0, abs=1e-6)
+    assert force_energy_below(r, 0.0) == 0.0
+    # the continuation's share above leaves the DC line out and is not padded: close to
+    # the rest above the run's own lines (1/t_end = 5 Hz apart), not below them
+    for f0 in (5.0, 10.0, 20.0, 50.0):
+        assert force_energy_below(r, f0) + force_energy_above(r, f0) == pytest.approx(
+            1.0, abs=0.03)
+    assert force_energy_above(r, 2.0) == 1.0 and force_energy_below(r, 2.0) > 0.07
 
 
 @pytest.fixture(scope="module")
@@ -161,10 +208,10 @@ def rod_accelerances():
 
 @pytest.mark.parametrize("support, low_hz, terms, exact_e", [
     ("fixed", 1.0, None, 0.699),   # the whole band (from 7 Hz): no term below, no warning
-    ("fixed", 300.0, "a rigid-body line seen over 2.5 times", None),   # mode 1 (250 Hz)
+    ("fixed", 300.0, "a rigid-body line seen up to 2.5 times", None),   # mode 1 (250 Hz)
     ("fixed", 800.0, "a lower residual term", None),        # modes 1 and 2 below, lumped
     ("free", 30.0, None, 0.719),   # a rigid-body line over a decade below mode 1 (500 Hz)
-    ("free", 100.0, "a rigid-body line seen over 5 times", 0.719),    # right, not shown
+    ("free", 100.0, "a rigid-body line seen up to 5 times", 0.719),    # right, not shown
 ])
 def test_a_model_that_stands_in_below_its_band_is_said(rod_accelerances, tmp_path,
                                                        support, low_hz, terms, exact_e):

@@ -1,4 +1,5 @@
-"""modalid.SavedFit: a fit's model and report in one JSON file, read back exactly."""
+"""modalid.SavedFit: a fit's model and report in one JSON file; the model read back exactly,
+the report as JSON holds it."""
 
 import json
 import warnings
@@ -62,19 +63,55 @@ def test_entries_json_cannot_hold_are_left_out(rod_fit):
     assert again.source is None
 
 
-def test_a_multi_output_fit_round_trips():
+@pytest.fixture(scope="module")
+def beam_set_fit():
+    """A cantilever at three points (18 modes, 1 % noise), struck at its last point (the
+    driving point is row 2: the report holds the row index), fitted with common poles."""
     beam = CantileverBeam(1.0, 1.0)
-    truth = beam.multi_output_model([0.0, 0.5, 0.8], 18, damping_ratio=0.01, residual=True)
+    truth = beam.multi_output_model([0.8, 0.5, 0.0], 18, damping_ratio=0.01, residual=True)
     freq_hz = np.linspace(0.05, 80.0, 3000)
     frfs = [synthetic_frf(truth.row(i), freq_hz, noise=0.01, seed=i) for i in range(3)]
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        fit = ModalFit().fit(FRFSet.from_frfs(frfs, driving_point=0, outputs=truth.outputs))
+        return ModalFit().fit(FRFSet.from_frfs(frfs, driving_point=2, outputs=truth.outputs))
+
+
+def test_a_multi_output_fit_round_trips(beam_set_fit):
+    fit = beam_set_fit
+    assert fit.report_["driving_point"] == 2
     saved = SavedFit.from_json(SavedFit.from_fit(fit).to_json())
     assert isinstance(saved.model_, MultiOutputModalModel)
     np.testing.assert_array_equal(saved.model_.residues, fit.model_.residues)
     assert saved.model_.outputs == fit.model_.outputs
+    for name, value in fit.report_.items():      # lists where the fit has tuples or arrays
+        if name == "modes":
+            pd.testing.assert_frame_equal(saved.report_["modes"], value)
+        elif isinstance(value, (tuple, list, np.ndarray)) and name != "band_hz":
+            np.testing.assert_array_equal(saved.report_[name], value, err_msg=name)
+        elif name in saved.report_:
+            assert (saved.report_[name] == value
+                    or (np.isnan(value) and np.isnan(saved.report_[name]))), name
     assert saved.report_["band_hz"] == fit.report_["band_hz"]
+    with pytest.raises(ValueError, match=r"driving_point must be true, false or null, or a "
+                                         r"row index < 3, got 3"):
+        SavedFit(model_=saved.model_, report_=saved.report_.replace(driving_point=3))
+
+
+def test_what_json_holds_comes_back_as_json_holds_it(rod_fit):
+    """A band given as an array is kept as a tuple; an empty modes table keeps its
+    dtypes; two saved fits compare by identity."""
+    saved = SavedFit.from_fit(rod_fit)
+    as_array = SavedFit(model_=saved.model_,
+                        report_=saved.report_.replace(band_hz=np.array([7.0, 5999.0]),
+                                                      modes=saved.report_["modes"].iloc[:0]))
+    assert as_array.report_["band_hz"] == (7.0, 5999.0)
+    again = SavedFit.from_json(as_array.to_json())
+    assert again.report_["band_hz"] == (7.0, 5999.0)
+    assert again.report_["modes"].empty
+    assert again.report_["modes"].dtypes.to_dict() == saved.report_["modes"].dtypes.to_dict()
+    assert again == again and again != as_array
+    # the modes table is the saved fit's own copy
+    assert saved.report_["modes"] is not rod_fit.report_["modes"]
 
 
 def test_bad_input_is_named(rod_fit, tmp_path):
@@ -99,3 +136,18 @@ def test_bad_input_is_named(rod_fit, tmp_path):
             SavedFit.from_json(path)
     with pytest.raises(TypeError, match="model_ must be a ModalModel"):
         SavedFit(model_="rod", report_=SavedFit.from_fit(rod_fit).report_)
+    # a block that is not a report is named as such, not taken for a bare model
+    malformed = json.loads(json.dumps(payload))
+    malformed["identification"] = "fitted on Tuesday"
+    path = tmp_path / "malformed.json"
+    path.write_text(json.dumps(malformed))
+    with pytest.raises(ValueError, match=r"malformed\.json: its 'identification' must be an "
+                                         r"object holding a 'report' object"):
+        SavedFit.from_json(path)
+    # the report is in SI units: a model stated in other units is refused
+    scaled = json.loads(json.dumps(payload))
+    scaled["units"]["receptance"] = "mm/N"
+    path = tmp_path / "mm.json"
+    path.write_text(json.dumps(scaled))
+    with pytest.raises(ValueError, match=r"mm\.json: a saved fit's report is in SI units"):
+        SavedFit.from_json(path)
