@@ -114,7 +114,8 @@ def check_identification(fit, source, *, body: int) -> None:
     if report.get("driving_point") is False:
         why = report.get("driving_point_reason") or reasons
         fix = (" (or, if it is the driving point with its sign reversed, read it with "
-               f"read_options={{'negate': True}}{refit})" if "sign reversed" in why else "")
+               "read_options={'negate': True}; with its quantity stated wrong, with "
+               f"quantity=...{refit})" if "sign reversed" in why else "")
         raise ValueError(f"body {body}: {source} is not a driving-point FRF ({why}): a "
                          "transfer FRF cannot be an impact body, a body needs its "
                          "driving-point receptance (force and response at the contact "

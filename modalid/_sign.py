@@ -81,8 +81,9 @@ class SignCheck:
             return (f"{source}: the real part of its mobility is negative (conductance score "
                     f"{self.conductance:+.2f}; a passive driving point's is positive, +1): "
                     "its sign is reversed (response recorded against the force); read it "
-                    "with read_options={'negate': True}, or, if it is a transfer FRF, give "
-                    "the driving point's")
+                    "with read_options={'negate': True}; if its quantity is stated wrong (an "
+                    "accelerance read as a receptance looks reversed too), read it with "
+                    "quantity=...; if it is a transfer FRF, give the driving point's")
         return ""
 
 

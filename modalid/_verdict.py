@@ -66,7 +66,8 @@ def driving_point_decision(modes: pd.DataFrame, inverse_mass: float):
                       "of the modes' strength 1/|m|")
     if share <= 1 - _DOMINANT and inverse_mass <= 0:
         return False, (f"{mass.size - int(positive.sum())} of {mass.size} modes have a "
-                       "negative modal mass: a driving point with its sign reversed, or a "
+                       "negative modal mass: a driving point with its sign reversed or its "
+                       "quantity stated wrong (a mobility read as a receptance), or a "
                        "transfer FRF")
     why = f"modal masses of both signs ({counts} positive, {100 * share:.0f} % of the strength)"
     if inverse_mass < 0:

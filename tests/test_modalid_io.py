@@ -565,8 +565,9 @@ def test_a_check_sign_problem_names_the_file_and_the_option():
         f"rod.csv: the real part of its mobility is negative (conductance score "
         f"{reversed_.conductance:+.2f}; a passive driving point's is positive, +1): its sign "
         "is reversed (response recorded against the force); read it with "
-        "read_options={'negate': True}, or, if it is a transfer FRF, give the driving "
-        "point's")
+        "read_options={'negate': True}; if its quantity is stated wrong (an accelerance "
+        "read as a receptance looks reversed too), read it with quantity=...; if it is a "
+        "transfer FRF, give the driving point's")
     assert check_sign(frf).problem("rod.csv") == ""
 
 
