@@ -276,7 +276,8 @@ class SavedFit:
         ValueError
             Not a model JSON, or one without the fit's report (``"identification"``: a
             bare model, e.g. ``ModalModel.to_json``'s; read it with ``from_json`` of its
-            class), or a field out of range.
+            class), a malformed report, a model stated in units other than SI (the
+            report's receptance figures are SI), or a field out of range.
         """
         text, _ = _json_text(source)
         payload, label = read_model_json(source)
