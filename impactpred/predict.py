@@ -353,8 +353,10 @@ def _lower_terms(fit, band_tolerance: float) -> tuple:
     if report.get("rigid_body"):
         low, top = report["band_hz"]
         modes = report.get("modes")
-        lowest = (float(np.min(modes["frequency_hz"])) if modes is not None and len(modes)
-                  else top)
+        freqs = (np.asarray(modes["frequency_hz"], float) if modes is not None
+                 and "frequency_hz" in modes else np.zeros(0))
+        freqs = freqs[np.isfinite(freqs)]
+        lowest = float(freqs.min()) if freqs.size else top
         if low <= RIGID_LINE_SPAN * lowest:
             return ("a rigid-body line (a free body's, seen over a decade below its first "
                     "mode)", max(band_tolerance, RIGID_LINE_SHARE))
