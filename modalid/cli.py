@@ -65,7 +65,8 @@ def _save_fit(fit, out: Path, stem: str, source: str) -> None:
     fit.plot_stabilization(ax=axes[rows])
     fig.savefig(out / f"{stem}_fit.png", dpi=110)
     plt.close(fig)
-    print(f"wrote {out / (stem + '_model.json')} and {out / (stem + '_fit.png')}")
+    print(f"wrote {out / (stem + '_model.json')} (the fit: impactpred predict takes it in "
+          f"place of {source}, with the same results) and {out / (stem + '_fit.png')}")
 
 
 def _cmd_fit(args) -> int:
