@@ -146,19 +146,19 @@ def solve_impact(body1: Body, body2: Body, *, gap: float = 0.0, contact=Rigid(),
         result = dataclasses.replace(result, notes=result.notes + (said,))
     if not result.touched:
         closing = body1.velocity - body2.velocity
-        driven = any(b.load is not None or b.vibration is not None for b in bodies)
-        meet = start_gap / closing if closing > 0 else math.inf    # rigid motion alone
         said = (f"no contact by t_end = {t_end:.6g} s: the contact points start "
-                f"{start_gap:.6g} m apart, the bodies closing at {closing:.6g} m/s"
-                + ((f" (rigid motion alone would close the gap at t = {meet:.6g} s)"
-                    "; no impact to predict before a longer t_end") if t_end < meet < math.inf
-                   else (f" (rigid motion alone would close the gap at t = {meet:.6g} s), yet "
-                         "their loads or vibration kept them apart: no impact to predict")
-                   if closing > 0 else
-                   " and their loads or vibration did not close the gap: no impact to "
-                   "predict before a longer t_end" if driven else
-                   "; they do not approach (+y points from body 1 to body 2): no impact "
-                   "to predict"))
+                f"{start_gap:.6g} m apart, the bodies closing at {closing:.6g} m/s")
+        if closing > 0:
+            meet = start_gap / closing                          # rigid motion alone
+            said += f" (rigid motion alone would close the gap at t = {meet:.6g} s)"
+            said += ("; no impact to predict before a longer t_end" if meet > t_end else
+                     ", yet their loads or vibration kept them apart: no impact to predict")
+        elif any(b.load is not None or b.vibration is not None for b in bodies):
+            said += (" and their loads or vibration did not close the gap: no impact to "
+                     "predict before a longer t_end")
+        else:
+            said += ("; they do not approach (+y points from body 1 to body 2): no impact "
+                     "to predict")
         warnings.warn(said, UserWarning, stacklevel=2)
         result = dataclasses.replace(result, notes=result.notes + (said,))
     if math.isinf(audit.tolerance):
