@@ -53,7 +53,9 @@ Exact references (:func:`exact_reference`): ``mass_on_fixed_rod`` (closed form, 
 contact) and ``two_free_rods_equal_transit`` (closed form); otherwise ``solve_impact(...,
 method="convolution")`` on the exact models with the step of each case (``dt_exact``,
 chosen so that halving it changes no figure by more than 0.05 %, the rod-cantilever's
-peak force by 0.14 %).
+peak force by 0.14 %); the Hertz ball's figures extrapolated to ``dt = 0`` from ``dt_exact``
+and its half, its duration measured where the gap crosses zero
+(:func:`impactpred._benchmark_cases.gap_crossing_duration`), not on the grid.
 """
 
 from __future__ import annotations

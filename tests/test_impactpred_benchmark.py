@@ -50,6 +50,31 @@ def test_richardson_reference_extrapolates_the_convolution_to_dt_0():
     assert _case("ball-cantilever Hertz").richardson
 
 
+@pytest.mark.parametrize("law", ["spring", "hertz"])
+def test_compliant_reference_duration_is_not_held_to_the_grid(law):
+    """Two unit masses, 1 m/s apart, under a compliant contact: the duration is closed form
+    (``pi sqrt(mu / k)``, :func:`hertz_duration`). At a step of ``T / 300.5`` the grid's
+    duration is off by half a step (0.17 %); where the gap crosses zero, extrapolated from
+    the step and its half, within 2e-5."""
+    import dataclasses
+
+    from data_synth import LumpedMass
+    from impactpred._benchmark_cases import Case
+    from impactpred.contact import Hertz, LinearSpring
+    from impactpred.engine.hertz import hertz_duration
+
+    contact, exact = ((LinearSpring(1e4), math.pi * math.sqrt(0.5 / 1e4)) if law == "spring"
+                      else (Hertz(1e9), hertz_duration(1e9, 1.5, 0.5, 1.0)))
+    case = Case("masses", "masses", "", LumpedMass(1.0), LumpedMass(1.0), 1.0, 0.0,
+                2.0 * exact, "convolution", dt_exact=exact / 300.5, richardson=True,
+                contact=contact)
+    on_grid = exact_reference(dataclasses.replace(case, richardson=False))
+    assert abs(on_grid.figures["contact_duration"] / exact - 1.0) > 1e-3
+    crossing = exact_reference(case)
+    assert crossing.figures["contact_duration"] == pytest.approx(exact, rel=2e-5)
+    assert "gap crosses zero" in crossing.how
+
+
 def test_cases_are_defined():
     keys = [c.key for c in benchmark_cases()]
     assert "mass-rod M/m=1" in keys and "rod-rod L2/L1=1" in keys
