@@ -63,10 +63,9 @@ def _column_role(name):
     rad/s, deg, rad or dB; other characters separate words. Words naming a quantity
     (``accelerance_real``) give the quantity, and an ``h`` word (``H_real``) is ignored.
     """
-    text = str(name).strip().lower().replace("°", "deg")
-    match = re.fullmatch(r"(.*?)\s*[\[(]([^\])]*)[\])]\s*", text)
-    if match:
-        text, unit = match.group(1), re.sub(r"[^a-z0-9]+", "_", match.group(2)).strip("_")
+    text, stated = split_unit(str(name).lower().replace("°", "deg"))
+    if stated is not None:
+        unit = re.sub(r"[^a-z0-9]+", "_", stated).strip("_")
         if unit in _UNITS or unit == "rad_s":
             text = f"{text}_{unit}"
     tokens = [t for t in re.sub(r"[^a-z0-9]+", "_", text).split("_") if t]
@@ -111,6 +110,89 @@ def _assign_roles(names, allowed, columns, source):
                              f"{name!r}: pass columns={{{role!r}: ...}} to pick one")
         found[role] = (name, quantity)
     return found
+
+
+# ------------------------------------------------------------------ header units
+_G = 9.80665                 # m/s^2 per g (standard gravity)
+_LBF = 4.4482216152605       # N per lbf
+#: a table's value units (normalised: lower case; spaces, ``^``, ``*``, ``_`` and ``\u00b7``
+#: dropped, ``\u00b2`` as 2): the quantity each states and its value in SI
+VALUE_UNITS = {
+    "receptance": {"m/n": 1.0, "mm/n": 1e-3, "um/n": 1e-6, "\u00b5m/n": 1e-6,
+                   "\u03bcm/n": 1e-6, "nm/n": 1e-9,
+                   "m/kn": 1e-3, "mm/kn": 1e-6, "in/lbf": 0.0254 / _LBF},
+    "mobility": {"m/s/n": 1.0, "(m/s)/n": 1.0, "m/(ns)": 1.0, "m/(sn)": 1.0,
+                 "mm/s/n": 1e-3, "(mm/s)/n": 1e-3, "in/s/lbf": 0.0254 / _LBF,
+                 "(in/s)/lbf": 0.0254 / _LBF},
+    "accelerance": {"m/s2/n": 1.0, "(m/s2)/n": 1.0, "m/(ns2)": 1.0, "m/(s2n)": 1.0,
+                    "1/kg": 1.0, "kg-1": 1.0, "g/n": _G, "(g)/n": _G, "g/lbf": _G / _LBF,
+                    "mm/s2/n": 1e-3, "(mm/s2)/n": 1e-3},
+}
+#: frequency units a table's frequency column may state, and their value in Hz
+FREQUENCY_UNITS = {"khz": 1e3, "kilohertz": 1e3}
+def split_unit(name):
+    """``(text, unit)``: a column header without its trailing ``[unit]`` or ``(unit)``
+    (brackets may nest: ``real [(m/s)/N]``), and that unit (None when there is none)."""
+    text = str(name).strip()
+    if not text or text[-1] not in ")]":
+        return text, None
+    depth = 0
+    for i in range(len(text) - 1, -1, -1):
+        depth += text[i] in ")]"
+        depth -= text[i] in "[("
+        if depth == 0:
+            return (text[:i].strip(), text[i + 1:-1].strip()) if i > 0 else (text, None)
+    return text, None
+
+
+def _normalised_unit(text):
+    text = str(text).strip().lower().replace("\u00b2", "2")
+    return re.sub(r"[\s^*_\u00b7]+", "", text)
+
+
+def header_unit(name):
+    """The unit a column header states in a trailing ``[unit]`` or ``(unit)``, normalised,
+    or None: none stated, or one :func:`_column_role` reads itself (Hz, rad/s, deg, rad,
+    dB)."""
+    _, stated = split_unit(name)
+    if stated is None:
+        return None
+    unit = _normalised_unit(stated)
+    word = re.sub(r"[^a-z0-9]+", "_", unit).strip("_")
+    return None if (not unit or word in _UNITS or word == "rad_s") else unit
+
+
+def unit_factor(source, name, role, unit):
+    """``(factor, quantity)``: what a column's stated ``unit`` multiplies its values by to
+    reach SI (Hz for a frequency), and the quantity it states (None for a frequency).
+
+    A frequency column may state kHz (Hz and rad/s are read with its role); a real,
+    imaginary or magnitude column the units of :data:`VALUE_UNITS` (m/N, mm/N, m/s/N,
+    m/s^2/N, g/N, in/lbf, ...); a coherence %. Any other unit is a ``ValueError`` naming
+    the column: a unit read past silently would scale every figure. An excitation column's
+    unit is not read (its scale does not matter).
+    """
+    if role in ("freq_hz", "omega_rad_s"):
+        if role == "freq_hz" and unit in FREQUENCY_UNITS:
+            return FREQUENCY_UNITS[unit], None
+        raise ValueError(f"column {name!r} of {source} states the unit {unit!r}: a frequency "
+                         "must be in Hz, kHz or rad/s (say so in the header, e.g. freq [Hz])")
+    if role == "coherence":
+        if unit in ("-", "1", ""):
+            return 1.0, None
+        if unit == "%":
+            return 0.01, None
+        raise ValueError(f"column {name!r} of {source} states the unit {unit!r}: a coherence "
+                         "is a ratio (no unit, or %)")
+    if role in ("real", "imag", "magnitude"):
+        for quantity, units in VALUE_UNITS.items():
+            if unit in units:
+                return units[unit], quantity
+        raise ValueError(f"column {name!r} of {source} states the unit {unit!r}, which is not "
+                         "a receptance, mobility or accelerance unit read here: use one of "
+                         "m/N, mm/N, um/N, in/lbf; m/s/N, mm/s/N; m/s^2/N, 1/kg, g/N, g/lbf "
+                         "(or drop the unit from the header and give the values in SI)")
+    return 1.0, None
 
 
 _HELP = ("accepted names (case-insensitive, any word separator, optional [unit]): "

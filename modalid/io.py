@@ -14,7 +14,8 @@ One file holds one FRF or several; the rule is the same for every format:
 The quantity (receptance, mobility or accelerance) comes from the file when it says it,
 else from ``quantity=``, else reading fails asking for it; a file and an argument that
 disagree are an error, never silently resolved. Values are taken in SI units of the
-quantity (no unit conversion of the ordinate); frequencies are converted to Hz.
+quantity unless a table's column header states another (``real [mm/N]``, ``f [kHz]``:
+converted; a unit not known is refused); frequencies are converted to Hz.
 
 Nothing read is ever executed: ``.npz`` is opened with ``allow_pickle=False``, complex
 text lines are parsed by :class:`complex`, never ``eval``.
@@ -45,6 +46,8 @@ from ._io_records import (
     _finite,
     _Raw,
     _vector,
+    header_unit,
+    unit_factor,
 )
 from ._sign import SignCheck, check_sign
 from ._uff import _dof, _read_uff, _write_uff
@@ -116,7 +119,13 @@ def _read_table(path, columns, table=None, stated=None):
             i = int(np.argmax(bad))
             raise ValueError(f"column {name!r} of {path} has a missing, non-numeric or "
                              f"non-finite value at data row {i + 1}: {table[name].iloc[i]!r}")
-        return values
+        unit = header_unit(name)
+        if unit is None:
+            return values
+        factor, quantity = unit_factor(path, name, role, unit)
+        if quantity is not None:
+            stated.add(quantity)
+        return values * factor
 
     freq_role = [r for r in ("freq_hz", "omega_rad_s") if r in found]
     if len(freq_role) != 1:
@@ -364,7 +373,7 @@ def read_frfs(path, *, format=None, quantity=None, columns=None) -> list[FRFData
     first other line, or the last ``#`` line when numbers follow it (``np.savetxt``'s
     ``header=``). Header names are
     matched case-insensitively, words split on any punctuation, a trailing ``[unit]`` or
-    ``(unit)`` read when it is Hz, rad/s, deg, rad or dB: frequency ``f``, ``freq``,
+    ``(unit)`` read as below: frequency ``f``, ``freq``,
     ``frequency`` (Hz unless rad/s is said), ``omega``/``w`` (rad/s); ``re``/``real`` and
     ``im``/``imag``; ``mag``/``magnitude``/``abs``/``amplitude`` (linear, or dB =
     ``20 log10 |H|`` when the name says dB) with ``phase``/``arg``/``angle`` + ``deg`` or
@@ -373,7 +382,12 @@ def read_frfs(path, *, format=None, quantity=None, columns=None) -> list[FRFData
     automatic band reads where there is no coherence). An ``H`` word is
     ignored (``H_real``, ``|H| (dB)``); a quantity word (``accelerance_real``) states the
     quantity. With both real/imag and magnitude/phase, real/imag are used. Separator:
-    ``,``, ``;``, tab or white space.
+    ``,``, ``;``, tab or white space. Other units a header states are converted, and state
+    the quantity: a frequency in kHz; values in m/N, mm/N, um/N, nm/N, m/kN, in/lbf
+    (receptance), m/s/N, mm/s/N, in/s/lbf (mobility), m/s^2/N, 1/kg, mm/s^2/N, g/N, g/lbf
+    (accelerance; ``(m/s^2)/N``, ``m/(N s^2)`` alike); a coherence in %. Any other
+    stated unit (``[V/N]``, ``[rpm]``) is refused, naming the column: a unit read past
+    would scale every figure of the fit and the impact.
 
     *NPZ*: ``freq_hz`` (or ``omega_rad_s``), ``values``, optional ``coherence``,
     ``excitation`` and ``quantity`` (a string), matched as above.

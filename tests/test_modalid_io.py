@@ -381,6 +381,44 @@ def test_csv_quantity_sources(tmp_path):
         read_frf(plain, quantity="stiffness")
 
 
+@pytest.mark.parametrize("header, quantity, scale", [
+    ("f [kHz],re,im", None, 1.0),
+    ("freq_hz,real [mm/N],imag [mm/N]", "receptance", 1e-3),
+    ("freq (Hz),Re (um/N),Im (um/N)", "receptance", 1e-6),
+    ("f [Hz],real [in/lbf],imag [in/lbf]", "receptance", 0.0254 / 4.4482216152605),
+    ("f,real [(m/s)/N],imag [m/(N s)]", "mobility", 1.0),
+    ("f,real [m/s^2/N],imag [m/s\u00b2/N]", "accelerance", 1.0),
+    ("f,real [g/N],imag [g/N]", "accelerance", 9.80665),
+    ("f,real [1/kg],imag [1/kg]", "accelerance", 1.0),
+])
+def test_csv_header_units_are_converted_and_state_the_quantity(tmp_path, header, quantity,
+                                                                  scale):
+    """A unit a header states is applied (kHz: the frequencies x 1000), and a value unit
+    states the quantity; before, ``f [kHz]`` was read as Hz and ``[mm/N]`` as m/N."""
+    khz = header.startswith("f [kHz]")
+    rows = "\n".join(f"{f / 1000 if khz else f},{f * 2.0},{-f * 3.0}" for f in (10.0, 20.0))
+    path = write_text(tmp_path / "u.csv", header + "\n" + rows + "\n")
+    frf = read_frf(path, quantity=None if quantity else "mobility")
+    assert frf.quantity == (quantity or "mobility")
+    np.testing.assert_allclose(frf.freq_hz, [10.0, 20.0], rtol=1e-15)
+    np.testing.assert_allclose(frf.values, np.array([20 - 30j, 40 - 60j]) * scale, rtol=1e-15)
+
+
+def test_csv_header_units_not_known_are_refused(tmp_path):
+    body = "\n10,1,2\n20,3,4\n"
+    for header, match in (("f [rpm],re,im", "'f \\[rpm\\]'.*must be in Hz, kHz or rad/s"),
+                          ("omega [deg/s],re,im", "'omega \\[deg/s\\]'.*'deg/s'"),
+                          ("f,re [V/N],im [V/N]", "'re \\[V/N\\]'.*'v/n'.*m/N, mm/N"),
+                          ("f,re [dB re 1 m/N],im", "'re \\[dB re 1 m/N\\]'")):
+        with pytest.raises(ValueError, match=match):
+            read_frf(write_text(tmp_path / "x.csv", header + body), quantity="receptance")
+    clash = write_text(tmp_path / "c.csv", "# quantity: accelerance\nf,re [mm/N],im [mm/N]" + body)
+    with pytest.raises(ValueError, match="several quantities"):
+        read_frf(clash)
+    coh = write_text(tmp_path / "coh.csv", "f,re,im,coh [%]\n10,1,2,90\n20,3,4,50\n")
+    np.testing.assert_allclose(read_frf(coh, quantity="receptance").coherence, [0.9, 0.5])
+
+
 def test_csv_bad_data(tmp_path):
     cases = {
         "freq_hz,real,imag\n0,1,2\n1,nan,4\n": "column 'real' .* data row 2",
