@@ -104,6 +104,54 @@ def _body_read_options(args, spec) -> dict:
     return read_options(args, path)
 
 
+#: the flags that say how an FRF file is read and identified (destination -> flag)
+_IDENTIFICATION_FLAGS = {
+    "fit_method": "--fit-method", "n_modes": "--n-modes", "fmin": "--fmin", "fmax": "--fmax",
+    "rigid_body": "--rigid-body", "weighting": "--weighting",
+    "driving_point": "--driving-point", "not_driving_point": "--not-driving-point",
+    "missed_modes": "--missed-modes", "window_decay": "--window-decay",
+    "record_length": "--record-length", "quantity": "--quantity", "index": "--index",
+    "format": "--format", "freq_start": "--freq-start", "df": "--df",
+    "conjugate": "--conjugate", "negate": "--negate"}
+
+
+def _check_identification_flags(args) -> str | None:
+    """Refuse identification flags that no body uses; say which bodies ignore them.
+
+    The flags apply to the bodies given as FRF files. With none, they would change
+    nothing: a ``ValueError`` says why (a saved fit or model is identified already, a spec
+    is exact). With one, a saved ``.json`` beside it keeps its own identification: the
+    returned sentence says so (None when there is nothing to say).
+    """
+    values = {dest: getattr(args, dest, None) for dest in _IDENTIFICATION_FLAGS}
+    given = [flag if value is True else f"{flag} {value}"
+             for dest, flag in _IDENTIFICATION_FLAGS.items()
+             if (value := values[dest]) not in (None, False)]
+    if not given:
+        return None
+    specs = (args.body1, args.body2)
+    files = [Path(s).is_file() and Path(s).suffix.lower() != ".json" for s in specs]
+    saved = [Path(s).is_file() and Path(s).suffix.lower() == ".json" for s in specs]
+    flags = " ".join(given)
+    if not any(files):
+        what = "; ".join(
+            f"body {i} ({s}) is a saved fit or model, identified already: fit its FRF file "
+            f"again with them and save it (modalid fit FILE {flags} --out DIR)" if is_saved
+            else f"body {i} ({s}) is an exact model"
+            for i, (s, is_saved) in enumerate(zip(specs, saved), start=1))
+        say = "these options say" if len(given) > 1 else "this option says"
+        raise ValueError(f"{flags}: {say} how an FRF file is read and identified, and "
+                         f"neither body is one: {what}")
+    ignored = [f"body {i} ({s})" for i, (s, is_saved) in enumerate(zip(specs, saved), start=1)
+               if is_saved]
+    if ignored:
+        used = " and ".join(f"body {i} ({s})" for i, (s, is_file)
+                            in enumerate(zip(specs, files), start=1) if is_file)
+        return (f"{flags} applied to {used} only: {ignored[0]} is a saved fit or model, "
+                "identified with the options it was fitted with")
+    return None
+
+
 def _run_predict(args):
     """``(Prediction, warnings caught)`` of the ``predict`` command's arguments."""
     import warnings
@@ -114,8 +162,11 @@ def _run_predict(args):
 
     # the same estimator as ``modalid fit`` builds: one line a segment of a wide band
     estimator = ModalFit(progress=True, **fit_options(args))
+    ignored = _check_identification_flags(args)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
+        if ignored:
+            warnings.warn(ignored, UserWarning, stacklevel=2)
         try:
             pred = predict(args.body1, args.body2, velocity1=args.v1, velocity2=args.v2,
                            gap=args.gap, contact=args.contact, t_end=args.t_end, dt=args.dt,

@@ -185,6 +185,38 @@ def test_the_model_modalid_fit_saves_predicts_as_its_frf_file(two_mode_acceleran
     assert printed[saved][1:] == printed[path][1:]
 
 
+@pytest.mark.filterwarnings("ignore::UserWarning")
+def test_identification_flags_no_body_uses_are_refused_or_said(two_mode_accelerance,
+                                                                 tmp_path, capsys):
+    """``--fmax`` and the reading flags apply to FRF files: with none among the bodies they
+    are refused (before: a saved fit ignored them silently, ``--fmax 1000`` on a fit of
+    4000 Hz printed "above 4000 Hz"); beside a saved fit they are said to reach the FRF
+    file only."""
+    from modalid.cli import main as modalid_main
+
+    path = tmp_path / "body.csv"
+    write_frf(path, two_mode_accelerance)
+    assert modalid_main(["fit", str(path), "--out", str(tmp_path / "fit")]) == 0
+    capsys.readouterr()
+    saved = tmp_path / "fit" / "body_model.json"
+    args = ["--v1", "0.1", "--t-end", "0.3", "--contact", "spring:stiffness=1e3"]
+    assert main(["predict", "mass:1", str(saved), *args, "--fmax", "20", "--negate"]) == 2
+    assert one_line_error(capsys) == (
+        "--fmax 20.0 --negate: these options say how an FRF file is read and identified, and "
+        f"neither body is one: body 1 (mass:1) is an exact model; body 2 ({saved}) is a saved "
+        "fit or model, identified already: fit its FRF file again with them and save it "
+        "(modalid fit FILE --fmax 20.0 --negate --out DIR)")
+    assert main(["predict", "mass:1", "mass:2", *args, "--quantity", "mobility"]) == 2
+    assert one_line_error(capsys).startswith("--quantity mobility: this option says how")
+    free = tmp_path / "free.csv"
+    write_frf(free, FRFData(two_mode_accelerance.freq_hz, two_mode_accelerance.values
+                            + 1.0, quantity="accelerance"))   # + a 1 kg mass line
+    assert main(["predict", str(free), str(saved), *args, "--fmax", "30"]) == 0
+    assert (f"warning: --fmax 30.0 applied to body 1 ({free}) only: body 2 ({saved}) is a "
+            "saved fit or model, identified with the options it was fitted with"
+            in capsys.readouterr().err)
+
+
 def test_out_naming_a_file_is_refused_before_any_work(tmp_path, monkeypatch, capsys):
     import importlib
 
