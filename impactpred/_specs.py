@@ -136,6 +136,12 @@ def check_estimator(estimator):
                     f"each body), got {estimator!r}{hint}")
 
 
+def is_spec(text) -> bool:
+    """Whether ``text`` names an exact model (``mass:M``, ``rod:...``, ...), not a file."""
+    kind, sep, _ = str(text).partition(":")
+    return bool(sep) and kind in _SPECS and not Path(str(text)).exists()
+
+
 def identify(spec, *, quantity=None, estimator=None, read_options=None, check_passive=True,
               label=""):
     """``(model, None)`` of a spec, saved model or model object; ``(None, fitted
@@ -150,8 +156,8 @@ def identify(spec, *, quantity=None, estimator=None, read_options=None, check_pa
         raise TypeError(f"a body must be a file, a spec string or a model, got "
                         f"{type(spec).__name__}")
     text = str(spec)
-    kind, sep, rest = text.partition(":")
-    if sep and kind in _SPECS and not Path(text).exists():
+    kind, _, rest = text.partition(":")
+    if is_spec(text):
         cls, names = _SPECS[kind]
         try:
             return cls(**_parse_fields(kind, rest, names)), None

@@ -129,9 +129,11 @@ def _check_identification_flags(args) -> str | None:
              if (value := values[dest]) not in (None, False)]
     if not given:
         return None
+    from ._specs import is_spec
+
     specs = (args.body1, args.body2)
-    files = [Path(s).is_file() and Path(s).suffix.lower() != ".json" for s in specs]
-    saved = [Path(s).is_file() and Path(s).suffix.lower() == ".json" for s in specs]
+    saved = [not is_spec(s) and Path(s).suffix.lower() == ".json" for s in specs]
+    files = [not is_spec(s) and not is_saved for s, is_saved in zip(specs, saved)]
     flags = " ".join(given)
     if not any(files):
         what = "; ".join(

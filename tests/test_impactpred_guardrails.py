@@ -6,6 +6,7 @@ they are, and a time step that does not grow with t_end.
 """
 
 import dataclasses
+import math
 import warnings
 
 import numpy as np
@@ -155,6 +156,29 @@ def test_bodies_moving_apart_are_said_not_to_approach():
     assert not res.touched
 
 
+def test_bodies_still_approaching_at_t_end_are_said_so():
+    """A 1 kg mass on a cantilever's tip (mass 1 kg, time scale 10 ms): by 5 ms its
+    contacts have left it still moving towards the beam (restitution -0.65, printed
+    without a word before): another contact must follow. By 20 ms it has left (0.80)."""
+    from data_synth import CantileverBeam
+
+    def run(t_end):
+        return solve_impact(Body(LumpedMass(1.0), velocity=1.0),
+                            Body(CantileverBeam(1.0, 0.01)), t_end=t_end)
+
+    with pytest.warns(UserWarning, match=r"^the bodies still approach after the last contact "
+                                         r"\(ended at .* s\): their rigid motion closes the "
+                                         r"gap at 0\.65\d* m/s \(restitution -0\.65\d* < 0\), "
+                                         r"so another contact follows after t_end = 0\.005 s"):
+        early = run(0.005)
+    assert early.restitution == pytest.approx(-0.65, abs=0.01)
+    assert early.notes[-1].startswith("the bodies still approach")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", UserWarning)
+        late = run(0.02)
+    assert late.restitution == pytest.approx(0.80, abs=0.01)
+
+
 def test_energy_audit_of_exact_solutions_is_rounding():
     """Closed form: exactly 0. Laplace, a spring contact still closed at t_end: the
     contact's stored energy closes the books to rounding."""
@@ -255,6 +279,36 @@ def test_automatic_step_coarsened_at_most_20_times_with_the_numbers():
     assert res.dt == pytest.approx(2 * dt, rel=1e-12)
     fine = solve_impact(*bodies, contact=contact, t_end=1.0)
     assert res.contact_duration == pytest.approx(fine.contact_duration, rel=4e-3)
+
+
+@pytest.mark.parametrize("method", ["modal", "convolution"])
+def test_automatic_step_resolves_a_stiff_dashpot(method):
+    """Two 1 kg masses at 1 m/s under ``f = max(k d + c d', 0)``, ``c = 1e5 N s/m`` against
+    ``k = 1e4 N/m`` (overdamped): the overlap is ``v (e^{r1 t} - e^{r2 t}) / (r1 - r2)``
+    and the force vanishes at ``t_s = 2 ln(r1 / r2) / (r2 - r1)``, leaving
+    ``e = (r1 / r2) e^{r1 t_s} = 5.0e-7``. The automatic step had followed the spring only
+    (2.4e-5 s, five dashpot times ``m/c``): restitution 0.20 (modal) and 0.40
+    (convolution), no warning. Now it resolves ``m/c`` too."""
+    mu, k, c = 0.5, 1e4, 1e5
+    root = math.sqrt(c * c - 4 * mu * k)
+    r1, r2 = (-c + root) / (2 * mu), (-c - root) / (2 * mu)
+    t_s = 2 * math.log(r1 / r2) / (r2 - r1)
+    exact = r1 / r2 * math.exp(r1 * t_s)
+    bodies = (Body(LumpedMass(1.0), velocity=1.0), Body(LumpedMass(1.0)))
+    contact = LinearSpring(k, damping=c)
+    assert choose_dt(bodies, contact, t_end=0.2, method=method) == pytest.approx(mu / c / 10)
+    res = solve_impact(*bodies, contact=contact, t_end=0.2, method=method)
+    assert exact == pytest.approx(5.0e-7, rel=1e-3)
+    assert res.n_contacts == 1 and res.restitution == pytest.approx(exact, abs=3e-6)
+
+
+def test_a_step_longer_than_the_run_is_refused():
+    """dt = 10 s over t_end = 8 s had given a contact interval (0, 10 s): past t_end."""
+    bodies = (Body(LumpedMass(1.0), velocity=1.0), Body(Rod(1.0, 1.0, support="fixed")))
+    with pytest.raises(ValueError, match=r"^dt=10.0 s exceeds t_end=8.0 s: the step must fit"):
+        solve_impact(*bodies, t_end=8.0, dt=10.0)
+    assert main(["predict", "mass:1", "rod:mass=1,transit_time=1,support=fixed", "--v1", "1",
+                 "--t-end", "8", "--dt", "10"]) == 2
 
 
 def test_sampled_response_is_usable_up_to_its_last_sample():
