@@ -539,9 +539,12 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
                               t_end=t_end, dt=dt, method=method)
 
     notes = [None if fit is None else "off" for fit in fits]
-    result = None
+    result, probe_warnings = None, []
     if continuation == "auto":
-        result = solve(*models)
+        # the probe without continuation: its warnings are said only if its result stays
+        with warnings.catch_warnings(record=True) as probe_warnings:
+            warnings.simplefilter("always")
+            result = solve(*models)
         shares = [None if fit is None else force_energy_above(result, fit.report_["band_hz"][1])
                   for fit in fits]
         wanted = [share is not None and share > CONTINUATION_SHARE for share in shares]
@@ -562,6 +565,9 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
         result = solve(*models)
     elif result is None:
         result = solve(*models)
+    else:
+        for caught in probe_warnings:
+            warnings.warn(caught.message, caught.category, stacklevel=2)
     identified = any(f is not None for f in fits)
     figures = (impact_figures(result, resolution=band_resolution(fits)) if identified
                else None)

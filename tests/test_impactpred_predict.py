@@ -64,6 +64,20 @@ def test_measured_frf_body_is_identified_and_continued_by_default(measured_rod):
     assert pred.result.restitution == pytest.approx(0.698876, rel=0.04)
 
 
+def test_the_probe_without_continuation_says_nothing_once_it_is_replaced(measured_rod):
+    """``continuation="auto"`` solves once without continuation to decide; when the
+    continued solve replaces it, the probe's warnings go with it. At ``t_end = 2 s`` the
+    probe chatters and its last contact began at 1.96 s: it had said so beside the answer's
+    own warning (the contact that began at 0 s)."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        pred = predict("mass:1", measured_rod, velocity1=1.0, t_end=2.0)
+    assert pred.continuation[1].startswith("on")
+    said = [str(w.message) for w in caught if "still closed" in str(w.message)]
+    assert said == [pred.result.notes[-1]]
+    assert said[0].startswith("the contact that began at 0 s is still closed at t_end = 2 s")
+
+
 def test_measured_frf_body_without_continuation_chatters_and_the_band_is_checked(
         measured_rod):
     """continuation=False: the model as identified; rigid contact chatters and the force's
