@@ -244,7 +244,9 @@ def _settle_quantity(source, stated, quantity):
         as_choice("quantity", quantity, QUANTITIES)
     if stated is not None and quantity is not None and stated != quantity:
         raise ValueError(f"{source} says its FRF is {stated} but quantity={quantity!r} was "
-                         "passed: drop the argument or fix the file")
+                         "passed: drop the argument, or, if the file says it wrong, correct "
+                         "what it states (a '# quantity:' line, a column's unit or quantity "
+                         "word, a UFF's data types, an npz/mat 'quantity')")
     if stated is None and quantity is None:
         raise ValueError(f"{source} does not say which quantity its FRF is: pass "
                          f"quantity= one of {list(QUANTITIES)}")

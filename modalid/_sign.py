@@ -83,7 +83,8 @@ class SignCheck:
                     "its sign is reversed (response recorded against the force); read it "
                     "with read_options={'negate': True}; if its quantity is stated wrong (an "
                     "accelerance read as a receptance looks reversed too), read it with "
-                    "quantity=...; if it is a transfer FRF, give the driving point's")
+                    "quantity=... (or correct the quantity the file states); if it is a "
+                    "transfer FRF, give the driving point's")
         return ""
 
 

@@ -178,8 +178,8 @@ def test_fit_names_the_flag_for_a_conjugated_or_reversed_file(rod_accelerance, t
         assert warning.startswith(f"warning: {path}: ")
         assert warning.endswith(f"read it with {flag}" + (
             "" if kind == "conj" else "; if its quantity is stated wrong (an accelerance read "
-            "as a receptance looks reversed too), read it with --quantity ...; if it is a "
-            "transfer FRF, give the driving point's"))
+            "as a receptance looks reversed too), read it with --quantity ... (or correct the "
+            "quantity the file states); if it is a transfer FRF, give the driving point's"))
         assert status == (3 if kind == "conj" else 0)   # a conjugated FRF cannot be fitted
         assert main(["fit", str(path), flag]) == 0
         out, err = capsys.readouterr()

@@ -369,7 +369,9 @@ def test_csv_quantity_sources(tmp_path):
     assert read_frf(plain, quantity="mobility").quantity == "mobility"
     commented = write_text(tmp_path / "c.csv", "# measured 2024\n# Quantity = Inertance\n" + body)
     assert read_frf(commented).quantity == "accelerance"
-    with pytest.raises(ValueError, match="says its FRF is accelerance but quantity='mobility'"):
+    with pytest.raises(ValueError, match="says its FRF is accelerance but quantity='mobility' "
+                                         "was passed: drop the argument, or, if the file says "
+                                         "it wrong, correct what it states"):
         read_frf(commented, quantity="mobility")
     named = write_text(tmp_path / "n.csv", "f,receptance_re,receptance_im\n0,1,2\n1,3,4\n")
     assert read_frf(named).quantity == "receptance"
@@ -604,8 +606,8 @@ def test_a_check_sign_problem_names_the_file_and_the_option():
         f"{reversed_.conductance:+.2f}; a passive driving point's is positive, +1): its sign "
         "is reversed (response recorded against the force); read it with "
         "read_options={'negate': True}; if its quantity is stated wrong (an accelerance "
-        "read as a receptance looks reversed too), read it with quantity=...; if it is a "
-        "transfer FRF, give the driving point's")
+        "read as a receptance looks reversed too), read it with quantity=... (or correct "
+        "the quantity the file states); if it is a transfer FRF, give the driving point's")
     assert check_sign(frf).problem("rod.csv") == ""
 
 
