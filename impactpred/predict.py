@@ -119,7 +119,8 @@ def check_identification(fit, source, *, body: int) -> None:
         raise ValueError(f"body {body}: {source} is not a driving-point FRF ({why}): a "
                          "transfer FRF cannot be an impact body, a body needs its "
                          "driving-point receptance (force and response at the contact "
-                         f"point); give the FRF measured there{fix}")
+                         f"point); give the FRF measured there{fix}; if it is the one, "
+                         f"fit it with passive=True{refit}")
     if verdict == "failed":
         raise ValueError(f"body {body}: the identification of {source} failed ({reasons}); "
                          f"options that may fix it{refit}: {_FIT_REMEDIES}")
