@@ -26,6 +26,7 @@ the identifications, continues the models and solves.
 from __future__ import annotations
 
 import functools
+import re
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -33,6 +34,7 @@ from pathlib import Path
 import numpy as np
 
 from modalid import ModalModel, MultiOutputModalModel, SavedFit
+from modalid.validation import as_real_scalar
 
 from ._figures import band_resolution, impact_figures
 from ._specs import READ_OPTIONS, check_estimator, identify, parse_contact, read_options_pair
@@ -436,9 +438,19 @@ def _band_reach(result, fits, notes, band_tolerance) -> tuple:
 def _solve_pair(model1, model2, *, velocity1, velocity2, check_passive, gap, contact, t_end,
                 dt, method):
     """The impact of two models (``predict``'s solves)."""
-    return solve_impact(Body(model1, velocity=velocity1, check_passive=check_passive),
-                        Body(model2, velocity=velocity2, check_passive=check_passive),
+    return solve_impact(_body(1, model1, velocity1, check_passive),
+                        _body(2, model2, velocity2, check_passive),
                         gap=gap, contact=contact, t_end=t_end, dt=dt, method=method)
+
+
+def _body(index, model, velocity, check_passive):
+    """``Body(model, velocity=...)``, its refusals naming the body and ``velocity{index}``
+    (``predict``'s argument, the command line's ``--v1``/``--v2``)."""
+    try:
+        return Body(model, velocity=velocity, check_passive=check_passive)
+    except ValueError as exc:
+        message = re.sub(r"\bvelocity(?==)", f"velocity{index}", str(exc))
+        raise ValueError(f"body {index}: {message}") from None
 
 
 def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rigid",
@@ -522,6 +534,9 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
     estimator = check_estimator(estimator)
     if not (isinstance(continuation, (bool, np.bool_)) or continuation == "auto"):
         raise ValueError(f"continuation must be True, False or 'auto', got {continuation!r}")
+    # before any identification: a wide band's fit takes seconds
+    velocity1, velocity2 = as_real_scalar("velocity1", velocity1), as_real_scalar("velocity2",
+                                                                                  velocity2)
     specs = (body1, body2)
     models, fits = _bodies(specs, quantity=quantity, estimator=estimator,
                            read_options=read_options, check_passive=check_passive)

@@ -55,7 +55,8 @@ def in_flags(message) -> str:
     command line's flags.
 
     ``t_end=8`` becomes ``--t-end 8``, ``missed_modes='dense'`` ``--missed-modes dense``,
-    ``window_decay_rate must be ...`` ``--window-decay must be ...``, ``passive=False``
+    ``window_decay_rate must be ...`` ``--window-decay must be ...`` (and ``dt must ...``
+    ``--dt must ...``), ``passive=False``
     ``--driving-point no``; see ``_PHRASES`` and ``_KEYWORDS``.
     """
     message = " ".join(str(message).split())
@@ -69,6 +70,8 @@ def in_flags(message) -> str:
         message = re.sub(word + r"=\s*", flag + " ", message)
         if "_" in name:
             message = re.sub(word + r"(?![\w=])", flag, message)
+        else:                                  # "dt must be positive": the flag must be
+            message = re.sub(word + r"(?= must\b)", flag, message)
     return " ".join(message.split())
 
 

@@ -302,6 +302,20 @@ def test_automatic_step_resolves_a_stiff_dashpot(method):
     assert res.n_contacts == 1 and res.restitution == pytest.approx(exact, abs=3e-6)
 
 
+def test_a_body_velocity_refused_names_the_body_and_its_flag(capsys):
+    """A grounded body given a velocity: 'got velocity=2.0' did not say which body, nor
+    the flag (--v2); a NaN velocity is refused before any identification."""
+    with pytest.raises(ValueError, match=r"^body 2: a grounded body \(no rigid-body mode\) "
+                                         r"cannot have a rigid-body velocity, got "
+                                         r"velocity2=2.0$"):
+        predict("mass:1", "spring-mass:mass=1,stiffness=100", velocity2=2.0, t_end=0.1)
+    assert main(["predict", "mass:1", "spring-mass:mass=1,stiffness=100", "--v2", "2",
+                 "--t-end", "0.1"]) == 2
+    assert capsys.readouterr().err.endswith("cannot have a rigid-body velocity, got --v2 2.0\n")
+    with pytest.raises(ValueError, match=r"^velocity1 must be finite, got nan$"):
+        predict("mass:1", "no_such_file.csv", velocity1=float("nan"), t_end=0.1)
+
+
 def test_a_step_longer_than_the_run_is_refused():
     """dt = 10 s over t_end = 8 s had given a contact interval (0, 10 s): past t_end."""
     bodies = (Body(LumpedMass(1.0), velocity=1.0), Body(Rod(1.0, 1.0, support="fixed")))

@@ -129,6 +129,10 @@ def test_fit_options_are_the_same_in_modalid_fit_and_impactpred_predict():
                                                      "--no-passivity-check"),
     ("a quantity named in prose stays", "a quantity named in prose stays"),
     ("/data/record_length/t_end=1.csv: bad", "/data/record_length/t_end=1.csv: bad"),
+    ("dt must be positive, got 0.0", "--dt must be positive, got 0.0"),
+    ("velocity1 must be finite, got nan", "--v1 must be finite, got nan"),
+    ("index must be below 1, got index=3", "--index must be below 1, got --index 3"),
+    ("the fit's method mustered", "the fit's method mustered"),
 ])
 def test_in_flags_writes_python_arguments_as_flags(message, flags):
     from modalid._cli import in_flags
