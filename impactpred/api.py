@@ -10,6 +10,7 @@ import numpy as np
 
 from modalid.validation import as_choice, as_positive_scalar, as_real_scalar
 
+from ._caveats import caveats
 from .body import Body, SampledResponse
 from .contact import Hertz, LinearSpring, Rigid, check_contact
 from .damper.excitation import HarmonicForce
@@ -80,8 +81,9 @@ def solve_impact(body1: Body, body2: Body, *, gap: float = 0.0, contact=Rigid(),
         restitution (None); when the bodies still approach after the last contact
         (restitution < 0: another contact follows after ``t_end``); when the bodies never
         touch before ``t_end`` (no impact: the message gives the gap, the closing speed and
-        when rigid motion alone would close the gap). The same words go into the result's
-        ``notes``.
+        when rigid motion alone would close the gap); when a time-stepping run chatters at
+        its grid's scale (many contacts of one or two steps: the figures depend on ``dt``).
+        The same words go into the result's ``notes`` (:mod:`impactpred._caveats`).
     """
     for name, body in (("body1", body1), ("body2", body2)):
         if not isinstance(body, Body):
@@ -142,39 +144,12 @@ def solve_impact(body1: Body, body2: Body, *, gap: float = 0.0, contact=Rigid(),
         notes.append(said)
         result = solver(bodies, gap, contact, t_end, dt, notes=tuple(notes))
         audit = energy_audit(result, bodies, contact)
-    if result.in_contact_at_end:
-        said = (f"the contact that began at {result.contact_intervals[-1][0]:.6g} s is still "
-                f"closed at t_end = {t_end:.6g} s: no restitution (None), and the figures "
-                "after it describe the bodies pressed together; a longer t_end shows whether "
-                "they separate")
-        warnings.warn(said, UserWarning, stacklevel=2)
-        result = dataclasses.replace(result, notes=result.notes + (said,))
-    elif result.restitution is not None and result.restitution < 0:
-        w1, w2 = result.velocities_after
-        said = (f"the bodies still approach after the last contact (ended at "
-                f"{result.contact_intervals[-1][1]:.6g} s): their rigid motion closes the gap "
-                f"at {w1 - w2:.6g} m/s (restitution {result.restitution:.4g} < 0), so another "
-                f"contact follows after t_end = {t_end:.6g} s and the figures after the impact"
-                " are not final; a longer t_end reaches its end")
-        warnings.warn(said, UserWarning, stacklevel=2)
-        result = dataclasses.replace(result, notes=result.notes + (said,))
-    if not result.touched:
-        closing = body1.velocity - body2.velocity
-        said = (f"no contact by t_end = {t_end:.6g} s: the contact points start "
-                f"{start_gap:.6g} m apart, the bodies closing at {closing:.6g} m/s")
-        if closing > 0:
-            meet = start_gap / closing                          # rigid motion alone
-            said += f" (rigid motion alone would close the gap at t = {meet:.6g} s)"
-            said += ("; no impact to predict before a longer t_end" if meet > t_end else
-                     ", yet their loads or vibration kept them apart: no impact to predict")
-        elif any(b.load is not None or b.vibration is not None for b in bodies):
-            said += (" and their loads or vibration did not close the gap: no impact to "
-                     "predict before a longer t_end")
-        else:
-            said += ("; they do not approach (+y points from body 1 to body 2): no impact "
-                     "to predict")
-        warnings.warn(said, UserWarning, stacklevel=2)
-        result = dataclasses.replace(result, notes=result.notes + (said,))
+    sentences = caveats(result, bodies, t_end=t_end, start_gap=start_gap,
+                        time_stepping=chosen in ("modal", "convolution"))
+    for sentence in sentences:
+        warnings.warn(sentence, UserWarning, stacklevel=2)
+    if sentences:
+        result = dataclasses.replace(result, notes=result.notes + sentences)
     if math.isinf(audit.tolerance):
         warnings.warn(f"dt={dt:.4g} s leaves under two output samples per period of a "
                       f"load: the energy audit cannot check the load's work (the automatic "

@@ -1,0 +1,111 @@
+"""What a solved impact cannot vouch for, in words (for :func:`impactpred.solve_impact`).
+
+Each sentence names a way the figures of an :class:`~impactpred.result.ImpactResult` are
+not the impact's final or converged answer, with what would settle it:
+
+* the last contact is still closed at ``t_end`` (no restitution);
+* the bodies still approach after the last contact (restitution < 0: another contact
+  follows after ``t_end``);
+* the bodies never touched (no impact);
+* a time-stepping run chatters at its grid's scale (contacts of one or two steps: not
+  resolved, so the contact count and the figures depend on ``dt``).
+
+:func:`solve_impact` warns each sentence and keeps it in the result's notes.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["MICRO_STEPS", "caveats"]
+
+#: a contact of at most this many steps is not resolved by a time-stepping grid
+MICRO_STEPS = 2
+#: grid-scale chatter is said when at least this many contacts after the first are micro
+#: contacts, and they are at least a quarter of them
+_MIN_MICRO = 3
+
+
+def caveats(result, bodies, *, t_end: float, start_gap: float,
+            time_stepping: bool) -> tuple[str, ...]:
+    """The sentences that apply to ``result`` (in the order above; empty if none).
+
+    Parameters
+    ----------
+    result : ImpactResult
+        The solved impact.
+    bodies : pair of Body
+        Its bodies (their velocities, loads and vibration, for the no-contact sentence).
+    t_end : float
+        End of the run (s).
+    start_gap : float
+        The contact points' distance (m) at ``t = 0``.
+    time_stepping : bool
+        Whether the solver steps on a grid (``"modal"``, ``"convolution"``), whose
+        contacts may chatter at the grid's scale.
+
+    Returns
+    -------
+    tuple of str
+    """
+    said = []
+    if result.in_contact_at_end:
+        said.append(f"the contact that began at {result.contact_intervals[-1][0]:.6g} s is "
+                    f"still closed at t_end = {t_end:.6g} s: no restitution (None), and the "
+                    "figures after it describe the bodies pressed together; a longer t_end "
+                    "shows whether they separate")
+    elif result.restitution is not None and result.restitution < 0:
+        w1, w2 = result.velocities_after
+        said.append(f"the bodies still approach after the last contact (ended at "
+                    f"{result.contact_intervals[-1][1]:.6g} s): their rigid motion closes "
+                    f"the gap at {w1 - w2:.6g} m/s (restitution {result.restitution:.4g} < "
+                    f"0), so another contact follows after t_end = {t_end:.6g} s and the "
+                    "figures after the impact are not final; a longer t_end reaches its end")
+    if not result.touched:
+        said.append(_no_contact(bodies, t_end, start_gap))
+    if time_stepping:
+        chatter = _grid_chatter(result)
+        if chatter:
+            said.append(chatter)
+    return tuple(said)
+
+
+def _no_contact(bodies, t_end, start_gap) -> str:
+    closing = bodies[0].velocity - bodies[1].velocity
+    said = (f"no contact by t_end = {t_end:.6g} s: the contact points start "
+            f"{start_gap:.6g} m apart, the bodies closing at {closing:.6g} m/s")
+    if closing > 0:
+        meet = start_gap / closing                          # rigid motion alone
+        said += f" (rigid motion alone would close the gap at t = {meet:.6g} s)"
+        return said + ("; no impact to predict before a longer t_end" if meet > t_end else
+                       ", yet their loads or vibration kept them apart: no impact to predict")
+    if any(b.load is not None or b.vibration is not None for b in bodies):
+        return said + (" and their loads or vibration did not close the gap: no impact to "
+                       "predict before a longer t_end")
+    return said + ("; they do not approach (+y points from body 1 to body 2): no impact to "
+                   "predict")
+
+
+def _grid_chatter(result) -> str | None:
+    """The sentence on contacts of at most :data:`MICRO_STEPS` steps after the first, when
+    they are many (see :data:`_MIN_MICRO`), else None.
+
+    Such contacts are the grid's, not the model's: a mass dropped at 2 m/s on a steel
+    cantilever's tip (an Euler-Bernoulli beam, rigid contact) makes 19, 48 and 179
+    contacts over 20 ms at steps of 4.8, 1 and 0.1 us, most of one or two steps, and a
+    restitution of 0.45, 0.46 and 0.33: no converged answer, since the beam has no
+    high-frequency limit and the contact no stiffness.
+    """
+    intervals = np.asarray(result.contact_intervals, dtype=float).reshape(-1, 2)
+    if len(intervals) <= _MIN_MICRO:
+        return None
+    steps = (intervals[1:, 1] - intervals[1:, 0]) / result.dt
+    micro = int(np.count_nonzero(steps <= MICRO_STEPS + 1e-9))
+    if micro < _MIN_MICRO or micro < 0.25 * steps.size:
+        return None
+    return (f"{micro} of the {len(intervals)} contacts last at most {MICRO_STEPS} steps "
+            f"(dt = {result.dt:.4g} s): the contact chatters at the grid's scale, so the "
+            "count of contacts, the restitution and the first contact's figures depend on "
+            "dt; a rigid contact on a model without a high-frequency limit (an "
+            "Euler-Bernoulli beam's tip) has no converged answer: give the contact a "
+            "stiffness (Hertz, a spring), or compare with dt / 2")
