@@ -101,7 +101,7 @@ def test_hertz_between_masses_converges_to_the_classical_duration():
 def test_zero_order_hold_where_the_first_order_hold_does_not_apply():
     # rigid contact without flexibility: the first-order hold would oscillate
     bodies = (Body(LumpedMass(1.0), velocity=1.0), Body(SpringMass(1.0, 100.0)))
-    with pytest.raises(ValueError, match="unstable"):
+    with pytest.raises(ValueError, match="force would oscillate"):
         solve_modal(bodies, 0.0, Rigid(), 0.5, 1e-3, hold="linear")
     res = solve_modal(bodies, 0.0, Rigid(), 0.5, 1e-3)
     assert any("zero-order hold" in note for note in res.notes)
@@ -116,6 +116,28 @@ def test_zero_order_hold_where_the_first_order_hold_does_not_apply():
     assert res.points[1] is not None
     with pytest.raises(ValueError, match="hold"):
         solve_modal(bodies, 0.0, Rigid(), 0.5, 1e-3, hold="quadratic")
+
+
+def test_a_dashpot_like_model_takes_the_zero_order_hold():
+    """A mass on a mode and a fast real pole without flexibility: the model's mobility has
+    an instantaneous part (a dashpot at the contact), the first-order hold's force ratio is
+    0.997 and its force alternated 0, 16 700, 200, 16 800 N about the true 8 400 N: five
+    contacts instead of one and a work on the body 13 % above the energy the mass lost, at
+    every dt (the energy audit flagged it, "refine dt" did nothing). The zero-order hold
+    agrees with the convolution solver and its books close."""
+    model = ModalModel(poles=[-1 + 600j], residues=[-1e-3j], real_poles=[-1e6],
+                       real_residues=[2.4e-4])
+    bodies = (Body(LumpedMass(0.05), velocity=2.0), Body(model))
+    res = solve_impact(*bodies, t_end=1e-4, method="modal", dt=1e-8)
+    assert any("zero-order hold" in note and "oscillate" in note for note in res.notes)
+    ref = solve_impact(*bodies, t_end=1e-4, method="convolution", dt=1e-8)
+    assert res.n_contacts == ref.n_contacts == 1
+    assert res.impulse == pytest.approx(ref.impulse, rel=1e-9)
+    lost = bodies[0].velocity ** 2 * 0.05 / 2 - res.energy_by_body[0].rigid_after
+    assert res.energy_by_body[1].vibration_after == pytest.approx(lost, rel=1e-9)
+    assert res.energy_audit.ok
+    with pytest.raises(ValueError, match="force would oscillate"):
+        solve_modal(bodies, 0.0, Rigid(), 1e-4, 1e-8, hold="linear")
 
 
 def test_first_order_hold_with_damped_modes_and_real_poles_against_the_exact_solver():
