@@ -36,7 +36,7 @@ from ._frf_pipeline import FRFPipeline, ModalFitWarning
 from ._report import fit_report
 from ._verdict import driving_point_decision, judged_report, line_error_tolerance
 from ._window import windowed_receptance
-from .frf import FRFData
+from .frf import FRFData, check_fittable
 from .frf_set import FRFSet
 from .model import ModalModel
 from .quantities import receptance_to
@@ -302,6 +302,8 @@ class ModalFit(FRFPipeline, FitLines, BaseEstimator):
         if self.method != "era" and not isinstance(data, FRFData):
             raise TypeError(f"data must be an FRFData or FRFSet for method={self.method!r}, "
                             f"got {type(data).__name__}")
+        if isinstance(data, FRFData):
+            check_fittable(data)
         # small dense algebra: BLAS threads only add overhead (restored on exit); a
         # segment's fit runs inside its parent's limit (finding the libraries again
         # costs ~6 ms a call)
@@ -587,3 +589,4 @@ class ModalFit(FRFPipeline, FitLines, BaseEstimator):
         i = self.model_.index(self.model_.driving_point if output is None else output)
         row = data.row(i) if isinstance(data, FRFSet) else data
         return plot_fit(self.model_.row(i), frf=row, ax=ax)
+

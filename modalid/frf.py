@@ -275,3 +275,27 @@ class FRFData:
         ax.set_xlabel("frequency (Hz)")
         ax.set_ylabel("phase (deg)")
         return ax
+
+
+#: FRF values beyond these magnitudes (in the data's own units) are no measurement: the
+#: fit's algebra would overflow or underflow on them
+_LARGEST_VALUE, _SMALLEST_VALUE = 1e150, 1e-150
+
+
+def check_fittable(data: FRFData) -> None:
+    """Refuse an FRF whose values are all 0 or beyond any physical scale, naming them.
+
+    Raises
+    ------
+    ValueError
+        All values 0 (nothing to identify), or the largest beyond ``1e150`` or under
+        ``1e-150`` (a unit or scaling error; the algebra would overflow).
+    """
+    peak = float(np.max(np.abs(data.values)))
+    if peak == 0.0:
+        raise ValueError(f"the FRF ({data.quantity}, {len(data)} lines) is 0 at every line: "
+                         "nothing to identify")
+    if not _SMALLEST_VALUE <= peak <= _LARGEST_VALUE:
+        raise ValueError(f"the FRF's largest value is {peak:.3g} ({data.quantity}, in SI "
+                         f"units): beyond any measured scale ({_SMALLEST_VALUE:g} to "
+                         f"{_LARGEST_VALUE:g}); check the file's units or scaling")

@@ -347,6 +347,18 @@ def test_bad_data_raise():
         ModalFit(method="era").fit((t, np.sin(t)))
     with pytest.raises(ValueError, match="not fitted"):
         ModalFit().predict([1.0])
+    # all zeros: was "Array must not contain infs or NaNs" (from a zero-scaled solve);
+    # 1e300: overflow warnings deep in the fit
+    zero = FRFData(data.freq_hz, np.zeros(len(data)), quantity="accelerance")
+    with pytest.raises(ValueError, match=r"^the FRF \(accelerance, 200 lines\) is 0 at every "
+                                         r"line: nothing to identify$"):
+        ModalFit().fit(zero)
+    for scale in (1e300, 1e-300):
+        huge = FRFData(data.freq_hz, data.values * scale / np.max(np.abs(data.values)),
+                       quantity=data.quantity)
+        with pytest.raises(ValueError, match=r"largest value is 1e[+-]300 .*check the file's "
+                                             r"units or scaling$"):
+            ModalFit().fit(huge)
 
 
 # --------------------------------------------------------------- estimator protocol
