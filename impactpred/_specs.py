@@ -6,6 +6,7 @@ contact law as a spec string. Errors name the spec or the file.
 
 from __future__ import annotations
 
+import inspect
 from pathlib import Path
 from typing import Any
 
@@ -41,8 +42,14 @@ def _parse_fields(kind, text, names):
             values[key] = value
         else:
             positional.append(item)
+    if len(positional) > len(names):
+        raise ValueError(f"{kind} spec: {len(positional)} values {positional} for the "
+                         f"{len(names)} fields {names}")
     for name, value in zip(names, positional):
-        values.setdefault(name, value)
+        if name in values:
+            raise ValueError(f"{kind} spec: {name} given twice ({value!r} in place and "
+                             f"{name}={values[name]!r})")
+        values[name] = value
     out = {}
     for key, value in values.items():
         if key == "support":
@@ -159,8 +166,16 @@ def identify(spec, *, quantity=None, estimator=None, read_options=None, check_pa
     kind, _, rest = text.partition(":")
     if is_spec(text):
         cls, names = _SPECS[kind]
+        fields = _parse_fields(kind, rest, names)
+        required = [name for name, parameter in inspect.signature(cls).parameters.items()
+                    if parameter.default is inspect.Parameter.empty and name in names]
+        missing = [name for name in required if name not in fields]
+        if missing:
+            raise ValueError(f"{kind} spec {text!r} lacks {', '.join(missing)} (its fields: "
+                             f"{', '.join(names)}, e.g. {kind}:"
+                             f"{','.join(f'{n}=...' for n in required)})")
         try:
-            return cls(**_parse_fields(kind, rest, names)), None
+            return cls(**fields), None
         except TypeError as exc:
             raise ValueError(f"{kind} spec {text!r}: {exc}") from exc
     path = Path(text)

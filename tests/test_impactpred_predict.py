@@ -274,6 +274,12 @@ def test_contact_specs():
     ("rod:mass=1,length=2", ValueError, "length"),
     ("no_such_file.csv", ValueError, "neither an existing file nor a spec"),
     (3.0, TypeError, "float"),
+    # an extra value was dropped silently; a missing field leaked Rod.__init__'s TypeError
+    ("rod:1,1,fixed,7", ValueError, r"^rod spec: 4 values \['1', '1', 'fixed', '7'\] for the 3 "
+                                    r"fields \('mass', 'transit_time', 'support'\)$"),
+    ("rod:mass=1", ValueError, r"^rod spec 'rod:mass=1' lacks transit_time \(its fields: mass, "
+                               r"transit_time, support, e.g. rod:mass=...,transit_time=...\)$"),
+    ("rod:1,mass=2", ValueError, r"^rod spec: mass given twice \('1' in place and mass='2'\)$"),
 ])
 def test_bad_body_specs(spec, error, match):
     with pytest.raises(error, match=match):
