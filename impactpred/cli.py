@@ -19,6 +19,8 @@ def _cmd_models(args) -> int:
     from data_synth import CantileverBeam, Rod, SpringMass
 
     out = check_out_dir(args.out)
+    if args.n_modes < 1:
+        raise ValueError(f"--n-modes must be at least 1, got {args.n_modes}")
 
     models = {
         "Rod(m=1 kg, T=1 s, fixed)": Rod(1.0, 1.0, support="fixed"),

@@ -104,7 +104,8 @@ def _cmd_fit(args) -> int:
 
 # --------------------------------------------------------------------------- hammer
 def _check_frf_out(out):
-    """``--out FILE`` of ``modalid hammer``: a writable format, not a folder."""
+    """``--out FILE`` of ``modalid hammer``: a writable format, not a folder, not an
+    existing file (a measured FRF is not overwritten)."""
     if out is None:
         return None
     from .io import WRITE_FORMATS, _format_of
@@ -113,6 +114,8 @@ def _check_frf_out(out):
     if path.is_dir():
         raise ValueError(f"--out {out} is a folder: give the FRF file to write (.csv, .npz, "
                          ".mat or .uff)")
+    if path.exists():        # a measured FRF is not overwritten without a word
+        raise ValueError(f"--out {out} exists: remove it first, or give another name")
     _format_of(path, None, WRITE_FORMATS)
     return path
 

@@ -258,6 +258,11 @@ def test_one_hit_writes_its_force_spectrum_and_the_fit_ends_its_band_there(hamme
     assert main(["hammer", path, "--response-type", "velocity", "--out", str(out)]) == 0
     assert "its automatic band ends where the force spectrum the file keeps falls 20 dB" in (
         capsys.readouterr().out)
+    written = out.read_bytes()        # a second run does not overwrite it without a word
+    assert main(["hammer", path, "--response-type", "velocity", "--out", str(out)]) == 2
+    assert capsys.readouterr().err == (f"modalid: error: --out {out} exists: remove it "
+                                       "first, or give another name\n")
+    assert out.read_bytes() == written
     expected = frf_from_hammer(test.force[:1], test.response[:1], test.fs,
                                response_type="velocity")
     np.testing.assert_array_equal(read_frf(out).excitation, expected.force_spectrum)
