@@ -242,6 +242,14 @@ def read_hammer_records(paths, *, fs=None, time=None, force=None,
         if f.shape != r.shape or f.ndim != 2:
             raise ValueError(f"{path}: force and response differ in shape, {f.shape} and "
                              f"{r.shape}")
+        for name, channel in (("force", f), ("response", r)):
+            bad = ~np.isfinite(channel)
+            if np.any(bad):
+                row, sample = (int(i) for i in np.argwhere(bad)[0])
+                count = int(bad.sum())
+                raise ValueError(f"{path}: its {name} channel holds "
+                                 f"{float(channel[row, sample])!r} (record {row + 1}, sample "
+                                 f"{sample}; {count} value{'s' * (count > 1)} not finite)")
         file_rate = None if t is None else _rate(path, t, f.shape[1])
         if fs is not None and file_rate is not None and abs(file_rate - fs) > 1e-6 * fs:
             raise ValueError(f"{path}: its time channel gives {file_rate:.9g} Hz, --fs says "

@@ -332,7 +332,13 @@ def test_hammer_command_refuses_bad_records_on_one_line(hammer_test, tmp_path, c
                               test.force[0], test.response[0]]))
     folder = tmp_path / "folder.csv"
     folder.mkdir()
+    holed = tmp_path / "holed.npy"        # the error had not named the file
+    response = test.response[0].copy()
+    response[1000] = np.nan
+    np.save(holed, np.array([test.t, test.force[0], response]))
     cases = [
+        ([str(holed)], f"{holed}: its response channel holds nan (record 1, sample 1000; 1 "
+                       "value not finite)"),
         ([str(pickled)], f"cannot read {pickled} as .npy (pickled/object arrays are refused)"),
         ([str(two)], f"{two} has no time channel: give the sample rate with --fs"),
         ([str(jitter)], f"{jitter}: its time channel is not uniformly increasing"),
