@@ -204,7 +204,9 @@ def _step_for_t_end(t_end, dt, method, notes):
              f"solve takes at most {_MAX_STEPS}")
     if ratio > _COARSEST:
         raise ValueError(f"{needs}: shorten it to at most {longest:.4g} s "
-                         f"(t_end={longest:.4g}), or give a coarser step dt=... explicitly "
+                         f"(t_end={longest:.4g}) for the full accuracy, or to "
+                         f"{_COARSEST * longest:.4g} s for a step up to {_COARSEST} times "
+                         "coarser (with a warning), or give a coarser step dt=... explicitly "
                          "(larger errors, with a warning)")
     # the step rule's 0.1 % grows like the step (first order) or its square (the modal
     # solver's second-order hold): the larger of the two is the honest estimate
