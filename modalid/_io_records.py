@@ -130,6 +130,11 @@ VALUE_UNITS = {
 }
 #: frequency units a table's frequency column may state, and their value in Hz
 FREQUENCY_UNITS = {"khz": 1e3, "kilohertz": 1e3}
+#: bracketed words that are units, though without a ``/`` (refused unless known above)
+_BARE_UNITS = {"mhz", "ghz", "rpm", "cpm", "s", "ms", "v", "mv", "n", "m", "mm", "um", "g",
+               "kg", "pa", "db", "%"}
+
+
 def split_unit(name):
     """``(text, unit)``: a column header without its trailing ``[unit]`` or ``(unit)``
     (brackets may nest: ``real [(m/s)/N]``), and that unit (None when there is none)."""
@@ -152,14 +157,19 @@ def _normalised_unit(text):
 
 def header_unit(name):
     """The unit a column header states in a trailing ``[unit]`` or ``(unit)``, normalised,
-    or None: none stated, or one :func:`_column_role` reads itself (Hz, rad/s, deg, rad,
-    dB)."""
+    or None: none stated, one :func:`_column_role` reads itself (Hz, rad/s, deg, rad,
+    dB), or a bracket that names no unit (``Re(H)``, ``real [-]``, ``coherence
+    (gamma^2)``: a unit has a ``/`` or is one of a few bare unit words, such as kHz, rpm,
+    g, V)."""
     _, stated = split_unit(name)
     if stated is None:
         return None
     unit = _normalised_unit(stated)
     word = re.sub(r"[^a-z0-9]+", "_", unit).strip("_")
-    return None if (not unit or word in _UNITS or word == "rad_s") else unit
+    if not unit or word in _UNITS or word == "rad_s":
+        return None
+    known = unit in FREQUENCY_UNITS or any(unit in units for units in VALUE_UNITS.values())
+    return unit if (known or "/" in unit or unit in _BARE_UNITS) else None
 
 
 def unit_factor(source, name, role, unit):
@@ -168,9 +178,10 @@ def unit_factor(source, name, role, unit):
 
     A frequency column may state kHz (Hz and rad/s are read with its role); a real,
     imaginary or magnitude column the units of :data:`VALUE_UNITS` (m/N, mm/N, m/s/N,
-    m/s^2/N, g/N, in/lbf, ...); a coherence %. Any other unit is a ``ValueError`` naming
-    the column: a unit read past silently would scale every figure. An excitation column's
-    unit is not read (its scale does not matter).
+    m/s^2/N, g/N, in/lbf, ...; a magnitude in dB: of the linear magnitude, the caller
+    adds ``20 log10(factor)``); a coherence %. Any other unit is a ``ValueError`` naming
+    the column: a unit read past silently would scale every figure. A phase column's unit
+    is read with its role, an excitation column's is not read (its scale does not matter).
     """
     if role in ("freq_hz", "omega_rad_s"):
         if role == "freq_hz" and unit in FREQUENCY_UNITS:
@@ -184,7 +195,7 @@ def unit_factor(source, name, role, unit):
             return 0.01, None
         raise ValueError(f"column {name!r} of {source} states the unit {unit!r}: a coherence "
                          "is a ratio (no unit, or %)")
-    if role in ("real", "imag", "magnitude"):
+    if role in ("real", "imag", "magnitude", "magnitude_db"):
         for quantity, units in VALUE_UNITS.items():
             if unit in units:
                 return units[unit], quantity

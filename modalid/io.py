@@ -125,7 +125,7 @@ def _read_table(path, columns, table=None, stated=None):
         factor, quantity = unit_factor(path, name, role, unit)
         if quantity is not None:
             stated.add(quantity)
-        return values * factor
+        return values + 20.0 * np.log10(factor) if role == "magnitude_db" else values * factor
 
     freq_role = [r for r in ("freq_hz", "omega_rad_s") if r in found]
     if len(freq_role) != 1:

@@ -13,7 +13,7 @@ from __future__ import annotations
 import os
 import re
 
-from ._io_records import _QUANTITY_WORDS, _UNITS, _WORDS, _build
+from ._io_records import _QUANTITY_WORDS, _UNITS, _WORDS, _build, split_unit
 from .frf_set import FRFSet, grid_difference
 from .io import _load_table, _read_raw, _read_table, _resolve, read_complex_lines
 
@@ -28,9 +28,8 @@ def _split_label(name):
     """``(label, role_name)`` of a CSV column of a multi-FRF table: the words that name a
     role or unit (``real``, ``phase``, ``deg``, ``[Hz]``...) and the rest, the label of the
     output (``"p2 real"`` -> ``("p2", "real")``, ``"mag_db_3"`` -> ``("3", "mag_db")``)."""
-    text = str(name).strip()
-    match = re.fullmatch(r"(.*?)\s*([\[(][^\])]*[\])])\s*", text)
-    base, unit = (match.group(1), " " + match.group(2)) if match else (text, "")
+    base, stated = split_unit(name)
+    unit = "" if stated is None else f" [{stated}]"
     tokens = [t for t in re.split(r"[^A-Za-z0-9]+", base) if t]
     label = "_".join(t for t in tokens if t.lower() not in _ROLE_WORDS)
     return label, "_".join(t for t in tokens if t.lower() in _ROLE_WORDS) + unit

@@ -406,6 +406,31 @@ def test_csv_header_units_are_converted_and_state_the_quantity(tmp_path, header,
     np.testing.assert_allclose(frf.values, np.array([20 - 30j, 40 - 60j]) * scale, rtol=1e-15)
 
 
+@pytest.mark.parametrize("header", ["f,Re(H),Im(H)", "f,Real(FRF),Imag(FRF)",
+                                    "f,real [-],imag [-]", "f,re,im,coherence (gamma^2)"])
+def test_csv_brackets_that_name_no_unit_are_read_as_before(tmp_path, header):
+    rows = "\n10,1,2" + (",0.5" if "coh" in header else "") + "\n20,3,4" + (
+        ",0.6" if "coh" in header else "") + "\n"
+    frf = read_frf(write_text(tmp_path / "b.csv", header + rows), quantity="receptance")
+    np.testing.assert_array_equal(frf.values, [1 + 2j, 3 + 4j])
+
+
+def test_csv_units_of_a_db_magnitude_and_of_a_set_are_read(tmp_path):
+    """dB of mm/N: 0 dB is 1 mm/N (it was read as 1 m/N); a multi-FRF table's nested
+    units (``[(m/s)/N]``, ``[m/(N s)]``) as a single FRF's."""
+    db = write_text(tmp_path / "db.csv", "f [Hz],mag dB [mm/N],phase [deg]\n10,0,0\n20,20,90\n")
+    frf = read_frf(db)
+    assert frf.quantity == "receptance"
+    np.testing.assert_allclose(frf.values, [1e-3, 1e-2j], atol=1e-18)
+    from modalid.io_set import read_frf_set
+
+    table = write_text(tmp_path / "set.csv", "f,p1 real [(m/s)/N],p1 imag [m/(N s)],p2 real "
+                       "[(mm/s)/N],p2 imag [(mm/s)/N]\n10,1,2,3,4\n20,5,6,7,8\n")
+    frfs = read_frf_set(table, driving_point=0)
+    assert frfs.quantity == "mobility"
+    np.testing.assert_allclose(frfs.values, [[1 + 2j, 5 + 6j], [3e-3 + 4e-3j, 7e-3 + 8e-3j]])
+
+
 def test_csv_header_units_not_known_are_refused(tmp_path):
     body = "\n10,1,2\n20,3,4\n"
     for header, match in (("f [rpm],re,im", "'f \\[rpm\\]'.*must be in Hz, kHz or rad/s"),
