@@ -106,15 +106,15 @@ def _body_read_options(args, spec) -> dict:
     return read_options(args, path)
 
 
-#: the flags that say how an FRF file is read and identified (destination -> flag)
-_IDENTIFICATION_FLAGS = {
-    "fit_method": "--fit-method", "n_modes": "--n-modes", "fmin": "--fmin", "fmax": "--fmax",
-    "rigid_body": "--rigid-body", "weighting": "--weighting",
-    "driving_point": "--driving-point", "not_driving_point": "--not-driving-point",
-    "missed_modes": "--missed-modes", "window_decay": "--window-decay",
-    "record_length": "--record-length", "quantity": "--quantity", "index": "--index",
-    "format": "--format", "freq_start": "--freq-start", "df": "--df",
-    "conjugate": "--conjugate", "negate": "--negate"}
+def _identification_flags() -> dict:
+    """Destination -> flag of every option that says how an FRF file is read and
+    identified: the ones :func:`add_fit_options` and :func:`add_read_options` add."""
+    import argparse
+
+    parser = argparse.ArgumentParser(add_help=False)
+    add_fit_options(parser, method_flags=("--fit-method",))
+    add_read_options(parser)
+    return {action.dest: action.option_strings[0] for action in parser._actions}
 
 
 def _check_identification_flags(args) -> str | None:
@@ -125,10 +125,9 @@ def _check_identification_flags(args) -> str | None:
     is exact). With one, a saved ``.json`` beside it keeps its own identification: the
     returned sentence says so (None when there is nothing to say).
     """
-    values = {dest: getattr(args, dest, None) for dest in _IDENTIFICATION_FLAGS}
-    given = [flag if value is True else f"{flag} {value}"
-             for dest, flag in _IDENTIFICATION_FLAGS.items()
-             if (value := values[dest]) not in (None, False)]
+    options = _identification_flags()
+    given = [flag if value is True else f"{flag} {value}" for dest, flag in options.items()
+             if (value := getattr(args, dest, None)) is not None and value is not False]
     if not given:
         return None
     from ._specs import is_spec

@@ -70,8 +70,8 @@ def in_flags(message) -> str:
         message = re.sub(word + r"=\s*", flag + " ", message)
         if "_" in name:
             message = re.sub(word + r"(?![\w=])", flag, message)
-        else:                                  # "dt must be positive": the flag must be
-            message = re.sub(word + r"(?= must\b)", flag, message)
+        else:        # "dt must be positive", not prose ("the quantity must be one of")
+            message = re.sub(r"(?<!the )(?<!a )" + word + r"(?= must\b)", flag, message)
     return " ".join(message.split())
 
 

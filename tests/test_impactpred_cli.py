@@ -208,6 +208,8 @@ def test_identification_flags_no_body_uses_are_refused_or_said(two_mode_accelera
         "(modalid fit FILE --fmax 20.0 --negate --out DIR)")
     assert main(["predict", "mass:1", "mass:2", *args, "--quantity", "mobility"]) == 2
     assert one_line_error(capsys).startswith("--quantity mobility: this option says how")
+    assert main(["predict", "mass:1", "mass:2", *args, "--index", "0"]) == 2   # 0 is given
+    assert one_line_error(capsys).startswith("--index 0: this option says how")
     free = tmp_path / "free.csv"
     write_frf(free, FRFData(two_mode_accelerance.freq_hz, two_mode_accelerance.values
                             + 1.0, quantity="accelerance"))   # + a 1 kg mass line

@@ -133,6 +133,8 @@ def test_fit_options_are_the_same_in_modalid_fit_and_impactpred_predict():
     ("velocity1 must be finite, got nan", "--v1 must be finite, got nan"),
     ("index must be below 1, got index=3", "--index must be below 1, got --index 3"),
     ("the fit's method mustered", "the fit's method mustered"),
+    ("x.csv says '# quantity: velocity'; the quantity must be one of",
+     "x.csv says '# quantity: velocity'; the quantity must be one of"),
 ])
 def test_in_flags_writes_python_arguments_as_flags(message, flags):
     from modalid._cli import in_flags
