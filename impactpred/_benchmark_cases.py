@@ -25,7 +25,7 @@ from modalid.hammer import frf_from_hammer
 
 from .api import solve_impact
 from .body import Body
-from .contact import Hertz, Rigid
+from .contact import Hertz, LinearSpring, Rigid
 from .truncation import FIGURES, impact_figures
 
 __all__ = ["Case", "Identified", "Measurement", "Reference", "benchmark_cases",
@@ -64,9 +64,10 @@ class Case:
         ``dt = 0`` from ``dt_exact`` and ``dt_exact / 2`` (first order:
         ``2 f(dt/2) - f(dt)``), where they converge like ``dt`` and the predictions are
         closer than that error (the ball: 0.025-0.045 % per halving at 1e-8 s, three
-        halvings checked). Under a compliant contact the
-        duration is measured where the gap crosses zero (:func:`gap_crossing_duration`)
-        and extrapolated too; under a rigid one it is the finer step's, on its grid.
+        halvings checked). Under a contact whose force vanishes with the gap (Hertz, an
+        undamped spring) the duration is measured where the gap crosses zero
+        (:func:`gap_crossing_duration`) and extrapolated too; otherwise it is the finer
+        step's, on its grid.
     contact : ContactLaw
         The contact law (default rigid).
     max_modes : int, optional
@@ -174,12 +175,13 @@ def gap_crossing_duration(result) -> float:
     constant over each step), so their duration is a multiple of the step: the ball of
     :func:`benchmark_cases` at ``dt = 5e-9`` s gives 33.870 us, 0.0077 % under the limit
     ``dt -> 0`` (33.8726 us), more than its uncertainty band's half-width at 40 modes. Under
-    a compliant contact (Hertz, a spring) the gap is negative while the bodies press, and
-    the sample before an interval and the last sample of its force bracket the closing and
-    the opening: linear interpolation of the gap puts each end within ``O(dt^2)`` of the
-    discrete solution's crossing, which converges to the exact one like ``dt`` (then
-    Richardson's extrapolation applies, as to the other figures). Under a rigid contact
-    the gap stays at zero while pressing and the ends are the grid's.
+    a contact whose force vanishes with the gap (Hertz, an undamped spring) the gap is
+    negative while the bodies press, and the samples on either side of its closing and of
+    its opening bracket the contact's ends: linear interpolation of the gap puts each end
+    within ``O(dt^2)`` of the discrete solution's crossing, which converges to the exact
+    one like ``dt`` (then Richardson's extrapolation applies, as to the other figures). A
+    dashpot ends the force before the gap opens, and a rigid contact holds the gap at zero:
+    not for them.
 
     Parameters
     ----------
@@ -192,18 +194,28 @@ def gap_crossing_duration(result) -> float:
     """
     t, gap = np.asarray(result.t, dtype=float), np.asarray(result.gap, dtype=float)
     start, end = result.contact_intervals[0]
+    i_start, i_end = int(np.searchsorted(t, start)), int(np.searchsorted(t, end))
 
     def crossing(j):                 # gap[j - 1] and gap[j] on either side of zero
         g0, g1 = gap[j - 1], gap[j]
         return t[j - 1] + (t[j] - t[j - 1]) * g0 / (g0 - g1) if g0 != g1 else t[j]
 
-    i_start, i_end = int(np.searchsorted(t, start)), int(np.searchsorted(t, end))
-    if i_start > 0 and gap[i_start - 1] > 0.0 >= gap[i_start]:
-        start = crossing(i_start)
+    # the closing: the first sample at or after the interval's start where the gap is
+    # no longer positive (the interval may start a sample before it, or at t = 0 closed)
+    closed = i_start + np.flatnonzero(gap[i_start:i_end + 1] <= 0.0)
+    if closed.size and closed[0] > 0 and gap[closed[0] - 1] > 0.0:
+        start = crossing(int(closed[0]))
     opened = np.flatnonzero(gap[i_end:] > 0.0)
     if opened.size and i_end + opened[0] > 0 and gap[i_end + opened[0] - 1] <= 0.0:
         end = crossing(i_end + int(opened[0]))
     return float(end - start)
+
+
+def _force_vanishes_with_gap(contact) -> bool:
+    """Whether the contact's force is zero exactly where the gap is (Hertz, an undamped
+    spring): then :func:`gap_crossing_duration` measures its duration."""
+    return isinstance(contact, Hertz) or (isinstance(contact, LinearSpring)
+                                          and contact.damping == 0.0)
 
 
 def exact_reference(case: Case) -> Reference:
@@ -252,7 +264,7 @@ def exact_reference(case: Case) -> Reference:
             coarse_res = solve(case.dt_exact)
             coarse = impact_figures(coarse_res)
             extrapolated = ["peak_force", "impulse", "restitution"]
-            if isinstance(case.contact, Rigid):
+            if not _force_vanishes_with_gap(case.contact):
                 how += " and half of it, Richardson-extrapolated (duration: the finer)"
             else:                                   # the gap is negative while pressing
                 figs["contact_duration"] = gap_crossing_duration(res)

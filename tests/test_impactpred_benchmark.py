@@ -75,6 +75,41 @@ def test_compliant_reference_duration_is_not_held_to_the_grid(law):
     assert "gap crosses zero" in crossing.how
 
 
+def test_gap_crossing_duration_finds_a_closing_between_samples():
+    """The same masses and spring from a gap of 1.07 mm: the convolution interval starts
+    on a sample whose gap is still open (the closing lies after it); the duration from the
+    crossings at T / 300.5 and its half, extrapolated, is within 2e-5 of the closed form
+    (it had kept the grid's start: 1.6e-3 off)."""
+    from data_synth import LumpedMass
+    from impactpred import Body, LinearSpring, solve_impact
+    from impactpred._benchmark_cases import gap_crossing_duration
+
+    exact = math.pi * math.sqrt(0.5 / 1e4)
+    durations = [gap_crossing_duration(solve_impact(
+        Body(LumpedMass(1.0), velocity=1.0), Body(LumpedMass(1.0)), contact=LinearSpring(1e4),
+        gap=1.07e-3, t_end=2 * exact, dt=dt, method="convolution"))
+        for dt in (exact / 300.5, exact / 601)]
+    assert 2 * durations[1] - durations[0] == pytest.approx(exact, rel=2e-5)
+
+
+def test_a_dashpot_reference_keeps_the_grids_duration():
+    """A dashpot ends the force while the gap is still closed: the gap's crossing is not the
+    contact's end (it gave +34 % with c = 60 N s/m), so the grid's duration is kept."""
+    import dataclasses
+
+    from data_synth import LumpedMass
+    from impactpred._benchmark_cases import Case
+    from impactpred.contact import LinearSpring
+
+    case = Case("masses", "masses", "", LumpedMass(1.0), LumpedMass(3.0), 1.5, 0.0, 0.05,
+                "convolution", dt_exact=1e-5, richardson=True,
+                contact=LinearSpring(4e4, damping=60.0))
+    reference = exact_reference(case)
+    assert reference.how.endswith("(duration: the finer)")
+    grid = exact_reference(dataclasses.replace(case, dt_exact=5e-6, richardson=False))
+    assert reference.figures["contact_duration"] == grid.figures["contact_duration"]
+
+
 def test_cases_are_defined():
     keys = [c.key for c in benchmark_cases()]
     assert "mass-rod M/m=1" in keys and "rod-rod L2/L1=1" in keys

@@ -323,24 +323,34 @@ def test_a_body_velocity_refused_names_the_body_and_its_flag(capsys):
 def test_chatter_at_the_grids_scale_is_said():
     """A 50 g mass at 2 m/s on a steel cantilever's tip (an Euler-Bernoulli beam) under a
     rigid contact: most of its contacts last one or two steps, and the restitution over
-    20 ms moves with the step (0.45, 0.46, 0.33 at 4.8, 1 and 0.1 us): said, no longer
-    silent. Under Hertz's law its contacts are resolved: nothing said."""
+    20 ms moves with the step (0.45, 0.46, 0.33 at 4.8, 1 and 0.1 us): said, with how the
+    figures move at half the step, no longer silent. Under Hertz's law its contacts are
+    resolved, and a mass on a rod's 20 modes without flexibility re-contacts in Diracs of a
+    step each that do not move with the step (0.69840, 0.69824, 0.69833 at dt, dt/2,
+    dt/4): nothing said for either."""
     from data_synth import CantileverBeam
 
     from impactpred import Hertz
 
     bodies = (Body(LumpedMass(0.05), velocity=2.0), Body(CantileverBeam(0.785, 0.016744)))
     with pytest.warns(UserWarning, match=r"^1[0-9] of the 19 contacts last at most 2 steps "
-                                         r"\(dt = 4.762e-06 s\): the contact chatters at the "
-                                         r"grid's scale"):
+                                         r"\(dt = 4.762e-06 s\), and at dt / 2 they move "
+                                         r"\(restitution 0.4477 -> 0.40\d*, .*\): the contact "
+                                         r"chatters at the grid's scale"):
         rigid = solve_impact(*bodies, t_end=0.02)
     assert rigid.method == "convolution" and "chatters" in rigid.notes[-1]
     hertz = Hertz.from_materials(radius1=0.005, youngs_modulus1=210e9, poisson1=0.3,
                                  youngs_modulus2=210e9, poisson2=0.3)
+    rod = Rod(1.0, 1.0, support="fixed").modal_model(20)
     with warnings.catch_warnings():      # its first 2 ms: 7 contacts, none of a few steps
         warnings.simplefilter("error", UserWarning)
         resolved = solve_impact(*bodies, t_end=0.002, contact=hertz)
+        dt = choose_dt((Body(LumpedMass(0.2), velocity=1.0), Body(rod)), Rigid(), t_end=6.0)
+        diracs = [solve_impact(Body(LumpedMass(0.2), velocity=1.0), Body(rod), t_end=6.0,
+                               dt=step, method="modal") for step in (dt / 2, dt / 4)]
     assert resolved.n_contacts == 7
+    assert [d.n_contacts for d in diracs] == [5, 6]
+    assert diracs[0].restitution == pytest.approx(diracs[1].restitution, abs=2e-4)
 
 
 def test_a_step_longer_than_the_run_is_refused():
