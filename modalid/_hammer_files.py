@@ -248,8 +248,10 @@ def read_hammer_records(paths, *, fs=None, time=None, force=None,
                 row, sample = (int(i) for i in np.argwhere(bad)[0])
                 count = int(bad.sum())
                 raise ValueError(f"{path}: its {name} channel holds "
-                                 f"{float(channel[row, sample])!r} (record {row + 1}, sample "
-                                 f"{sample}; {count} value{'s' * (count > 1)} not finite)")
+                                 f"{float(channel[row, sample])!r} (record {row + 1} of "
+                                 f"{channel.shape[0]}, sample {sample + 1} of "
+                                 f"{channel.shape[1]}; {count} value{'s' * (count > 1)} not "
+                                 "finite)")
         file_rate = None if t is None else _rate(path, t, f.shape[1])
         if fs is not None and file_rate is not None and abs(file_rate - fs) > 1e-6 * fs:
             raise ValueError(f"{path}: its time channel gives {file_rate:.9g} Hz, --fs says "

@@ -589,4 +589,3 @@ class ModalFit(FRFPipeline, FitLines, BaseEstimator):
         i = self.model_.index(self.model_.driving_point if output is None else output)
         row = data.row(i) if isinstance(data, FRFSet) else data
         return plot_fit(self.model_.row(i), frf=row, ax=ax)
-

@@ -339,8 +339,8 @@ def test_hammer_command_refuses_bad_records_on_one_line(hammer_test, tmp_path, c
     response[1000] = np.nan
     np.save(holed, np.array([test.t, test.force[0], response]))
     cases = [
-        ([str(holed)], f"{holed}: its response channel holds nan (record 1, sample 1000; 1 "
-                       "value not finite)"),
+        ([str(holed)], f"{holed}: its response channel holds nan (record 1 of 1, sample "
+                       f"1001 of {test.t.size}; 1 value not finite)"),
         ([str(pickled)], f"cannot read {pickled} as .npy (pickled/object arrays are refused)"),
         ([str(two)], f"{two} has no time channel: give the sample rate with --fs"),
         ([str(jitter)], f"{jitter}: its time channel is not uniformly increasing"),
