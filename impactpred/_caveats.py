@@ -144,10 +144,10 @@ def _grid_chatter(result, finer) -> str | None:
     if finer is None:
         moved = "the run could not be repeated at dt / 2 within the step limit to check"
     else:
-        moved = _moves(result, finer)
-        if moved is None:
+        changes = _moves(result, finer)
+        if changes is None:
             return None
-        moved = f"at dt / 2 they move ({moved}, {finer.n_contacts} contacts)"
+        moved = f"at dt / 2 they move ({changes}, {finer.n_contacts} contacts)"
     return (f"{head}, and {moved}: the contact chatters at the grid's scale, so the count "
             "of contacts, the restitution and the first contact's figures depend on dt; a "
             "rigid contact on a model without a high-frequency limit (an Euler-Bernoulli "
