@@ -93,7 +93,8 @@ class DamperResult:
         Mean input power (W) over the same cycles: in a steady state it equals the power
         dissipated by impacts, contact damping and the primary's damping.
     reduction : float
-        ``primary_amplitude / amplitude_without_damper``.
+        ``primary_amplitude / amplitude_without_damper``; NaN without excitation (a free
+        rattle: no bare amplitude to compare with).
     amplitude_without_damper : float
         Closed-form steady amplitude (m) of the primary alone.
     notes : tuple of str
@@ -190,8 +191,10 @@ class DamperResult:
         ax.axhline(0.0, color="0.6", lw=0.6, zorder=0)
         ax.set_xlabel("time (s)")
         ax.set_ylabel("displacement (mm)")
+        versus = (f"x{self.reduction:.3g} of the bare structure"
+                  if math.isfinite(self.reduction) else "no excitation")
         ax.set_title(f"{self.freq_hz:.4g} Hz: amplitude {self.primary_amplitude * 1e3:.4g} mm "
-                     f"(x{self.reduction:.3g} of the bare structure)")
+                     f"({versus})")
         handles, labels = ax.get_legend_handles_labels()
         twins = ()
         if np.any(self.force[sel] != 0):
