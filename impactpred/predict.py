@@ -42,7 +42,7 @@ from .api import solve_impact
 from .body import Body, check_driving_point
 from .result import ImpactResult
 from .truncation import NoComplianceAbove, identified_model
-from .uncertainty import uncertainty_band
+from .uncertainty import check_band_bodies, uncertainty_band
 
 __all__ = ["predict", "Prediction", "parse_body", "parse_contact", "BandWarning",
            "ContinuationWarning", "IdentificationWarning", "check_identification",
@@ -541,12 +541,7 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
     models, fits = _bodies(specs, quantity=quantity, estimator=estimator,
                            read_options=read_options, check_passive=check_passive)
     if uncertainty:
-        for i, (spec, fit) in enumerate(zip(specs, fits), start=1):
-            if isinstance(fit, SavedFit):
-                raise ValueError(
-                    f"body {i} ({_label(spec)}) is a saved fit: the uncertainty band "
-                    "re-identifies each measured body on cut bands of its data, which a "
-                    "saved fit does not hold; predict from its FRF file for the band")
+        check_band_bodies([_label(spec) for spec in specs], fits)
     law = parse_contact(contact)
 
     # a partial of a module-level function: it pickles, for the band's process pools

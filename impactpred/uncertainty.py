@@ -21,6 +21,7 @@ a bias of the fit shows only as far as the cut band or the draws move with it.
 
 from __future__ import annotations
 
+import functools
 import math
 import warnings
 from dataclasses import dataclass
@@ -35,9 +36,9 @@ from .parallel import check_executor, resolve_executor
 from .truncation import (FIGURES, NoComplianceAbove, band_resolution, identified_model,
                          impact_figures, tail_extent)
 
-__all__ = ["UncertaintyBand", "band_half_width", "FRONT_OVERSHOOT", "front_allowance",
-           "front_jump", "perturb_residues", "refit_on_cut_band", "truncation_error",
-           "uncertainty_band"]
+__all__ = ["UncertaintyBand", "band_half_width", "check_band_bodies", "FRONT_OVERSHOOT",
+           "front_allowance", "front_jump", "perturb_residues", "refit_on_cut_band",
+           "truncation_error", "uncertainty_band"]
 
 
 @dataclass(frozen=True)
@@ -130,6 +131,29 @@ def _physical_interval(figure: str, low: float, high: float) -> tuple:
     return max(low, 0.0), high
 
 
+def check_band_bodies(labels, fits) -> None:
+    """Refuse an uncertainty band ``predict`` cannot make for these bodies (``labels``:
+    how each is named; ``fits``: its fit, None for an exact or saved model).
+
+    Raises
+    ------
+    ValueError
+        A body is a saved fit (no data to re-identify), or no body was identified from an
+        FRF file (an exact model has no identification error, a saved model no data).
+    """
+    for i, (label, fit) in enumerate(zip(labels, fits), start=1):
+        if isinstance(fit, SavedFit):
+            raise ValueError(f"body {i} ({label}) is a saved fit: the uncertainty band "
+                             "re-identifies each measured body on cut bands of its data, "
+                             "which a saved fit does not hold; predict from its FRF file for "
+                             "the band")
+    if all(fit is None for fit in fits):
+        raise ValueError(f"the uncertainty band bounds the error of bodies identified from "
+                         f"FRF files, and neither body is one ({' and '.join(labels)}): an "
+                         "exact model has no identification error, a saved model no data to "
+                         "re-identify")
+
+
 def _check_refittable(fit) -> None:
     """Refuse a fit that holds no data to re-identify (a :class:`modalid.SavedFit`)."""
     if isinstance(fit, SavedFit):
@@ -166,6 +190,13 @@ def refit_on_cut_band(fit, fraction: float):
         estimator.fit(getattr(fit, "data_", fit.frf_),
                       weights=getattr(fit, "weights_", None))
     return estimator
+
+
+def _quietly(solve, *models):
+    """``solve(*models)`` with its warnings dropped (a variant's solve, not the answer)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return solve(*models)
 
 
 def perturb_residues(fit, rng) -> ModalModel:
@@ -448,6 +479,9 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
                 raise
             return identified_model(source, continuation=False, **kw)
 
+    # the variants are not the answer: their solves' warnings (no contact, chatter, ...)
+    # would repeat the nominal solve's once per variant
+    solve = functools.partial(_quietly, solve)
     # the re-identifications on the cut bands start first: they run while the tail solves
     pool = resolve_executor(executor, default=1)
     pending = {}

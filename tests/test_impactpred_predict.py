@@ -124,6 +124,11 @@ def test_a_saved_fit_predicts_as_its_frf_file_and_a_bare_model_does_not(measured
     with pytest.raises(ValueError, match=r"^body 2 \(.*rod_fit\.json\) is a saved fit: the "
                                          r"uncertainty band re-identifies"):
         predict("mass:1", saved_path, velocity1=1.0, t_end=8.0, uncertainty=True)
+    # exact and bare models have no identification error to bound: refused, not ignored
+    with pytest.raises(ValueError, match=r"^the uncertainty band bounds the error of bodies "
+                                         r"identified from FRF files, and neither body is one "
+                                         r"\(mass:1 and .*rod_bare\.json\)"):
+        predict("mass:1", bare_path, velocity1=1.0, t_end=8.0, uncertainty=True)
     # the object itself is a body too
     again = predict("mass:1", SavedFit.from_json(saved_path), velocity1=1.0, t_end=8.0)
     assert again.figures == from_file.figures
