@@ -113,7 +113,8 @@ def check_identification(fit, source, *, body: int) -> None:
     saved = isinstance(fit, SavedFit)
     refit = (f" (fit {fit.source or 'its FRF file'} again with them and save it)" if saved
              else "")
-    if report.get("driving_point") is False:
+    if (report.get("driving_point") is False
+            or report.get("driving_row_is_driving_point") is False):   # a set's row
         why = report.get("driving_point_reason") or reasons
         fix = (" (or, if it is the driving point with its sign reversed, read it with "
                "read_options={'negate': True}; with its quantity stated wrong, with "

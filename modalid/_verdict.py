@@ -180,8 +180,9 @@ def judged_report(report, model, frf, *, driving_point, reason, weighting, weigh
 
     ``frf``: the data fitted (``FRFData``; an ``FRFSet``, judged by its worst row in the
     data's own quantity; None for an impulse response); ``model``: the fitted model;
-    ``driving_point``, ``reason``: the decision and why (a set's is its row's, not
-    stored); the weighting and band entries are stored as given.
+    ``driving_point``, ``reason``: the decision and why (a set's is its driving-point
+    row's: ``driving_row_is_driving_point``, its index staying ``driving_point``); the
+    weighting and band entries are stored as given.
     """
     modes = report["modes"].copy()
     if isinstance(frf, FRFData):
@@ -210,7 +211,10 @@ def judged_report(report, model, frf, *, driving_point, reason, weighting, weigh
                                        nrmse=nrmse, relative_error=relative[0],
                                        relative_noise=relative[1],
                                        rigid_body=bool(report["rigid_body"]), finite=finite)
-    decision = ({} if isinstance(model, MultiOutputModalModel)   # a set's: the row's
+    # a set's report keeps its driving-point row's index under "driving_point": the
+    # decision on that row goes under its own name
+    decision = ({"driving_row_is_driving_point": driving_point, "driving_point_reason": reason}
+                if isinstance(model, MultiOutputModalModel)
                 else {"driving_point": driving_point, "driving_point_reason": reason})
     return report.replace(modes=modes, **decision, weighting=weighting,
                           weighting_reason=weighting_reason, verdict=verdict,

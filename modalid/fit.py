@@ -403,6 +403,10 @@ class ModalFit(FRFPipeline, FitLines, BaseEstimator):
             else:
                 for w in caught:                  # the unconstrained fit stands
                     warnings.warn(w.message, w.category, stacklevel=3)
+                warnings.warn(f"the set's driving-point row {data.outputs[dp]!r} is not a "
+                              f"driving point ({reason}): the fit stands as a set of transfer "
+                              "FRFs, and its model cannot be an impact body; give the row "
+                              "measured at the excitation", ModalFitWarning, stacklevel=3)
         return self._judge(driving_point=driving, reason=f"row {data.outputs[dp]!r}: {reason}")
 
     def _judge(self, *, driving_point, reason):

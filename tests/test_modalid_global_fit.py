@@ -18,6 +18,7 @@ from scipy.optimize import least_squares
 
 from data_synth import CantileverBeam, Rod
 from modalid import FRFSet, ModalFit, MultiOutputModalModel, mac, read_frf_set
+from modalid.fit import ModalFitWarning
 
 DATA = Path(__file__).parent / "data"
 N_BAND, ZETA, XI = 6, 0.01, [0.0, 0.3, 0.6, 0.9]
@@ -231,12 +232,17 @@ def test_measured_beam_common_poles_with_no_options():
     (51.52 Hz is the first resonance: the data change sign between its 51 and 52 Hz
     lines) with a verdict of ok."""
     data = pyuff_set()
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
+    with pytest.warns(ModalFitWarning, match=r"^the set's driving-point row 'meas_point_1' is "
+                                             r"not a driving point \(modal masses of both "
+                                             r"signs.*its model cannot be an impact body"):
         fit = ModalFit().fit(data)
     freqs = fit.report_["modes"]["frequency_hz"].to_numpy()
     np.testing.assert_allclose(freqs, [51.52, 142, 279, 460, 687, 959], rtol=5e-3)
     assert fit.report_["verdict"] == "ok"
+    # the decision on the row is kept (it had been dropped: "ok" and nothing else said)
+    assert fit.report_["driving_point"] == 0
+    assert fit.report_["driving_row_is_driving_point"] is False
+    assert fit.report_["driving_point_reason"].startswith("row 'meas_point_1': modal masses")
     assert fit.report_["band_hz"][0] > 1.0 and "dropped" in fit.report_["band_reason"]
     assert not fit._passive_on                     # decided: not a driving point
     with pytest.raises(ValueError, match="driving point"):
