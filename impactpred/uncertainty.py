@@ -132,14 +132,19 @@ def _physical_interval(figure: str, low: float, high: float) -> tuple:
 
 
 def check_band_bodies(labels, fits) -> None:
-    """Refuse an uncertainty band ``predict`` cannot make for these bodies (``labels``:
-    how each is named; ``fits``: its fit, None for an exact or saved model).
+    """Refuse an uncertainty band ``predict`` cannot make for these bodies.
+
+    Parameters
+    ----------
+    labels : sequence of str
+        How each body is named in messages (its file or spec).
+    fits : sequence of (ModalFit, SavedFit or None)
+        Each body's fit; None for an exact or saved model.
 
     Raises
     ------
     ValueError
-        A body is a saved fit (no data to re-identify), or no body was identified from an
-        FRF file (an exact model has no identification error, a saved model no data).
+        A body is a saved fit (no data to re-identify), or none is identified from a file.
     """
     for i, (label, fit) in enumerate(zip(labels, fits), start=1):
         if isinstance(fit, SavedFit):
@@ -192,8 +197,7 @@ def refit_on_cut_band(fit, fraction: float):
     return estimator
 
 
-def _quietly(solve, *models):
-    """``solve(*models)`` with its warnings dropped (a variant's solve, not the answer)."""
+def _quietly(solve, *models):    # a variant's solve, not the answer: its warnings dropped
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         return solve(*models)
@@ -479,9 +483,7 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
                 raise
             return identified_model(source, continuation=False, **kw)
 
-    # the variants are not the answer: their solves' warnings (no contact, chatter, ...)
-    # would repeat the nominal solve's once per variant
-    solve = functools.partial(_quietly, solve)
+    solve = functools.partial(_quietly, solve)    # the nominal solve's warnings said once
     # the re-identifications on the cut bands start first: they run while the tail solves
     pool = resolve_executor(executor, default=1)
     pending = {}

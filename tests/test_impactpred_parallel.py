@@ -212,6 +212,8 @@ class _CountingExecutor(Executor):
             fn, args = args[0], args[1:]
             with threadpool_limits(limits=1, user_api="blas"):
                 return self.submit(fn, *args, **kwargs)
+        while not hasattr(fn, "__name__") and fn.func.__name__ == "_quietly":
+            fn = functools.partial(fn.args[0], *fn.args[1:])   # a variant's solve, quiet
         self.submitted.append(getattr(fn, "__name__", None) or fn.func.__name__)
         future = Future()
         future.set_result(fn(*args, **kwargs))

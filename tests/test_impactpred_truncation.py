@@ -413,3 +413,30 @@ def test_a_band_with_no_compliance_above_it_is_not_continued(noise):
     kept = identified_model(fit, continuation=False)        # its upper terms kept
     top = 2 * np.pi * fit.report_["band_hz"][1]
     assert kept.flexibility > 0 or np.any(np.abs(kept.poles) > top)
+
+
+def test_cancelling_pseudo_modes_above_the_band_keep_their_net_static_compliance():
+    """Two pseudo-modes at one frequency above the band with residues +-106 (a fixed rod
+    refitted on 80 % of its band): static compliances +0.206 and -0.202 m/N. Made normal
+    modes, they keep the net 0.004 m/N (the negative one clipped alone had left 0.206, and
+    the impact's restitution 0.861 for 0.698); a mode inside the band keeps its mass."""
+    from impactpred._continuation import static_compliance
+    from impactpred.truncation import _normal_residues
+    from modalid import ModalModel
+
+    w = 2 * np.pi * 8.459
+    pole = w * (-0.051 + 1j * np.sqrt(1 - 0.051**2))
+    inside = 2 * np.pi * 2.0 * (-0.01 + 1j)
+    model = ModalModel(poles=[inside, pole, pole * (1 + 1e-9)],
+                       residues=[-0.02j, -106.294 - 0.0912j, 106.311 - 0.0199j])
+    before = static_compliance(model.poles[1:], model.residues[1:])
+    assert before[0] < -0.2 and before[1] > 0.2
+    residues = _normal_residues(model, band_top_hz=8.0)
+    after = static_compliance(model.poles[1:], residues[1:])
+    assert np.all(residues.real == 0) and residues[0] == -0.02j
+    assert after.sum() == pytest.approx(before.sum(), rel=1e-9)
+    assert after[0] == 0.0 and 0.0 < after[1] < 0.01
+    # every pseudo-mode positive: unchanged
+    single = ModalModel(poles=[pole], residues=[-0.2j * abs(pole)])
+    assert static_compliance(single.poles, _normal_residues(single, 8.0)) == pytest.approx(
+        static_compliance(single.poles, single.residues))
