@@ -42,7 +42,9 @@ EXPECTED_OUTPUT = {
     ],
     "impact_damper_design.ipynb": [
         r"\*\*Conclusions: impact damper on the identified primary\.\*\*",
-        r"matches Masri &\s+Caughey's closed form at \d+ operating points",
+        # 2000 cycles: every run steady (at 250, four drifted and it said 1.67 %)
+        r"matches Masri &\s+Caughey's closed form at \d+ operating points to 0\.0\d % in "
+        r"amplitude",
         r"\*\*What the finite contact does\.\*\*",
         r"\*Optimum clearance\.\* At resonance",
         r"Notebook run time: \d+\.\d s",
