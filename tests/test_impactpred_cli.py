@@ -163,19 +163,24 @@ def test_predict_reads_bare_complex_lines_and_takes_the_fit_flags(two_mode_accel
             "lay above the band without it)") in out
 
 
+def _fitted_and_saved(accelerance, tmp_path, capsys):
+    """``(FRF file, the fit modalid fit --out saved of it, predict's arguments)``."""
+    from modalid.cli import main as modalid_main
+
+    path = tmp_path / "body.csv"
+    write_frf(path, accelerance)
+    assert modalid_main(["fit", str(path), "--out", str(tmp_path / "fit")]) == 0
+    capsys.readouterr()
+    args = ["--v1", "0.1", "--t-end", "0.3", "--contact", "spring:stiffness=1e3"]
+    return path, tmp_path / "fit" / "body_model.json", args
+
+
 @pytest.mark.filterwarnings("ignore::UserWarning")
 def test_the_model_modalid_fit_saves_predicts_as_its_frf_file(two_mode_accelerance,
                                                                tmp_path, capsys):
     """``modalid fit --out`` then ``impactpred predict`` on its JSON: the fit's band,
     verdict and continuation come with it, and every figure is the FRF file's."""
-    from modalid.cli import main as modalid_main
-
-    path = tmp_path / "body.csv"
-    write_frf(path, two_mode_accelerance)
-    assert modalid_main(["fit", str(path), "--out", str(tmp_path / "fit")]) == 0
-    capsys.readouterr()
-    saved = tmp_path / "fit" / "body_model.json"
-    args = ["--v1", "0.1", "--t-end", "0.3", "--contact", "spring:stiffness=1e3"]
+    path, saved, args = _fitted_and_saved(two_mode_accelerance, tmp_path, capsys)
     printed = {}
     for body in (path, saved):
         assert main(["predict", "mass:1", str(body), *args]) == 0
@@ -192,14 +197,7 @@ def test_identification_flags_no_body_uses_are_refused_or_said(two_mode_accelera
     are refused (before: a saved fit ignored them silently, ``--fmax 1000`` on a fit of
     4000 Hz printed "above 4000 Hz"); beside a saved fit they are said to reach the FRF
     file only."""
-    from modalid.cli import main as modalid_main
-
-    path = tmp_path / "body.csv"
-    write_frf(path, two_mode_accelerance)
-    assert modalid_main(["fit", str(path), "--out", str(tmp_path / "fit")]) == 0
-    capsys.readouterr()
-    saved = tmp_path / "fit" / "body_model.json"
-    args = ["--v1", "0.1", "--t-end", "0.3", "--contact", "spring:stiffness=1e3"]
+    path, saved, args = _fitted_and_saved(two_mode_accelerance, tmp_path, capsys)
     assert main(["predict", "mass:1", str(saved), *args, "--fmax", "20", "--negate"]) == 2
     assert one_line_error(capsys) == (
         "--fmax 20.0 --negate: these options say how an FRF file is read and identified, and "
