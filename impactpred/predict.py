@@ -89,7 +89,8 @@ def check_identification(fit, source, *, body: int) -> None:
     fit : modalid.ModalFit or modalid.SavedFit
         Fitted on the FRF file ``source`` (or saved); reads ``report_["verdict"]`` (``"ok"``,
         ``"suspect"`` or ``"failed"``, ``"ok"`` when absent), ``report_["verdict_reasons"]``
-        and ``report_["driving_point"]`` (True, False or None: not decided).
+        and ``report_["driving_point"]`` (True, False or None: not decided; a set's
+        ``report_["driving_row_is_driving_point"]``).
     source : str or Path
         The FRF file, named in the messages.
     body : int, keyword-only

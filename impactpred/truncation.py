@@ -171,12 +171,14 @@ def _normal_residues(model, band_top_hz):
     ``band_top_hz``, Hz) and below it their imaginary parts kept (the modal masses; a lower
     pseudo-mode's share of the mass line); above it, each pseudo-mode keeps its static
     compliance ``K = -2 Re(r/p)`` (the share of the omitted modes it stands for),
-    ``Im r = -K |p|^2/(2 Im p)``: the positive ``K`` scaled so that they sum to the
-    pseudo-modes' net static compliance (0 where it is not positive), the others 0. Two
-    pseudo-modes may cancel: a fixed rod refitted on 80 % of its band put two at 8.459 Hz,
-    residues +-106, static compliances +0.206 and -0.202 m/N; each clipped alone (the
-    negative one to 0) they had left 0.206 m/N of flexibility for the net 0.004, and the
-    impact a restitution of 0.861 for 0.698 (the uncertainty band's restitution -0.44..1).
+    ``Im r = -K |p|^2/(2 Im p)``. Returns ``(residues, flexibility)``: the positive ``K``
+    and the residual flexibility scaled together so that they sum to the net static
+    compliance above the band (pseudo-modes and flexibility; 0 where it is not positive),
+    the negative ``K`` made 0. Terms may cancel: a fixed rod refitted on 80 % of its band
+    put two pseudo-modes at 8.459 Hz, residues +-106, static compliances +0.206 and
+    -0.202 m/N; each clipped alone (the negative one to 0) they had left 0.206 m/N of
+    flexibility for the net 0.004, and the impact a restitution of 0.861 for 0.698 (the
+    uncertainty band's restitution -0.44..1).
 
     A residue's real part is not a passive term: the mobility's real part changes sign
     across the resonance (unless ``Re r`` is under about ``2 zeta |Im r|``), and their sum
@@ -188,12 +190,16 @@ def _normal_residues(model, band_top_hz):
     p, r = model.poles, model.residues
     above = above_band(p, band_top_hz)
     compliance = np.where(above, static_compliance(p, r), 0.0)
-    positive = float(np.sum(np.maximum(compliance, 0.0)))
-    net = float(np.sum(compliance))
-    kept = np.maximum(compliance, 0.0) * (max(net, 0.0) / positive if positive > 0 else 0.0)
+    # a negative flexibility is not a passive term: left as it is, for the checks to refuse
+    flexibility = float(model.flexibility) if model.flexibility > 0 else 0.0
+    positive = flexibility + float(np.sum(np.maximum(compliance, 0.0)))
+    net = flexibility + float(np.sum(compliance))
+    scale = max(net, 0.0) / positive if positive > 0 else 0.0
+    kept = np.maximum(compliance, 0.0) * scale
     with np.errstate(divide="ignore", invalid="ignore"):
         im_above = -kept * np.abs(p)**2 / (2.0 * p.imag)
-    return 1j * np.where(above, im_above, r.imag)
+    return (1j * np.where(above, im_above, r.imag),
+            flexibility * scale if flexibility > 0 else float(model.flexibility))
 
 
 def identified_model(fit, *, continuation: bool = True, n_top: int = 3,
@@ -274,7 +280,8 @@ def identified_model(fit, *, continuation: bool = True, n_top: int = 3,
         return _fold_multi_output(model, fit.report_["band_hz"], normal_modes=normal_modes)
     band_top = fit.report_["band_hz"][1]
     if normal_modes and model.n_modes:
-        model = model.replace(residues=_normal_residues(model, band_top))
+        residues, flexibility = _normal_residues(model, band_top)
+        model = model.replace(residues=residues, flexibility=flexibility)
     lumped = None
     if continuation or upper_residual == "auto":
         try:

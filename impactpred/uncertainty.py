@@ -21,7 +21,6 @@ a bias of the fit shows only as far as the cut band or the draws move with it.
 
 from __future__ import annotations
 
-import functools
 import math
 import warnings
 from dataclasses import dataclass
@@ -195,12 +194,6 @@ def refit_on_cut_band(fit, fraction: float):
         estimator.fit(getattr(fit, "data_", fit.frf_),
                       weights=getattr(fit, "weights_", None))
     return estimator
-
-
-def _quietly(solve, *models):    # a variant's solve, not the answer: its warnings dropped
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        return solve(*models)
 
 
 def perturb_residues(fit, rng) -> ModalModel:
@@ -483,89 +476,94 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
                 raise
             return identified_model(source, continuation=False, **kw)
 
-    solve = functools.partial(_quietly, solve)    # the nominal solve's warnings said once
-    # the re-identifications on the cut bands start first: they run while the tail solves
-    pool = resolve_executor(executor, default=1)
-    pending = {}
-    for fit in fits:
-        for fraction in fractions if fit is not None else ():
-            key = (id(fit), fraction)
-            if key not in pending and (refits is None or key not in refits):
-                pending[key] = pool.submit(refit_on_cut_band, fit, fraction)
-    # the tail's own extent: synthesized modes to half as far; the change, taken as the
-    # error left (as for an error ~ 1/extend), is a heuristic that errs wide: a peak's
-    # change from 8x to 16x exceeded its change from 16x to 32x by 2x on a rod
-    tail = {k: 0.0 for k in FIGURES}
-    half = None
-    if continuation and measured and all(f is None or extent(f) > 1.0 for f in fits):
-        try:
-            half = pool.submit(solve, *[m if f is None else continued(f, 0.5)
-                                        for f, m in zip(fits, models)]).result()
-        except (ValueError, MemoryError, np.linalg.LinAlgError):
-            half = None
-        if half is not None:
-            figs = impact_figures(half, resolution=resolution)
-            label = "/".join(f"{0.5 * extent(f):.3g}" for f in fits if f is not None)
-            variants.append((f"tail to {label}x the band top", figs))
-            tail = truncation_error(base, figs, 0.5)
-    # the variants' reference: the nominal models with the variants' extent
-    share = 0.5 if (cheap_variants and continuation and half is not None) else 1.0
-    reference = half if share < 1.0 else nominal
-    cuts, cut_jobs = [], []
-    for i, fit in enumerate(fits):
-        if fit is None:
-            continue
-        for fraction in fractions:
-            key = (id(fit), fraction)
-            if refits is None or key not in refits:
-                refit = pending[key].result()
-                if refits is not None:
-                    refits[key] = (fit, refit)
-            else:
-                refit = refits[key][1]
-            trial = list(models)
+    # the variants are not the answer: their warnings (no contact, chatter, ...) would
+    # repeat the nominal solve's once per variant. One filter, set here in the calling
+    # thread (catch_warnings is not thread-safe: one per task on a thread pool could
+    # leave "ignore" behind for good)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        # the re-identifications on the cut bands start first: they run while the tail solves
+        pool = resolve_executor(executor, default=1)
+        pending = {}
+        for fit in fits:
+            for fraction in fractions if fit is not None else ():
+                key = (id(fit), fraction)
+                if key not in pending and (refits is None or key not in refits):
+                    pending[key] = pool.submit(refit_on_cut_band, fit, fraction)
+        # the tail's own extent: synthesized modes to half as far; the change, taken as the
+        # error left (as for an error ~ 1/extend), is a heuristic that errs wide: a peak's
+        # change from 8x to 16x exceeded its change from 16x to 32x by 2x on a rod
+        tail = {k: 0.0 for k in FIGURES}
+        half = None
+        if continuation and measured and all(f is None or extent(f) > 1.0 for f in fits):
             try:
-                trial[i] = continued(fit, share, of=refit)
-            except ValueError:
+                half = pool.submit(solve, *[m if f is None else continued(f, 0.5)
+                                            for f, m in zip(fits, models)]).result()
+            except (ValueError, MemoryError, np.linalg.LinAlgError):
+                half = None
+            if half is not None:
+                figs = impact_figures(half, resolution=resolution)
+                label = "/".join(f"{0.5 * extent(f):.3g}" for f in fits if f is not None)
+                variants.append((f"tail to {label}x the band top", figs))
+                tail = truncation_error(base, figs, 0.5)
+        # the variants' reference: the nominal models with the variants' extent
+        share = 0.5 if (cheap_variants and continuation and half is not None) else 1.0
+        reference = half if share < 1.0 else nominal
+        cuts, cut_jobs = [], []
+        for i, fit in enumerate(fits):
+            if fit is None:
                 continue
-            cut_fits = [refit if j == i else f for j, f in enumerate(fits)]
-            if share < 1.0:
-                trial = [t if j == i or f is None else continued(f, share)
-                         for j, (t, f) in enumerate(zip(trial, fits))]
-            cut_jobs.append((i, fraction, cut_fits, pool.submit(solve, *trial)))
-    rng = np.random.default_rng(seed)
-    ref_figs = impact_figures(reference, resolution=resolution)
-    changes: dict[str, list] = {k: [] for k in FIGURES}
-    draw_jobs = []     # the draws made here, in order (one generator); their solves pooled
-    if measured:
-        for d in range(n_draws):
-            trial = list(models)
-            for i, fit in enumerate(fits):
-                if fit is not None:
-                    trial[i] = continued(fit, share, model=perturb_residues(fit, rng))
-            draw_jobs.append((d, pool.submit(solve, *trial)))
-    for i, fraction, cut_fits, job in cut_jobs:
-        try:
-            res = job.result()
-        except (ValueError, MemoryError, np.linalg.LinAlgError):
-            continue                 # a degenerate re-identification: no figure
-        cut_resolution = band_resolution(cut_fits)
-        figs = impact_figures(res, resolution=cut_resolution)
-        variants.append((f"body{i + 1} band {100 * fraction:.0f}%", figs))
-        # compared with the reference at the same resolution (the same merging)
-        cuts.append((fraction, figs, impact_figures(reference, resolution=cut_resolution)))
-    failed = []
-    if measured:
-        for d, job in draw_jobs:
+            for fraction in fractions:
+                key = (id(fit), fraction)
+                if refits is None or key not in refits:
+                    refit = pending[key].result()
+                    if refits is not None:
+                        refits[key] = (fit, refit)
+                else:
+                    refit = refits[key][1]
+                trial = list(models)
+                try:
+                    trial[i] = continued(fit, share, of=refit)
+                except ValueError:
+                    continue
+                cut_fits = [refit if j == i else f for j, f in enumerate(fits)]
+                if share < 1.0:
+                    trial = [t if j == i or f is None else continued(f, share)
+                             for j, (t, f) in enumerate(zip(trial, fits))]
+                cut_jobs.append((i, fraction, cut_fits, pool.submit(solve, *trial)))
+        rng = np.random.default_rng(seed)
+        ref_figs = impact_figures(reference, resolution=resolution)
+        changes: dict[str, list] = {k: [] for k in FIGURES}
+        draw_jobs = []     # the draws made here, in order (one generator); their solves pooled
+        if measured:
+            for d in range(n_draws):
+                trial = list(models)
+                for i, fit in enumerate(fits):
+                    if fit is not None:
+                        trial[i] = continued(fit, share, model=perturb_residues(fit, rng))
+                draw_jobs.append((d, pool.submit(solve, *trial)))
+        for i, fraction, cut_fits, job in cut_jobs:
             try:
-                figs = impact_figures(job.result(), resolution=resolution)
-            except (ValueError, MemoryError, np.linalg.LinAlgError) as exc:
-                failed.append(f"{type(exc).__name__}: {str(exc)[:120]}")
-                continue
-            variants.append((f"draw {d + 1}", figs))
-            for k in FIGURES:
-                if figs[k] is not None and ref_figs[k] is not None:
-                    changes[k].append(figs[k] - ref_figs[k])
+                res = job.result()
+            except (ValueError, MemoryError, np.linalg.LinAlgError):
+                continue                 # a degenerate re-identification: no figure
+            cut_resolution = band_resolution(cut_fits)
+            figs = impact_figures(res, resolution=cut_resolution)
+            variants.append((f"body{i + 1} band {100 * fraction:.0f}%", figs))
+            # compared with the reference at the same resolution (the same merging)
+            cuts.append((fraction, figs, impact_figures(reference, resolution=cut_resolution)))
+        failed = []
+        if measured:
+            for d, job in draw_jobs:
+                try:
+                    figs = impact_figures(job.result(), resolution=resolution)
+                except (ValueError, MemoryError, np.linalg.LinAlgError) as exc:
+                    failed.append(f"{type(exc).__name__}: {str(exc)[:120]}")
+                    continue
+                variants.append((f"draw {d + 1}", figs))
+                for k in FIGURES:
+                    if figs[k] is not None and ref_figs[k] is not None:
+                        changes[k].append(figs[k] - ref_figs[k])
     if failed:
         warnings.warn(f"{len(failed)} of {len(draw_jobs)} parameter draws could not be solved "
                       f"(first: {failed[0]}); the band's spread comes from the "

@@ -87,8 +87,10 @@ class ModalFit(FRFPipeline, FitLines, BaseEstimator):
         lines by more than the verdict allows; the full identification follows with the
         constraint, and stays unconstrained when the constraint raises the median error
         per line by half); ``report_["driving_point"]``
-        and ``report_["driving_point_reason"]`` say what was decided. An impulse response
-        (``"era"``) or an FRFSet is taken as a driving point.
+        and ``report_["driving_point_reason"]`` say what was decided. An FRFSet's
+        driving-point row is decided the same way (``report_["driving_point"]`` stays its
+        index, the decision is ``["driving_row_is_driving_point"]``). An impulse response
+        (``"era"``) is taken as a driving point.
     refine : bool
         Run the nonlinear refinement (else: residues of the estimated poles only).
     weighting : {"auto", "relative", "mixed", "noise", "uniform"}

@@ -431,12 +431,20 @@ def test_cancelling_pseudo_modes_above_the_band_keep_their_net_static_compliance
                        residues=[-0.02j, -106.294 - 0.0912j, 106.311 - 0.0199j])
     before = static_compliance(model.poles[1:], model.residues[1:])
     assert before[0] < -0.2 and before[1] > 0.2
-    residues = _normal_residues(model, band_top_hz=8.0)
+    residues, flexibility = _normal_residues(model, band_top_hz=8.0)
     after = static_compliance(model.poles[1:], residues[1:])
-    assert np.all(residues.real == 0) and residues[0] == -0.02j
+    assert np.all(residues.real == 0) and residues[0] == -0.02j and flexibility == 0.0
     assert after.sum() == pytest.approx(before.sum(), rel=1e-9)
     assert after[0] == 0.0 and 0.0 < after[1] < 0.01
-    # every pseudo-mode positive: unchanged
-    single = ModalModel(poles=[pole], residues=[-0.2j * abs(pole)])
-    assert static_compliance(single.poles, _normal_residues(single, 8.0)) == pytest.approx(
+    # every term positive: unchanged
+    single = ModalModel(poles=[pole], residues=[-0.2j * abs(pole)], flexibility=1e-3)
+    residues, flexibility = _normal_residues(single, 8.0)
+    assert static_compliance(single.poles, residues) == pytest.approx(
         static_compliance(single.poles, single.residues))
+    assert flexibility == 1e-3
+    # a pseudo-mode cancelling most of the flexibility: their net 0.01 m/N is kept, not 0.2
+    against = ModalModel(poles=[pole], residues=[0.19 * abs(pole) ** 2 / (2 * pole.imag) * 1j],
+                         flexibility=0.2)
+    assert static_compliance(against.poles, against.residues) == pytest.approx([-0.19])
+    residues, flexibility = _normal_residues(against, 8.0)
+    assert residues[0] == 0 and flexibility == pytest.approx(0.01)
