@@ -329,26 +329,26 @@ class ModalFit(FRFPipeline, FitLines, BaseEstimator):
                 del self.__dict__["_probe"]
             full = self._segment_count == 1 and not self._probe_suffices()
             if full:
-                # the probe (its estimator's stable poles, no missed-mode search) missed
-                # what the band holds: the full unconstrained identification decides (the
-                # hammer test on 4000-4600 Hz: no stable cluster, eight modes found by the
-                # search, a transfer FRF; taken as a driving point for want of evidence,
-                # the passive fit had dropped them all)
+                # the probe (stable poles, no missed-mode search) missed what the band
+                # holds: the full unconstrained fit decides (the hammer test on 4000-4600
+                # Hz: eight modes found by the search, a transfer FRF; taken as a driving
+                # point for want of evidence, the passive fit had dropped them all)
                 with warnings.catch_warnings(record=True) as unconstrained:
                     warnings.simplefilter("always")
                     self._fit_frf(data)
             driving, reason = driving_point_decision(self.report_["modes"],
                                                      self._raw_inverse_mass)
             probe_error = self.report_["frf_median_relative_error"]
-            self._passive_on = driving
+            self._passive_on, refit_said = driving, []
             if full and not driving:
                 for w in unconstrained:           # the unconstrained fit stands
                     warnings.warn(w.message, w.category, stacklevel=2)
-            elif driving or self._segment_count == 1:
-                self._fit_frf(data)
+            elif driving or self._segment_count == 1:     # its warnings, if it stands
+                with warnings.catch_warnings(record=True) as refit_said:
+                    warnings.simplefilter("always")
+                    self._fit_frf(data)
             else:
-                # a wide band fitted by segments: the probe was the whole unconstrained
-                # identification already (complete segment fits, the band's linear fit)
+                # by segments: the probe was the whole unconstrained identification already
                 for message in self._held_warnings:
                     warnings.warn(message, ModalFitWarning, stacklevel=2)
             error = self.report_["frf_median_relative_error"]
@@ -364,6 +364,9 @@ class ModalFit(FRFPipeline, FitLines, BaseEstimator):
                 else:
                     driving, reason = False, (f"{reason}, but {stalled}: not a passive "
                                               "driving point")
+            else:
+                for w in refit_said:
+                    warnings.warn(w.message, w.category, stacklevel=2)
             self.__dict__.pop("_stabilization_cache", None)
             return self._judge(driving_point=driving, reason=reason)
 

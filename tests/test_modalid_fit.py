@@ -1035,3 +1035,22 @@ def test_a_driving_points_impulse_response_does_not_start_against_the_force():
         clean = ModalFit().fit(_spring_mass_accelerance(noise=0.0)[1])
     assert not any("held at 0 at t = 0" in note for note in clean.report_["notes"])
     assert 2 * np.sum(clean.model_.residues.real) >= 0
+
+
+def test_a_discarded_passive_fit_says_nothing():
+    """A fixed rod's exact (undamped) accelerance: the passive fit fails on it (median
+    error 100 %, "no resonance found in the band") and the unconstrained fit, which finds
+    all 20 modes and is passive itself, stands. The discarded fit's warning had been said
+    beside the 20-mode table."""
+    freq = np.arange(0.005, 10.0, 0.01)
+    rod = Rod(1.0, 1.0, support="fixed")
+    data = FRFData(freq, rod.frf(2 * np.pi * freq, quantity="accelerance"),
+                   quantity="accelerance")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        fit = ModalFit().fit(data)
+    np.testing.assert_allclose(fit.report_["modes"]["frequency_hz"], 0.25 + 0.5 * np.arange(20),
+                               rtol=1e-6)
+    assert "which satisfies the passivity constraint itself" in fit.report_[
+        "driving_point_reason"]
+    assert not [w for w in caught if "no resonance found" in str(w.message)]
