@@ -109,32 +109,32 @@ def solve_impact(body1: Body, body2: Body, *, gap: float = 0.0, contact=Rigid(),
     as_choice("method", method, METHODS)
     bodies = (body1, body2)
     chosen = _choose_method(bodies, contact, method)
+    stepping = chosen in ("modal", "convolution")       # on a grid, not exact
     notes = []
     automatic = dt is None
     if dt is None:
         dt = choose_dt(bodies, contact, t_end=t_end, method=chosen)
         notes.append(f"dt chosen automatically: {dt:.6g} s")
-        if chosen in ("modal", "convolution"):
+        if stepping:
             dt = _step_for_t_end(t_end, dt, chosen, notes)
-    elif chosen in ("modal", "convolution"):
+    elif stepping:
         recommended = choose_dt(bodies, contact, t_end=t_end, method=chosen)
         if dt > 20 * recommended:
             warnings.warn(f"dt={dt:.4g} s is {dt / recommended:.0f} times the step that "
                           f"resolves these bodies: expect contact duration and restitution "
                           f"errors of several per cent; dt={recommended:.4g} s would resolve "
                           "them to about 0.1 %", RuntimeWarning, stacklevel=2)
-    if chosen in ("modal", "convolution"):
+    if stepping:
         dt = _step_within_records(bodies, t_end, dt, notes)
     solver = {"laplace": solve_laplace, "modal": solve_modal, "convolution": solve_convolution,
               "closed_form": solve_closed_form}[chosen]
-    if chosen in ("modal", "convolution") and t_end / dt > _MAX_STEPS * (1 + 1e-9):
+    if stepping and t_end / dt > _MAX_STEPS * (1 + 1e-9):
         raise ValueError(f"t_end={t_end:.6g} / dt={dt:.4g} = {t_end / dt:.3g} steps exceeds "
                          f"{_MAX_STEPS}: increase dt or shorten t_end (at most "
                          f"t_end={_MAX_STEPS * dt:.4g} at this step)")
     result = solver(bodies, gap, contact, t_end, dt, notes=tuple(notes))
     audit = energy_audit(result, bodies, contact)
-    for _ in range(_AUTO_REFINEMENTS if automatic and chosen in ("modal", "convolution")
-                   else 0):
+    for _ in range(_AUTO_REFINEMENTS if automatic and stepping else 0):
         # the automatic step is the best-known practice, not a guarantee: where the run
         # fails its own energy audit (energy created), halve it while the steps allow
         if audit.relative <= audit.tolerance or 2 * t_end / dt > _MAX_STEPS:
@@ -146,15 +146,14 @@ def solve_impact(body1: Body, body2: Body, *, gap: float = 0.0, contact=Rigid(),
         result = solver(bodies, gap, contact, t_end, dt, notes=tuple(notes))
         audit = energy_audit(result, bodies, contact)
     finer = None
-    if (chosen in ("modal", "convolution") and many_micro_contacts(result)
-            and 2 * t_end / dt <= _MAX_STEPS):
+    if stepping and many_micro_contacts(result) and 2 * t_end / dt <= _MAX_STEPS:
         # contacts of a step or two: the grid's chatter, or the model's Dirac re-contacts?
         # the same run at half the step tells (its figures move, or they do not)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             finer = solver(bodies, gap, contact, t_end, dt / 2, notes=())
     sentences = caveats(result, bodies, t_end=t_end, start_gap=start_gap, finer=finer,
-                        time_stepping=chosen in ("modal", "convolution"))
+                        time_stepping=stepping)
     for sentence in sentences:
         warnings.warn(sentence, UserWarning, stacklevel=2)
     if sentences:
