@@ -64,10 +64,9 @@ def _column_role(name):
     (``accelerance_real``) give the quantity, and an ``h`` word (``H_real``) is ignored.
     """
     text, stated = split_unit(str(name).lower().replace("°", "deg"))
-    if stated is not None:
-        unit = re.sub(r"[^a-z0-9]+", "_", stated).strip("_")
-        if unit in _UNITS or unit == "rad_s":
-            text = f"{text}_{unit}"
+    unit = None if stated is None else _role_unit(stated)
+    if unit is not None:
+        text = f"{text}_{unit}"
     tokens = [t for t in re.sub(r"[^a-z0-9]+", "_", text).split("_") if t]
     quantities = {_QUANTITY_WORDS[t] for t in tokens if t in _QUANTITY_WORDS}
     tokens = [t for t in tokens if t not in _QUANTITY_WORDS]
@@ -86,6 +85,13 @@ def _column_role(name):
     if role == "values" and word == "" and not quantities:
         role = None
     return role, (quantities.pop() if len(quantities) == 1 else None)
+
+
+def _role_unit(stated):
+    """The unit a column's role reads itself (Hz, rad/s, deg, rad, dB) from a header's
+    bracketed text, as a word (``"rad_s"``), or None."""
+    word = re.sub(r"[^a-z0-9]+", "_", str(stated).lower().replace("°", "deg")).strip("_")
+    return word if word in _UNITS or word == "rad_s" else None
 
 
 def _assign_roles(names, allowed, columns, source):
@@ -165,8 +171,7 @@ def header_unit(name):
     if stated is None:
         return None
     unit = _normalised_unit(stated)
-    word = re.sub(r"[^a-z0-9]+", "_", unit).strip("_")
-    if not unit or word in _UNITS or word == "rad_s":
+    if not unit or _role_unit(unit) is not None:
         return None
     known = unit in FREQUENCY_UNITS or any(unit in units for units in VALUE_UNITS.values())
     return unit if (known or "/" in unit or unit in _BARE_UNITS) else None
