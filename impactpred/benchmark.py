@@ -349,6 +349,7 @@ def run_case(case, n_modes, noise, *, reference, cache=None, uncertainty=True, n
         for part, value in (("lo", None if band is None else band.low[k]),
                             ("hi", None if band is None else band.high[k]),
                             ("sigma", None if band is None else band.spread[k]),
+                            ("sigma_pole", None if band is None else band.pole_spread[k]),
                             ("trunc", None if band is None else band.truncation[k]),
                             ("tail", None if band is None else band.tail[k]),
                             ("front", None if band is None else band.front[k])):

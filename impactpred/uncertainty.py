@@ -4,10 +4,12 @@
 meant to hold the four exact figures together with a stated probability (``level``, 0.9
 by default): ``nominal -+ (sqrt((z k sigma)**2 + (a truncation_left)**2) + b tail)``
 (:func:`band_half_width`), where ``sigma`` is the figure's rms change over draws of the
-fits' parameters (residues, rigid mass, residual flexibility) from their reported standard
-deviations, ``truncation`` the error a re-identification on 80 % of each band implies at
-the full band (:func:`truncation_error`: a figure converging like ``1/band``, four times
-its change) and ``truncation_left`` what of it the identification's noise does not explain,
+fits' parameters from their reported standard deviations (``hypot`` of the change over
+draws of the residues, rigid mass and residual flexibility, and over draws of the poles:
+natural frequencies and damping ratios), ``truncation`` the error a re-identification on
+80 % of each band implies at the full band (:func:`truncation_error`: a figure converging
+like ``1/band``, four times its change) and ``truncation_left`` what of it the
+identification's noise (the residue draws') does not explain,
 ``tail`` the change when the continuation runs half as far, ``z`` the normal quantile of
 the level shared by the four figures (Bonferroni) and ``k``, ``a``, ``b``
 (:data:`SPREAD_FACTOR`, :data:`TRUNCATION_FACTOR`, :data:`TAIL_FACTOR`) the parts' factors
@@ -27,17 +29,18 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from modalid import ModalModel, SavedFit
+from modalid import SavedFit
 
 from .contact import ContactLaw, Rigid
+from ._draws import perturb_poles, perturb_residues
 from ._wave_front import FRONT_OVERSHOOT, front_allowance, front_jump
 from .parallel import check_executor, resolve_executor
 from .truncation import (FIGURES, NoComplianceAbove, band_resolution, identified_model,
                          impact_figures, tail_extent)
 
 __all__ = ["UncertaintyBand", "band_half_width", "check_band_bodies", "FRONT_OVERSHOOT",
-           "front_allowance", "front_jump", "perturb_residues", "refit_on_cut_band",
-           "truncation_error", "uncertainty_band"]
+           "front_allowance", "front_jump", "perturb_poles", "perturb_residues",
+           "refit_on_cut_band", "truncation_error", "uncertainty_band"]
 
 
 @dataclass(frozen=True)
@@ -63,9 +66,13 @@ class UncertaintyBand:
         synthesized modes run half as far (taken as the error left, as for an error
         ``~ 1/extend``: a heuristic estimate that errs wide); 0 without continuation.
     spread : dict or None
-        The rms change of each figure over the parameter draws (0 without draws).
+        The rms change of each figure over the draws of the residues, rigid mass and
+        residual flexibility (:func:`perturb_residues`; 0 without draws).
     level : float or None
         The stated probability that the four intervals hold the four exact figures.
+    pole_spread : dict or None
+        The rms change of each figure over the draws of the poles (:func:`perturb_poles`;
+        0 without draws); the band's ``sigma`` is ``hypot(spread, pole_spread)``.
     front : dict or None
         How much further down than ``nominal -`` the half-width the interval reaches, per
         figure (its units): the peak force's wave-front overshoot under a rigid contact
@@ -82,6 +89,7 @@ class UncertaintyBand:
     spread: dict | None = None
     level: float | None = None
     front: dict | None = None
+    pole_spread: dict | None = None
 
     def contains(self, name: str, value: float, *, rel: float = 0.0) -> bool:
         """Whether ``value`` lies in ``[low, high]`` of figure ``name`` (widened by ``rel``).
@@ -196,59 +204,6 @@ def refit_on_cut_band(fit, fraction: float):
     return estimator
 
 
-def perturb_residues(fit, rng) -> ModalModel:
-    """``fit.model_`` with its identified parameters moved by a draw of their std.
-
-    Each physical mode's residue moves by a complex Gaussian of its reported standard
-    deviation; the rigid body's inverse mass and the residual flexibility (the constant
-    term) by a real one of theirs (``report_["inverse_mass_std"]``,
-    ``report_["flexibility_std"]``), kept >= 0.
-
-    For a driving point (``report_["driving_point"]`` not False) every drawn mode has a
-    positive modal mass: a draw whose residue's imaginary part falls on the wrong side of
-    zero is reflected (``Im r -> -Im r``), so that the draw stays a passive driving point
-    (a modal mass of the wrong sign would be refused by the passivity check) and the
-    draw sequence stays the same. That includes a mode whose nominal residue is real to
-    rounding (a weak pole of the fit, modal mass ~1e13 kg either way: the 40-mode
-    cantilever at 5 % noise has six, and every draw of that fit was refused).
-
-    Parameters
-    ----------
-    fit : ModalFit
-        A fitted estimator with standard deviations in its report.
-    rng : numpy.random.Generator
-        The draws' source.
-
-    Returns
-    -------
-    ModalModel
-        The drawn model.
-    """
-    model = fit.model_
-    modes = fit.report_["modes"]
-    std = modes["residue_std"].to_numpy()
-    residues = model.residues.copy()
-    driving = fit.report_.get("driving_point") is not False
-    for pole, s in zip(fit.poles_, std):
-        if not np.isfinite(s):
-            continue
-        k = int(np.argmin(np.abs(model.poles - pole)))
-        nominal = residues[k]
-        drawn = nominal + s / math.sqrt(2.0) * complex(rng.standard_normal(),
-                                                       rng.standard_normal())
-        # modal mass -1/(2 Im p Im r) > 0  <=>  Im r has the sign of -Im p
-        if driving and drawn.imag * model.poles[k].imag > 0:
-            drawn = complex(drawn.real, -drawn.imag)
-        residues[k] = drawn
-    scalars = {}
-    for name in ("inverse_mass", "flexibility"):
-        value, s = getattr(model, name), fit.report_.get(f"{name}_std", math.nan)
-        draw = rng.standard_normal()        # drawn always: the sequence stays reproducible
-        scalars[name] = max(value + s * draw, 0.0) if value and np.isfinite(s) else value
-    return ModalModel(poles=model.poles, residues=residues, real_poles=model.real_poles,
-                      real_residues=model.real_residues, **scalars)
-
-
 def truncation_error(nominal: dict, cut: dict, fraction: float) -> dict:
     """The error left in each figure at the full band, from a re-identification on
     ``fraction`` of it.
@@ -295,15 +250,19 @@ TAIL_FACTOR = 1.5
 
 
 def band_half_width(spread: float, truncation: float, tail: float, *, figure: str,
-                    fraction: float = 0.8, level: float = 0.9) -> float:
+                    pole_spread: float = 0.0, fraction: float = 0.8,
+                    level: float = 0.9) -> float:
     """The half-width of a figure's interval from the band's three parts.
 
-    ``sqrt((z k spread)**2 + (a left)**2) + b tail`` with ``left = max(truncation -
-    spread sqrt(f / (1 - f)), 0)``: the cut band's change holds the re-identification's
-    own random error (about ``spread sqrt(1/f - 1)`` for a fit on the share ``f`` of the
-    lines, nested in the full one), which :func:`truncation_error` multiplies by
-    ``f / (1 - f)``; only what exceeds it is taken as truncation error, and what is left
-    is combined with the spread as an independent error (root sum of squares). The tail's
+    ``sqrt((z k sigma)**2 + (a left)**2) + b tail`` with ``sigma = hypot(spread,
+    pole_spread)`` and ``left = max(truncation - spread sqrt(f / (1 - f)), 0)``: the cut
+    band's change holds the re-identification's own random error (about ``spread
+    sqrt(1/f - 1)`` for a fit on the share ``f`` of the lines, nested in the full one),
+    which :func:`truncation_error` multiplies by ``f / (1 - f)``; only what exceeds it is
+    taken as truncation error, and what is left is combined with the spread as an
+    independent error (root sum of squares). Only the residues' ``spread`` is taken out
+    of the truncation estimate, not the poles' (see benchmarks/README.md: taking both
+    out left the band under its level at 5 % noise). The tail's
     estimate is added in full. ``z``: the normal quantile of ``1 - (1 - level) / 8``
     (four figures, two-sided, Bonferroni); ``k, a, b``: :data:`SPREAD_FACTOR`,
     :data:`TRUNCATION_FACTOR`, :data:`TAIL_FACTOR`. (The peak's further reach down at a
@@ -312,10 +271,13 @@ def band_half_width(spread: float, truncation: float, tail: float, *, figure: st
     Parameters
     ----------
     spread, truncation, tail : float
-        The figure's parts (its units): the draws' rms change, the truncation estimate
-        of :func:`truncation_error` from the cut band ``fraction``, the tail's change.
+        The figure's parts (its units): the residue draws' rms change, the truncation
+        estimate of :func:`truncation_error` from the cut band ``fraction``, the tail's
+        change.
     figure : str, keyword-only
         The figure (one of :data:`~impactpred.truncation.FIGURES`).
+    pole_spread : float, keyword-only
+        The pole draws' rms change (its units; 0: none).
     fraction : float, keyword-only
         The cut band's share of the band, in (0, 1).
     level : float, keyword-only
@@ -336,7 +298,8 @@ def band_half_width(spread: float, truncation: float, tail: float, *, figure: st
         raise ValueError(f"level must lie in (0, 1), got {level!r}")
     z = float(norm.ppf(1.0 - (1.0 - level) / 8.0))
     left = max(truncation - spread * math.sqrt(fraction / (1.0 - fraction)), 0.0)
-    return math.hypot(z * SPREAD_FACTOR * spread, TRUNCATION_FACTOR * left) + TAIL_FACTOR * tail
+    sigma = math.hypot(spread, pole_spread)
+    return math.hypot(z * SPREAD_FACTOR * sigma, TRUNCATION_FACTOR * left) + TAIL_FACTOR * tail
 
 
 #: the variants are solved with the tail to half as far when the widest band holds more
@@ -365,12 +328,14 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
     sigma)**2 + (a truncation_left)**2) + b tail`` (``k, a, b``: :data:`SPREAD_FACTOR`,
     :data:`TRUNCATION_FACTOR`, :data:`TAIL_FACTOR`):
 
-    * ``sigma``: the root-mean-square change of the figure over ``n_draws`` draws of every
-      identified body's parameters from their reported standard deviations
-      (:func:`perturb_residues`): the identification's random error;
+    * ``sigma``: the identification's random error, ``hypot`` of the root-mean-square
+      change of the figure over ``n_draws`` draws of every identified body's residues,
+      rigid mass and residual flexibility (:func:`perturb_residues`; ``spread``) and over
+      ``n_draws`` draws of its poles (:func:`perturb_poles`; ``pole_spread``), each from
+      the fit's reported standard deviations;
     * ``truncation``: the error the re-identifications on ``fractions`` of each band imply
       at the full band (:func:`truncation_error`); ``truncation_left``: what of it exceeds
-      the re-identification's own noise, ``sigma sqrt(f / (1 - f))`` (the largest over
+      the re-identification's own noise, ``spread sqrt(f / (1 - f))`` (the largest over
       the fractions ``f``);
     * ``tail``: the change when the continuation's synthesized modes run half as far;
     * ``z``: the normal quantile of ``1 - (1 - level) / 8`` (two-sided, the four figures
@@ -395,7 +360,8 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
         Each identified body is re-identified on its band cut to these fractions of the
         band top (one body at a time, the other nominal) and continued above the cut.
     n_draws : int
-        Draws (fixed ``seed``) of every identified body's parameters (0: no ``sigma``).
+        Draws of each kind (residues, poles; fixed ``seed``) of every identified body's
+        parameters (0: no ``sigma``).
     continuation, n_top, extend
         How the identified bodies are continued (:func:`identified_model`; ``extend``
         None: :func:`~impactpred.truncation.tail_extent` of each fit's modes, as the
@@ -428,8 +394,8 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
     Returns
     -------
     UncertaintyBand
-        ``low``/``high`` per figure, ``spread`` (``sigma``), ``truncation``, ``tail``,
-        ``front``, ``level`` and every variant's figures.
+        ``low``/``high`` per figure, ``spread`` and ``pole_spread`` (``sigma``'s parts),
+        ``truncation``, ``tail``, ``front``, ``level`` and every variant's figures.
     """
     if extend is not None and not (isinstance(extend, (int, float)) and math.isfinite(extend)
                                    and extend > 0):
@@ -531,17 +497,20 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
                     trial = [t if j == i or f is None else continued(f, share)
                              for j, (t, f) in enumerate(zip(trial, fits))]
                 cut_jobs.append((i, fraction, cut_fits, pool.submit(solve, *trial)))
-        rng = np.random.default_rng(seed)
         ref_figs = impact_figures(reference, resolution=resolution)
-        changes: dict[str, list] = {k: [] for k in FIGURES}
-        draw_jobs = []     # the draws made here, in order (one generator); their solves pooled
+        changes: dict[str, dict] = {kind: {k: [] for k in FIGURES}
+                                    for kind in ("draw", "pole draw")}
+        draw_jobs = []     # the draws made here, in order (a generator per kind); solves pooled
         if measured:
-            for d in range(n_draws):
-                trial = list(models)
-                for i, fit in enumerate(fits):
-                    if fit is not None:
-                        trial[i] = continued(fit, share, model=perturb_residues(fit, rng))
-                draw_jobs.append((d, pool.submit(solve, *trial)))
+            for kind, perturb, rng in (
+                    ("draw", perturb_residues, np.random.default_rng(seed)),
+                    ("pole draw", perturb_poles, np.random.default_rng([seed, 1]))):
+                for d in range(n_draws):
+                    trial = list(models)
+                    for i, fit in enumerate(fits):
+                        if fit is not None:
+                            trial[i] = continued(fit, share, model=perturb(fit, rng))
+                    draw_jobs.append((kind, d, pool.submit(solve, *trial)))
         for i, fraction, cut_fits, job in cut_jobs:
             try:
                 res = job.result()
@@ -554,31 +523,33 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
             cuts.append((fraction, figs, impact_figures(reference, resolution=cut_resolution)))
         failed = []
         if measured:
-            for d, job in draw_jobs:
+            for kind, d, job in draw_jobs:
                 try:
                     figs = impact_figures(job.result(), resolution=resolution)
                 except (ValueError, MemoryError, np.linalg.LinAlgError) as exc:
                     failed.append(f"{type(exc).__name__}: {str(exc)[:120]}")
                     continue
-                variants.append((f"draw {d + 1}", figs))
+                variants.append((f"{kind} {d + 1}", figs))
                 for k in FIGURES:
                     if figs[k] is not None and ref_figs[k] is not None:
-                        changes[k].append(figs[k] - ref_figs[k])
+                        changes[kind][k].append(figs[k] - ref_figs[k])
     if failed:
         warnings.warn(f"{len(failed)} of {len(draw_jobs)} parameter draws could not be solved "
                       f"(first: {failed[0]}); the band's spread comes from the "
                       f"{len(draw_jobs) - len(failed)} others"
                       + ("" if len(failed) < len(draw_jobs) else ": it has no spread part"),
                       RuntimeWarning, stacklevel=2)
-    spread = {k: (math.sqrt(float(np.mean(np.square(v)))) if v else 0.0)
-              for k, v in changes.items()}
+    spread, pole_spread = ({k: (math.sqrt(float(np.mean(np.square(v)))) if v else 0.0)
+                            for k, v in changes[kind].items()}
+                           for kind in ("draw", "pole draw"))
     trunc = {k: 0.0 for k in FIGURES}
-    halves = {k: band_half_width(spread[k], 0.0, tail[k], figure=k, level=level)
-              for k in FIGURES}
+    halves = {k: band_half_width(spread[k], 0.0, tail[k], figure=k, level=level,
+                                 pole_spread=pole_spread[k]) for k in FIGURES}
     for fraction, figs, same in cuts:
         for k, r in truncation_error(same, figs, fraction).items():
             trunc[k] = max(trunc[k], r)
             halves[k] = max(halves[k], band_half_width(spread[k], r, tail[k], figure=k,
+                                                       pole_spread=pole_spread[k],
                                                        fraction=fraction, level=level))
     front = {k: 0.0 for k in FIGURES}
     if continuation and measured and isinstance(contact, Rigid):
@@ -594,4 +565,4 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
                                              base[k] + halves[k])
     return UncertaintyBand(nominal=base, low=low, high=high, variants=tuple(variants),
                            truncation=trunc, tail=tail, spread=spread, level=level,
-                           front=front)
+                           front=front, pole_spread=pole_spread)

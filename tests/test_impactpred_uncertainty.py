@@ -72,9 +72,10 @@ def _solve_mass_on(m1, m2):
 
 
 def test_band_of_a_mass_on_a_measured_rod_is_built_from_its_components():
-    """nominal -+ band_half_width(sigma, truncation, tail): sigma the draws' rms change, the
-    tail's estimate the change at half the extent, the truncation's the largest over the cut
-    bands (each taken with its own fraction's noise)."""
+    """nominal -+ band_half_width(sigma, truncation, tail): sigma from the residue draws'
+    and the pole draws' rms changes, the tail's estimate the change at half the extent, the
+    truncation's the largest over the cut bands (each taken with its own fraction's
+    noise)."""
     from scipy.stats import norm
 
     from impactpred.truncation import FIGURES, band_resolution, identified_model
@@ -86,7 +87,8 @@ def test_band_of_a_mass_on_a_measured_rod_is_built_from_its_components():
                             fractions=(0.6, 0.8))
     labels = [label for label, _ in band.variants]
     assert labels[:3] == ["tail to 8x the band top", "body2 band 60%", "body2 band 80%"]
-    assert labels[3:] == ["draw 1", "draw 2", "draw 3"] and band.level == 0.9
+    assert labels[3:] == ["draw 1", "draw 2", "draw 3", "pole draw 1", "pole draw 2",
+                          "pole draw 3"] and band.level == 0.9
     variants = dict(band.variants)
     z = norm.ppf(1 - 0.1 / 8)
     assert z == pytest.approx(2.2414, abs=1e-4)
@@ -95,15 +97,19 @@ def test_band_of_a_mass_on_a_measured_rod_is_built_from_its_components():
         changes = [variants[f"draw {d}"][k] - band.nominal[k] for d in (1, 2, 3)]
         assert band.spread[k] == pytest.approx(np.sqrt(np.mean(np.square(changes))),
                                                rel=1e-12)
+        changes = [variants[f"pole draw {d}"][k] - band.nominal[k] for d in (1, 2, 3)]
+        assert band.pole_spread[k] == pytest.approx(np.sqrt(np.mean(np.square(changes))),
+                                                    rel=1e-12)
         cuts = [truncation_error(band.nominal, variants[f"body2 band {p}%"], p / 100)[k]
                 for p in (60, 80)]
         assert band.truncation[k] == max(cuts)
-        half = max(band_half_width(band.spread[k], t, band.tail[k], figure=k, fraction=p / 100)
+        half = max(band_half_width(band.spread[k], t, band.tail[k], figure=k, fraction=p / 100,
+                                   pole_spread=band.pole_spread[k])
                    for t, p in zip(cuts, (60, 80)))
         # the peak reaches further down by the wave front's overshoot (a rigid contact)
         assert band.low[k] == pytest.approx(band.nominal[k] - half - band.front[k], rel=1e-12)
         assert band.high[k] == pytest.approx(band.nominal[k] + half, rel=1e-12)
-        assert band.truncation[k] >= 0 and band.spread[k] > 0
+        assert band.truncation[k] >= 0 and band.spread[k] > 0 and band.pole_spread[k] > 0
     resolution = band_resolution([None, fit])
     jump = front_jump(_solve_mass_on(*models), resolution)
     assert band.front == {**dict.fromkeys(FIGURES, 0.0),
@@ -271,11 +277,12 @@ def test_draws_that_cannot_be_solved_are_said_not_dropped_silently():
     def refuse(m1, m2):
         raise ValueError("refused for the test")
 
-    with pytest.warns(RuntimeWarning, match=r"3 of 3 parameter draws could not be solved "
+    with pytest.warns(RuntimeWarning, match=r"6 of 6 parameter draws could not be solved "
                                              r"\(first: ValueError: refused for the test\)"
                                              r".*no spread part"):
         band = uncertainty_band(models, [None, fit], refuse, n_draws=3, nominal=nominal)
     assert all(v == 0.0 for v in band.spread.values())
+    assert all(v == 0.0 for v in band.pole_spread.values())
 
 
 def test_a_band_for_one_continued_and_one_lumped_body(tmp_path):
