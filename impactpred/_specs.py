@@ -13,7 +13,7 @@ from typing import Any
 from sklearn.base import clone
 
 from data_synth import CantileverBeam, LumpedMass, Rod, SpringMass
-from modalid import ModalFit, ModalModel, MultiOutputModalModel, SavedFit
+from modalid import FRFData, ModalFit, ModalModel, MultiOutputModalModel, SavedFit
 from modalid.io import check_sign, read_frf
 from modalid.model import read_model_json
 from modalid.receptance import Receptance
@@ -152,16 +152,36 @@ def is_spec(text) -> bool:
 def identify(spec, *, quantity=None, estimator=None, read_options=None, check_passive=True,
               label=""):
     """``(model, None)`` of a spec, saved model or model object; ``(None, fitted
-    ModalFit)`` of an FRF file, fitted by a clone of ``estimator`` (default
-    ``ModalFit()``); ``(None, SavedFit)`` of a saved fit (a ``.json`` file with the fit's
-    report, or the object)."""
+    ModalFit)`` of an FRF file or an :class:`~modalid.FRFData`, fitted by a clone of
+    ``estimator`` (default ``ModalFit()``), or of a fitted ``ModalFit`` (as it is);
+    ``(None, SavedFit)`` of a saved fit (a ``.json`` file with the fit's report, or the
+    object)."""
     if isinstance(spec, (Receptance, MultiOutputModalModel)):
         return spec, None
     if isinstance(spec, SavedFit):
         return None, spec
+    if isinstance(spec, (ModalFit, FRFData)) and read_options:
+        raise ValueError(f"{label}read_options {read_options!r} apply to files, not to the "
+                         f"{type(spec).__name__} given (give its data as they should be read)")
+    if isinstance(spec, FRFData) and quantity is not None and quantity != spec.quantity:
+        raise ValueError(f"{label}quantity={quantity!r} is for files that do not state it; "
+                         f"the FRFData given holds {spec.quantity}")
+    if isinstance(spec, ModalFit):
+        if not hasattr(spec, "model_"):
+            raise TypeError(f"{label}the ModalFit is not fitted: fit it first, or give its "
+                            "data (a file or an FRFData) and the estimator as estimator=")
+        if not hasattr(spec, "data_"):
+            raise TypeError(f"{label}the ModalFit was fitted on an impulse response, whose "
+                            "band a prediction cannot check: give its model_ as the body")
+        return None, spec
+    if isinstance(spec, FRFData):
+        sign = check_sign(spec)
+        if sign.verdict == "conjugate" or (sign.verdict == "reversed" and check_passive):
+            raise ValueError(label + sign.problem("the FRFData", data=True))
+        return None, _fitted(spec, estimator, "the FRFData", label)
     if not isinstance(spec, (str, Path)):
-        raise TypeError(f"a body must be a file, a spec string or a model, got "
-                        f"{type(spec).__name__}")
+        raise TypeError(f"a body must be a file, a spec string, a model, an FRFData or a "
+                        f"fitted ModalFit, got {type(spec).__name__}")
     text = str(spec)
     kind, _, rest = text.partition(":")
     if is_spec(text):
@@ -187,12 +207,18 @@ def identify(spec, *, quantity=None, estimator=None, read_options=None, check_pa
         return (None, saved) if isinstance(saved, SavedFit) else (saved, None)
     data = _checked_frf(path, _read_options(read_options, quantity), label=label,
                         check_passive=check_passive)
+    return None, _fitted(data, estimator, path, label)
+
+
+def _fitted(data, estimator, source, label) -> ModalFit:
+    """A clone of ``estimator`` (default ``ModalFit()``) fitted on ``data``; its refusal
+    names the body and ``source``."""
     estimator = ModalFit() if estimator is None else clone(estimator)
     try:
         estimator.fit(data)
     except ValueError as exc:
-        raise ValueError(f"{label}{path}: {exc}") from None
-    return None, estimator
+        raise ValueError(f"{label}{source}: {exc}") from None
+    return estimator
 
 
 def parse_contact(spec) -> ContactLaw:

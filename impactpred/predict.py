@@ -3,13 +3,13 @@ an impact prediction, with each identified body's report and a check of the band
 
 A body is given as
 
-* a measured FRF file (CSV, ``.npz``, ``.mat``, UFF 58): identified with
-  :class:`modalid.ModalFit`;
+* a measured FRF file (CSV, ``.npz``, ``.mat``, UFF 58) or an :class:`modalid.FRFData`:
+  identified with :class:`modalid.ModalFit`, its verdict and driving-point decision
+  judged, its model continued above its band, the band checked;
+* a fitted :class:`modalid.ModalFit` (an FRF's), used as if identified here;
 * a saved fit (``.json`` from ``modalid fit --out`` or :meth:`modalid.SavedFit.to_json`,
-  or the :class:`~modalid.SavedFit` itself): used as the FRF file's fit is (its verdict
-  and driving-point decision judged, its model continued above its band, the band
-  checked), with the same figures; only the uncertainty band, which re-identifies the
-  data, needs the FRF file;
+  or the :class:`~modalid.SavedFit` itself): likewise, with the same figures; only the
+  uncertainty band, which re-identifies the data, needs the FRF file (or the fit);
 * a saved model (``.json`` from ``ModalModel.to_json``, or from
   ``MultiOutputModalModel.to_json``: the prediction then gives every point's response),
   used as it is: a bare identified model has lost its band, so it is neither continued
@@ -164,14 +164,14 @@ def parse_body(spec, *, quantity=None, estimator=None, continuation=True,
 
     Parameters
     ----------
-    spec : str, Path or model
+    spec : str, Path, model, FRFData or fitted ModalFit
         See the module docstring.
     quantity : str, optional, keyword-only
-        Quantity of an FRF file that does not state it.
+        Quantity of an FRF file that does not state it (an FRFData states its own: a
+        different one is refused).
     estimator : modalid.ModalFit, optional, keyword-only
-        The estimator an FRF file is identified with, cloned (``sklearn.base.clone``: its
-        settings, not its state; ``estimator`` itself is left as it is); default
-        ``ModalFit()``.
+        The estimator an FRF file or FRFData is identified with, cloned
+        (``sklearn.base.clone``: its settings, not its state); default ``ModalFit()``.
     continuation : bool, default True, keyword-only
         A model identified from an FRF file carries the high-frequency continuation of
         :func:`impactpred.truncation.continue_above_band` (with a
@@ -181,7 +181,8 @@ def parse_body(spec, *, quantity=None, estimator=None, continuation=True,
         the API reference's first section).
     read_options : dict, optional, keyword-only
         :func:`modalid.read_frf` options of an FRF file (:data:`READ_OPTIONS`), e.g.
-        ``{"format": "complex-lines", "freq_hz": ...}`` or ``{"conjugate": True}``.
+        ``{"format": "complex-lines", "freq_hz": ...}`` or ``{"conjugate": True}``
+        (refused for an FRFData or a fitted ModalFit).
 
     Returns
     -------
@@ -464,7 +465,7 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
 
     Parameters
     ----------
-    body1, body2 : str, Path or model
+    body1, body2 : str, Path, model, FRFData or fitted ModalFit
         See the module docstring. ``+y`` points from body 1 to body 2.
     velocity1, velocity2 : float
         Rigid-body velocities before impact (m/s).
@@ -473,7 +474,8 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
     contact : str or ContactLaw
         See :func:`parse_contact`.
     quantity : str, optional
-        Quantity of FRF files that do not state it.
+        Quantity of FRF files that do not state it (an FRFData states its own: a
+        different one is refused).
     band_tolerance : float
         A :class:`BandWarning` is issued when more than this share of the force's energy
         lies above an identified body's band (the model is extrapolated there), or below
@@ -501,7 +503,7 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
         Where the uncertainty band's re-identifications and solves run (``None``: here,
         one after the other); the band does not depend on it.
     estimator : modalid.ModalFit, optional
-        The estimator each FRF file is identified with, cloned for each body
+        The estimator each FRF file or FRFData is identified with, cloned for each body
         (``sklearn.base.clone``: its settings; ``estimator`` itself is not fitted), e.g.
         ``ModalFit(**HammerFRF.fit_options())`` (``window_decay_rate``,
         ``record_length``) for FRFs measured with an exponential window, which the fit
@@ -510,10 +512,12 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
         :func:`modalid.read_frf` options of the FRF files (:data:`READ_OPTIONS`; a pair:
         body 1's, body 2's), e.g. ``{"format": "complex-lines", "freq_hz": f}`` for bare
         complex lines, ``{"conjugate": True}`` for a file stored with the other sign
-        convention, ``{"negate": True}`` for a driving point with its sign reversed.
+        convention, ``{"negate": True}`` for a driving point with its sign reversed
+        (files only: refused for an FRFData or a fitted ModalFit).
     check_passive : bool
         Refuse models that are not stable, passive driving points (see :class:`Body`),
-        and FRF files whose sign says they are not (see :func:`modalid.io.check_sign`).
+        and FRF files or FRFData whose sign says they are not (see
+        :func:`modalid.io.check_sign`).
 
     Returns
     -------

@@ -58,7 +58,7 @@ class SignCheck:
     conductance: float
     verdict: str
 
-    def problem(self, source) -> str:
+    def problem(self, source, *, data: bool = False) -> str:
         """One sentence naming ``source``, what is wrong and the reading option that fixes
         it (as ``read_options={...}``; the command line's ``--conjugate``/``--negate``).
 
@@ -66,6 +66,9 @@ class SignCheck:
         ----------
         source : str
             The file (or data) the check was made on, for the message.
+        data : bool, keyword-only
+            ``source`` is an :class:`~modalid.FRFData` in memory, not a file: the remedy
+            is to conjugate or negate its values.
 
         Returns
         -------
@@ -75,16 +78,20 @@ class SignCheck:
             return (f"{source}: its resonances turn counter-clockwise in the complex plane "
                     f"(turning score {self.turning:+.2f}; a causal FRF's turn clockwise, "
                     "-1): it is stored with the other sign convention (Fourier kernel "
-                    "exp(+i w t)), the complex conjugate of this project's; read it with "
-                    "read_options={'conjugate': True}")
+                    "exp(+i w t)), the complex conjugate of this project's; "
+                    + ("conjugate its values" if data
+                       else "read it with read_options={'conjugate': True}"))
         if self.verdict == "reversed":
             return (f"{source}: the real part of its mobility is negative (conductance score "
                     f"{self.conductance:+.2f}; a passive driving point's is positive, +1): "
-                    "its sign is reversed (response recorded against the force); read it "
-                    "with read_options={'negate': True}; if its quantity is stated wrong (an "
-                    "accelerance read as a receptance looks reversed too), read it with "
-                    "quantity=... (or correct the quantity the file states); if it is a "
-                    "transfer FRF, give the driving point's")
+                    "its sign is reversed (response recorded against the force); "
+                    + ("negate its values; if its quantity is wrong (an accelerance taken "
+                       "for a receptance looks reversed too), correct it" if data else
+                       "read it with read_options={'negate': True}; if its quantity is "
+                       "stated wrong (an accelerance read as a receptance looks reversed "
+                       "too), read it with quantity=... (or correct the quantity the file "
+                       "states)")
+                    + "; if it is a transfer FRF, give the driving point's")
         return ""
 
 

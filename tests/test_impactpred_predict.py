@@ -134,6 +134,37 @@ def test_a_saved_fit_predicts_as_its_frf_file_and_a_bare_model_does_not(measured
     assert again.figures == from_file.figures
 
 
+def test_an_frf_in_memory_and_a_fitted_modalfit_are_bodies(measured_rod):
+    """An FRFData predicts as its file does, and so does the ModalFit a notebook fitted and
+    inspected (used as it is, not refitted; the uncertainty band re-identifies its data);
+    what cannot apply to them is refused, named."""
+    from modalid import read_frf
+
+    data = read_frf(measured_rod)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        from_file = predict("mass:1", measured_rod, velocity1=1.0, t_end=8.0)
+        from_data = predict("mass:1", data, velocity1=1.0, t_end=8.0)
+        fit = ModalFit().fit(data)
+        from_fit = predict("mass:1", fit, velocity1=1.0, t_end=8.0, uncertainty=True)
+    assert from_data.figures == from_file.figures == from_fit.figures
+    assert from_data.continuation == from_file.continuation == from_fit.continuation
+    assert from_fit.fits[1] is fit
+    assert from_fit.uncertainty.low["restitution"] < from_fit.figures["restitution"]
+    with pytest.raises(TypeError, match=r"^body 2: the ModalFit is not fitted: fit it first"):
+        predict("mass:1", ModalFit(), velocity1=1.0, t_end=8.0)
+    with pytest.raises(ValueError, match=r"^body 2: read_options \{'negate': True\} apply to "
+                                         r"files, not to the FRFData given"):
+        predict("mass:1", data, velocity1=1.0, t_end=8.0, read_options={"negate": True})
+    with pytest.raises(ValueError, match=r"^body 2: quantity='receptance' is for files that "
+                                         r"do not state it; the FRFData given holds accelerance"):
+        predict("mass:1", data, velocity1=1.0, t_end=8.0, quantity="receptance")
+    conjugate = FRFData(data.freq_hz, data.values.conj(), quantity=data.quantity)
+    with pytest.raises(ValueError, match=r"^body 2: the FRFData: its resonances turn "
+                                         r"counter-clockwise.*; conjugate its values$"):
+        predict("mass:1", conjugate, velocity1=1.0, t_end=8.0)
+
+
 def test_force_energy_above_a_frequency():
     r = solve_impact(Body(LumpedMass(1.0), velocity=1.0), Body(LumpedMass(1.0)),
                      contact=LinearSpring(1e4), t_end=0.2)
