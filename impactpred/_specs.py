@@ -20,7 +20,7 @@ from modalid.receptance import Receptance
 
 from .contact import ContactLaw, Hertz, LinearSpring, Rigid
 
-__all__ = ["READ_OPTIONS", "check_estimator", "identify", "parse_contact",
+__all__ = ["READ_OPTIONS", "body_label", "check_estimator", "identify", "parse_contact",
            "read_options_pair"]
 
 
@@ -160,25 +160,10 @@ def identify(spec, *, quantity=None, estimator=None, read_options=None, check_pa
         return spec, None
     if isinstance(spec, SavedFit):
         return None, spec
-    if isinstance(spec, (ModalFit, FRFData)) and read_options:
-        raise ValueError(f"{label}read_options {read_options!r} apply to files, not to the "
-                         f"{type(spec).__name__} given (give its data as they should be read)")
-    if isinstance(spec, FRFData) and quantity is not None and quantity != spec.quantity:
-        raise ValueError(f"{label}quantity={quantity!r} is for files that do not state it; "
-                         f"the FRFData given holds {spec.quantity}")
-    if isinstance(spec, ModalFit):
-        if not hasattr(spec, "model_"):
-            raise TypeError(f"{label}the ModalFit is not fitted: fit it first, or give its "
-                            "data (a file or an FRFData) and the estimator as estimator=")
-        if not hasattr(spec, "data_"):
-            raise TypeError(f"{label}the ModalFit was fitted on an impulse response, whose "
-                            "band a prediction cannot check: give its model_ as the body")
-        return None, spec
-    if isinstance(spec, FRFData):
-        sign = check_sign(spec)
-        if sign.verdict == "conjugate" or (sign.verdict == "reversed" and check_passive):
-            raise ValueError(label + sign.problem("the FRFData", data=True))
-        return None, _fitted(spec, estimator, "the FRFData", label)
+    if _in_memory(spec):
+        return None, _in_memory_fit(spec, quantity=quantity, estimator=estimator,
+                                    read_options=read_options, check_passive=check_passive,
+                                    label=label)
     if not isinstance(spec, (str, Path)):
         raise TypeError(f"a body must be a file, a spec string, a model, an FRFData or a "
                         f"fitted ModalFit, got {type(spec).__name__}")
@@ -208,6 +193,35 @@ def identify(spec, *, quantity=None, estimator=None, read_options=None, check_pa
     data = _checked_frf(path, _read_options(read_options, quantity), label=label,
                         check_passive=check_passive)
     return None, _fitted(data, estimator, path, label)
+
+
+def _in_memory_fit(spec, *, quantity, estimator, read_options, check_passive, label):
+    """The fit of a body given in memory: a fitted ModalFit as it is, an FRFData fitted by
+    a clone of ``estimator``; both checked as a file's data would be (sign, quantity)."""
+    name = type(spec).__name__
+    if read_options:
+        raise ValueError(f"{label}read_options {read_options!r} apply to files, not to the "
+                         f"{name} given (give its data as they should be read; a pair of "
+                         "read_options, body 1's and body 2's, takes None for it)")
+    if isinstance(spec, ModalFit):
+        if not hasattr(spec, "model_"):
+            raise TypeError(f"{label}the ModalFit is not fitted: fit it first, or give its "
+                            "data (a file or an FRFData) and the estimator as estimator=")
+        if not hasattr(spec, "data_"):
+            raise TypeError(f"{label}the ModalFit was fitted on an impulse response, whose "
+                            "band a prediction cannot check: give its model_ as the body")
+    data = spec.data_ if isinstance(spec, ModalFit) else spec
+    stated = getattr(data, "quantity", None)
+    if quantity is not None and stated is not None and quantity != stated:
+        raise ValueError(f"{label}quantity={quantity!r}, but the {name} given holds "
+                         f"{stated} (for one file's quantity give a pair of read_options, "
+                         "e.g. ({'quantity': ...}, None))")
+    if isinstance(data, FRFData):
+        sign = check_sign(data)
+        if sign.verdict == "conjugate" or (sign.verdict == "reversed" and check_passive):
+            raise ValueError(label + sign.problem(f"the {name}", data=True))
+    return spec if isinstance(spec, ModalFit) else _fitted(spec, estimator, "the FRFData",
+                                                           label)
 
 
 def _fitted(data, estimator, source, label) -> ModalFit:
@@ -255,11 +269,25 @@ def parse_contact(spec) -> ContactLaw:
     return factory(**_parse_fields(kind, rest, names))
 
 
-def read_options_pair(read_options):
-    """Per body, its ``read_options`` (one dict for both, or a pair)."""
+def read_options_pair(read_options, specs=(None, None)):
+    """Per body, its ``read_options``: a pair as given, or one dict for every body read
+    from a file (a body of ``specs`` in memory, an FRFData or a fitted ModalFit, gets
+    None)."""
     if isinstance(read_options, (list, tuple)):
         if len(read_options) != 2:
             raise ValueError(f"read_options must be a dict or a pair of them (body 1, body "
                              f"2), got {len(read_options)} items")
         return tuple(read_options)
-    return read_options, read_options
+    return tuple(None if _in_memory(spec) else read_options for spec in specs)
+
+
+def body_label(spec) -> str:
+    """How a body is named in messages: its file or spec, else its type ("an FRFData")."""
+    name = type(spec).__name__
+    return (str(spec) if isinstance(spec, (str, Path))
+            else f"{'an' if name.startswith(('FRF', 'A', 'E', 'I', 'O', 'U')) else 'a'} {name}")
+
+
+def _in_memory(spec) -> bool:
+    """Whether a body is FRF data already read (an FRFData, or a ModalFit's)."""
+    return isinstance(spec, (FRFData, ModalFit))

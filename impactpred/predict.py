@@ -29,7 +29,6 @@ import functools
 import re
 import warnings
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 
@@ -37,7 +36,8 @@ from modalid import ModalModel, MultiOutputModalModel, SavedFit
 from modalid.validation import as_real_scalar
 
 from ._figures import band_resolution, impact_figures
-from ._specs import READ_OPTIONS, check_estimator, identify, parse_contact, read_options_pair
+from ._specs import (READ_OPTIONS, body_label, check_estimator, identify, parse_contact,
+                     read_options_pair)
 from .api import solve_impact
 from .body import Body, check_driving_point
 from .result import ImpactResult
@@ -373,16 +373,11 @@ def _lower_terms(fit, band_tolerance: float) -> tuple:
     return None, np.inf
 
 
-def _label(spec) -> str:
-    """How a body's spec is named in messages: the file or spec, else its type."""
-    return str(spec) if isinstance(spec, (str, Path)) else f"a {type(spec).__name__}"
-
-
 def _check_model(model, spec, body: int, check_passive: bool) -> None:
     """Refuse a modal model that is not a stable, passive driving point (see
     :func:`check_driving_point`), unless ``check_passive`` is False."""
     if check_passive and isinstance(model, (ModalModel, MultiOutputModalModel)):
-        check_driving_point(model, name=f"body {body} ({_label(spec)})",
+        check_driving_point(model, name=f"body {body} ({body_label(spec)})",
                             opt_out="to use it anyway, check_passive=False")
 
 
@@ -391,12 +386,13 @@ def _bodies(specs, *, quantity, estimator, read_options, check_passive):
     identified (no continuation), its fit (a clone of ``estimator``) judged by
     :func:`check_identification`."""
     models, fits = [], []
-    for i, (spec, options) in enumerate(zip(specs, read_options_pair(read_options)), start=1):
+    for i, (spec, options) in enumerate(zip(specs, read_options_pair(read_options, specs)),
+                                        start=1):
         model, fit = identify(spec, quantity=quantity, estimator=estimator,
                                read_options=options, check_passive=check_passive,
                                label=f"body {i}: ")
         if fit is not None:
-            check_identification(fit, _label(spec), body=i)
+            check_identification(fit, body_label(spec), body=i)
             model = identified_model(fit, continuation=False)
         _check_model(model, spec, i, check_passive)
         models.append(model)
@@ -547,7 +543,7 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
     models, fits = _bodies(specs, quantity=quantity, estimator=estimator,
                            read_options=read_options, check_passive=check_passive)
     if uncertainty:
-        check_band_bodies([_label(spec) for spec in specs], fits)
+        check_band_bodies([body_label(spec) for spec in specs], fits)
     law = parse_contact(contact)
 
     # a partial of a module-level function: it pickles, for the band's process pools

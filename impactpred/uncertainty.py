@@ -29,7 +29,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from modalid import SavedFit
+from modalid import MultiOutputModalModel, SavedFit
 
 from .contact import ContactLaw, Rigid
 from ._draws import perturb_poles, perturb_residues
@@ -151,14 +151,19 @@ def check_band_bodies(labels, fits) -> None:
     Raises
     ------
     ValueError
-        A body is a saved fit (no data to re-identify), or none is identified from a file.
+        A body is a saved fit (no data to re-identify) or a common-pole fit of several
+        FRFs, or none is identified from a file.
     """
     for i, (label, fit) in enumerate(zip(labels, fits), start=1):
         if isinstance(fit, SavedFit):
             raise ValueError(f"body {i} ({label}) is a saved fit: the uncertainty band "
                              "re-identifies each measured body on cut bands of its data, "
-                             "which a saved fit does not hold; predict from its FRF file for "
-                             "the band")
+                             "which a saved fit does not hold; predict from its FRF file (or "
+                             "the fitted ModalFit) for the band")
+        if _is_set_fit(fit):
+            raise ValueError(f"body {i} ({label}) is a common-pole fit of several FRFs: the "
+                             "uncertainty band draws one FRF's parameters; predict from the "
+                             "driving point's FRF alone for the band")
     if all(fit is None for fit in fits):
         raise ValueError(f"the uncertainty band bounds the error of bodies identified from "
                          f"FRF files, and neither body is one ({' and '.join(labels)}): an "
@@ -166,12 +171,21 @@ def check_band_bodies(labels, fits) -> None:
                          "re-identify")
 
 
+def _is_set_fit(fit) -> bool:
+    """Whether ``fit`` is a common-pole fit of several FRFs (its model has several rows)."""
+    return isinstance(getattr(fit, "model_", None), MultiOutputModalModel)
+
+
 def _check_refittable(fit) -> None:
-    """Refuse a fit that holds no data to re-identify (a :class:`modalid.SavedFit`)."""
+    """Refuse a fit that holds no data to re-identify (a :class:`modalid.SavedFit`) or whose
+    parameters the draws cannot move (a common-pole fit of several FRFs)."""
     if isinstance(fit, SavedFit):
         where = f" ({fit.source})" if fit.source else ""
         raise ValueError(f"a SavedFit{where} holds no data to re-identify on a cut band: the "
                          "uncertainty band needs the fitted ModalFit (or its FRF file)")
+    if _is_set_fit(fit):
+        raise ValueError("a common-pole fit of several FRFs: the uncertainty band draws one "
+                         "FRF's parameters; fit the driving point's FRF alone for the band")
 
 
 def refit_on_cut_band(fit, fraction: float):
@@ -504,7 +518,8 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
         if measured:
             for kind, perturb, rng in (
                     ("draw", perturb_residues, np.random.default_rng(seed)),
-                    ("pole draw", perturb_poles, np.random.default_rng([seed, 1]))):
+                    ("pole draw", perturb_poles,
+                     np.random.default_rng(None if seed is None else [seed, 1]))):
                 for d in range(n_draws):
                     trial = list(models)
                     for i, fit in enumerate(fits):
@@ -521,24 +536,26 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
             variants.append((f"body{i + 1} band {100 * fraction:.0f}%", figs))
             # compared with the reference at the same resolution (the same merging)
             cuts.append((fraction, figs, impact_figures(reference, resolution=cut_resolution)))
-        failed = []
+        failed: dict[str, list] = {"draw": [], "pole draw": []}
         if measured:
             for kind, d, job in draw_jobs:
                 try:
                     figs = impact_figures(job.result(), resolution=resolution)
                 except (ValueError, MemoryError, np.linalg.LinAlgError) as exc:
-                    failed.append(f"{type(exc).__name__}: {str(exc)[:120]}")
+                    failed[kind].append(f"{type(exc).__name__}: {str(exc)[:120]}")
                     continue
                 variants.append((f"{kind} {d + 1}", figs))
                 for k in FIGURES:
                     if figs[k] is not None and ref_figs[k] is not None:
                         changes[kind][k].append(figs[k] - ref_figs[k])
-    if failed:
-        warnings.warn(f"{len(failed)} of {len(draw_jobs)} parameter draws could not be solved "
-                      f"(first: {failed[0]}); the band's spread comes from the "
-                      f"{len(draw_jobs) - len(failed)} others"
-                      + ("" if len(failed) < len(draw_jobs) else ": it has no spread part"),
-                      RuntimeWarning, stacklevel=2)
+    for kind, what in (("draw", "residue"), ("pole draw", "pole")):
+        if failed[kind]:
+            lost = len(failed[kind]) == n_draws
+            warnings.warn(f"{len(failed[kind])} of {n_draws} {what} draws could not be solved "
+                          f"(first: {failed[kind][0]}); the band's {what} spread comes from "
+                          f"the {n_draws - len(failed[kind])} others"
+                          + (f": it has no {what} spread part" if lost else ""),
+                          RuntimeWarning, stacklevel=2)
     spread, pole_spread = ({k: (math.sqrt(float(np.mean(np.square(v)))) if v else 0.0)
                             for k, v in changes[kind].items()}
                            for kind in ("draw", "pole draw"))

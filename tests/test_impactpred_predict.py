@@ -153,12 +153,18 @@ def test_an_frf_in_memory_and_a_fitted_modalfit_are_bodies(measured_rod):
     assert from_fit.uncertainty.low["restitution"] < from_fit.figures["restitution"]
     with pytest.raises(TypeError, match=r"^body 2: the ModalFit is not fitted: fit it first"):
         predict("mass:1", ModalFit(), velocity1=1.0, t_end=8.0)
+    # one dict of read_options is the files': the FRF in memory is read already
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        again = predict("mass:1", data, velocity1=1.0, t_end=8.0,
+                        read_options={"format": "csv"})
+    assert again.figures == from_file.figures
     with pytest.raises(ValueError, match=r"^body 2: read_options \{'negate': True\} apply to "
-                                         r"files, not to the FRFData given"):
-        predict("mass:1", data, velocity1=1.0, t_end=8.0, read_options={"negate": True})
-    with pytest.raises(ValueError, match=r"^body 2: quantity='receptance' is for files that "
-                                         r"do not state it; the FRFData given holds accelerance"):
-        predict("mass:1", data, velocity1=1.0, t_end=8.0, quantity="receptance")
+                                         r"files, not to the FRFData given .*takes None for it"):
+        predict("mass:1", data, velocity1=1.0, t_end=8.0, read_options=(None, {"negate": True}))
+    with pytest.raises(ValueError, match=r"^body 2: quantity='receptance', but the ModalFit "
+                                         r"given holds accelerance"):
+        predict("mass:1", fit, velocity1=1.0, t_end=8.0, quantity="receptance")
     conjugate = FRFData(data.freq_hz, data.values.conj(), quantity=data.quantity)
     with pytest.raises(ValueError, match=r"^body 2: the FRFData: its resonances turn "
                                          r"counter-clockwise.*; conjugate its values$"):

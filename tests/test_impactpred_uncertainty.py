@@ -1,6 +1,8 @@
 """The uncertainty band (impactpred.uncertainty): the truncation estimate against a figure
 of known convergence, parameter draws against the fits' scatter."""
 
+import warnings
+
 import numpy as np
 import pytest
 
@@ -335,10 +337,13 @@ def test_draws_that_cannot_be_solved_are_said_not_dropped_silently():
     def refuse(m1, m2):
         raise ValueError("refused for the test")
 
-    with pytest.warns(RuntimeWarning, match=r"6 of 6 parameter draws could not be solved "
-                                             r"\(first: ValueError: refused for the test\)"
-                                             r".*no spread part"):
+    with pytest.warns(RuntimeWarning) as caught:
         band = uncertainty_band(models, [None, fit], refuse, n_draws=3, nominal=nominal)
+    messages = [str(w.message) for w in caught]
+    for what in ("residue", "pole"):
+        assert any(m.startswith(f"3 of 3 {what} draws could not be solved (first: ValueError: "
+                                f"refused for the test)") and
+                   m.endswith(f": it has no {what} spread part") for m in messages), messages
     assert all(v == 0.0 for v in band.spread.values())
     assert all(v == 0.0 for v in band.pole_spread.values())
 
@@ -349,8 +354,6 @@ def test_a_band_for_one_continued_and_one_lumped_body(tmp_path):
     as the nominal prediction did; asking the spring-mass's for a continuation raised
     "no compliance above it" from inside the band. Still in contact at ``t_end``, the
     restitution is undefined and the table says so."""
-    import warnings
-
     from data_synth import SpringMass, synthetic_frf
     from impactpred import predict
     from modalid import write_frf
@@ -401,3 +404,24 @@ def test_a_saved_fit_has_no_data_to_re_identify():
         refit_on_cut_band(saved, 0.8)
     with pytest.raises(ValueError, match=message):
         uncertainty_band([LumpedMass(1.0), model], [None, saved], None)
+
+
+def test_a_common_pole_fit_of_several_frfs_has_no_band_and_says_so():
+    """A ModalFit of an FRFSet (predict takes it as a body, its driving row the model) has
+    no single FRF's parameters to draw: refused by name before any solve (the draws had
+    failed inside ModalModel: "residues must be 1-D")."""
+    from impactpred.uncertainty import check_band_bodies
+    from modalid import FRFSet
+
+    rod = Rod(1.0, 1.0, support="fixed")
+    freq = np.linspace(0.01, 3.25, 650)
+    rows = [rod.frf(2 * np.pi * freq)]
+    rows.append(0.5 * rows[0])
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        fit = ModalFit().fit(FRFSet(freq, np.array(rows)))
+    with pytest.raises(ValueError, match=r"^body 2 \(an FRFSet fit\) is a common-pole fit "
+                                         r"of several FRFs: .*driving point's FRF alone"):
+        check_band_bodies(["mass:1", "an FRFSet fit"], [None, fit])
+    with pytest.raises(ValueError, match=r"^a common-pole fit of several FRFs"):
+        uncertainty_band([LumpedMass(1.0), LumpedMass(1.0)], [None, fit], None)
