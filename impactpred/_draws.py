@@ -8,7 +8,10 @@ apart because they move different figures: :func:`perturb_residues` (the residue
 rigid mass and the residual flexibility: how strongly each mode responds) and
 :func:`perturb_poles` (the natural frequencies and damping ratios: when and how long).
 A figure decided by one lightly damped mode (a mass struck on a spring: its contact lasts
-about half that mode's period) moves with the poles only.
+about half that mode's period) moves with the poles only. Every parameter is drawn from its
+own standard deviation, independently: the fit's covariances between them (a pole and its
+residue) are not used, so a combination of draws may over- or understate the scatter of a
+figure that depends on both (the coverage study, benchmarks/README.md, measures the net).
 """
 
 from __future__ import annotations

@@ -42,10 +42,11 @@ Prediction: ``identified_model`` (normal modes, ``continue_above_band`` to
 200 000 output samples (``"modal"`` with ``dt = dt_exact`` for Hertz contact); figures by
 ``impact_figures`` with contacts closer than ``1/(2 f_top)`` merged (ringing after a
 separation aside). Uncertainty, at every band: ``uncertainty_band`` (stated level 0.9 for
-the four figures together: 4 draws of the fits' parameters, re-identification on 80 % of
-each band, the tail to half its extent). :func:`run_benchmark` identifies each measured
-body once per band and noise (with its cut-band re-identification) and computes each exact
-reference once, then predicts each case at each band in a task of its own. Targets:
+the four figures together: 4 draws of the fits' residues and 4 of their poles,
+re-identification on 80 % of each band, the tail to half its extent).
+:func:`run_benchmark` identifies each measured body once per band and noise (with its
+cut-band re-identification) and computes each exact reference once, then predicts each
+case at each band in a task of its own. Targets:
 :data:`TARGETS` (1 % noise), :data:`TARGETS_5` (5 %) for every case and band,
 :data:`BAND_TARGET`.
 

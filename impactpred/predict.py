@@ -492,9 +492,9 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
         :class:`ContinuationWarning`). ``Prediction.continuation`` says what was done.
     uncertainty : bool
         Attach an :class:`~impactpred.uncertainty.UncertaintyBand` (stated level 0.9 for
-        the four figures together: ``uncertainty_draws`` parameter draws with ``seed``,
-        re-identification on 80 % of each band, the truncation error it implies and the
-        continuation's).
+        the four figures together: ``uncertainty_draws`` draws of the fits' residues and
+        as many of their poles with ``seed``, re-identification on 80 % of each band, the
+        truncation error it implies and the continuation's).
     executor : None, concurrent.futures.Executor or dask.distributed.Client
         Where the uncertainty band's re-identifications and solves run (``None``: here,
         one after the other); the band does not depend on it.
