@@ -111,16 +111,16 @@ def half_width(table, k, factors=FACTORS, level=LEVEL):
     parts with the factors ``(k, a, b)``, as
     :func:`impactpred.uncertainty.band_half_width` builds it: ``sqrt((z k sigma)**2 +
     (a left)**2) + b tail``, ``sigma = hypot(spread, pole_spread)``, ``left =
-    max(truncation - spread sqrt(f / (1 - f)), 0)`` (the peak's front allowance,
+    max(truncation - sigma sqrt(f / (1 - f)), 0)`` (the peak's front allowance,
     one-sided, is :func:`front`; rows recorded before the pole draws have no pole
     spread: 0)."""
     spread, trunc, tail = factors
-    residues = table[f"band_sigma_{k}_%"]
     column = f"band_sigma_pole_{k}_%"
     poles = table[column].fillna(0.0) if column in table else 0.0
+    sigma = np.hypot(table[f"band_sigma_{k}_%"], poles)
     left = np.maximum(table[f"band_trunc_{k}_%"]
-                      - residues * math.sqrt(FRACTION / (1.0 - FRACTION)), 0.0)
-    return (np.hypot(z_of(level) * spread * np.hypot(residues, poles), trunc * left)
+                      - sigma * math.sqrt(FRACTION / (1.0 - FRACTION)), 0.0)
+    return (np.hypot(z_of(level) * spread * sigma, trunc * left)
             + tail * table[f"band_tail_{k}_%"])
 
 
