@@ -252,8 +252,8 @@ def _band_inputs():
 def _same_band(a, b):
     assert a.variants == b.variants                      # every variant's figures, exactly
     assert (a.nominal, a.low, a.high) == (b.nominal, b.low, b.high)
-    assert (a.truncation, a.tail, a.spread, a.level) == (b.truncation, b.tail, b.spread,
-                                                         b.level)
+    assert (a.truncation, a.tail, a.spread, a.pole_spread, a.level) == (
+        b.truncation, b.tail, b.spread, b.pole_spread, b.level)
 
 
 def test_band_tasks_go_through_the_executor_and_the_band_is_unchanged():
@@ -265,9 +265,9 @@ def test_band_tasks_go_through_the_executor_and_the_band_is_unchanged():
     pooled = uncertainty_band(models, fits, solve, n_draws=2, fractions=(0.6, 0.8),
                               executor=counting)
     _same_band(serial, pooled)
-    # 2 refits, the tail's solve, 2 cut-band solves, 2 draws
+    # 2 refits, the tail's solve, 2 cut-band solves, 2 residue draws and 2 pole draws
     assert sorted(counting.submitted) == sorted(["refit_on_cut_band"] * 2
-                                                + ["_solve_pair"] * 5)
+                                                + ["_solve_pair"] * 7)
     with pytest.raises(TypeError, match="executor"):
         uncertainty_band(models, fits, solve, executor=2)
 
