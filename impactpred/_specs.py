@@ -269,7 +269,7 @@ def parse_contact(spec) -> ContactLaw:
     return factory(**_parse_fields(kind, rest, names))
 
 
-def read_options_pair(read_options, specs=(None, None)):
+def read_options_pair(read_options, specs):
     """Per body, its ``read_options``: a pair as given, or one dict for every body read
     from a file (a body of ``specs`` in memory, an FRFData or a fitted ModalFit, gets
     None)."""

@@ -161,14 +161,17 @@ def check_band_bodies(labels, fits) -> None:
                              "which a saved fit does not hold; predict from its FRF file (or "
                              "the fitted ModalFit) for the band")
         if _is_set_fit(fit):
-            raise ValueError(f"body {i} ({label}) is a common-pole fit of several FRFs: the "
-                             "uncertainty band draws one FRF's parameters; predict from the "
-                             "driving point's FRF alone for the band")
+            raise ValueError(f"body {i} ({label}) is {_SET_FIT}")
     if all(fit is None for fit in fits):
         raise ValueError(f"the uncertainty band bounds the error of bodies identified from "
                          f"FRF files, and neither body is one ({' and '.join(labels)}): an "
                          "exact model has no identification error, a saved model no data to "
                          "re-identify")
+
+
+#: why a common-pole fit of several FRFs gets no band (both refusals say it)
+_SET_FIT = ("a common-pole fit of several FRFs: the uncertainty band draws one FRF's "
+            "parameters; give the driving point's FRF alone for the band")
 
 
 def _is_set_fit(fit) -> bool:
@@ -184,8 +187,7 @@ def _check_refittable(fit) -> None:
         raise ValueError(f"a SavedFit{where} holds no data to re-identify on a cut band: the "
                          "uncertainty band needs the fitted ModalFit (or its FRF file)")
     if _is_set_fit(fit):
-        raise ValueError("a common-pole fit of several FRFs: the uncertainty band draws one "
-                         "FRF's parameters; fit the driving point's FRF alone for the band")
+        raise ValueError(_SET_FIT)
 
 
 def refit_on_cut_band(fit, fraction: float):
@@ -313,6 +315,11 @@ def band_half_width(spread: float, truncation: float, tail: float, *, figure: st
     left = max(truncation - sigma * math.sqrt(fraction / (1.0 - fraction)), 0.0)
     return math.hypot(z * SPREAD_FACTOR * sigma, TRUNCATION_FACTOR * left) + TAIL_FACTOR * tail
 
+
+#: the two kinds of parameter draw: variant label, what is drawn (for messages), the draw
+#: (each kind has its own generator: stream 0 is ``default_rng(seed)``, stream n
+#: ``default_rng([seed, n])``, so that adding a kind leaves the others' draws as they were)
+_DRAW_KINDS = (("draw", "residue", perturb_residues), ("pole draw", "pole", perturb_poles))
 
 #: a variant's solve that raises one of these has no figures (a degenerate re-identification
 #: or draw; the exact solver's undecidable grazing contact, RuntimeError, which a pole draw
@@ -515,14 +522,12 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
                              for j, (t, f) in enumerate(zip(trial, fits))]
                 cut_jobs.append((i, fraction, cut_fits, pool.submit(solve, *trial)))
         ref_figs = impact_figures(reference, resolution=resolution)
-        changes: dict[str, dict] = {kind: {k: [] for k in FIGURES}
-                                    for kind in ("draw", "pole draw")}
+        changes: dict[str, dict] = {kind: {k: [] for k in FIGURES} for kind, _, _ in _DRAW_KINDS}
         draw_jobs = []     # the draws made here, in order (a generator per kind); solves pooled
         if measured:
-            for kind, perturb, rng in (
-                    ("draw", perturb_residues, np.random.default_rng(seed)),
-                    ("pole draw", perturb_poles,
-                     np.random.default_rng(None if seed is None else [seed, 1]))):
+            for stream, (kind, _, perturb) in enumerate(_DRAW_KINDS):
+                rng = np.random.default_rng(seed if seed is None or stream == 0
+                                            else [seed, stream])
                 for d in range(n_draws):
                     trial = list(models)
                     for i, fit in enumerate(fits):
@@ -539,7 +544,7 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
             variants.append((f"body{i + 1} band {100 * fraction:.0f}%", figs))
             # compared with the reference at the same resolution (the same merging)
             cuts.append((fraction, figs, impact_figures(reference, resolution=cut_resolution)))
-        failed: dict[str, list] = {"draw": [], "pole draw": []}
+        failed: dict[str, list] = {kind: [] for kind, _, _ in _DRAW_KINDS}
         if measured:
             for kind, d, job in draw_jobs:
                 try:
@@ -551,7 +556,7 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
                 for k in FIGURES:
                     if figs[k] is not None and ref_figs[k] is not None:
                         changes[kind][k].append(figs[k] - ref_figs[k])
-    for kind, what in (("draw", "residue"), ("pole draw", "pole")):
+    for kind, what, _ in _DRAW_KINDS:
         if failed[kind]:
             lost = len(failed[kind]) == n_draws
             warnings.warn(f"{len(failed[kind])} of {n_draws} {what} draws could not be solved "
@@ -560,8 +565,7 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
                           + (f": it has no {what} spread part" if lost else ""),
                           RuntimeWarning, stacklevel=2)
     spread, pole_spread = ({k: (math.sqrt(float(np.mean(np.square(v)))) if v else 0.0)
-                            for k, v in changes[kind].items()}
-                           for kind in ("draw", "pole draw"))
+                            for k, v in changes[kind].items()} for kind, _, _ in _DRAW_KINDS)
     trunc = {k: 0.0 for k in FIGURES}
     halves = {k: band_half_width(spread[k], 0.0, tail[k], figure=k, level=level,
                                  pole_spread=pole_spread[k]) for k in FIGURES}
