@@ -109,10 +109,17 @@ def _checked_frf(path, options, *, label="", check_passive=True):
     driving point (``check_passive``), with its sign reversed (see
     :func:`modalid.io.check_sign`)."""
     data = read_frf(path, **options)
+    _check_frf_sign(data, path, label=label, check_passive=check_passive)
+    return data
+
+
+def _check_frf_sign(data, source, *, label, check_passive, in_memory=False) -> None:
+    """Refuse ``data`` (named ``source``) stored with the other sign convention or, as a
+    driving point (``check_passive``), with its sign reversed; the remedy named is a
+    reading option, or for data ``in_memory`` what to do to its values."""
     sign = check_sign(data)
     if sign.verdict == "conjugate" or (sign.verdict == "reversed" and check_passive):
-        raise ValueError(label + sign.problem(path))
-    return data
+        raise ValueError(label + sign.problem(source, data=in_memory))
 
 
 def check_estimator(estimator):
@@ -217,9 +224,8 @@ def _in_memory_fit(spec, *, quantity, estimator, read_options, check_passive, la
                          f"{stated} (for one file's quantity give a pair of read_options, "
                          "e.g. ({'quantity': ...}, None))")
     if isinstance(data, FRFData):
-        sign = check_sign(data)
-        if sign.verdict == "conjugate" or (sign.verdict == "reversed" and check_passive):
-            raise ValueError(label + sign.problem(f"the {name}", data=True))
+        _check_frf_sign(data, f"the {name}", label=label, check_passive=check_passive,
+                        in_memory=True)
     return spec if isinstance(spec, ModalFit) else _fitted(spec, estimator, "the FRFData",
                                                            label)
 
