@@ -509,7 +509,8 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
         body 1's, body 2's), e.g. ``{"format": "complex-lines", "freq_hz": f}`` for bare
         complex lines, ``{"conjugate": True}`` for a file stored with the other sign
         convention, ``{"negate": True}`` for a driving point with its sign reversed
-        (files only: refused for an FRFData or a fitted ModalFit).
+        (files only: one dict passes an FRFData or a fitted ModalFit by, a pair's entry
+        for one is refused).
     check_passive : bool
         Refuse models that are not stable, passive driving points (see :class:`Body`),
         and FRF files or FRFData whose sign says they are not (see
