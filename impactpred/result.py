@@ -19,12 +19,15 @@ class EnergyWarning(UserWarning):
 class BodyEnergy:
     """Energy of one body (J) before the impact and at the end of the solve.
 
-    ``vibration_after`` is the vibration energy left at ``t_end``; for a damped body it
-    also contains what the body's own damping dissipated when the solver obtains it by
-    an energy balance (time-stepping solvers on continua). The exact (Laplace) method
-    counts in the vibration energy the strain energy ``d F^2 / 2`` of a residual
-    flexibility ``d`` under the force on the body at that instant (contact force and
-    load): a body loaded at ``t = 0`` starts with ``d F(0)^2 / 2`` of it.
+    ``vibration_after`` is the vibration energy delivered to the body by ``t_end``: its
+    vibration energy before, plus the work of the contact force and its load on it, less
+    its rigid-body energy's gain. For an undamped body that is the vibration energy it
+    holds at ``t_end``; a damped body holds that less what its own damping took, and
+    ``t_end`` would decide the figure: every solver reports the energy delivered (the
+    exact method integrates the work on its closed form; the time-stepping ones sum it
+    over their steps). It counts the strain energy ``d F^2 / 2`` of a residual
+    flexibility ``d`` under the force on the body (contact force and load): a body loaded
+    at ``t = 0`` starts with ``d F(0)^2 / 2`` of it.
 
     Parameters
     ----------
@@ -176,7 +179,8 @@ class ImpactResult:
         ``energy_by_body`` as a table (J): rows body1, body2; rigid and vibration energy
         before and after, and their totals.
     vibration_energy_fraction : float
-        Share of the energy before left in vibration at the end.
+        Share of the energy before delivered to vibration by the end (what the bodies'
+        own damping took of it included; see :class:`BodyEnergy`).
     n_contacts, touched : int, bool
         Number of contact intervals; whether the bodies touched (a Dirac counts).
     contact_duration_first, total_contact_time : float
@@ -330,7 +334,10 @@ class ImpactResult:
 
     @property
     def vibration_energy_fraction(self) -> float:
-        """Share of the total energy left in vibration at the end (0 to 1)."""
+        """Share of the total energy before delivered to the bodies' vibration by the end
+        (0 to 1): ``sum vibration_after / sum total_before`` (:class:`BodyEnergy`: what
+        their own damping took of it counts, so the figure does not depend on
+        ``t_end``)."""
         before = sum(e.total_before for e in self.energy_by_body)
         after_vib = sum(e.vibration_after for e in self.energy_by_body)
         return after_vib / before if before > 0 else 0.0

@@ -305,8 +305,10 @@ def event_loop(free, stuck, xa0, in_contact, t_end, step, out_step, tol_g, rho, 
         The augmented state at ``t_end``.
     first_impulse : float
         ``J`` after the first contact (or at the end if none).
-    first_t0 : float
-        Start of the first contact phase (``-1`` if none); ``first_x`` its state there.
+    starts : ndarray, shape (P, 2)
+        Every phase's start time and whether it is a contact phase (1.0) or free flight
+        (0.0), in order; ``states`` (n + 2, P) the augmented state there (a contact's
+        Dirac impulse applied).
     """
     n_rows = free[8].shape[0]
     cap = int(t_end / out_step) + 64
@@ -318,7 +320,9 @@ def event_loop(free, stuck, xa0, in_contact, t_end, step, out_step, tol_g, rho, 
     diracs = np.empty((8, 2))
     n_d = 0
     xa = xa0.copy()
-    first_t0, first_x = -1.0, xa0.copy()
+    starts = np.empty((8, 2))
+    states = np.empty((xa0.size, 8))
+    n_ph = 0
     first_impulse, have_first = 0.0, False
     t = 0.0
     contact_at = 0.0
@@ -335,8 +339,13 @@ def event_loop(free, stuck, xa0, in_contact, t_end, step, out_step, tol_g, rho, 
     stalled = 0
     while t < t_end * (1 - 1e-15):
         ph = stuck if in_contact else free
-        if in_contact and first_t0 < 0.0:
-            first_t0, first_x = t, xa.copy()
+        if n_ph + 1 > starts.shape[0]:
+            starts = _grow_pairs(starts, n_ph + 1)
+            states = _grow_rows(states, n_ph + 1)
+        starts[n_ph, 0], starts[n_ph, 1] = t, 1.0 if in_contact else 0.0
+        for q in range(xa.size):
+            states[q, n_ph] = xa[q]
+        n_ph += 1
         tau, x_end, ts, vs = phase_run(ph[0], ph[12], ph[13], ph[14], ph[1], ph[2], ph[3],
                                        ph[4], ph[5], ph[6], ph[7], ph[8], ph[9], ph[10],
                                        ph[11], xa,
@@ -363,7 +372,7 @@ def event_loop(free, stuck, xa0, in_contact, t_end, step, out_step, tol_g, rho, 
         stalled = stalled + 1 if t_ev - t <= MIN_ADVANCE * t_end else 0
         if stalled > MAX_STALLS:
             return (1, t, times[:used], values[:, :used], intervals[:n_iv], diracs[:n_d],
-                    xa, first_impulse, first_t0, first_x)
+                    xa, first_impulse, starts[:n_ph], states[:, :n_ph])
         t = t_ev
         if not happened:
             break
@@ -395,4 +404,4 @@ def event_loop(free, stuck, xa0, in_contact, t_end, step, out_step, tol_g, rho, 
     if not have_first:
         first_impulse = xa[jdx]
     return (0, t, times[:used], values[:, :used], intervals[:n_iv], diracs[:n_d], xa,
-            first_impulse, first_t0, first_x)
+            first_impulse, starts[:n_ph], states[:, :n_ph])

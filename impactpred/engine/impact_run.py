@@ -138,17 +138,34 @@ class ContactRules:
 
 class RawRun:
     """What :func:`run_contact` returns: samples ``T`` (s), ``V`` (rows x len(T)), the
-    contact intervals and Dirac impulses ``(t, P)``, the first contact phase ``(phase, t0,
-    coords)`` (or None), the final augmented state, the impulse of the first contact, and
-    which propagation ran (``"spectral"`` or ``"matrix-exponential"``)."""
+    contact intervals and Dirac impulses ``(t, P)``, every phase ``(phase, t0, t1, x0)``
+    in order (its :class:`Phase`, start and end times, augmented state at the start, a
+    contact's Dirac impulse applied), the final augmented state, the impulse of the first
+    contact, and which propagation ran (``"spectral"`` or ``"matrix-exponential"``)."""
 
-    __slots__ = ("T", "V", "intervals", "diracs", "first_phase", "x_end", "first_impulse",
+    __slots__ = ("T", "V", "intervals", "diracs", "phases", "x_end", "first_impulse",
                  "kind")
 
-    def __init__(self, T, V, intervals, diracs, first_phase, x_end, first_impulse, kind):
+    def __init__(self, T, V, intervals, diracs, phases, x_end, first_impulse, kind):
         self.T, self.V, self.intervals, self.diracs = T, V, intervals, diracs
-        self.first_phase, self.x_end = first_phase, x_end
+        self.phases, self.x_end = phases, x_end
         self.first_impulse, self.kind = first_impulse, kind
+
+    @property
+    def first_phase(self):
+        """The first contact phase as ``(phase, t0, coords)`` (its spectral coordinates at
+        the start), or None without one."""
+        for phase, t0, _t1, x0 in self.phases:
+            if phase.contact:
+                return phase, t0, phase.form.coordinates(x0)
+        return None
+
+
+def _phase_list(free, stuck, starts, states, t_end):
+    """``[(phase, t0, t1, x0), ...]`` from the phases' start times, kinds and states."""
+    ends = [t0 for t0, _ in starts[1:]] + [t_end]
+    return [(stuck if contact else free, t0, end, x0)
+            for (t0, contact), end, x0 in zip(starts, ends, states)]
 
 
 def _root(f, a, b, *, rising=False):
@@ -181,22 +198,22 @@ def run_contact(free, stuck, xa, *, in_contact, rules, t_end, step, out_step, ga
     """
     tol_g, jdx = rules.tol_g, rules.jdx
     if all(isinstance(p.form, SpectralPhase) for p in (free, stuck)):
-        (status, t_stall, T, V, iv, dv, x_end, first_impulse, first_t0,
-         first_x) = event_loop(free.kernel_data(t_end), stuck.kernel_data(t_end), xa,
+        (status, t_stall, T, V, iv, dv, x_end, first_impulse, starts,
+         states) = event_loop(free.kernel_data(t_end), stuck.kernel_data(t_end), xa,
                                in_contact, t_end, step, out_step, tol_g, rules.rho,
                                rules.coef, rules.bf, jdx, rules.force_row,
                                rules.force_rate_row, rules.cg_powers, float(gap0))
         if status:
             raise grazing_error(t_stall)
-        first = ((stuck, first_t0, stuck.form.coordinates(first_x)) if first_t0 >= 0.0
-                 else None)
+        phases = _phase_list(free, stuck, [(float(t0), bool(c)) for t0, c in starts],
+                             list(states.T), t_end)
         return RawRun(T, V, [tuple(r) for r in iv.tolist()],
-                      [tuple(r) for r in dv.tolist()], first, x_end, float(first_impulse),
+                      [tuple(r) for r in dv.tolist()], phases, x_end, float(first_impulse),
                       "spectral")
 
     samples = []          # (times, rows x k values) blocks
     intervals, diracs = [], []
-    phase_log = []        # (phase, t0, coords) of the first contact phase
+    phase_starts, phase_states = [], []     # every phase's (t0, contact), starting state
 
     def start_contact(t, Xa):
         """Apply any Dirac impulse; return (Xa, holds) with holds False if f < 0 at once."""
@@ -229,8 +246,8 @@ def run_contact(free, stuck, xa, *, in_contact, rules, t_end, step, out_step, ga
         coords = form.coordinates(Xa)
         out_coeffs = form.output_coefficients(phase.rows, coords)
         ev_coeffs = form.output_coefficients(phase.event_row, coords)
-        if phase.contact and not phase_log:
-            phase_log.append((phase, t0, coords))
+        phase_starts.append((t0, phase.contact))
+        phase_states.append(Xa.copy())
         samples.append((np.array([t0]), form.evaluate(out_coeffs, [0.0])))
         # the gap's rounding level: the caller's, or that of the gap's own size over the
         # first chunk of steps (a run from rest under a load has no initial displacement
@@ -332,8 +349,8 @@ def run_contact(free, stuck, xa, *, in_contact, rules, t_end, step, out_step, ga
 
     T = np.concatenate([blk[0] for blk in samples])
     V = np.concatenate([blk[1] for blk in samples], axis=1)
-    return RawRun(T, V, intervals, diracs, phase_log[0] if phase_log else None, Xa,
-                  first_impulse, "matrix-exponential")
+    phases = _phase_list(free, stuck, phase_starts, phase_states, t_end)
+    return RawRun(T, V, intervals, diracs, phases, Xa, first_impulse, "matrix-exponential")
 
 
 def _search_terms(rates):
