@@ -70,7 +70,7 @@ def time_columns(t, poles, real_poles=(), *, rigid=False):
 def select_by_information_time(t, h, candidates, *, rigid, passive=True):
     """How many of the ranked ``candidates`` the samples support (see
     :func:`modalid._lsfd.prefix_information`)."""
-    from .stabilization import prefix_information
+    from ._information import prefix_information
 
     candidates = np.asarray(candidates, complex)
     head = time_columns(t, np.zeros(0), rigid=rigid)

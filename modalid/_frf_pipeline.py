@@ -1,7 +1,8 @@
 """The FRF identification pipeline behind :class:`modalid.fit.ModalFit` (a mixin).
 
 Steps 2-4 of :mod:`modalid.fit`'s pipeline for one FRF: poles from the stabilization
-diagram or vector fitting, the low end (mass line or static flexibility), residual
+diagram or vector fitting, the low end (mass line or static flexibility:
+:class:`modalid._low_end.LowEnd`), residual
 terms above the band, and the variable-projection refinement with its checks (missed
 modes added where the residual peaks; insignificant, non-passive or duplicated poles
 dropped one at a time); then the stored model and report. The methods read the
@@ -23,8 +24,9 @@ from ._pole_checks import PoleChecks
 from ._report import (fit_report, local_misfit_inflation, misfit_notes,
                       residual_correlation_inflation)
 from ._segments import MIN_SEGMENTED, segment_poles
-from ._lsfd import (Terms, design_matrix, evaluate, mass_line_significant, noise_level,
-                    place_upper_modes, refine_varpro, release_gain, split_coefficients)
+from ._low_end import LowEnd
+from ._lsfd import (Terms, design_matrix, evaluate, noise_level, place_upper_modes,
+                    refine_varpro, release_gain, split_coefficients)
 from ._vf import vector_fit_poles
 from ._zero_start import hold_single
 from ._unresolved_damping import lift_single
@@ -32,8 +34,8 @@ from ._window import structure_model
 from .frf import FRFData
 from .model import ModalModel
 from .quantities import receptance_to
-from .stabilization import (cluster_poles, select_by_information, select_poles,
-                            stabilization_table)
+from ._information import select_by_information
+from .stabilization import cluster_poles, select_poles, stabilization_table
 
 __all__ = ["FRFPipeline", "ModalFitWarning", "fit_report"]
 
@@ -77,7 +79,7 @@ class ModalFitWarning(UserWarning):
     """The identification did not converge or found nothing; ``report_`` says what."""
 
 
-class FRFPipeline(PoleChecks):
+class FRFPipeline(PoleChecks, LowEnd):
     """The FRF steps of :class:`modalid.fit.ModalFit` (see the module docstring)."""
 
     def _fit_frf(self, data: FRFData):
@@ -192,77 +194,6 @@ class FRFPipeline(PoleChecks):
         return terms, fixed
 
     # ----------------------------------------------------------- low end, residuals
-    def _low_end(self, omega, h, w, poles, cut):
-        """``(rigid, lower)``: is there a mass line, and is it a rigid body or the lower
-        residual of modes below the band?
-
-        With three lines or more well below the first pole (and above twice the window's
-        decay, where a windowed mass line ``1/(M (s + sigma)^2)`` is negative like
-        ``1/(M s^2)``), their phase and slope decide: a free body's receptance there is
-        ``-1/(M omega^2)``, a grounded one's a positive static flexibility, and a mass
-        line keeps its sign down to the lowest of them (a resonance the poles missed turns
-        its static side, the lowest lines, positive). Otherwise a ``1/s^2`` term must lower
-        the weighted residual by more than its information cost, with a positive mass. A
-        mass line is a rigid body when the data reach well below the first pole and
-        ``freq_range`` did not cut them; else (and with ``rigid_body=False``) it is the
-        lower residual.
-        """
-        if self.rigid_body is True:
-            return True, False
-        below = self._below_first(omega, poles)
-        below = below[omega[below] > 2.0 * self._shift]
-        hb = h[below]
-        level = np.median(hb.real) if below.size else 0.0
-        steady = below.size >= 3 and bool(np.all(np.sign(hb[:3].real) == np.sign(level)))
-        if steady:
-            slope = np.polyfit(np.log(omega[below]), np.log(np.abs(hb)), 1)[0]
-            mass_line = bool(level < 0 and slope < -1.0)
-            if not self._passive_on and slope < -1.5 and level > 0:
-                return False, "lower" in self.residuals    # negative mass line: transfer
-        else:
-            mass_line = mass_line_significant(omega, h, w, poles, self._shift)
-        if not mass_line:
-            return False, False
-        lower = "lower" in self.residuals
-        if self.rigid_body is False:
-            return False, lower
-        if steady and not cut:
-            return True, False
-        return not lower, lower
-
-    @staticmethod
-    def _below_first(omega, poles):
-        """Indices of the (at most 20) lowest lines below half the first pole."""
-        first = np.min(np.abs(poles)) if poles.size else omega[-1]
-        return np.flatnonzero(omega < 0.5 * first)[:20]
-
-    def _low_resonance(self, omega, h, poles):
-        """A resonance the pole estimator missed among the lines below the first pole.
-
-        Near a resonance of positive modal mass a receptance's real part is positive below
-        it and negative above; a mass line's is negative throughout (a windowed one's
-        positive below the window's decay, but with ``|h|`` falling all the way). When the
-        lowest lines' real parts go from positive to negative and ``|h|`` rises to its
-        largest (by 10 % or more over the lowest line) within a line of the change, a
-        pole is placed there (1 % damping plus the window's decay) and returned. ``None``
-        otherwise (resonances of negative modal mass, allowed by ``passive=False``, are
-        left to the residual's peaks).
-        """
-        below = self._below_first(omega, poles)
-        hb = h[below]
-        if below.size < 3 or hb[0].real <= 0:
-            return None
-        negative = np.flatnonzero(hb.real < 0)
-        if negative.size == 0:
-            return None
-        c = int(negative[0])
-        peak = int(np.argmax(np.abs(hb)))
-        if abs(peak - c) > 1 or np.abs(hb[peak]) < 1.1 * np.abs(hb[0]):
-            return None
-        lo, hi = omega[below[c - 1]], omega[below[c]]
-        wk = lo + (hi - lo) * hb[c - 1].real / (hb[c - 1].real - hb[c].real)
-        return complex(-0.01 * wk - self._shift, wk)
-
     def _start(self, omega, h, w, poles, cut):
         """Starting poles with their kinds and the linear terms."""
         rigid, lower = self._low_end(omega, h, w, poles, cut)

@@ -11,19 +11,19 @@ Selection clusters the frequency-stable poles of all bands in (log frequency, lo
 damping) with scikit-learn's DBSCAN (damping estimates scatter more than frequencies
 under noise, so damping is a coarse feature, not a hard criterion); a cluster's *share*
 is the fraction of its best band's orders it appears in. :func:`select_by_information`
-then decides, by the Bayesian information criterion on linear least-squares fits of the
-residues, how many of the clusters ranked by share are physical (or, greedily, which of
-unranked candidates); no hand picking.
+(:mod:`modalid._information`, re-exported here) then decides, by the Bayesian
+information criterion on linear least-squares fits of the residues, how many of the
+clusters ranked by share are physical (or, greedily, which of unranked candidates); no
+hand picking.
 """
 
 from __future__ import annotations
 
 import numpy as np
 import pandas as pd
-from scipy.linalg import cho_factor, cho_solve, cholesky, solve_triangular
 from sklearn.cluster import DBSCAN
 
-from ._lsfd import Terms, _realify, design_matrix
+from ._information import prefix_information, select_by_information
 from .frf import _wrapped_phase
 
 _JOIN_LINES = 8.0
@@ -254,157 +254,6 @@ def select_poles(clusters: pd.DataFrame, *, n_modes=None, frequencies_hz=None,
     poles = np.concatenate([clusters["pole"].to_numpy(complex)[use],
                             np.asarray(extra, complex)])
     return poles[np.argsort(np.abs(poles))], selected
-
-
-def select_by_information(omega, values, weights, candidates, terms: Terms, fixed=(), *,
-                          greedy=False, passive=True):
-    """Which of the ``candidates`` the data support (Bayesian information criterion).
-
-    Residues of the first ``k`` candidates (with the ``fixed`` poles and the ``terms``)
-    are fitted by linear least squares for every ``k``; ``BIC = n ln(SSE/n) + 4 k ln(n)``
-    (``n`` real data, four real parameters per mode) picks ``k``. One Cholesky
-    factorisation of the Gram matrix gives every prefix's SSE. A noise pole lowers the
-    SSE by about what its four parameters fit in noise, far less than the penalty; a
-    physical pole lowers it by orders of magnitude. With ``greedy`` the candidates are
-    not ranked beforehand: each step adds the one that lowers the SSE most (so of two
-    poles on one resonance only one is taken).
-
-    Parameters
-    ----------
-    omega : ndarray of float
-        Angular frequencies (rad/s) of the data.
-    values : ndarray of complex
-        The data (receptance, m/N).
-    weights : ndarray of float
-        Per-line weights.
-    candidates : ndarray of complex
-        Candidate poles (rad/s), most persistent first.
-    terms : Terms
-        The model's extra terms (rigid body, residuals).
-    fixed : sequence of complex
-        Poles always kept.
-    greedy : bool, keyword-only
-        Search candidates greedily instead of in their order.
-    passive : bool, keyword-only
-        Count a candidate of negative modal mass as unsupported.
-
-    Returns
-    -------
-    keep : ndarray of bool, one per candidate
-        The chosen candidates, less (``passive``) those fitted with a negative modal mass.
-    bic : ndarray, shape (len(candidates) + 1,)
-        Of the prefixes (``greedy``: of the greedy sequence).
-    negative : ndarray of bool, one per candidate
-        Chosen candidates fitted with a negative modal mass.
-    """
-    s = 1j * omega
-    candidates = np.asarray(candidates, complex)
-    head = design_matrix(s, np.asarray(fixed, complex), terms)
-    cols = np.hstack([head, design_matrix(s, candidates, Terms(np.zeros(0), False, False))])
-    return prefix_information(_realify(cols * weights[:, None]), _realify(values * weights),
-                              head.shape[1], candidates.size, greedy=greedy,
-                              passive=passive)
-
-
-def prefix_information(mat, y, n_head, n_candidates, *, per_candidate=2, n_params=4,
-                       rel_floor=1e-12, greedy=False, passive=True):
-    """BIC of every prefix of the candidates' columns (real design ``mat``, data ``y``).
-
-    ``mat`` holds ``n_head`` fixed columns, then ``per_candidate`` columns per candidate
-    (``Re r, Im r``), each candidate counting ``n_params`` parameters. The SSE has a floor
-    of ``(rel_floor |y|)^2``: rounding cannot pass for a fit. Returns
-    ``(keep, bic, negative)`` as :func:`select_by_information`.
-
-    Parameters
-    ----------
-    mat : ndarray, shape (n, n_head + per_candidate * n_candidates)
-        Real design matrix.
-    y : ndarray, shape (n,)
-        Real data.
-    n_head : int
-        Fixed leading columns.
-    n_candidates : int
-        Candidates after them.
-    per_candidate : int, keyword-only
-        Columns per candidate.
-    n_params : int, keyword-only
-        Parameters each candidate counts.
-    rel_floor : float, keyword-only
-        Relative floor of the SSE.
-    greedy : bool, keyword-only
-        As in :func:`select_by_information`.
-    passive : bool, keyword-only
-        As in :func:`select_by_information`.
-
-    Returns
-    -------
-    tuple
-        ``(keep, bic, negative)`` as :func:`select_by_information`.
-    """
-    mat = mat.copy()
-    scale = np.linalg.norm(mat, axis=0)
-    scale[scale == 0] = 1.0
-    mat /= scale
-    gram = mat.T @ mat
-    gram[np.diag_indices_from(gram)] += 1e-10
-    n, floor = y.size, (rel_floor**2) * float(y @ y) + 1e-300
-    if greedy:
-        return _greedy_information(mat, gram, y, n_head, n_candidates, per_candidate,
-                                   n_params, floor, scale, passive)
-    upper = cholesky(gram)
-    z = solve_triangular(upper, mat.T @ y, trans="T")
-    x = solve_triangular(upper, z)
-    sse_full = float(np.sum((y - mat @ x) ** 2))
-    tail = np.concatenate([np.cumsum((z**2)[::-1])[::-1], [0.0]])
-    sizes = n_head + per_candidate * np.arange(n_candidates + 1)
-    sse = np.maximum(sse_full + tail[sizes], floor)
-    bic = n * np.log(sse / n) + n_params * np.arange(n_candidates + 1) * np.log(n)
-    k = int(np.argmin(bic))
-    keep = np.zeros(n_candidates, bool)
-    keep[:k] = True
-    negative = np.zeros(n_candidates, bool)
-    if k and per_candidate == 2:
-        xk = solve_triangular(upper[:sizes[k], :sizes[k]], z[:sizes[k]]) / scale[:sizes[k]]
-        negative[:k] = xk[n_head + 1::2] > 0.0        # Im r > 0: negative modal mass
-    return keep & ~negative if passive else keep, bic, negative
-
-
-def _greedy_information(mat, gram, y, n_head, n_cand, per, n_params, floor, scale, passive):
-    """Greedy forward selection by SSE with the BIC stop (see :func:`prefix_information`)."""
-    rhs = mat.T @ y
-    yy = float(y @ y)
-
-    def fit(cols):
-        if not cols:
-            return yy, np.zeros(0)
-        try:
-            factor = cho_factor(gram[np.ix_(cols, cols)])
-        except np.linalg.LinAlgError:
-            return np.inf, None
-        x = cho_solve(factor, rhs[cols])
-        return yy - float(rhs[cols] @ x), x
-
-    head = list(range(n_head))
-    chosen = []
-    sse = [max(fit(head)[0], floor)]
-    remaining = list(range(n_cand))
-    while remaining:
-        trials = [fit(head + [n_head + per * j + i for j in chosen + [k] for i in range(per)])[0]
-                  for k in remaining]
-        best = int(np.argmin(trials))
-        chosen.append(remaining.pop(best))
-        sse.append(max(trials[best], floor))
-    n = y.size
-    bic = n * np.log(np.asarray(sse) / n) + n_params * np.arange(n_cand + 1) * np.log(n)
-    k = int(np.argmin(bic))
-    keep = np.zeros(n_cand, bool)
-    keep[chosen[:k]] = True
-    negative = np.zeros(n_cand, bool)
-    if k and per == 2:
-        cols = head + [n_head + per * j + i for j in chosen[:k] for i in range(per)]
-        x = fit(cols)[1] / scale[cols]
-        negative[np.asarray(chosen[:k])[x[n_head + 1::2] > 0.0]] = True
-    return keep & ~negative if passive else keep, bic, negative
 
 
 _UNITS = {"receptance": "m/N", "mobility": "m/s/N", "accelerance": "m/s²/N"}
