@@ -49,6 +49,20 @@ class ExpmForm:
     def output_coefficients(self, rows, coords):
         return np.atleast_2d(rows), coords
 
+    def project(self, rows):
+        return np.atleast_2d(rows)
+
+    def coefficients(self, projected, coords):
+        return projected, coords
+
+    def evaluate_many(self, projected, states, taus, owner):
+        out = np.empty((np.atleast_2d(projected).shape[0], len(taus)))
+        for p, x in enumerate(states):
+            mine = np.flatnonzero(owner == p)
+            if mine.size:
+                out[:, mine] = self.evaluate((projected, x), np.asarray(taus)[mine])
+        return out
+
     def evaluate(self, coefficients, taus, derivative=0):
         rows, x = coefficients
         M_d = np.linalg.matrix_power(self.M, derivative)

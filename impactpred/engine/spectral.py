@@ -289,8 +289,13 @@ class SpectralPhase:
 
         The exponential coefficients go with :attr:`rates` (conjugate pairs folded).
         """
+        return self.coefficients(self.project(rows), coords)
+
+    def coefficients(self, projected, coords):
+        """:meth:`output_coefficients` from the rows' :meth:`project` ``projected`` (the
+        part that does not depend on the state: once per set of rows)."""
         c0, c1 = coords
-        poly_m, expo_m = self.project(rows)
+        poly_m, expo_m = projected
         poly = poly_m @ c0 if self.k else np.zeros((expo_m.shape[0], 0))
         return poly, expo_m * c1[None, :]
 
@@ -305,6 +310,21 @@ class SpectralPhase:
     def state(self, coords, tau):
         """The state ``x`` (shape (n,)) at ``tau`` from :meth:`coordinates` ``coords``."""
         return self.evaluate(self.output_coefficients(np.eye(self.n), coords), [tau])[:, 0]
+
+    def evaluate_many(self, projected, states, taus, owner):
+        """Outputs (rows x len(taus)) of many runs of this phase at once: the rows given as
+        :meth:`project` ``projected``, run ``p`` from ``states[p]`` (shape (P, n)) and
+        sampled at the ``taus`` whose ``owner`` is ``p`` (times from each run's start)."""
+        poly_m, expo_m = projected
+        taus = np.asarray(taus, dtype=float)
+        c1 = states @ self._proj.T                                   # (P, m)
+        grown = c1[owner] * np.exp(np.outer(taus, self.rates))       # (N, m)
+        values = (grown @ expo_m.T).real.T                           # (rows, N)
+        if self.k:
+            c0 = states @ self.in0.T                                 # (P, k)
+            powers = taus[:, None] ** np.arange(self.k)[None, :]     # (N, k)
+            values += np.einsum("rjq,nj,nq->rn", poly_m, powers, c0[owner])
+        return values
 
     def evaluate_orders(self, coefficients, taus, derivatives=(0, 1)):
         """Outputs and their time derivatives at ``taus``, sharing the exponentials.

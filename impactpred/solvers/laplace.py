@@ -97,23 +97,22 @@ _GL_X, _GL_W = np.polynomial.legendre.leggauss(16)
 _GL_S, _GL_WS = 0.5 * (_GL_X + 1.0), 0.5 * _GL_W
 
 
-def _product_integrals(form, x0, rows, pairs, h, *, chunk=256):
-    """``int_0^h (rows[a] x(t)) (rows[b] x(t)) dt`` for each ``(a, b)`` of ``pairs``, along
-    ``form``'s closed form from ``x0``: panels of ``8 / form.max_rate`` s (the phase's
-    fastest rate ``w``), 16 Gauss-Legendre nodes each; a product oscillates at ``2 w`` at
-    most, 16 radians over a panel, where the 16-node rule's error bound is ~1e-24 of the
-    integrand's scale; ``chunk`` panels at a time."""
-    coeffs = form.output_coefficients(rows, form.coordinates(x0))
-    n_panels = max(1, int(np.ceil(h * form.max_rate / 8.0)))
-    width = h / n_panels
-    total = np.zeros(len(pairs))
-    for first in range(0, n_panels, chunk):
-        starts = width * np.arange(first, min(first + chunk, n_panels))
-        taus = (starts[:, None] + width * _GL_S[None, :]).ravel()
-        values = form.evaluate(coeffs, taus)                  # (rows, nodes)
-        weights = width * np.tile(_GL_WS, starts.size)
-        total += [float(np.dot(values[i] * values[j], weights)) for i, j in pairs]
-    return total
+def _product_integrals(form, projected, runs, pairs):
+    """``sum over runs of int_0^h (rows[a] x(t)) (rows[b] x(t)) dt`` for each ``(a, b)`` of
+    ``pairs``, along ``form``'s closed form, ``runs`` a list of ``(x0, h)`` (starting state,
+    length in s) and the ``rows`` given as ``form.project(rows)``: panels of ``8 /
+    form.max_rate`` s (the phase's fastest rate ``w``), 16 Gauss-Legendre nodes each; a
+    product oscillates at ``2 w`` at most, 16 radians over a panel, where the 16-node
+    rule's error bound is ~1e-24 of the integrand's scale. All runs are evaluated at once
+    (:meth:`impactpred.engine.spectral.SpectralPhase.evaluate_many`)."""
+    n_panels = [max(1, int(np.ceil(h * form.max_rate / 8.0))) for _, h in runs]
+    widths = np.repeat([h / n for (_, h), n in zip(runs, n_panels)], n_panels)
+    owner = np.repeat(np.arange(len(runs)), np.multiply(n_panels, _GL_S.size))
+    starts = np.concatenate([np.arange(n) for n in n_panels]) * widths
+    taus = (starts[:, None] + widths[:, None] * _GL_S[None, :]).ravel()
+    weights = (widths[:, None] * _GL_WS[None, :]).ravel()
+    values = form.evaluate_many(projected, np.array([x0 for x0, _ in runs]), taus, owner)
+    return np.array([float(np.dot(values[i] * values[j], weights)) for i, j in pairs])
 
 
 def _work_on_bodies(raw, xa0, free, force_in, load_rows, jdx):
@@ -154,6 +153,7 @@ def _work_on_bodies(raw, xa0, free, force_in, load_rows, jdx):
     sign = np.array([-1.0, 1.0])
     work = np.zeros(2)
     loaded = any(np.any(r) for r in load_rows)
+    runs = {}                  # per phase kind: (the phase, its runs (x0, h)) to integrate
     j_before = xa0[jdx]         # J where the last free flight began (it holds J constant)
     for phase, t0, t1, x0 in raw.phases:
         # a Dirac impulse starts a contact only after free flight (or at t = 0)
@@ -162,14 +162,17 @@ def _work_on_bodies(raw, xa0, free, force_in, load_rows, jdx):
             v_plus = free.rows[4:6] @ x0
             v_minus = v_plus - jump * (free.rows[4:6] @ force_in)
             work += sign * jump * 0.5 * (v_minus + v_plus)
-        h = t1 - t0
-        if h > 0.0 and (phase.contact or loaded):
-            # rows: force (0 in free flight), v1, v2, load 1, load 2
-            rows = np.vstack([phase.rows[0], phase.rows[4], phase.rows[5], *load_rows])
-            ints = _product_integrals(phase.form, x0, rows, ((0, 1), (0, 2), (3, 1), (4, 2)),
-                                      h)
-            work += sign * ints[:2] + ints[2:]
+        if t1 > t0 and (phase.contact or loaded):
+            runs.setdefault(id(phase), (phase, []))[1].append((x0, t1 - t0))
         j_before = None if phase.contact else x0[jdx]
+    # rows: force (0 in free flight), v1, v2, and each body's load if any
+    pairs = ((0, 1), (0, 2), (3, 1), (4, 2)) if loaded else ((0, 1), (0, 2))
+    for phase, phase_runs in runs.values():
+        rows = [phase.rows[0], phase.rows[4], phase.rows[5]] + (list(load_rows) if loaded
+                                                                else [])
+        ints = _product_integrals(phase.form, phase.form.project(np.vstack(rows)),
+                                  phase_runs, pairs)
+        work += sign * ints[:2] + (ints[2:] if loaded else 0.0)
     return work
 
 
@@ -302,7 +305,11 @@ def solve_laplace(bodies, gap0, contact, t_end, dt, *, notes=()):
     load_rows = [np.zeros(n_aug), np.zeros(n_aug)]
     for k, (i, load) in enumerate(loads):
         load_rows[i][n + 2 + 2 * k] += load.amplitude
-    work = _work_on_bodies(raw, Xa, free, force_in, load_rows, jdx)
+    # an undamped body's energy at t_end is the energy delivered: the work is integrated
+    # only where a body's own damping takes some
+    damped = [bool(np.any(m.poles.real) or m.real_poles.size) for m in sysm.models]
+    work = (_work_on_bodies(raw, Xa, free, force_in, load_rows, jdx) if any(damped)
+            else None)
     return _result(bodies, sysm, points, raw, force_row, jdx, t_end, out_step, step, notes,
                    work=work)
 
@@ -318,7 +325,8 @@ def _result(bodies, sysm, points, raw, force_row, jdx, t_end, out_step, step, no
     energy before, plus the ``work`` (J, per body) of the contact force and its load, less
     its rigid-body energy's gain; what it holds at ``t_end`` plus what its own damping
     took by then, as the time-stepping solvers obtain it by their energy balance (the
-    energy a damped body holds at ``t_end`` alone depends on ``t_end``)."""
+    energy a damped body holds at ``t_end`` alone depends on ``t_end``). ``work`` None:
+    no body is damped, and each holds at ``t_end`` what it was delivered."""
     n = sysm.n
     intervals, diracs, X_end, kind = raw.intervals, raw.diracs, raw.x_end, raw.kind
     T, V = insert_exact_peak(raw.T, raw.V, intervals, raw.first_phase)
@@ -330,9 +338,10 @@ def _result(bodies, sysm, points, raw, force_row, jdx, t_end, out_step, step, no
     before = sysm.energies(sysm.X0, _body_forces(bodies, 0.0, 0.0))
     after = sysm.energies(X_end[:n], _body_forces(bodies, f_end, t_end))
     # a body without modes holds no more than its flexibility's strain energy: exact as is
-    energy = tuple(BodyEnergy(b[0], b[1], a[0], a[1] if not model.n_modes
+    energy = tuple(BodyEnergy(b[0], b[1], a[0], a[1] if work is None or not model.n_modes
                               else b[1] + w - (a[0] - b[0]))
-                   for b, a, w, model in zip(before, after, work, sysm.models))
+                   for b, a, w, model in zip(before, after, work if work is not None
+                                             else (None, None), sysm.models))
     inv = (bodies[0].inverse_mass, bodies[1].inverse_mass)
     note = (f"exact (Laplace/state-space, {kind}) solution; output step {out_step:.4g} s, "
             f"event search step {step:.4g} s",)
