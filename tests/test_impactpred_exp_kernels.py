@@ -227,6 +227,45 @@ def test_phase_run_matches_the_matrix_exponential():
         assert event_row @ x_end == pytest.approx(0.0, abs=1e-12 * abs(e0))
 
 
+@pytest.mark.parametrize("h", [1e-5, 0.05, 2.0])
+def test_product_integrals_are_exact_beside_a_stiff_pole(h):
+    """``int_0^h (a x)(b x) dt`` of a rigid mass (nilpotent block, polynomial terms), two
+    damped modes and a stiff real pole (-3e6 rad/s: a contact of 2 s is 6e6 of its time
+    constants, which a quadrature on its scale could not afford): the spectral closed form
+    and Van Loan's block exponential (the matrix-exponential fallback) against a
+    quadrature of the matrix exponential's solution, split where the stiff pole decays."""
+    from scipy.integrate import quad
+
+    M = np.zeros((7, 7))
+    M[0, 1] = 1.0
+    M[2:4, 2:4] = [[0.0, 1.0], [-400.0, -0.4]]
+    M[4:6, 4:6] = [[0.0, 1.0], [-2500.0, -1.0]]
+    M[6, 6] = -3e6
+    M[1, 2], M[1, 6], M[3, 6] = 30.0, 2e3, 50.0      # the modes and the stiff term drive the mass
+    rng = np.random.default_rng(4)
+    rows, x0 = rng.normal(size=(3, 7)), rng.normal(size=7)
+    pairs = ((0, 1), (0, 2), (1, 1))
+
+    def integrand(t, a, b):
+        x = scipy.linalg.expm(M * t) @ x0
+        return (rows[a] @ x) * (rows[b] @ x)
+
+    cut = min(h, 40.0 / 3e6)
+    want = np.array([sum(quad(integrand, lo, hi, args=(a, b), epsabs=0.0, epsrel=1e-12,
+                              limit=400)[0] for lo, hi in ((0.0, cut), (cut, h)) if hi > lo)
+                     for a, b in pairs])
+    sp = SpectralPhase(M)
+    assert sp.k > 0 and sp.max_rate > 1e6
+    spectral = sp.product_integrals(sp.project(rows), [(x0, h)], pairs)
+    van_loan = impact_run.ExpmForm(M).product_integrals(rows, [(x0, h)], pairs)
+    scale = np.abs(want).max()
+    np.testing.assert_allclose(spectral, want, rtol=1e-9, atol=1e-11 * scale)
+    np.testing.assert_allclose(van_loan, want, rtol=1e-9, atol=1e-11 * scale)
+    # two runs add up
+    twice = sp.product_integrals(sp.project(rows), [(x0, h), (2 * x0, h)], pairs)
+    np.testing.assert_allclose(twice, 5 * spectral, rtol=1e-12)
+
+
 @pytest.mark.parametrize("contact", ["rigid", "spring"])
 def test_compiled_and_matrix_exponential_paths_agree(monkeypatch, contact):
     """The compiled search and the matrix-exponential fallback apply the same rules."""

@@ -55,13 +55,28 @@ class ExpmForm:
     def coefficients(self, projected, coords):
         return projected, coords
 
-    def evaluate_many(self, projected, states, taus, owner):
-        out = np.empty((np.atleast_2d(projected).shape[0], len(taus)))
-        for p, x in enumerate(states):
-            mine = np.flatnonzero(owner == p)
-            if mine.size:
-                out[:, mine] = self.evaluate((projected, x), np.asarray(taus)[mine])
-        return out
+    def product_integrals(self, projected, runs, pairs):
+        """:meth:`SpectralPhase.product_integrals` by scaling and squaring: with ``E(t) =
+        e^(M t)`` and ``W(t) = int_0^t E' Q E`` (``Q = outer(rows[a], rows[b])``),
+        ``W(2t) = W(t) + E(t)' W(t) E(t)``, from ``t = h / 2^N`` short enough (a tenth of
+        the fastest rate's time) for Van Loan's block exponential of ``[[-M', Q], [0,
+        M]]``, whose ``e^(-M' t)`` would overflow over a stiff pole's whole run."""
+        rows, n = np.atleast_2d(projected), self.M.shape[0]
+        total = np.zeros(len(pairs))
+        for x0, h in runs:
+            squarings = max(0, math.ceil(math.log2(max(h * self.max_rate, 1e-300) / 0.1)))
+            t = h / 2.0 ** squarings
+            for i, (a, b) in enumerate(pairs):
+                block = np.zeros((2 * n, 2 * n))
+                block[:n, :n], block[:n, n:] = -self.M.T, np.outer(rows[a], rows[b])
+                block[n:, n:] = self.M
+                e = scipy.linalg.expm(block * t)
+                step, w = e[n:, n:], e[n:, n:].T @ e[:n, n:]
+                for _ in range(squarings):
+                    w = w + step.T @ w @ step
+                    step = step @ step
+                total[i] += float(x0 @ w @ x0)
+        return total
 
     def evaluate(self, coefficients, taus, derivative=0):
         rows, x = coefficients

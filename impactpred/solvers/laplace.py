@@ -92,42 +92,18 @@ class CoupledSystem:
         return out
 
 
-#: Gauss-Legendre nodes and weights on [0, 1], for the work integrals' quadrature
-_GL_X, _GL_W = np.polynomial.legendre.leggauss(16)
-_GL_S, _GL_WS = 0.5 * (_GL_X + 1.0), 0.5 * _GL_W
-
-
-def _product_integrals(form, projected, runs, pairs):
-    """``sum over runs of int_0^h (rows[a] x(t)) (rows[b] x(t)) dt`` for each ``(a, b)`` of
-    ``pairs``, along ``form``'s closed form, ``runs`` a list of ``(x0, h)`` (starting state,
-    length in s) and the ``rows`` given as ``form.project(rows)``: panels of ``8 /
-    form.max_rate`` s (the phase's fastest rate ``w``), 16 Gauss-Legendre nodes each; a
-    product oscillates at ``2 w`` at most, 16 radians over a panel, where the 16-node
-    rule's error bound is ~1e-24 of the integrand's scale. All runs are evaluated at once
-    (:meth:`impactpred.engine.spectral.SpectralPhase.evaluate_many`)."""
-    n_panels = [max(1, int(np.ceil(h * form.max_rate / 8.0))) for _, h in runs]
-    widths = np.repeat([h / n for (_, h), n in zip(runs, n_panels)], n_panels)
-    owner = np.repeat(np.arange(len(runs)), np.multiply(n_panels, _GL_S.size))
-    starts = np.concatenate([np.arange(n) for n in n_panels]) * widths
-    taus = (starts[:, None] + widths[:, None] * _GL_S[None, :]).ravel()
-    weights = (widths[:, None] * _GL_WS[None, :]).ravel()
-    values = form.evaluate_many(projected, np.array([x0 for x0, _ in runs]), taus, owner)
-    return np.array([float(np.dot(values[i] * values[j], weights)) for i, j in pairs])
-
-
 def _work_on_bodies(raw, xa0, free, force_in, load_rows, jdx):
     """Work (J) of the contact force and the loads on each body over the run ``raw``
     (:class:`impactpred.engine.impact_run.RawRun`), exactly.
 
     Over a phase, ``int f_i v_i dt`` (``f_i``: ``-f`` on body 1, ``+f`` on body 2, plus its
-    load; ``v_i`` its contact point's velocity) on the closed form
-    (:func:`_product_integrals`: contact phases, and free flight under a load). At a phase's
-    start a Dirac impulse ``P`` (the jump of the impulse integral ``J`` over the free
-    flight before: a Dirac only starts a contact) does ``-+P (v_i- + v_i+) / 2``, with
-    ``v- = v+ - P (v rows @ force_in)``: a Dirac occurs only where neither body feeds the
-    force straight through to its velocity, so free flight's velocity rows give both
-    one-sided limits. Cost: O(phase length x fastest rate x states^2) per contact or
-    loaded phase.
+    load; ``v_i`` its contact point's velocity), in closed form
+    (``form.product_integrals``: contact phases, and free flight under a load). At a
+    phase's start a Dirac impulse ``P`` (the jump of the impulse integral ``J`` over the
+    free flight before: a Dirac only starts a contact) does ``-+P (v_i- + v_i+) / 2``,
+    with ``v- = v+ - P (v rows @ force_in)``: a Dirac occurs only where neither body feeds
+    the force straight through to its velocity, so free flight's velocity rows give both
+    one-sided limits. Cost: O(rates^2) per contact or loaded phase.
 
     Parameters
     ----------
@@ -170,8 +146,8 @@ def _work_on_bodies(raw, xa0, free, force_in, load_rows, jdx):
     for phase, phase_runs in runs.values():
         rows = [phase.rows[0], phase.rows[4], phase.rows[5]] + (list(load_rows) if loaded
                                                                 else [])
-        ints = _product_integrals(phase.form, phase.form.project(np.vstack(rows)),
-                                  phase_runs, pairs)
+        ints = phase.form.product_integrals(phase.form.project(np.vstack(rows)),
+                                            phase_runs, pairs)
         work += sign * ints[:2] + (ints[2:] if loaded else 0.0)
     return work
 
