@@ -12,17 +12,6 @@ about half that mode's period) moves with the poles only. Every parameter is dra
 own standard deviation, independently: the fit's covariances between them (a pole and its
 residue) are not used, so a combination of draws may over- or understate the scatter of a
 figure that depends on both (the coverage study, benchmarks/README.md, measures the net).
-
-Each parameter moves by exactly one standard deviation, up or down by a fair coin (a
-Rademacher draw, :func:`signs`), not by a Gaussian multiple of it. The band takes a figure's
-spread as the root mean square of its changes over a few draws (four of each kind by
-default); to first order that mean square is ``sum_ij a_i a_j mean(z_i z_j)`` for the
-figure's sensitivities ``a``. With signs the diagonal ``sum a_i^2`` is exact in every draw
-set and only the cross terms scatter (zero mean), so a figure that one parameter decides
-gets that parameter's whole spread whatever the seed. Gaussian multiples put the scatter on
-the diagonal too: a fixed rod's first residue decides a mass's impulse on it, and four
-Gaussian draws with the default seed gave 0.06 % where the scatter over noise seeds was
-0.14 %, in every run of the coverage study (its lowest case, 75 %).
 """
 
 from __future__ import annotations
@@ -33,28 +22,10 @@ import numpy as np
 
 from modalid import ModalModel
 
-__all__ = ["perturb_poles", "perturb_residues", "signs"]
+__all__ = ["perturb_poles", "perturb_residues"]
 
 #: a drawn damping ratio stays below this (a complex pair; 1 would be a real double pole)
 MAX_DRAWN_DAMPING = 0.99
-
-
-def signs(rng, size: int) -> np.ndarray:
-    """``size`` independent fair signs, -1.0 or +1.0 (a Rademacher draw) from ``rng``.
-
-    Parameters
-    ----------
-    rng : numpy.random.Generator
-        The draws' source.
-    size : int
-        How many.
-
-    Returns
-    -------
-    numpy.ndarray
-        Shape ``(size,)``, float.
-    """
-    return 2.0 * rng.integers(0, 2, size=size) - 1.0
 
 
 def _mode_indices(fit) -> list:
@@ -67,10 +38,10 @@ def _mode_indices(fit) -> list:
 def perturb_residues(fit, rng) -> ModalModel:
     """``fit.model_`` with its identified parameters moved by a draw of their std.
 
-    Each physical mode's residue moves by its reported standard deviation ``s``: its real
-    and imaginary parts each by ``+-s / sqrt(2)`` (random signs, :func:`signs`); the rigid
-    body's inverse mass and the residual flexibility (the constant term) by ``+-`` theirs
-    (``report_["inverse_mass_std"]``, ``report_["flexibility_std"]``), kept >= 0.
+    Each physical mode's residue moves by a complex Gaussian of its reported standard
+    deviation; the rigid body's inverse mass and the residual flexibility (the constant
+    term) by a real one of theirs (``report_["inverse_mass_std"]``,
+    ``report_["flexibility_std"]``), kept >= 0.
 
     For a driving point (``report_["driving_point"]`` not False) every drawn mode has a
     positive modal mass: a draw whose residue's imaginary part falls on the wrong side of
@@ -101,8 +72,8 @@ def perturb_residues(fit, rng) -> ModalModel:
         if not np.isfinite(s):
             continue
         nominal = residues[k]
-        re, im = signs(rng, 2)
-        drawn = nominal + s / math.sqrt(2.0) * complex(re, im)
+        drawn = nominal + s / math.sqrt(2.0) * complex(rng.standard_normal(),
+                                                       rng.standard_normal())
         # modal mass -1/(2 Im p Im r) > 0  <=>  Im r has the sign of -Im p
         if driving and drawn.imag * model.poles[k].imag > 0:
             drawn = complex(drawn.real, -drawn.imag)
@@ -110,7 +81,7 @@ def perturb_residues(fit, rng) -> ModalModel:
     scalars = {}
     for name in ("inverse_mass", "flexibility"):
         value, s = getattr(model, name), fit.report_.get(f"{name}_std", math.nan)
-        draw = signs(rng, 1)[0]             # drawn always: the sequence stays reproducible
+        draw = rng.standard_normal()        # drawn always: the sequence stays reproducible
         scalars[name] = max(value + s * draw, 0.0) if value and np.isfinite(s) else value
     return ModalModel(poles=model.poles, residues=residues, real_poles=model.real_poles,
                       real_residues=model.real_residues, **scalars)
@@ -120,8 +91,7 @@ def perturb_poles(fit, rng) -> ModalModel:
     """``fit.model_`` with each physical mode's pole moved by a draw of its std.
 
     The natural frequency and the damping ratio of each mode in ``report_["modes"]`` move
-    up or down by their reported standard deviations (independent random signs,
-    :func:`signs`)
+    by independent Gaussians of their reported standard deviations
     (``frequency_hz_std``, ``damping_ratio_std``), the damping ratio only where the fit
     resolved it (``damping_resolved``): an unresolved one's std is a linearization's
     figure, not the data's (a cantilever's first mode, zeta 1e-5 with a std of 2.5e-3, drawn
@@ -153,7 +123,7 @@ def perturb_poles(fit, rng) -> ModalModel:
         z_std = np.where(modes["damping_resolved"].to_numpy(bool), z_std, 0.0)
     poles = model.poles.copy()
     for k, ws, zs in zip(_mode_indices(fit), f_std, z_std):
-        dw, dz = signs(rng, 2)
+        dw, dz = rng.standard_normal(2)
         if not (np.isfinite(ws) and np.isfinite(zs)):
             continue
         wn = abs(poles[k])

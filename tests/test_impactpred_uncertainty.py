@@ -126,23 +126,9 @@ def test_pole_draws_move_frequency_and_damping_by_their_reported_std():
     for fit in fits:
         band = uncertainty_band([LumpedMass(0.5), identified_model(fit, continuation=False)],
                                 [None, fit], solve, continuation=False)
-        assert band.pole_spread["contact_duration"] > 1.5 * band.spread["contact_duration"]
+        assert band.pole_spread["contact_duration"] > 2 * band.spread["contact_duration"]
         held += all(band.low[k] <= exact[k] <= band.high[k] for k in FIGURES)
     assert held >= 11
-    # each parameter moves by exactly its std, up or down (random signs): a figure that
-    # one parameter decides gets that parameter's spread from any seed's draws
-    fit = fits[0]
-    k = int(np.argmin(np.abs(fit.model_.poles - fit.poles_[0])))
-    mode = fit.report_["modes"].iloc[0]
-    rng = np.random.default_rng(5)
-    moves = np.array([[abs(m.poles[k]) - abs(fit.model_.poles[k]),
-                       abs(m.residues[k] - fit.model_.residues[k])]
-                      for m in [perturb_poles(fit, rng) for _ in range(8)]
-                      + [perturb_residues(fit, rng) for _ in range(8)]])
-    np.testing.assert_allclose(np.abs(moves[:8, 0]) / (2 * np.pi), mode["frequency_hz_std"],
-                               rtol=1e-9)
-    assert 0 < np.sum(moves[:8, 0] > 0) < 8                        # both signs drawn
-    np.testing.assert_allclose(moves[8:, 1], mode["residue_std"], rtol=1e-9)
 
 
 def test_pole_draws_leave_an_unresolved_damping_as_fitted():
