@@ -232,7 +232,10 @@ def energy_audit(result, bodies, contact) -> EnergyAudit:
 
     Flags, each with the numbers: more energy at the end than at the start plus the loads'
     work, beyond :data:`ENERGY_TOLERANCE` of the solver (of the energy the impact can
-    redistribute); a body left with negative vibration energy (a non-passive model, whose
+    redistribute), in the energy delivered and, where the solver knows it
+    (``BodyEnergy.vibration_held``), in the energy the bodies hold at ``t_end`` (a damped
+    body that holds more than it was delivered made energy); a body left with negative
+    vibration energy (a non-passive model, whose
     negative energy would hide what it created); a restitution above ``1 + tolerance``
     for two bodies without pre-impact vibration or external load (impossible: no energy
     to draw it from).
@@ -273,6 +276,16 @@ def energy_audit(result, bodies, contact) -> EnergyAudit:
                        f"were given ({100 * audit.relative:.3g} % of the {audit.scale:.4g} J "
                        f"the impact can redistribute), beyond the {result.method} solver's "
                        f"accuracy ({100 * audit.tolerance:.3g} %): not a physical result; {fix}")
+    held = [e.vibration_held for e in result.energy_by_body]
+    if all(v is not None for v in held) and audit.scale > 0.0:
+        # the energy held at t_end: more than delivered is energy a body's own damping made
+        made = sum(v - e.vibration_after for v, e in zip(held, result.energy_by_body))
+        excess = (audit.created + made) / audit.scale
+        if excess > audit.tolerance and made / audit.scale > audit.tolerance:
+            reasons.append(f"the bodies hold {audit.created + made:.4g} J more at t_end than "
+                           f"they had and were given ({100 * excess:.3g} % of the "
+                           f"{audit.scale:.4g} J the impact can redistribute): a body's own "
+                           f"damping made energy; {fix}")
     for i, e in enumerate(result.energy_by_body):
         if e.vibration_after < -audit.tolerance * audit.scale:
             reasons.append(f"body {i + 1} ends with a negative vibration energy "

@@ -34,13 +34,19 @@ class BodyEnergy:
     rigid_before, vibration_before : float
         Rigid-body kinetic and vibration energy (J) before the impact.
     rigid_after, vibration_after : float
-        The same at the end of the solve (J).
+        The same at the end of the solve (J; the vibration energy delivered).
+    vibration_held : float or None
+        The vibration energy the body holds at ``t_end`` (J), where the solver knows its
+        state (the exact method); None otherwise. For an undamped body it is
+        ``vibration_after``; above it, the body's own damping made energy (a model that is
+        not passive), which the energy audit flags.
     """
 
     rigid_before: float
     vibration_before: float
     rigid_after: float
     vibration_after: float
+    vibration_held: float | None = None
 
     @property
     def total_before(self) -> float:

@@ -69,7 +69,7 @@ def time_columns(t, poles, real_poles=(), *, rigid=False):
 
 def select_by_information_time(t, h, candidates, *, rigid, passive=True):
     """How many of the ranked ``candidates`` the samples support (see
-    :func:`modalid._lsfd.prefix_information`)."""
+    :func:`modalid._information.prefix_information`)."""
     from ._information import prefix_information
 
     candidates = np.asarray(candidates, complex)

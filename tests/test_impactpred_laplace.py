@@ -189,6 +189,31 @@ def test_work_delivered_to_a_barely_damped_rod_is_its_undamped_energy(residual):
                                rtol=1e-7, atol=1e-12)
 
 
+def test_energy_a_damped_body_makes_is_flagged_and_a_real_pole_body_gets_its_work():
+    """The energy delivered (the contact's work) cannot show a body whose own "damping"
+    makes energy: a growing mode let through with ``check_passive=False`` ends holding
+    more than it was given, which the audit flags from the energy the exact method knows
+    it holds at ``t_end``. A body of real poles alone (a grounded Kelvin-Voigt support)
+    has no complex mode but is delivered the contact's work, the same in every solver."""
+    growing = ModalModel(poles=[0.3 + 10j, -0.5 + 30j], residues=[-0.05j, -0.5j / 30])
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        r = solve_impact(Body(LumpedMass(1.0), velocity=1.0),
+                         Body(growing, check_passive=False), contact=LinearSpring(1e3),
+                         t_end=2.0, method="laplace")
+    assert not r.success
+    assert any("own damping made energy" in reason for reason in r.energy_audit.reasons)
+    held = r.energy.loc["body2", "vibration_held"]
+    assert held > r.energy.loc["body2", "vibration_after"]
+    support = ModalModel(poles=[], residues=[], real_poles=[-200.0], real_residues=[0.2])
+    fractions = {method: solve_impact(Body(LumpedMass(1.0), velocity=1.0), Body(support),
+                                      t_end=0.2, method=method).vibration_energy_fraction
+                 for method in ("laplace", "modal", "convolution")}
+    assert fractions["laplace"] > 0.3
+    for method in ("modal", "convolution"):
+        assert fractions[method] == pytest.approx(fractions["laplace"], rel=1e-4)
+
+
 def test_laplace_rejects_nonlinear_contact_and_loads():
     from impactpred import Hertz
 

@@ -307,7 +307,7 @@ def event_loop(free, stuck, xa0, in_contact, t_end, step, out_step, tol_g, rho, 
         ``J`` after the first contact (or at the end if none).
     starts : ndarray, shape (P, 2)
         Every phase's start time and whether it is a contact phase (1.0) or free flight
-        (0.0), in order; ``states`` (n + 2, P) the augmented state there (a contact's
+        (0.0), in order; ``states`` (len(xa0), P) the augmented state there (a contact's
         Dirac impulse applied).
     """
     n_rows = free[8].shape[0]

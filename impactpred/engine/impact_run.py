@@ -52,9 +52,6 @@ class ExpmForm:
     def project(self, rows):
         return np.atleast_2d(rows)
 
-    def coefficients(self, projected, coords):
-        return projected, coords
-
     def product_integrals(self, projected, runs, pairs):
         """:meth:`SpectralPhase.product_integrals` by scaling and squaring: with ``E(t) =
         e^(M t)`` and ``W(t) = int_0^t E' Q E`` (``Q = outer(rows[a], rows[b])``),
@@ -113,7 +110,7 @@ class Phase:
     def __init__(self, M, rows, event_row, contact, *, update_of=None):
         self.form = _phase_form(M, update_of)
         self.M = M
-        self.rows = rows            # force, y1, y2, gap (4 x n_aug)
+        self.rows = rows            # force, y1, y2, gap, v1, v2, output points (x n_aug)
         self.event_row = event_row  # event when it turns negative
         self.contact = contact
 

@@ -377,8 +377,9 @@ def power_exp_integrals(lam, h, k):
 
     Where ``|lam h| < 1``, the series ``h^(q+1) sum_n (lam h)^n / (n! (n + q + 1))`` (30
     terms: below rounding); elsewhere the recurrence ``K_q = (h^q e^(lam h) - q K_(q-1)) /
-    lam`` from ``K_0 = (e^(lam h) - 1) / lam``, which loses no more than a factor ``q /
-    |lam h| <= q`` per step.
+    lam`` from ``K_0 = (e^(lam h) - 1) / lam``, whose rounding grows by up to ``q! /
+    |lam h|^q`` (at ``|lam h| = 1``: 2e-14 relative at ``q = 5``, 1e-10 at ``q = 9``; a
+    phase's polynomial part has a few terms: the rigid bodies', ``J`` and a load's).
     """
     lam = np.asarray(lam, dtype=complex)
     z = lam * h
@@ -396,4 +397,3 @@ def power_exp_integrals(lam, h, k):
         out[q, big] = cur
         prev = cur
     return out
-

@@ -100,7 +100,9 @@ def _work_on_bodies(raw, xa0, free, force_in, load_rows, jdx):
     load; ``v_i`` its contact point's velocity), in closed form
     (``form.product_integrals``: contact phases, and free flight under a load). At a
     phase's start a Dirac impulse ``P`` (the jump of the impulse integral ``J`` over the
-    free flight before: a Dirac only starts a contact) does ``-+P (v_i- + v_i+) / 2``,
+    free flight before: a Dirac comes only at a contact's start, after free flight, and
+    may be followed by a contact phase or, released at once, by free flight again; one at
+    ``t_end`` itself shows in the final state) does ``-+P (v_i- + v_i+) / 2``,
     with ``v- = v+ - P (v rows @ force_in)``: a Dirac occurs only where neither body feeds
     the force straight through to its velocity, so free flight's velocity rows give both
     one-sided limits. Cost: O(rates^2) per contact or loaded phase.
@@ -141,6 +143,11 @@ def _work_on_bodies(raw, xa0, free, force_in, load_rows, jdx):
         if t1 > t0 and (phase.contact or loaded):
             runs.setdefault(id(phase), (phase, []))[1].append((x0, t1 - t0))
         j_before = None if phase.contact else x0[jdx]
+    if j_before is not None and raw.x_end[jdx] != j_before:   # a Dirac at t_end itself
+        jump = raw.x_end[jdx] - j_before
+        v_plus = free.rows[4:6] @ raw.x_end
+        v_minus = v_plus - jump * (free.rows[4:6] @ force_in)
+        work += sign * jump * 0.5 * (v_minus + v_plus)
     # rows: force (0 in free flight), v1, v2, and each body's load if any
     pairs = ((0, 1), (0, 2), (3, 1), (4, 2)) if loaded else ((0, 1), (0, 2))
     for phase, phase_runs in runs.values():
@@ -286,6 +293,11 @@ def solve_laplace(bodies, gap0, contact, t_end, dt, *, notes=()):
     damped = [bool(np.any(m.poles.real) or m.real_poles.size) for m in sysm.models]
     work = (_work_on_bodies(raw, Xa, free, force_in, load_rows, jdx) if any(damped)
             else None)
+    if work is not None and not np.all(np.isfinite(work)):
+        notes = tuple(notes) + ("the work on the bodies overflowed (a pole growing over a "
+                                "phase): the vibration energy reported is what they hold "
+                                "at t_end",)
+        work = None
     return _result(bodies, sysm, points, raw, force_row, jdx, t_end, out_step, step, notes,
                    work=work)
 
@@ -313,9 +325,12 @@ def _result(bodies, sysm, points, raw, force_row, jdx, t_end, out_step, step, no
     u_after = (sysm.rigid_velocity(X_end[:n], 0), sysm.rigid_velocity(X_end[:n], 1))
     before = sysm.energies(sysm.X0, _body_forces(bodies, 0.0, 0.0))
     after = sysm.energies(X_end[:n], _body_forces(bodies, f_end, t_end))
-    # a body without modes holds no more than its flexibility's strain energy: exact as is
-    energy = tuple(BodyEnergy(b[0], b[1], a[0], a[1] if work is None or not model.n_modes
-                              else b[1] + w - (a[0] - b[0]))
+    # a body without modes or real poles holds no more than its flexibility's strain
+    # energy: exact as is
+    energy = tuple(BodyEnergy(b[0], b[1], a[0],
+                              a[1] if work is None or not (model.n_modes
+                                                           or model.real_poles.size)
+                              else b[1] + w - (a[0] - b[0]), vibration_held=a[1])
                    for b, a, w, model in zip(before, after, work if work is not None
                                              else (None, None), sysm.models))
     inv = (bodies[0].inverse_mass, bodies[1].inverse_mass)
