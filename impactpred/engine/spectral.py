@@ -19,6 +19,7 @@ import numpy as np
 import scipy.linalg
 from numba import njit
 
+from .product_integrals import product_integrals
 from .rank_one import rank_one_split
 
 __all__ = ["SpectralPhase", "DefectiveSpectrum"]
@@ -313,33 +314,12 @@ class SpectralPhase:
 
     def product_integrals(self, projected, runs, pairs):
         """``sum over runs of int_0^h (rows[a] x(t)) (rows[b] x(t)) dt`` for each ``(a, b)``
-        of ``pairs``, in closed form: the rows given as :meth:`project` ``projected``,
-        ``runs`` a list of ``(x0, h)`` (a run of this phase from state ``x0`` for ``h``
-        s). Each row is a polynomial plus ``Re sum_j c_j e^(l_j t)``; the products'
-        integrals are those of ``t^q e^(l t)`` and ``e^((l_j + l_k) t)``
-        (:func:`power_exp_integrals`), exact to rounding at any rate and length (a stiff
-        pole of 3e7 rad/s in a contact of 2 s costs what a slow one does). Cost per run:
-        O(rates^2).
-        """
-        total = np.zeros(len(pairs))
-        lam, k = self.rates, self.k
-        q = np.arange(k)
-        for x0, h in runs:
-            poly, expo = self.coefficients(projected, self.coordinates(x0))
-            same = h * _expm1_ratio(np.add.outer(lam, lam) * h)
-            conj = h * _expm1_ratio(np.add.outer(lam, lam.conj()) * h)
-            if k:
-                powers = power_exp_integrals(lam, h, k)                   # (k, m)
-                orders = q[:, None] + q[None, :] + 1
-                poly_poly = h ** orders / orders
-            for i, (ra, rb) in enumerate(pairs):
-                ea, eb = expo[ra], expo[rb]
-                value = 0.5 * float(np.real(ea @ same @ eb + ea @ conj @ eb.conj()))
-                if k:
-                    value += float(poly[ra] @ poly_poly @ poly[rb])
-                    value += float(np.real(poly[ra] @ powers @ eb + poly[rb] @ powers @ ea))
-                total[i] += value
-        return total
+        of ``pairs``, in closed form (:func:`impactpred.engine.product_integrals.
+        product_integrals`): the rows given as :meth:`project` ``projected``, ``runs`` a
+        list of ``(x0, h)`` (a run of this phase from state ``x0`` for ``h`` s)."""
+        coefficient_runs = [(*self.coefficients(projected, self.coordinates(x0)), h)
+                            for x0, h in runs]
+        return product_integrals(self.rates, self.k, coefficient_runs, pairs)
 
     def evaluate_orders(self, coefficients, taus, derivatives=(0, 1)):
         """Outputs and their time derivatives at ``taus``, sharing the exponentials.
@@ -362,38 +342,3 @@ class SpectralPhase:
                 value += ((expo * lam[None, :] ** d) @ e).real
             out.append(value)
         return out
-
-
-def _expm1_ratio(z):
-    """``(e^z - 1) / z`` elementwise (1 at ``z = 0``), accurate for small ``|z|``."""
-    z = np.asarray(z, dtype=complex)
-    tiny = np.abs(z) < 1e-8
-    safe = np.where(tiny, 1.0, z)
-    return np.where(tiny, 1.0 + 0.5 * z, np.expm1(safe) / safe)
-
-
-def power_exp_integrals(lam, h, k):
-    """``int_0^h t^q e^(lam_j t) dt`` for ``q < k``, shape (k, len(lam)), complex.
-
-    Where ``|lam h| < 1``, the series ``h^(q+1) sum_n (lam h)^n / (n! (n + q + 1))`` (30
-    terms: below rounding); elsewhere the recurrence ``K_q = (h^q e^(lam h) - q K_(q-1)) /
-    lam`` from ``K_0 = (e^(lam h) - 1) / lam``, whose rounding grows by up to ``q! /
-    |lam h|^q`` (at ``|lam h| = 1``: 2e-14 relative at ``q = 5``, 1e-10 at ``q = 9``; a
-    phase's polynomial part has a few terms: the rigid bodies', ``J`` and a load's).
-    """
-    lam = np.asarray(lam, dtype=complex)
-    z = lam * h
-    out = np.empty((k, lam.size), complex)
-    small = np.abs(z) < 1.0
-    n = np.arange(30)
-    terms = z[small, None] ** n[None, :] / np.array([math.factorial(i) for i in n], float)
-    big = ~small
-    lam_big, e_big = lam[big], np.exp(z[big])
-    prev = None
-    for q in range(k):
-        out[q, small] = h ** (q + 1) * (terms / (n + q + 1)).sum(axis=1)
-        cur = ((e_big - 1.0) / lam_big if q == 0
-               else (h ** q * e_big - q * prev) / lam_big)
-        out[q, big] = cur
-        prev = cur
-    return out
