@@ -4,22 +4,20 @@ The exact solver's energy bookkeeping needs ``int_0^h a(t) b(t) dt`` for output 
 ``b`` of a phase (the contact force and a contact point's velocity) over every run of the
 phase. On a phase's spectral form (:class:`impactpred.engine.spectral.SpectralPhase`) each
 row is a polynomial of degree ``< k`` plus ``Re sum_j c_j e^(l_j t)`` (conjugate pairs
-folded), so the integrals have closed forms. Two evaluations, chosen per run:
+folded), so the integrals have closed forms. Per run of length ``h``, the rates split into
+slow ones (``|l| h < 1``) and fast ones:
 
-* a short run (``h max|l| < 1``, e.g. the microsecond contacts of a chattering rod): the
-  rows' Taylor series to :data:`TAYLOR_TERMS` terms, whose products integrate to ``h
-  sum_nm d_n e_m / (n + m + 1)`` (``d_n``: the ``t^n`` coefficient times ``h^n``); the
-  series' remainder is below ``1 / TAYLOR_TERMS!``. Cost O(rates x terms) per run, all
-  runs at once.
-* a longer run: ``int e^((l_j + l_k) t) = (e^(l_j h) e^(l_k h) - 1) / (l_j + l_k)``, one
-  exponential per rate and a Cauchy matrix ``1 / (l_j + l_k)`` per phase; where ``|l_j +
-  l_k| h <`` :data:`SMALL` (a mode with itself when lightly damped) the difference would
-  lose digits and is taken as ``h expm1(z) / z`` instead. The polynomial terms' products
-  with the exponentials are ``int t^q e^(l t)`` (:func:`power_exp_integrals`). Cost
-  O(rates^2) per run.
+* the polynomial and the slow exponentials: their Taylor series to :data:`TAYLOR_TERMS`
+  terms, whose products integrate to ``h sum_nm d_n e_m / (n + m + 1)`` (``d_n``: the
+  ``t^n`` coefficient times ``h^n``; remainder below ``1 / TAYLOR_TERMS!``);
+* every product with a fast exponential: ``int e^((l_j + l_k) t) = h expm1(z) / z`` with
+  ``z = (l_j + l_k) h`` (accurate where ``z`` is small: a mode with itself when lightly
+  damped), and ``int t^q e^(l t)`` for the polynomial's terms
+  (:func:`power_exp_integrals`).
 
-Both are exact to rounding at any rate and run length: a stiff pole of 3e7 rad/s in a 2 s
-contact costs what a slow one does.
+Cost per run: O(rates x (terms + fast rates)): a chattering contact's microsecond runs
+beside a stiff pole cost O(rates) each, a long run O(rates^2). Exact to rounding at any
+rate and length (a pole of 3e7 rad/s in a 2 s contact costs what a slow one does).
 """
 
 from __future__ import annotations
@@ -28,13 +26,13 @@ import math
 
 import numpy as np
 
-__all__ = ["product_integrals", "power_exp_integrals", "TAYLOR_TERMS", "SMALL"]
+__all__ = ["product_integrals", "power_exp_integrals", "TAYLOR_TERMS"]
 
-#: Taylor terms for a run shorter than its fastest rate's time (remainder < 1/24!)
+#: Taylor terms for the rates slower than a run (remainder < 1/24!)
 TAYLOR_TERMS = 24
-#: below this ``|l_j + l_k| h`` an exponential's difference is taken by ``expm1``
-SMALL = 1e-3
-_BATCH = 256
+_N = np.arange(TAYLOR_TERMS)
+_INVERSE_FACTORIAL = 1.0 / np.array([math.factorial(int(i)) for i in _N], float)
+_WEIGHTS = 1.0 / (_N[:, None] + _N[None, :] + 1.0)
 
 
 def product_integrals(rates, k, runs, pairs) -> np.ndarray:
@@ -59,77 +57,46 @@ def product_integrals(rates, k, runs, pairs) -> np.ndarray:
         Shape (len(pairs),); NaN where an exponential overflowed (a growing rate).
     """
     lam = np.asarray(rates, dtype=complex)
-    fastest = float(np.max(np.abs(lam))) if lam.size else 0.0
-    short = [r for r in runs if r[2] * fastest < 1.0]
-    long = [r for r in runs if r[2] * fastest >= 1.0]
-    return _taylor(lam, k, short, pairs) + _separable(lam, k, long, pairs)
-
-
-def _taylor(lam, k, runs, pairs):
     total = np.zeros(len(pairs))
-    if not runs:
-        return total
-    n = np.arange(TAYLOR_TERMS)
-    inverse_factorial = 1.0 / np.array([math.factorial(int(i)) for i in n], float)
-    weights = 1.0 / (n[:, None] + n[None, :] + 1.0)
-    for first in range(0, len(runs), _BATCH):
-        batch = runs[first:first + _BATCH]
-        h = np.array([r[2] for r in batch])
-        expo = np.stack([r[1] for r in batch])                       # (B, rows, m)
-        z = lam[None, :] * h[:, None]                                 # (B, m)
-        powers = z[:, :, None] ** n[None, None, :] * inverse_factorial  # (B, m, N)
-        d = np.einsum("brm,bmn->brn", expo, powers).real              # (B, rows, N)
+    for poly, expo, h in runs:
+        fast = np.abs(lam) * h >= 1.0
+        slow = ~fast
+        # the polynomial and the slow exponentials: Taylor coefficients times h^n
+        z = lam[slow] * h
+        d = (expo[:, slow] @ (z[:, None] ** _N[None, :] * _INVERSE_FACTORIAL)).real
         if k:
-            poly = np.stack([r[0] for r in batch])                    # (B, rows, k)
-            d[:, :, :k] += poly * h[:, None, None] ** np.arange(k)
+            d[:, :k] += poly * h ** np.arange(k)
         for i, (a, b) in enumerate(pairs):
-            total[i] += float(np.einsum("b,bn,nm,bm->", h, d[:, a], weights, d[:, b]))
+            total[i] += h * float(d[a] @ _WEIGHTS @ d[b])
+        if not fast.any():
+            continue
+        lam_f = lam[fast]
+        same_af = h * _expm1_ratio(np.add.outer(lam, lam_f) * h)          # (m, m_f)
+        conj_af = h * _expm1_ratio(np.add.outer(lam, lam_f.conj()) * h)
+        same_fs = h * _expm1_ratio(np.add.outer(lam_f, lam[slow]) * h)    # (m_f, m_s)
+        conj_fs = h * _expm1_ratio(np.add.outer(lam_f, lam[slow].conj()) * h)
+        powers = power_exp_integrals(lam_f, h, k) if k else None         # (k, m_f)
+        for i, (a, b) in enumerate(pairs):
+            ca, cb = expo[a], expo[b]
+            # exponential products with a fast factor: (any, fast) and (fast, slow)
+            term = (ca @ same_af @ cb[fast] + ca @ conj_af @ cb[fast].conj()
+                    + ca[fast] @ same_fs @ cb[slow] + ca[fast] @ conj_fs @ cb[slow].conj())
+            value = 0.5 * float(term.real)
+            if k:
+                value += float(np.real(poly[a] @ powers @ cb[fast]
+                                       + poly[b] @ powers @ ca[fast]))
+            total[i] += value
     return total
 
 
 def _expm1_ratio(z):
-    """``(e^z - 1) / z`` elementwise (1 at ``z = 0``), accurate for small ``|z|``."""
+    """``(e^z - 1) / z`` elementwise (1 at ``z = 0``), accurate for small ``|z|``; inf or
+    NaN where ``e^z`` overflows."""
     z = np.asarray(z, dtype=complex)
     tiny = np.abs(z) < 1e-8
     safe = np.where(tiny, 1.0, z)
-    return np.where(tiny, 1.0 + 0.5 * z, np.expm1(safe) / safe)
-
-
-def _separable(lam, k, runs, pairs):
-    total = np.zeros(len(pairs))
-    if not runs:
-        return total
-    sums = (np.add.outer(lam, lam), np.add.outer(lam, lam.conj()))
-    sizes = [np.abs(mu) for mu in sums]
-    cauchy = [np.divide(1.0, mu, out=np.zeros_like(mu), where=size > 0.0)
-              for mu, size in zip(sums, sizes)]
-    q = np.arange(k)
-    orders = q[:, None] + q[None, :] + 1
-    for poly, expo, h in runs:
-        e = np.exp(lam * h)
-        if not np.all(np.isfinite(e)):
-            return np.full(len(pairs), np.nan)
-        # where |l_j + l_k| h is small the difference cancels: those entries leave the
-        # Cauchy matrix (kept, its 1/mu of up to 1e10 would round the whole sum) and are
-        # added exactly
-        close = [size * h < SMALL for size in sizes]
-        kept = [np.where(mask, 0.0, c) for mask, c in zip(close, cauchy)]
-        exact = [h * _expm1_ratio(mu[mask] * h) for mu, mask in zip(sums, close)]
-        powers = power_exp_integrals(lam, h, k) if k else None
-        for i, (a, b) in enumerate(pairs):
-            ca, cb = expo[a], expo[b]
-            value = 0.0 + 0.0j
-            for j, (c, mask, ex) in enumerate(zip(kept, close, exact)):
-                other, e_other = (cb, e) if j == 0 else (cb.conj(), e.conj())
-                value += (ca * e) @ c @ (other * e_other) - ca @ c @ other
-                rows, cols = np.nonzero(mask)
-                value += np.sum(ca[rows] * other[cols] * ex)
-            result = 0.5 * float(value.real)
-            if k:
-                result += float(poly[a] @ (h ** orders / orders) @ poly[b])
-                result += float(np.real(poly[a] @ powers @ cb + poly[b] @ powers @ ca))
-            total[i] += result
-    return total
+    with np.errstate(over="ignore", invalid="ignore"):
+        return np.where(tiny, 1.0 + 0.5 * z, np.expm1(safe) / safe)
 
 
 def power_exp_integrals(lam, h, k):
