@@ -11,14 +11,15 @@ slow ones (``|l| h <=`` :data:`TAYLOR_RADIUS`) and fast ones:
   terms, whose products integrate to ``h sum_nm d_n e_m / (n + m + 1)`` (``d_n``: the
   ``t^n`` coefficient times ``h^n``; remainder below ``4^36 / 36! = 1e-20``, terms up to
   ``e^4``: 1e-14 of rounding);
-* every product with a fast exponential: ``int e^((l_j + l_k) t) = h expm1(z) / z`` with
-  ``z = (l_j + l_k) h`` (accurate where ``z`` is small: a mode with itself when lightly
-  damped), and ``int t^q e^(l t)`` for the polynomial's terms
-  (:func:`power_exp_integrals`).
+* every product with a fast exponential: ``int e^((l_j + l_k) t) = (e^(l_j h) e^(l_k h) -
+  1) / (l_j + l_k)`` as bilinear forms with the Cauchy matrix ``1 / (l_j + l_k)`` (one
+  exponential per rate), ``h expm1(z) / z`` where ``z = (l_j + l_k) h`` is small (a mode
+  with itself when lightly damped: the difference would cancel), and ``int t^q e^(l t)``
+  for the polynomial's terms (:func:`power_exp_integrals`).
 
-Cost per run: O(rates x (terms + fast rates)): a chattering contact's runs (15 000 of them,
-0.3 us to 2 ms, 301 rates up to 2e6 rad/s) have no fast rate but the stiffest few, a long
-run O(rates^2). Exact to rounding at any
+Cost per run: O(rates x terms) exponentials' powers and O(rates x fast rates) products,
+with one exponential per rate: a chattering contact's runs (15 000 of them, 0.3 us to 2
+ms, 301 rates up to 2e6 rad/s) have no fast rate but the stiffest few. Exact to rounding at any
 rate and length (a pole of 3e7 rad/s in a 2 s contact costs what a slow one does).
 """
 
@@ -28,12 +29,15 @@ import math
 
 import numpy as np
 
-__all__ = ["product_integrals", "power_exp_integrals", "TAYLOR_TERMS", "TAYLOR_RADIUS"]
+__all__ = ["product_integrals", "power_exp_integrals", "TAYLOR_TERMS", "TAYLOR_RADIUS",
+           "SMALL"]
 
 #: a rate is slow over a run of ``h`` s where ``|l| h <=`` this
 TAYLOR_RADIUS = 4.0
 #: Taylor terms for the slow rates (remainder ``TAYLOR_RADIUS^36 / 36! = 1e-20``)
 TAYLOR_TERMS = 36
+#: below this ``|l_j + l_k| h`` a product with a fast rate is integrated by ``expm1``
+SMALL = 1e-3
 _N = np.arange(TAYLOR_TERMS)
 _INVERSE_FACTORIAL = 1.0 / np.array([math.factorial(int(i)) for i in _N], float)
 _WEIGHTS = 1.0 / (_N[:, None] + _N[None, :] + 1.0)
@@ -64,6 +68,7 @@ def product_integrals(rates, k, runs, pairs) -> np.ndarray:
     fastest = float(np.max(np.abs(lam))) if lam.size else 0.0
     slow_runs = [r for r in runs if r[2] * fastest <= TAYLOR_RADIUS]
     total = _all_slow(lam, k, slow_runs, pairs)
+    cauchy = _Cauchy(lam)
     for poly, expo, h in (r for r in runs if r[2] * fastest > TAYLOR_RADIUS):
         fast = np.abs(lam) * h > TAYLOR_RADIUS
         slow = ~fast
@@ -76,23 +81,56 @@ def product_integrals(rates, k, runs, pairs) -> np.ndarray:
             total[i] += h * float(d[a] @ _WEIGHTS @ d[b])
         if not fast.any():
             continue
-        lam_f = lam[fast]
-        same_af = h * _expm1_ratio(np.add.outer(lam, lam_f) * h)          # (m, m_f)
-        conj_af = h * _expm1_ratio(np.add.outer(lam, lam_f.conj()) * h)
-        same_fs = h * _expm1_ratio(np.add.outer(lam_f, lam[slow]) * h)    # (m_f, m_s)
-        conj_fs = h * _expm1_ratio(np.add.outer(lam_f, lam[slow].conj()) * h)
-        powers = power_exp_integrals(lam_f, h, k) if k else None         # (k, m_f)
+        e = np.exp(lam * h)
+        if not np.all(np.isfinite(e)):
+            return np.full(len(pairs), np.nan)
+        powers = power_exp_integrals(lam[fast], h, k) if k else None     # (k, m_f)
+        # exponential products with a fast factor: (any, fast) and (fast, slow)
+        blocks = [(np.arange(lam.size), np.flatnonzero(fast)),
+                  (np.flatnonzero(fast), np.flatnonzero(slow))]
         for i, (a, b) in enumerate(pairs):
             ca, cb = expo[a], expo[b]
-            # exponential products with a fast factor: (any, fast) and (fast, slow)
-            term = (ca @ same_af @ cb[fast] + ca @ conj_af @ cb[fast].conj()
-                    + ca[fast] @ same_fs @ cb[slow] + ca[fast] @ conj_fs @ cb[slow].conj())
+            term = sum(cauchy.block(rows, cols, h, ca, cb, e) for rows, cols in blocks)
             value = 0.5 * float(term.real)
             if k:
                 value += float(np.real(poly[a] @ powers @ cb[fast]
                                        + poly[b] @ powers @ ca[fast]))
             total[i] += value
     return total
+
+
+class _Cauchy:
+    """``int_0^h e^((l_j + l_k) t) dt = (e^(l_j h) e^(l_k h) - 1) / (l_j + l_k)``, and the
+    same with ``conj(l_k)``, as bilinear forms on a block of rate pairs: the Cauchy
+    matrices ``1 / (l_j + l_k)`` once per phase, one exponential per rate per run. Where
+    ``|l_j + l_k| h <`` :data:`SMALL` (a mode with itself when lightly damped) the
+    difference would cancel: those entries leave the matrix (their ``1 / mu`` of up to 1e10
+    would round the whole sum) and are ``h expm1(z) / z`` instead."""
+
+    def __init__(self, lam):
+        self.sums = (np.add.outer(lam, lam), np.add.outer(lam, lam.conj()))
+        self.sizes = [np.abs(mu) for mu in self.sums]
+        self.inverse = [np.divide(1.0, mu, out=np.zeros_like(mu), where=size > 0.0)
+                        for mu, size in zip(self.sums, self.sizes)]
+
+    def block(self, rows, cols, h, ca, cb, e):
+        """``sum_(j in rows, k in cols) ca_j cb_k int e^((l_j + l_k) t) + ca_j conj(cb_k)
+        int e^((l_j + conj l_k) t)`` over ``[0, h]``; ``e = e^(l h)``."""
+        if rows.size == 0 or cols.size == 0:
+            return 0.0
+        cr, er = ca[rows], e[rows]
+        value = 0.0 + 0.0j
+        for conj, (mu, size, inverse) in enumerate(zip(self.sums, self.sizes, self.inverse)):
+            other, e_other = (cb[cols], e[cols]) if not conj else (cb[cols].conj(),
+                                                                 e[cols].conj())
+            sub = np.ix_(rows, cols)
+            close = size[sub] * h < SMALL
+            kept = np.where(close, 0.0, inverse[sub])
+            value += (cr * er) @ kept @ (other * e_other) - cr @ kept @ other
+            j, k = np.nonzero(close)
+            if j.size:
+                value += np.sum(cr[j] * other[k] * h * _expm1_ratio(mu[sub][j, k] * h))
+        return value
 
 
 def _all_slow(lam, k, runs, pairs, batch=128):
