@@ -13,14 +13,16 @@ slow ones (``|l| h <=`` :data:`TAYLOR_RADIUS`) and fast ones:
   ``e^4``: 1e-14 of rounding);
 * every product with a fast exponential: ``int e^((l_j + l_k) t) = (e^(l_j h) e^(l_k h) -
   1) / (l_j + l_k)`` as bilinear forms with the Cauchy matrix ``1 / (l_j + l_k)`` (one
-  exponential per rate), ``h expm1(z) / z`` where ``z = (l_j + l_k) h`` is small (a mode
-  with itself when lightly damped: the difference would cancel), and ``int t^q e^(l t)``
+  exponential per rate), ``h expm1(z) / z`` where ``|z| = |l_j + l_k| h < 1`` (a mode
+  with itself when lightly damped, two close modes: the difference would cancel), and
+  ``int t^q e^(l t)``
   for the polynomial's terms (:func:`power_exp_integrals`).
 
 Cost per run: O(rates x terms) exponentials' powers and O(rates x fast rates) products,
 with one exponential per rate: a chattering contact's runs (15 000 of them, 0.3 us to 2
-ms, 301 rates up to 2e6 rad/s) have no fast rate but the stiffest few. Exact to rounding at any
-rate and length (a pole of 3e7 rad/s in a 2 s contact costs what a slow one does).
+ms, 301 rates up to 2e6 rad/s) have no fast rate but the stiffest few. Exact to rounding
+(1e-16 to 1e-12 of the integral against quadratures) at any rate and length: a pole of
+3e7 rad/s in a 2 s contact costs what a slow one does.
 """
 
 from __future__ import annotations
@@ -36,8 +38,9 @@ __all__ = ["product_integrals", "power_exp_integrals", "TAYLOR_TERMS", "TAYLOR_R
 TAYLOR_RADIUS = 4.0
 #: Taylor terms for the slow rates (remainder ``TAYLOR_RADIUS^36 / 36! = 1e-20``)
 TAYLOR_TERMS = 36
-#: below this ``|l_j + l_k| h`` a product with a fast rate is integrated by ``expm1``
-SMALL = 1e-3
+#: below this ``|l_j + l_k| h`` a product with a fast rate is integrated by ``expm1`` (a
+#: kept entry's rounding is ``eps / (|l_j + l_k| h)``: 1e-3 lost 1e-8 on two close modes)
+SMALL = 1.0
 _N = np.arange(TAYLOR_TERMS)
 _INVERSE_FACTORIAL = 1.0 / np.array([math.factorial(int(i)) for i in _N], float)
 _WEIGHTS = 1.0 / (_N[:, None] + _N[None, :] + 1.0)
@@ -62,14 +65,23 @@ def product_integrals(rates, k, runs, pairs) -> np.ndarray:
     Returns
     -------
     numpy.ndarray
-        Shape (len(pairs),); NaN where an exponential overflowed (a growing rate).
+        Shape (len(pairs),); NaN where a product of exponentials would overflow (a rate
+        growing by ``e^350`` over a run) or a run's length is not finite.
     """
     lam = np.asarray(rates, dtype=complex)
+    if k > TAYLOR_TERMS:
+        raise ValueError(f"a polynomial part of {k} terms exceeds the Taylor series' "
+                         f"{TAYLOR_TERMS}")
     fastest = float(np.max(np.abs(lam))) if lam.size else 0.0
-    slow_runs = [r for r in runs if r[2] * fastest <= TAYLOR_RADIUS]
+    growth = 2.0 * max(float(np.max(lam.real)) if lam.size else 0.0, 0.0)
+    slow_runs, fast_runs = [], []
+    for run in runs:
+        if not np.isfinite(run[2]) or growth * run[2] > 700.0:
+            return np.full(len(pairs), np.nan)       # a product e^(2 Re(l) h) overflows
+        (slow_runs if run[2] * fastest <= TAYLOR_RADIUS else fast_runs).append(run)
     total = _all_slow(lam, k, slow_runs, pairs)
     cauchy = _Cauchy(lam)
-    for poly, expo, h in (r for r in runs if r[2] * fastest > TAYLOR_RADIUS):
+    for poly, expo, h in fast_runs:
         fast = np.abs(lam) * h > TAYLOR_RADIUS
         slow = ~fast
         # the polynomial and the slow exponentials: Taylor coefficients times h^n
@@ -79,33 +91,31 @@ def product_integrals(rates, k, runs, pairs) -> np.ndarray:
             d[:, :k] += poly * h ** np.arange(k)
         for i, (a, b) in enumerate(pairs):
             total[i] += h * float(d[a] @ _WEIGHTS @ d[b])
-        if not fast.any():
-            continue
         e = np.exp(lam * h)
-        if not np.all(np.isfinite(e)):
-            return np.full(len(pairs), np.nan)
         powers = power_exp_integrals(lam[fast], h, k) if k else None     # (k, m_f)
         # exponential products with a fast factor: (any, fast) and (fast, slow)
-        blocks = [(np.arange(lam.size), np.flatnonzero(fast)),
-                  (np.flatnonzero(fast), np.flatnonzero(slow))]
+        blocks = [cauchy.block(rows, cols, h) for rows, cols in
+                  ((np.arange(lam.size), np.flatnonzero(fast)),
+                   (np.flatnonzero(fast), np.flatnonzero(slow)))]
         for i, (a, b) in enumerate(pairs):
             ca, cb = expo[a], expo[b]
-            term = sum(cauchy.block(rows, cols, h, ca, cb, e) for rows, cols in blocks)
+            term = sum(_Cauchy.apply(block, ca, cb, e) for block in blocks)
             value = 0.5 * float(term.real)
             if k:
                 value += float(np.real(poly[a] @ powers @ cb[fast]
                                        + poly[b] @ powers @ ca[fast]))
             total[i] += value
-    return total
+    return total if np.all(np.isfinite(total)) else np.full(len(pairs), np.nan)
 
 
 class _Cauchy:
     """``int_0^h e^((l_j + l_k) t) dt = (e^(l_j h) e^(l_k h) - 1) / (l_j + l_k)``, and the
     same with ``conj(l_k)``, as bilinear forms on a block of rate pairs: the Cauchy
-    matrices ``1 / (l_j + l_k)`` once per phase, one exponential per rate per run. Where
-    ``|l_j + l_k| h <`` :data:`SMALL` (a mode with itself when lightly damped) the
-    difference would cancel: those entries leave the matrix (their ``1 / mu`` of up to 1e10
-    would round the whole sum) and are ``h expm1(z) / z`` instead."""
+    matrices ``1 / (l_j + l_k)`` once per phase, one exponential per rate per run. A kept
+    entry's rounding is ``eps / (|l_j + l_k| h)`` of its value; where ``|l_j + l_k| h <``
+    :data:`SMALL` (a mode with itself when lightly damped, two close modes) the entry
+    leaves the matrix (its ``1 / mu``, up to 1e10, would round the whole sum) and is ``h
+    expm1(z) / z`` instead."""
 
     def __init__(self, lam):
         self.sums = (np.add.outer(lam, lam), np.add.outer(lam, lam.conj()))
@@ -113,23 +123,35 @@ class _Cauchy:
         self.inverse = [np.divide(1.0, mu, out=np.zeros_like(mu), where=size > 0.0)
                         for mu, size in zip(self.sums, self.sizes)]
 
-    def block(self, rows, cols, h, ca, cb, e):
-        """``sum_(j in rows, k in cols) ca_j cb_k int e^((l_j + l_k) t) + ca_j conj(cb_k)
-        int e^((l_j + conj l_k) t)`` over ``[0, h]``; ``e = e^(l h)``."""
+    def block(self, rows, cols, h):
+        """The block ``rows x cols`` for a run of ``h`` s: per Cauchy matrix, its kept
+        entries and the exact integrals of the others, with their indices."""
         if rows.size == 0 or cols.size == 0:
+            return None
+        sub = np.ix_(rows, cols)
+        parts = []
+        for mu, size, inverse in zip(self.sums, self.sizes, self.inverse):
+            close = size[sub] * h < SMALL
+            j, k = np.nonzero(close)
+            exact = h * _expm1_ratio(mu[rows[j], cols[k]] * h)
+            parts.append((np.where(close, 0.0, inverse[sub]), j, k, exact))
+        return rows, cols, parts
+
+    @staticmethod
+    def apply(block, ca, cb, e):
+        """``sum_(j, k in the block) ca_j cb_k int e^((l_j + l_k) t) + ca_j conj(cb_k)
+        int e^((l_j + conj l_k) t)`` over the run; ``e = e^(l h)``."""
+        if block is None:
             return 0.0
+        rows, cols, parts = block
         cr, er = ca[rows], e[rows]
         value = 0.0 + 0.0j
-        for conj, (mu, size, inverse) in enumerate(zip(self.sums, self.sizes, self.inverse)):
-            other, e_other = (cb[cols], e[cols]) if not conj else (cb[cols].conj(),
-                                                                 e[cols].conj())
-            sub = np.ix_(rows, cols)
-            close = size[sub] * h < SMALL
-            kept = np.where(close, 0.0, inverse[sub])
+        for conj, (kept, j, k, exact) in enumerate(parts):
+            other, e_other = ((cb[cols], e[cols]) if not conj
+                              else (cb[cols].conj(), e[cols].conj()))
             value += (cr * er) @ kept @ (other * e_other) - cr @ kept @ other
-            j, k = np.nonzero(close)
             if j.size:
-                value += np.sum(cr[j] * other[k] * h * _expm1_ratio(mu[sub][j, k] * h))
+                value += np.sum(cr[j] * other[k] * exact)
         return value
 
 

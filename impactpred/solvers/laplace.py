@@ -105,7 +105,8 @@ def _work_on_bodies(raw, xa0, free, force_in, load_rows, jdx):
     ``t_end`` itself shows in the final state) does ``-+P (v_i- + v_i+) / 2``,
     with ``v- = v+ - P (v rows @ force_in)``: a Dirac occurs only where neither body feeds
     the force straight through to its velocity, so free flight's velocity rows give both
-    one-sided limits. Cost: O(rates^2) per contact or loaded phase.
+    one-sided limits. Cost: O(rates^2) per contact or loaded phase kind, then O(rates x
+    (36 + fast rates)) per run (:mod:`impactpred.engine.product_integrals`).
 
     Parameters
     ----------
