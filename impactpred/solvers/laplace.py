@@ -130,25 +130,29 @@ def _work_on_bodies(raw, xa0, free, force_in, load_rows, jdx):
         Shape (2,): the work on body 1 and body 2.
     """
     sign = np.array([-1.0, 1.0])
+    velocity_rows = free.rows[4:6]
     work = np.zeros(2)
+
+    def dirac_work(j_before, x_after):
+        """The work of the Dirac impulse (if any) that took ``J`` from ``j_before`` to its
+        value in ``x_after``."""
+        jump = x_after[jdx] - j_before if j_before is not None else 0.0
+        if jump == 0.0:
+            return 0.0
+        v_plus = velocity_rows @ x_after
+        v_minus = v_plus - jump * (velocity_rows @ force_in)
+        return sign * jump * 0.5 * (v_minus + v_plus)
+
     loaded = any(np.any(r) for r in load_rows)
     runs = {}                  # per phase kind: (the phase, its runs (x0, h)) to integrate
     j_before = xa0[jdx]         # J where the last free flight began (it holds J constant)
     for phase, t0, t1, x0 in raw.phases:
         # a Dirac impulse starts a contact only after free flight (or at t = 0)
-        jump = x0[jdx] - j_before if j_before is not None else 0.0
-        if jump != 0.0:
-            v_plus = free.rows[4:6] @ x0
-            v_minus = v_plus - jump * (free.rows[4:6] @ force_in)
-            work += sign * jump * 0.5 * (v_minus + v_plus)
+        work += dirac_work(j_before, x0)
         if t1 > t0 and (phase.contact or loaded):
             runs.setdefault(id(phase), (phase, []))[1].append((x0, t1 - t0))
         j_before = None if phase.contact else x0[jdx]
-    if j_before is not None and raw.x_end[jdx] != j_before:   # a Dirac at t_end itself
-        jump = raw.x_end[jdx] - j_before
-        v_plus = free.rows[4:6] @ raw.x_end
-        v_minus = v_plus - jump * (free.rows[4:6] @ force_in)
-        work += sign * jump * 0.5 * (v_minus + v_plus)
+    work += dirac_work(j_before, raw.x_end)              # a Dirac at t_end itself
     # rows: force (0 in free flight), v1, v2, and each body's load if any
     pairs = ((0, 1), (0, 2), (3, 1), (4, 2)) if loaded else ((0, 1), (0, 2))
     for phase, phase_runs in runs.values():
@@ -227,8 +231,10 @@ def solve_laplace(bodies, gap0, contact, t_end, dt, *, notes=()):
     M_free = np.zeros((n_aug, n_aug))
     M_free[:n, :n] = A
     Xa = np.concatenate([sysm.X0, [1.0, 0.0], np.zeros(2 * len(loads))])
+    load_rows = [np.zeros(n_aug), np.zeros(n_aug)]   # each body's load (N) on the state
     for k, (i, load) in enumerate(loads):
         ic = n + 2 + 2 * k
+        load_rows[i][ic] += load.amplitude
         body_rows = slice(0, sysm.n1) if i == 0 else slice(sysm.n1, n)
         b_i = (-Bf if i == 0 else Bf)[body_rows]           # the body's own input, +y
         M_free[body_rows, ic] = load.amplitude * b_i
@@ -286,9 +292,6 @@ def solve_laplace(bodies, gap0, contact, t_end, dt, *, notes=()):
     in_contact = bool(n) and gap0 <= tol_g and float(cg_powers[0] @ Xa) < 0
     raw = run_contact(free, stuck, Xa, in_contact=in_contact, rules=rules, t_end=t_end,
                       step=step, out_step=out_step, gap0=gap0)
-    load_rows = [np.zeros(n_aug), np.zeros(n_aug)]
-    for k, (i, load) in enumerate(loads):
-        load_rows[i][n + 2 + 2 * k] += load.amplitude
     # an undamped body's energy at t_end is the energy delivered: the work is integrated
     # only where a body's own damping takes some
     damped = [bool(np.any(m.poles.real) or m.real_poles.size) for m in sysm.models]
@@ -326,21 +329,21 @@ def _result(bodies, sysm, points, raw, force_row, jdx, t_end, out_step, step, no
     u_after = (sysm.rigid_velocity(X_end[:n], 0), sysm.rigid_velocity(X_end[:n], 1))
     before = sysm.energies(sysm.X0, _body_forces(bodies, 0.0, 0.0))
     after = sysm.energies(X_end[:n], _body_forces(bodies, f_end, t_end))
-    # a body without modes or real poles holds no more than its flexibility's strain
-    # energy: exact as is
-    energy = tuple(BodyEnergy(b[0], b[1], a[0],
-                              a[1] if work is None or not (model.n_modes
-                                                           or model.real_poles.size)
-                              else b[1] + w - (a[0] - b[0]), vibration_held=a[1])
-                   for b, a, w, model in zip(before, after, work if work is not None
-                                             else (None, None), sysm.models))
+    # the energy held is the energy delivered where no body is damped (work None) and for
+    # a body of neither modes nor real poles (its flexibility's strain energy alone)
+    energy = []
+    for i, (b, a, model) in enumerate(zip(before, after, sysm.models)):
+        delivered = a[1]
+        if work is not None and (model.n_modes or model.real_poles.size):
+            delivered = b[1] + work[i] - (a[0] - b[0])
+        energy.append(BodyEnergy(b[0], b[1], a[0], delivered, vibration_held=a[1]))
     inv = (bodies[0].inverse_mass, bodies[1].inverse_mass)
     note = (f"exact (Laplace/state-space, {kind}) solution; output step {out_step:.4g} s, "
             f"event search step {step:.4g} s",)
     return ImpactResult(t=T, force=F, y1=V[1], y2=V[2], gap=V[3], v1=V[4], v2=V[5],
                         contact_intervals=tuple(intervals), dirac_impulses=tuple(diracs),
                         velocities_before=u_before, velocities_after=u_after,
-                        energy_by_body=energy, method="laplace", dt=out_step,
+                        energy_by_body=tuple(energy), method="laplace", dt=out_step,
                         first_contact_impulse=raw.first_impulse,
                         total_impulse=float(X_end[jdx]), inverse_masses=inv,
                         notes=tuple(notes) + note,
