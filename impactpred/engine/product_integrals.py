@@ -84,13 +84,9 @@ def product_integrals(rates, k, runs, pairs) -> np.ndarray:
     for poly, expo, h in fast_runs:
         fast = np.abs(lam) * h > TAYLOR_RADIUS
         slow = ~fast
-        # the polynomial and the slow exponentials: Taylor coefficients times h^n
-        z = lam[slow] * h
-        d = (expo[:, slow] @ (z[:, None] ** _N[None, :] * _INVERSE_FACTORIAL)).real
-        if k:
-            d[:, :k] += poly * h ** np.arange(k)
-        for i, (a, b) in enumerate(pairs):
-            total[i] += h * float(d[a] @ _WEIGHTS @ d[b])
+        # the polynomial and the slow exponentials by their Taylor series
+        total += _taylor_integrals(lam[slow], k, np.array([h]), poly[None],
+                                   expo[None][:, :, slow], pairs)
         e = np.exp(lam * h)
         powers = power_exp_integrals(lam[fast], h, k) if k else None     # (k, m_f)
         # exponential products with a fast factor: (any, fast) and (fast, slow)
@@ -161,16 +157,24 @@ def _all_slow(lam, k, runs, pairs, batch=128):
     total = np.zeros(len(pairs))
     for first in range(0, len(runs), batch):
         chunk = runs[first:first + batch]
-        h = np.array([r[2] for r in chunk])
-        expo = np.stack([r[1] for r in chunk])                          # (B, rows, m)
-        z = lam[None, :] * h[:, None]                                    # (B, m)
-        powers = z[:, :, None] ** _N * _INVERSE_FACTORIAL                # (B, m, N)
-        d = np.einsum("brm,bmn->brn", expo, powers).real                 # (B, rows, N)
-        if k:
-            d[:, :, :k] += np.stack([r[0] for r in chunk]) * h[:, None, None] ** np.arange(k)
-        for i, (a, b) in enumerate(pairs):
-            total[i] += float(np.einsum("b,bn,nm,bm->", h, d[:, a], _WEIGHTS, d[:, b]))
+        total += _taylor_integrals(lam, k, np.array([r[2] for r in chunk]),
+                                   np.stack([r[0] for r in chunk]),
+                                   np.stack([r[1] for r in chunk]), pairs)
     return total
+
+
+def _taylor_integrals(lam, k, h, poly, expo, pairs):
+    """``sum over runs of h sum_nm d_n e_m / (n + m + 1)`` per row pair: the products of the
+    rows' Taylor series (``d_n``: the ``t^n`` coefficient times ``h^n``, from the
+    polynomial ``poly`` (B, rows, k) and the exponentials ``expo`` (B, rows, m) over
+    ``lam`` (m,)) for runs of lengths ``h`` (B,)."""
+    z = lam[None, :] * h[:, None]                                        # (B, m)
+    powers = z[:, :, None] ** _N * _INVERSE_FACTORIAL                    # (B, m, N)
+    d = np.einsum("brm,bmn->brn", expo, powers).real                     # (B, rows, N)
+    if k:
+        d[:, :, :k] += poly * h[:, None, None] ** np.arange(k)
+    return np.array([float(np.einsum("b,bn,nm,bm->", h, d[:, a], _WEIGHTS, d[:, b]))
+                     for a, b in pairs])
 
 
 def _expm1_ratio(z):
