@@ -24,7 +24,7 @@ from ._lscf import lscf_subbands
 from ._pole_checks import PoleChecks
 from ._report import (fit_report, local_misfit_inflation, misfit_notes,
                       residual_correlation_inflation)
-from ._segments import MAX_ORDER, MAX_PEAKS_ONE_FIT, MIN_SEGMENTED, segment_poles
+from ._segments import MAX_PEAKS_ONE_FIT, MIN_SEGMENTED, default_order, segment_poles
 from ._low_end import LowEnd
 from ._lsfd import (Terms, design_matrix, evaluate, noise_level, place_upper_modes,
                     refine_varpro, release_gain, split_coefficients)
@@ -64,21 +64,27 @@ _MAX_DROPS = 8      # non-physical poles dropped one at a time (each drop refits
 REWEIGHT_LOSS = 2.0
 
 
+def _log_level(h):
+    """``log10 |h|``, a zero line at 1e-300 (no -inf)."""
+    return np.log10(np.maximum(np.abs(h), 1e-300))
+
+
 def resonance_peaks(h):
     """Indices of the peaks of ``|h|`` standing a factor 2 (0.3 in log10) above their
     surroundings: what sets the diagram's default order and the missed-mode budget."""
-    return find_peaks(np.log10(np.abs(h)), prominence=0.3)[0]
+    return find_peaks(_log_level(h), prominence=0.3)[0]
 
 
 def distinct_peaks(h, peaks):
     """The ``peaks`` (indices into ``h``) that also stand above the median level of the
-    :data:`_LEVEL_LINES` lines around them by a factor 2 and three times the scatter of
-    ``log10 |h|`` from line to line (its median absolute step, scaled to a standard
-    deviation): what decides a fit by segments. Noise makes peaks of a factor 2 at an
-    antiresonance, at a floor, or anywhere where it is large: a 20-mode hammer FRF at 5 %
-    noise has 46 peaks and 19 distinct ones, vibration_toolbox's case2 (coherence about
-    0.3) 204 and 2, a fixed rod's 40 modes (zeta 1e-3) 40 and 40."""
-    level = np.log10(np.abs(h))
+    :data:`_LEVEL_LINES` lines around them by ``0.3 + 3 s`` in ``log10 |h|`` (a factor 2,
+    and three times the line-to-line scatter ``s``: the median absolute step of
+    ``log10 |h|``, scaled to a standard deviation): what decides a fit by segments.
+    Noise makes peaks of a factor 2 at an antiresonance, at a floor, or anywhere where it
+    is large: a 20-mode hammer FRF at 5 % noise has 46 peaks and 19 distinct ones,
+    vibration_toolbox's case2 (coherence about 0.3) 204 and 2, a fixed rod's 40 modes
+    (zeta 1e-3) 40 and 40."""
+    level = _log_level(h)
     median = median_filter(level, size=_LEVEL_LINES, mode="nearest")
     scatter = 1.4826 * np.median(np.abs(np.diff(level))) / np.sqrt(2.0) if h.size > 1 else 0.0
     return peaks[level[peaks] - median[peaks] >= 0.3 + 3.0 * scatter]
@@ -102,7 +108,8 @@ class FRFPipeline(PoleChecks, LowEnd):
         frf, w, cut = self._prepare(data)
         self.frf_ = frf
         peaks = resonance_peaks(frf.values)
-        distinct = distinct_peaks(frf.values, peaks).size
+        distinct = (distinct_peaks(frf.values, peaks).size if self._may_segment_by_peaks()
+                    else 0)
         if self._segmented(frf, distinct):       # a wide band: poles from its segments
             poles, std, fits = self._shared_between_passes(
                 lambda: segment_poles(self, self.data_, peaks.size, distinct))
@@ -118,7 +125,7 @@ class FRFPipeline(PoleChecks, LowEnd):
         # a peak): its order is at least what the band's mean peak density gives it
         expected = self.__dict__.get("_expected_peaks", 0.0)
         max_order = (as_count("max_order", self.max_order, minimum=2) if self.max_order
-                     else int(min(MAX_ORDER, 4 * max(peaks.size, 2, round(expected)) + 16)))
+                     else default_order(max(peaks.size, expected)))
 
         def diagram():
             bands = lscf_subbands(omega, h, w, max_order, peaks=omega[peaks],
@@ -162,14 +169,17 @@ class FRFPipeline(PoleChecks, LowEnd):
                 self.__dict__["_stabilization_cache"] = cached
         return cached
 
-    def _segmented(self, frf, n_peaks) -> bool:
+    def _may_segment_by_peaks(self) -> bool:
+        """Whether a band of many distinct peaks would be fitted by segments: the
+        diagram's order left to the default, not a segment itself."""
+        return not self.max_order and not self.__dict__.get("_segment_of")
+
+    def _segmented(self, frf, n_distinct) -> bool:
         """Fit by segments (:mod:`modalid._segments`): a band of ``MIN_SEGMENTED`` lines,
         or of more than ``MAX_PEAKS_ONE_FIT`` distinct peaks (:func:`distinct_peaks`,
-        ``n_peaks``) with the diagram's order
-        left to the default (not a segment itself), the mode count left to the data,
-        LSCF poles (per-line weights are sliced for each segment)."""
-        many_peaks = (n_peaks > MAX_PEAKS_ONE_FIT and not self.max_order
-                      and not self.__dict__.get("_segment_of"))
+        ``n_distinct``) where :meth:`_may_segment_by_peaks`, the mode count left to the
+        data, LSCF poles (per-line weights are sliced for each segment)."""
+        many_peaks = n_distinct > MAX_PEAKS_ONE_FIT and self._may_segment_by_peaks()
         return ((len(frf) >= MIN_SEGMENTED or many_peaks) and not self._selection()
                 and self.method == "lscf")
 

@@ -34,6 +34,7 @@ from ._band import choose_band, noise_model
 from ._unresolved_damping import damping_off_bound
 from ._zero_start import hold_at_zero
 from ._lscf import lscf_subbands
+from ._segments import default_order
 from ._lsfd import (Terms, _bounds, _Projection, _realify, _std, design_matrix, noise_level,
                     split_coefficients)
 from .frf_set import FRFSet
@@ -426,7 +427,7 @@ def fit_set(est, data: FRFSet):
     level = np.sum(np.abs(h) / np.sqrt(np.mean(np.abs(h) ** 2, axis=1, keepdims=True)), axis=0)
     peaks, _ = find_peaks(np.log10(level), prominence=0.3)
     max_order = (as_count("max_order", est.max_order, minimum=2) if est.max_order
-                 else int(min(120, 4 * max(peaks.size, 2) + 16)))
+                 else default_order(peaks.size))
     bands = lscf_subbands(omega, h, w, max_order, peaks=omega[peaks])
     tops = [(1.0 if k == 0 else 0.9) * top / (2 * np.pi) for k, (top, _) in enumerate(bands)]
     est.stabilization_ = stabilization_table([p for _, p in bands],

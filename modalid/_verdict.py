@@ -164,8 +164,9 @@ def quality_verdict(modes: pd.DataFrame, *, band_hz, driving_point, nrmse, relat
                        f"{100 * tolerance:.3g} % (three times the data's scatter, at least "
                        "5 %): modes may be missing")
     elif np.isfinite(relative_noise) and nrmse > max(MISS_ERROR, MISS_FACTOR * relative_noise):
-        suspect.append(f"the FRF error is {100 * nrmse:.3g} %, "
-                       f"{nrmse / max(relative_noise, 1e-300):.3g} times the data's scatter "
+        times = (f"{nrmse / relative_noise:.3g} times" if relative_noise > 1e-3 * nrmse
+                 else "far above")
+        suspect.append(f"the FRF error is {100 * nrmse:.3g} %, {times} the data's scatter "
                        f"(median per line {100 * relative_error:.3g} %): the lines near some "
                        "peaks are missed, modes may be missing")
     if len(modes) == 0 and not rigid_body and nrmse > 0.1:

@@ -57,8 +57,9 @@ class ModalFit(FRFPipeline, FitLines, BaseEstimator):
         Number of modes, or their approximate frequencies (Hz); default: automatic.
     max_order : int, optional
         Largest model order of the stabilization diagram; default from the number of
-        resonance peaks (``4 n_peaks + 16``, at most 120: a band of more than 26 peaks,
-        or of 8000 lines or more, is fitted by segments, :mod:`modalid._segments`); for
+        resonance peaks (``4 n_peaks + 16``, at most 120; an FRF fitted by LSCF with the
+        mode count left to the data is fitted by segments, :mod:`modalid._segments`,
+        from 8000 lines or from 27 distinct peaks, those that noise does not make); for
         ERA from the rank of the Hankel matrix (its singular values above the noise,
         plus 12). Given, a band of under 8000 lines is fitted whole, up to that order.
     freq_range : (float, float), optional

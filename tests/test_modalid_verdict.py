@@ -82,6 +82,8 @@ def test_an_error_far_above_the_noise_is_suspect_even_when_most_lines_fit():
     assert verdict(good, nrmse=0.15, relative_error=0.01)[0] == "ok"          # under 20 %
     assert verdict(good, nrmse=0.31, relative_error=0.05, relative_noise=0.05)[0] == "ok"
     assert verdict(good, nrmse=0.31, relative_error=0.01, relative_noise=np.nan)[0] == "ok"
+    state, why = verdict(good, nrmse=0.31, relative_error=0.01, relative_noise=0.0)
+    assert state == "suspect" and "far above the data's scatter" in why[0]   # exact data
 
 
 def test_exact_fits_are_ok_and_a_noise_fit_fails():
