@@ -189,6 +189,20 @@ def quality_verdict(modes: pd.DataFrame, *, band_hz, driving_point, nrmse, relat
     return ("suspect", suspect) if suspect else ("ok", [])
 
 
+#: said of a fit that is not "ok" on an FRF of no damping at all
+UNDAMPED_REASON = ("the FRF is real (or imaginary) at every line, an undamped model's: "
+                   "its resonances are infinitely sharp and no line resolves them; give "
+                   "the model damping (data_synth.lightly_damped) or the data noise")
+
+
+def undamped_lines(values) -> bool:
+    """Whether ``values`` (complex, any shape) are all real or all imaginary to rounding
+    (``|Im h^2| <= 1e-9 |h|^2``): an undamped model's FRF, exact."""
+    h2 = np.asarray(values, complex) ** 2
+    scale = np.abs(h2)
+    return bool(scale.size and np.all(np.abs(h2.imag) <= 1e-9 * scale) and np.any(scale > 0))
+
+
 def judged_report(report, model, frf, *, driving_point, reason, weighting, weighting_reason,
                   band_reason):
     """``report`` (a fit's :class:`modalid._report.FitReport`) with the modes' damping
@@ -227,6 +241,8 @@ def judged_report(report, model, frf, *, driving_point, reason, weighting, weigh
                                        nrmse=nrmse, relative_error=relative[0],
                                        relative_noise=relative[1],
                                        rigid_body=bool(report["rigid_body"]), finite=finite)
+    if verdict != "ok" and isinstance(frf, FRFData) and undamped_lines(frf.values):
+        reasons = reasons + [UNDAMPED_REASON]
     # a set's report keeps its driving-point row's index under "driving_point": the
     # decision on that row goes under its own name
     decision = ({"driving_row_is_driving_point": driving_point, "driving_point_reason": reason}

@@ -105,3 +105,28 @@ def test_exact_fits_are_ok_and_a_noise_fit_fails():
     assert fit.report_["verdict"] in ("failed", "suspect")
     assert isinstance(fit.report_["verdict_reasons"], list) and fit.report_["verdict_reasons"]
     assert isinstance(pd.DataFrame(fit.report_["modes"]), pd.DataFrame)
+
+
+def test_a_fit_of_an_undamped_models_frf_says_why_it_fails():
+    """An exact undamped FRF is real at every line: no line resolves its infinitely sharp
+    resonances, and the fit finds none (a fixed rod's 10 modes on 1001 lines: "no
+    resonance in the band"). The verdict says why and what to do."""
+    import warnings
+
+    from data_synth import Rod, lightly_damped, synthetic_frf
+    from modalid import ModalFit
+    from modalid._verdict import UNDAMPED_REASON, undamped_lines
+
+    freq = np.linspace(1.0, 5000.0, 1001)
+    exact = synthetic_frf(Rod(1.0, 1e-3, support="fixed"), freq)
+    assert undamped_lines(exact.values)
+    assert undamped_lines(1j * exact.values)                       # mobility
+    assert not undamped_lines(exact.values * np.exp(0.01j))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        fit = ModalFit().fit(exact)
+    assert fit.report_["verdict"] == "failed"
+    assert fit.report_["verdict_reasons"][-1] == UNDAMPED_REASON
+    damped = synthetic_frf(lightly_damped(Rod(1.0, 1e-3, support="fixed"), 20, 1e-3), freq)
+    assert not undamped_lines(damped.values)
+    assert ModalFit().fit(damped).report_["verdict"] == "ok"
