@@ -39,8 +39,8 @@ from .truncation import (FIGURES, NoComplianceAbove, band_resolution, identified
                          impact_figures, tail_extent)
 
 __all__ = ["UncertaintyBand", "band_half_width", "check_band_bodies", "FRONT_OVERSHOOT",
-           "front_allowance", "front_jump", "perturb_poles", "perturb_residues",
-           "refit_on_cut_band", "truncation_error", "uncertainty_band"]
+           "front_allowance", "front_jump", "outcome_change", "perturb_poles",
+           "perturb_residues", "refit_on_cut_band", "truncation_error", "uncertainty_band"]
 
 
 @dataclass(frozen=True)
@@ -78,6 +78,14 @@ class UncertaintyBand:
         figure (its units): the peak force's wave-front overshoot under a rigid contact
         (:func:`front_allowance`), 0 for the other figures; None when the band was built
         without it.
+    outcome_changes : tuple of str
+        The variants whose outcome differs in kind from their reference run's (another
+        number of contacts, or a figure one defines and the other does not, e.g. no
+        restitution when the bodies are still in contact at ``t_end``), each as
+        ``"label: what"``; empty when every variant agrees. A figure left undefined is
+        left out of the spread and warned about; another number of contacts (common where
+        a brief re-contact comes and goes: a mass on a fixed rod, 4 of 5 variants) is in
+        the spread of the figures it moves, and listed here and in :meth:`table`.
     """
 
     nominal: dict
@@ -90,6 +98,7 @@ class UncertaintyBand:
     level: float | None = None
     front: dict | None = None
     pole_spread: dict | None = None
+    outcome_changes: tuple = ()
 
     def contains(self, name: str, value: float, *, rel: float = 0.0) -> bool:
         """Whether ``value`` lies in ``[low, high]`` of figure ``name`` (widened by ``rel``).
@@ -125,7 +134,37 @@ class UncertaintyBand:
         for name in FIGURES:
             lines.append(f"{name:<18}{cell(self.nominal[name])}{cell(self.low[name])}"
                          f"{cell(self.high[name])}")
+        if self.outcome_changes:
+            lines.append(f"the outcome changes in kind in {len(self.outcome_changes)} of "
+                         f"{len(self.variants)} variants: "
+                         + "; ".join(self.outcome_changes[:4])
+                         + ("; ..." if len(self.outcome_changes) > 4 else ""))
         return "\n".join(lines)
+
+
+def outcome_change(reference: dict, figures: dict) -> str | None:
+    """How a variant's outcome differs in kind from its reference's (figures of
+    :func:`impact_figures`, computed alike: same resolution, same continuation): another
+    number of contacts, or a figure of :data:`FIGURES` that one defines and the other
+    does not; None when they agree.
+
+    Parameters
+    ----------
+    reference, figures : dict
+        The reference run's figures and the variant's.
+
+    Returns
+    -------
+    str or None
+    """
+    what = []
+    if figures.get("n_contacts") != reference.get("n_contacts"):
+        what.append(f"{figures.get('n_contacts')} contacts instead of "
+                    f"{reference.get('n_contacts')}")
+    for k in FIGURES:
+        if (figures[k] is None) != (reference[k] is None):
+            what.append(f"{k} {'undefined' if figures[k] is None else 'defined'}")
+    return ", ".join(what) or None
 
 
 def _physical_interval(figure: str, low: float, high: float) -> tuple:
@@ -447,6 +486,7 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
     base = impact_figures(nominal, resolution=resolution)
     measured = any(f is not None for f in fits)
     variants = []
+    kind_changes = []          # (label, how its outcome differs in kind from its reference)
 
     def extent(fit):
         return tail_extent(fit.report_.get("n_modes", 0)) if extend is None else extend
@@ -495,6 +535,8 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
                 figs = impact_figures(half, resolution=resolution)
                 label = "/".join(f"{0.5 * extent(f):.3g}" for f in fits if f is not None)
                 variants.append((f"tail to {label}x the band top", figs))
+                kind_changes.append((f"tail to {label}x the band top",
+                                     outcome_change(base, figs)))
                 tail = truncation_error(base, figs, 0.5)
         # the variants' reference: the nominal models with the variants' extent
         share = 0.5 if (cheap_variants and continuation and half is not None) else 1.0
@@ -541,9 +583,12 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
                 continue                 # a degenerate re-identification: no figure
             cut_resolution = band_resolution(cut_fits)
             figs = impact_figures(res, resolution=cut_resolution)
-            variants.append((f"body{i + 1} band {100 * fraction:.0f}%", figs))
+            label = f"body{i + 1} band {100 * fraction:.0f}%"
+            variants.append((label, figs))
             # compared with the reference at the same resolution (the same merging)
-            cuts.append((fraction, figs, impact_figures(reference, resolution=cut_resolution)))
+            same = impact_figures(reference, resolution=cut_resolution)
+            cuts.append((fraction, figs, same))
+            kind_changes.append((label, outcome_change(same, figs)))
         failed: dict[str, list] = {kind: [] for kind, _, _ in _DRAW_KINDS}
         if measured:
             for kind, d, job in draw_jobs:
@@ -553,6 +598,7 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
                     failed[kind].append(f"{type(exc).__name__}: {str(exc)[:120]}")
                     continue
                 variants.append((f"{kind} {d + 1}", figs))
+                kind_changes.append((f"{kind} {d + 1}", outcome_change(ref_figs, figs)))
                 for k in FIGURES:
                     if figs[k] is not None and ref_figs[k] is not None:
                         changes[kind][k].append(figs[k] - ref_figs[k])
@@ -587,6 +633,15 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
             continue
         low[k], high[k] = _physical_interval(k, base[k] - halves[k] - front[k],
                                              base[k] + halves[k])
+    changes_of_kind = tuple(f"{label}: {what}" for label, what in kind_changes if what)
+    undefined = [c for c in changes_of_kind if "undefined" in c]
+    if undefined:          # a figure the band's interval cannot hold: said loudly
+        warnings.warn(f"the outcome changes in kind in {len(undefined)} of {len(variants)} "
+                      f"variants of the band ({'; '.join(undefined[:3])}"
+                      + ("; ..." if len(undefined) > 3 else "") + "): their figures are "
+                      "left out of its intervals, which describe the nominal outcome's",
+                      UserWarning, stacklevel=2)
     return UncertaintyBand(nominal=base, low=low, high=high, variants=tuple(variants),
                            truncation=trunc, tail=tail, spread=spread, level=level,
-                           front=front, pole_spread=pole_spread)
+                           front=front, pole_spread=pole_spread,
+                           outcome_changes=changes_of_kind)
