@@ -318,6 +318,7 @@ def run_case(case, n_modes, noise, *, reference, cache=None, uncertainty=True, n
                                         refits=cache.setdefault("refits", {}),
                                         contact=case.contact)
             row["band_outcome_changes"] = len(band.outcome_changes)
+            row["band_outcome_undefined"] = sum("defined" in c for c in band.outcome_changes)
         except _FAILURES as exc:
             row["failure"] = f"band: {type(exc).__name__}: {str(exc)[:80]}"
         seconds["band"] = time.perf_counter() - t0

@@ -82,10 +82,10 @@ class UncertaintyBand:
         The variants whose outcome differs in kind from their reference run's (another
         number of contacts, or a figure one defines and the other does not, e.g. no
         restitution when the bodies are still in contact at ``t_end``), each as
-        ``"label: what"``; empty when every variant agrees. A figure left undefined is
-        left out of the spread and warned about; another number of contacts (common where
-        a brief re-contact comes and goes: a mass on a fixed rod, 4 of 5 variants) is in
-        the spread of the figures it moves, and listed here and in :meth:`table`.
+        ``"label: what"``; empty when every variant agrees. A figure defined in one run
+        and not in the other is left out of the spread and warned about; another number
+        of contacts (a brief re-contact that comes and goes) is in the spread of the
+        figures it moves, and listed here and in :meth:`table`.
     """
 
     nominal: dict
@@ -135,11 +135,19 @@ class UncertaintyBand:
             lines.append(f"{name:<18}{cell(self.nominal[name])}{cell(self.low[name])}"
                          f"{cell(self.high[name])}")
         if self.outcome_changes:
-            lines.append(f"the outcome changes in kind in {len(self.outcome_changes)} of "
-                         f"{len(self.variants)} variants: "
-                         + "; ".join(self.outcome_changes[:4])
-                         + ("; ..." if len(self.outcome_changes) > 4 else ""))
+            lines.append(_changes_text(self.outcome_changes, len(self.variants)))
         return "\n".join(lines)
+
+
+def _changes_text(changes, n_variants: int, shown: int = 4) -> str:
+    """"The outcome changes in kind in k of n variants: ..." (the first ``shown``)."""
+    return (f"the outcome changes in kind in {len(changes)} of {n_variants} variants: "
+            + "; ".join(changes[:shown]) + ("; ..." if len(changes) > shown else ""))
+
+
+def _undefined_mismatch(reference: dict, figures: dict) -> bool:
+    """Whether a figure of :data:`FIGURES` is defined in one run and not the other."""
+    return any((figures[k] is None) != (reference[k] is None) for k in FIGURES)
 
 
 def outcome_change(reference: dict, figures: dict) -> str | None:
@@ -158,9 +166,9 @@ def outcome_change(reference: dict, figures: dict) -> str | None:
     str or None
     """
     what = []
-    if figures.get("n_contacts") != reference.get("n_contacts"):
-        what.append(f"{figures.get('n_contacts')} contacts instead of "
-                    f"{reference.get('n_contacts')}")
+    if figures["n_contacts"] != reference["n_contacts"]:
+        what.append(f"{figures['n_contacts']} contacts instead of "
+                    f"{reference['n_contacts']}")
     for k in FIGURES:
         if (figures[k] is None) != (reference[k] is None):
             what.append(f"{k} {'undefined' if figures[k] is None else 'defined'}")
@@ -486,7 +494,11 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
     base = impact_figures(nominal, resolution=resolution)
     measured = any(f is not None for f in fits)
     variants = []
-    kind_changes = []          # (label, how its outcome differs in kind from its reference)
+    kind_changes = []    # (label, how its outcome differs in kind, a figure defined in one only)
+
+    def compare(label, reference_figs, figs):
+        kind_changes.append((label, outcome_change(reference_figs, figs),
+                             _undefined_mismatch(reference_figs, figs)))
 
     def extent(fit):
         return tail_extent(fit.report_.get("n_modes", 0)) if extend is None else extend
@@ -533,10 +545,9 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
                 half = None
             if half is not None:
                 figs = impact_figures(half, resolution=resolution)
-                label = "/".join(f"{0.5 * extent(f):.3g}" for f in fits if f is not None)
-                variants.append((f"tail to {label}x the band top", figs))
-                kind_changes.append((f"tail to {label}x the band top",
-                                     outcome_change(base, figs)))
+                reach = "/".join(f"{0.5 * extent(f):.3g}" for f in fits if f is not None)
+                variants.append((f"tail to {reach}x the band top", figs))
+                compare(variants[-1][0], base, figs)
                 tail = truncation_error(base, figs, 0.5)
         # the variants' reference: the nominal models with the variants' extent
         share = 0.5 if (cheap_variants and continuation and half is not None) else 1.0
@@ -588,7 +599,7 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
             # compared with the reference at the same resolution (the same merging)
             same = impact_figures(reference, resolution=cut_resolution)
             cuts.append((fraction, figs, same))
-            kind_changes.append((label, outcome_change(same, figs)))
+            compare(label, same, figs)
         failed: dict[str, list] = {kind: [] for kind, _, _ in _DRAW_KINDS}
         if measured:
             for kind, d, job in draw_jobs:
@@ -598,7 +609,7 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
                     failed[kind].append(f"{type(exc).__name__}: {str(exc)[:120]}")
                     continue
                 variants.append((f"{kind} {d + 1}", figs))
-                kind_changes.append((f"{kind} {d + 1}", outcome_change(ref_figs, figs)))
+                compare(f"{kind} {d + 1}", ref_figs, figs)
                 for k in FIGURES:
                     if figs[k] is not None and ref_figs[k] is not None:
                         changes[kind][k].append(figs[k] - ref_figs[k])
@@ -633,14 +644,12 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
             continue
         low[k], high[k] = _physical_interval(k, base[k] - halves[k] - front[k],
                                              base[k] + halves[k])
-    changes_of_kind = tuple(f"{label}: {what}" for label, what in kind_changes if what)
-    undefined = [c for c in changes_of_kind if "undefined" in c]
-    if undefined:          # a figure the band's interval cannot hold: said loudly
-        warnings.warn(f"the outcome changes in kind in {len(undefined)} of {len(variants)} "
-                      f"variants of the band ({'; '.join(undefined[:3])}"
-                      + ("; ..." if len(undefined) > 3 else "") + "): their figures are "
-                      "left out of its intervals, which describe the nominal outcome's",
-                      UserWarning, stacklevel=2)
+    changes_of_kind = tuple(f"{label}: {what}" for label, what, _ in kind_changes if what)
+    mismatched = [f"{label}: {what}" for label, what, undefined in kind_changes if undefined]
+    if mismatched:         # a figure the band's spread cannot hold: said loudly
+        warnings.warn(_changes_text(mismatched, len(variants), shown=3) + " (a figure "
+                      "defined in the variant or its reference only is left out of the "
+                      "band's spread)", UserWarning, stacklevel=2)
     return UncertaintyBand(nominal=base, low=low, high=high, variants=tuple(variants),
                            truncation=trunc, tail=tail, spread=spread, level=level,
                            front=front, pole_spread=pole_spread,

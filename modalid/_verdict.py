@@ -100,6 +100,12 @@ MISS_ERROR = 0.2
 MISS_FACTOR = 10.0
 
 
+def _missed_peaks(error, noise) -> bool:
+    """The missed-peak gate: an FRF error above :data:`MISS_ERROR` and :data:`MISS_FACTOR`
+    times the data's median relative scatter (off where the scatter is not measured)."""
+    return bool(np.isfinite(noise) and error > max(MISS_ERROR, MISS_FACTOR * noise))
+
+
 def line_error_tolerance(relative_noise):
     """The median line error (relative) a fit may leave before modes count as missing:
     ``max(5 %, 3 x`` the data's median relative scatter), 5 % where the scatter is not
@@ -110,7 +116,7 @@ def line_error_tolerance(relative_noise):
 
 
 def quality_verdict(modes: pd.DataFrame, *, band_hz, driving_point, nrmse, relative_error,
-                    relative_noise, rigid_body, finite):
+                    relative_noise, rigid_body, finite, miss=None):
     """``(verdict, reasons)``: ``"ok"``, ``"suspect"`` or ``"failed"`` and why.
 
     Parameters
@@ -130,6 +136,10 @@ def quality_verdict(modes: pd.DataFrame, *, band_hz, driving_point, nrmse, relat
         Whether the model has a mass line.
     finite : bool
         Whether every parameter of the model is finite.
+    miss : (float, float), optional
+        ``(nrmse, relative_noise)`` of the row the missed-peak gate judges (a set's row
+        of the largest error against its own scatter); default ``(nrmse,
+        relative_noise)``.
 
     Returns
     -------
@@ -163,10 +173,10 @@ def quality_verdict(modes: pd.DataFrame, *, band_hz, driving_point, nrmse, relat
         suspect.append(f"the median error per line is {100 * relative_error:.3g} %, above "
                        f"{100 * tolerance:.3g} % (three times the data's scatter, at least "
                        "5 %): modes may be missing")
-    elif np.isfinite(relative_noise) and nrmse > max(MISS_ERROR, MISS_FACTOR * relative_noise):
-        times = (f"{nrmse / relative_noise:.3g} times" if relative_noise > 1e-3 * nrmse
-                 else "far above")
-        suspect.append(f"the FRF error is {100 * nrmse:.3g} %, {times} the data's scatter "
+    elif _missed_peaks(*(miss or (nrmse, relative_noise))):
+        error, noise = miss or (nrmse, relative_noise)
+        times = f"{error / noise:.3g} times" if noise > 1e-3 * error else "far above"
+        suspect.append(f"the FRF error is {100 * error:.3g} %, {times} the data's scatter "
                        f"(median per line {100 * relative_error:.3g} %): the lines near some "
                        "peaks are missed, modes may be missing")
     if len(modes) == 0 and not rigid_body and nrmse > 0.1:
@@ -190,17 +200,21 @@ def quality_verdict(modes: pd.DataFrame, *, band_hz, driving_point, nrmse, relat
 
 
 #: said of a fit that is not "ok" on an FRF of no damping at all
-UNDAMPED_REASON = ("the FRF is real (or imaginary) at every line, an undamped model's: "
-                   "its resonances are infinitely sharp and no line resolves them; give "
-                   "the model damping (data_synth.lightly_damped) or the data noise")
+UNDAMPED_REASON = ("the FRF is real (or imaginary) at every line: an undamped model's, "
+                   "whose infinitely sharp resonances no line resolves (give the model "
+                   "damping, data_synth.lightly_damped), or data without their phase")
 
 
 def undamped_lines(values) -> bool:
-    """Whether ``values`` (complex, any shape) are all real or all imaginary to rounding
-    (``|Im h^2| <= 1e-9 |h|^2``): an undamped model's FRF, exact."""
-    h2 = np.asarray(values, complex) ** 2
-    scale = np.abs(h2)
-    return bool(scale.size and np.all(np.abs(h2.imag) <= 1e-9 * scale) and np.any(scale > 0))
+    """Whether ``values`` (complex, any shape) are all real, or all imaginary, to rounding
+    (``|Im h| <= 1e-9 |h|`` at every line, or ``|Re h| <= 1e-9 |h|``), and not all zero:
+    an undamped model's FRF, exact (receptance and accelerance real, mobility
+    imaginary)."""
+    h = np.asarray(values, complex)
+    size = np.abs(h)
+    if not h.size or not np.all(np.isfinite(size)) or not np.any(size > 0):
+        return False
+    return bool(np.all(np.abs(h.imag) <= 1e-9 * size) or np.all(np.abs(h.real) <= 1e-9 * size))
 
 
 def judged_report(report, model, frf, *, driving_point, reason, weighting, weighting_reason,
@@ -228,11 +242,18 @@ def judged_report(report, model, frf, *, driving_point, reason, weighting, weigh
         noises = np.asarray(report["noise_median_relative"])
         worst = int(np.argmax(errors / line_error_tolerance(noises)))
         relative = (float(errors[worst]), float(noises[worst]))
+        rows = np.atleast_1d(np.asarray(report["frf_nrmse_data"], dtype=float))
+        scale = np.maximum(MISS_ERROR, MISS_FACTOR * np.where(np.isfinite(noises), noises,
+                                                               np.inf))
+        judged = int(np.argmax(rows / scale))       # each row against its own scatter
+        miss = (float(rows[judged]), float(noises[judged]))
     else:                                     # an impulse response
         spacing, band = 0.0, report.get("band_hz", (0.0, np.inf))
         nrmse = float(np.max(np.atleast_1d(report.get("frf_nrmse",
                                                       report.get("impulse_nrmse", 0.0)))))
         relative = (0.0, np.nan)
+    if not isinstance(frf, FRFSet):
+        miss = None
     modes["damping_resolved"] = damping_resolved(modes, spacing)
     finite = all(np.all(np.isfinite(np.asarray(a))) for a in (
         model.poles, model.residues, model.inverse_mass, model.flexibility,
@@ -240,7 +261,8 @@ def judged_report(report, model, frf, *, driving_point, reason, weighting, weigh
     verdict, reasons = quality_verdict(modes, band_hz=band, driving_point=driving_point,
                                        nrmse=nrmse, relative_error=relative[0],
                                        relative_noise=relative[1],
-                                       rigid_body=bool(report["rigid_body"]), finite=finite)
+                                       rigid_body=bool(report["rigid_body"]), finite=finite,
+                                       miss=miss)
     if verdict != "ok" and isinstance(frf, FRFData) and undamped_lines(frf.values):
         reasons = reasons + [UNDAMPED_REASON]
     # a set's report keeps its driving-point row's index under "driving_point": the

@@ -84,6 +84,11 @@ def test_an_error_far_above_the_noise_is_suspect_even_when_most_lines_fit():
     assert verdict(good, nrmse=0.31, relative_error=0.01, relative_noise=np.nan)[0] == "ok"
     state, why = verdict(good, nrmse=0.31, relative_error=0.01, relative_noise=0.0)
     assert state == "suspect" and "far above the data's scatter" in why[0]   # exact data
+    # a set: the gate judges the row given (its own error against its own scatter)
+    assert verdict(good, nrmse=0.31, relative_error=0.05, relative_noise=0.05)[0] == "ok"
+    state, why = verdict(good, nrmse=0.31, relative_error=0.05, relative_noise=0.05,
+                         miss=(0.25, 0.01))
+    assert state == "suspect" and "25 times the data's scatter" in why[0]
 
 
 def test_exact_fits_are_ok_and_a_noise_fit_fails():
@@ -122,6 +127,10 @@ def test_a_fit_of_an_undamped_models_frf_says_why_it_fails():
     assert undamped_lines(exact.values)
     assert undamped_lines(1j * exact.values)                       # mobility
     assert not undamped_lines(exact.values * np.exp(0.01j))
+    mixed = exact.values.copy()
+    mixed[::2] *= 1j                                   # some lines real, some imaginary
+    assert not undamped_lines(mixed)
+    assert not undamped_lines(np.zeros(5)) and not undamped_lines(np.array([np.nan, 1.0]))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         fit = ModalFit().fit(exact)
