@@ -6,13 +6,13 @@ mode's information sits within a few half-power bandwidths of it, so a band of
 :data:`MIN_SEGMENTED` lines or more, or of more distinct resonance peaks (standing above
 their neighbourhood's level, not noise at an antiresonance) than one fit's default order
 carries (:data:`MAX_PEAKS_ONE_FIT`), is cut into segments of at most
-:data:`SEGMENT_LINES` lines and about :data:`PEAKS_PER_SEGMENT` peaks (:func:`segment_length`)
-that overlap by twice an eighth of their length (:data:`SEGMENT_MARGIN` for full-length
-segments). Each is fitted on its own by the same
+:data:`SEGMENT_LINES` lines and about :data:`PEAKS_PER_SEGMENT` peaks
+(:func:`segment_length`) that overlap by twice an eighth of their length
+(:data:`SEGMENT_MARGIN` for full-length segments). Each is fitted on its own by the same
 estimator (the modes outside it standing in its lower and upper pseudo-modes) and
 contributes the poles, with their standard deviations, of its lines that lie a margin or
-more from its inner edges: every line of the band belongs to
-exactly one segment's kept range. The poles, held, then enter one linear least-squares
+more from its inner edges: every line of the band belongs to exactly one segment's kept
+range. The poles, held, then enter one linear least-squares
 fit of the whole band (:meth:`FRFPipeline._identify`): the residues, the mass line and
 the residual terms of the band jointly. The poles are not refined over the whole band:
 each is the nonlinear estimate of the lines around it, where a lightly damped mode's
@@ -42,8 +42,7 @@ from sklearn.base import clone
 
 __all__ = ["SEGMENT_LINES", "SEGMENT_MARGIN", "MIN_SEGMENTED", "MAX_ORDER",
            "MAX_PEAKS_ONE_FIT", "PEAKS_PER_SEGMENT", "default_order", "segment_edges",
-           "segment_length",
-           "segment_poles"]
+           "segment_length", "segment_poles"]
 
 SEGMENT_LINES = 1600     # lines per segment (at most)
 SEGMENT_MARGIN = 200     # lines at a segment's inner edges: their poles are its neighbour's
@@ -52,21 +51,21 @@ MAX_ORDER = 120          # the stabilization diagram's default order is at most 
 #: more distinct peaks than this in a band and it is fitted by segments: one fit's
 #: default order (:func:`default_order`) would exceed :data:`MAX_ORDER`
 MAX_PEAKS_ONE_FIT = (MAX_ORDER - 16) // 4
+PEAKS_PER_SEGMENT = 12   # a band of many peaks: segments short enough to hold this many
+_MIN_SEGMENT_LINES = 200
 
 
 def default_order(n_peaks: float) -> int:
     """The stabilization diagram's default largest order for ``n_peaks`` resonance
     peaks: ``4 n_peaks + 16`` (at least 2 peaks' worth), at most :data:`MAX_ORDER`."""
     return int(min(MAX_ORDER, 4 * max(round(n_peaks), 2) + 16))
-PEAKS_PER_SEGMENT = 12   # a band of many peaks: segments short enough to hold this many
-_MIN_SEGMENT_LINES = 200
 
 
 def segment_length(n_lines: int, n_peaks: int) -> tuple[int, int]:
     """Lines per segment and margin for a band of ``n_lines`` lines and ``n_peaks``
-    distinct resonance peaks: :data:`SEGMENT_LINES` (margin :data:`SEGMENT_MARGIN`), shortened to
-    hold about :data:`PEAKS_PER_SEGMENT` peaks (at least 200 lines) where the peaks are
-    denser, the margin an eighth of the length."""
+    distinct resonance peaks: :data:`SEGMENT_LINES` (margin :data:`SEGMENT_MARGIN`),
+    shortened to hold about :data:`PEAKS_PER_SEGMENT` peaks (at least 200 lines) where
+    the peaks are denser, the margin an eighth of the length."""
     if n_peaks <= 0:
         return SEGMENT_LINES, SEGMENT_MARGIN
     length = int(PEAKS_PER_SEGMENT * n_lines / n_peaks)
