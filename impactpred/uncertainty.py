@@ -140,7 +140,8 @@ class UncertaintyBand:
 
 
 def _changes_text(changes, n_variants: int, shown: int = 4) -> str:
-    """"The outcome changes in kind in k of n variants: ..." (the first ``shown``)."""
+    """The line "the outcome changes in kind in k of n variants: ..." (the first
+    ``shown`` of ``changes``)."""
     return (f"the outcome changes in kind in {len(changes)} of {n_variants} variants: "
             + "; ".join(changes[:shown]) + ("; ..." if len(changes) > shown else ""))
 
