@@ -209,17 +209,21 @@ class _Projection:
         return np.linalg.lstsq(self.gram[np.ix_(cols, cols)], rhs, rcond=None)[0]
 
     def _lstsq(self, rhs, y, cols=None):
-        mat = self.mat if cols is None else self.mat[:, cols]
         d = self.scale if cols is None else self.scale[cols]
         gram = self.gram if cols is None else self.gram[np.ix_(cols, cols)]
         self.factor = _cholesky(gram / np.outer(d, d))
         cols = np.ones(d.size, bool) if cols is None else cols
         self.multiplier = 0.0
         if self.factor is None:
-            x = np.linalg.lstsq(mat, y, rcond=None)[0]
+            x = np.linalg.lstsq(self.mat[:, cols], y, rcond=None)[0]
         else:
             x = _cho_solve(self.factor, rhs / d) / d
-            x += _cho_solve(self.factor, mat.T @ (y - mat @ x) / d) / d
+            # one step of iterative refinement, on the whole matrix with the bound
+            # columns at 0 (no copy of the free columns: the active-set loop of
+            # :meth:`_bounded` calls this a hundred times on a 50-mode band)
+            full = np.zeros(self.mat.shape[1])
+            full[cols] = x
+            x += _cho_solve(self.factor, (self.mat.T @ (y - self.mat @ full))[cols] / d) / d
         self._plane = None
         if self.equality is not None and np.any(self.equality[cols]):
             e = self.equality[cols]
