@@ -200,8 +200,8 @@ def power_exp_integrals(lam, h, k):
     z = lam * h
     out = np.empty((k, lam.size), complex)
     small = np.abs(z) < 1.0
-    n = np.arange(30)
-    terms = z[small, None] ** n[None, :] / np.array([math.factorial(i) for i in n], float)
+    n = _N[:30]
+    terms = z[small, None] ** n[None, :] * _INVERSE_FACTORIAL[:30]
     big = ~small
     lam_big, e_big = lam[big], np.exp(z[big])
     prev = None
