@@ -146,9 +146,9 @@ def _changes_text(changes, n_variants: int, shown: int = 4) -> str:
             + "; ".join(changes[:shown]) + ("; ..." if len(changes) > shown else ""))
 
 
-def _undefined_mismatch(reference: dict, figures: dict) -> bool:
-    """Whether a figure of :data:`FIGURES` is defined in one run and not the other."""
-    return any((figures[k] is None) != (reference[k] is None) for k in FIGURES)
+def _defined_in_one(reference: dict, figures: dict) -> list:
+    """The figures of :data:`FIGURES` defined in one run and not the other."""
+    return [k for k in FIGURES if (figures[k] is None) != (reference[k] is None)]
 
 
 def outcome_change(reference: dict, figures: dict) -> str | None:
@@ -170,9 +170,8 @@ def outcome_change(reference: dict, figures: dict) -> str | None:
     if figures["n_contacts"] != reference["n_contacts"]:
         what.append(f"{figures['n_contacts']} contacts instead of "
                     f"{reference['n_contacts']}")
-    for k in FIGURES:
-        if (figures[k] is None) != (reference[k] is None):
-            what.append(f"{k} {'undefined' if figures[k] is None else 'defined'}")
+    for k in _defined_in_one(reference, figures):
+        what.append(f"{k} {'undefined' if figures[k] is None else 'defined'}")
     return ", ".join(what) or None
 
 
@@ -499,7 +498,7 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
 
     def compare(label, reference_figs, figs):
         kind_changes.append((label, outcome_change(reference_figs, figs),
-                             _undefined_mismatch(reference_figs, figs)))
+                             bool(_defined_in_one(reference_figs, figs))))
 
     def extent(fit):
         return tail_extent(fit.report_.get("n_modes", 0)) if extend is None else extend
