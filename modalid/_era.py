@@ -10,13 +10,19 @@ Residues then follow from a bounded linear least-squares fit of the samples
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 from scipy.optimize import lsq_linear
 
-from ._checks import as_real_array
+from ._checks import as_count, as_real_array
+from ._frf_pipeline import ModalFitWarning
+from ._report import fit_report
+from .model import ModalModel
 
 __all__ = ["era_realization", "era_poles_all_orders", "fit_residues_time", "time_columns",
-           "select_by_information_time", "identify_impulse", "impulse_samples"]
+           "select_by_information_time", "identify_impulse", "impulse_samples",
+           "fit_impulse"]
 
 
 def era_realization(h, dt, max_order, *, hankel_size=None):
@@ -171,3 +177,34 @@ def impulse_samples(data):
     if dt <= 0 or not np.allclose(np.diff(t), dt, rtol=1e-6, atol=0):
         raise ValueError("t must be uniformly spaced and increasing for ERA")
     return t, h
+
+
+def fit_impulse(estimator, data):
+    """The ERA fit of :class:`modalid.ModalFit` (``method="era"``) on an impulse response.
+
+    Sets ``stabilization_``, ``clusters_``, ``impulse_``, ``model_``, ``poles_`` and
+    ``report_`` on ``estimator`` (its ``max_order``, ``n_modes``, ``rigid_body`` and
+    passivity in effect decide the fit) and returns it; warns
+    (:class:`modalid.ModalFitWarning`) when no resonance is found.
+    """
+    t, h = impulse_samples(data)
+    max_order = (as_count("max_order", estimator.max_order, minimum=2)
+                 if estimator.max_order else None)
+    out = identify_impulse(t, h, max_order=max_order, selection=estimator._selection(),
+                           rigid_body=estimator.rigid_body, passive=estimator._passive_on)
+    estimator.stabilization_, estimator.clusters_ = out["stabilization"], out["clusters"]
+    estimator.impulse_ = (t, h)
+    poles = out["poles"]
+    if poles.size == 0:
+        warnings.warn("no resonance found in the impulse response", ModalFitWarning,
+                      stacklevel=3)
+    model = ModalModel(poles=poles, residues=out["residues"],
+                       inverse_mass=out["inverse_mass"])
+    estimator.model_, estimator.poles_ = model, poles
+    info = {"converged": True, "message": "ERA poles, residues by linear least squares"}
+    estimator.report_ = fit_report(model, np.full(poles.size, "mode"), info, [],
+                                   method="era", max_order=out["max_order"],
+                                   impulse_nrmse=out["nrmse"],
+                                   hankel_singular_values=out["singular_values"],
+                                   modes=model.modes)
+    return estimator

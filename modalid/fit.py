@@ -30,10 +30,9 @@ from threadpoolctl import threadpool_limits
 from ._checks import (as_choice, as_count, as_nonnegative_scalar, as_positive_scalar,
                       as_real_array)
 from ._band import choose_weighting
-from ._era import identify_impulse, impulse_samples
+from ._era import fit_impulse
 from ._fit_lines import FitLines
 from ._frf_pipeline import FRFPipeline, ModalFitWarning
-from ._report import fit_report
 from ._verdict import driving_point_decision, judged_report, line_error_tolerance
 from ._window import windowed_receptance
 from .frf import FRFData, check_fittable
@@ -316,7 +315,7 @@ class ModalFit(FRFPipeline, FitLines, BaseEstimator):
         with contextlib.nullcontext() if inside else threadpool_limits(limits=1,
                                                                         user_api="blas"):
             if self.method == "era":
-                self._fit_impulse(data)
+                fit_impulse(self, data)
                 return self._judge(driving_point=None, reason="an impulse response: not "
                                    "decided (taken as a driving point)")
             if not auto:
@@ -468,29 +467,6 @@ class ModalFit(FRFPipeline, FitLines, BaseEstimator):
         if freqs.size == 0 or np.any(freqs <= 0):
             raise ValueError(f"n_modes as frequencies must be positive Hz, got {freqs!r}")
         return {"frequencies_hz": freqs}
-
-    # ------------------------------------------------------------------ ERA
-    def _fit_impulse(self, data):
-        t, h = impulse_samples(data)
-        max_order = as_count("max_order", self.max_order, minimum=2) if self.max_order else None
-        out = identify_impulse(t, h, max_order=max_order, selection=self._selection(),
-                               rigid_body=self.rigid_body, passive=self._passive_on)
-        self.stabilization_, self.clusters_ = out["stabilization"], out["clusters"]
-        self.impulse_ = (t, h)
-        poles, notes = out["poles"], []
-        if poles.size == 0:
-            warnings.warn("no resonance found in the impulse response", ModalFitWarning,
-                          stacklevel=3)
-        model = ModalModel(poles=poles, residues=out["residues"],
-                           inverse_mass=out["inverse_mass"])
-        self.model_, self.poles_ = model, poles
-        info = {"converged": True, "message": "ERA poles, residues by linear least squares"}
-        self.report_ = fit_report(model, np.full(poles.size, "mode"), info, notes,
-                               method="era", max_order=out["max_order"],
-                               impulse_nrmse=out["nrmse"],
-                               hankel_singular_values=out["singular_values"],
-                               modes=model.modes)
-        return self
 
     # ------------------------------------------------------------------ use
     def _check_fitted(self):

@@ -193,3 +193,18 @@ def test_no_import_circles(root, top):
     one. The check itself finds a circle where there is one."""
     assert _cycle(_imports(root, top)) is None, _cycle(_imports(root, top))
     assert _cycle({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": set()}) == ["a", "b", "c", "a"]
+
+
+#: the longest a module may grow (the guide's "small modules with one job each", issue #17)
+MAX_MODULE_LINES = 600
+
+
+@pytest.mark.parametrize("package", PACKAGES)
+def test_no_module_is_over_the_line_limit(package):
+    """Every module of the packages has at most :data:`MAX_MODULE_LINES` lines: a module
+    that outgrows it holds more than one job (uncertainty.py had reached 656 lines)."""
+    lengths = {path.relative_to(ROOT).as_posix(): len(path.read_text().splitlines())
+               for path in (ROOT / package).rglob("*.py")}
+    assert lengths, f"no module found under {package}"
+    too_long = {name: n for name, n in lengths.items() if n > MAX_MODULE_LINES}
+    assert not too_long, too_long
