@@ -25,7 +25,13 @@ _PHRASES = (("check_passive=False", "--no-passivity-check"),
             ("passive='auto'", "--driving-point auto"),
             ("read_options={'conjugate': True}", "--conjugate"),
             ("read_options={'negate': True}", "--negate"),
-            ("freq_hz=", "--freq-start/--df"))
+            ("freq_hz=", "--freq-start/--df"),
+            ("or use read_frfs", "or, in modalid fit, --set to fit them all with common poles"),
+            ("pass driving_point=", "pass --driving-row"),
+            # a set read from the command line needs a driving row to be fitted
+            ("or driving_point=None if there is none",
+             "or, for a set measured at no excitation point, any row (the fit then finds "
+             "it is not a driving point)"))
 
 #: Python keyword -> flag: ``name=value`` becomes ``--flag value`` (quotes dropped); the
 #: names with an underscore also bare (``window_decay_rate must be ...``)

@@ -1,4 +1,5 @@
-"""Command line: ``modalid fit FILE`` identifies a modal model from a measured FRF;
+"""Command line: ``modalid fit FILE`` identifies a modal model from a measured FRF (``modalid
+fit FILE FILE...`` or ``--set``: one common-pole model of several FRFs, with mode shapes);
 ``modalid hammer FILE...`` turns raw impact-hammer records into an FRF file."""
 
 from __future__ import annotations
@@ -20,9 +21,12 @@ def _warn(message) -> None:
 
 # ------------------------------------------------------------------------------ fit
 def _print_report(args, data, report) -> None:
+    import numpy as np
     import pandas as pd
 
-    print(f"{args.file}: {len(data)} lines, {data.freq_hz[0]:g}-{data.freq_hz[-1]:g} Hz, "
+    rows = (f"{len(data.outputs)} FRFs ({', '.join(map(str, data.outputs))}), "
+            if hasattr(data, "outputs") else "")
+    print(f"{args.file}: {rows}{len(data)} lines, {data.freq_hz[0]:g}-{data.freq_hz[-1]:g} Hz, "
           f"{data.quantity}")
     columns = [c for c in ("frequency_hz", "damping_ratio", "modal_mass", "frequency_hz_std",
                            "damping_ratio_std", "damping_resolved")
@@ -34,16 +38,20 @@ def _print_report(args, data, report) -> None:
           f"{report['effective_mass']:.6g} kg")
     print(f"band {report['band_hz'][0]:g}-{report['band_hz'][1]:g} Hz: "
           f"{in_flags(report['band_reason'])}")
-    if report.get("driving_point") is not None:
-        print(f"driving point: {'yes' if report['driving_point'] else 'no'} "
+    # a set's decision is its driving row's (its "driving_point" is the row's index)
+    decision = report.get("driving_row_is_driving_point", report.get("driving_point"))
+    if decision is not None:
+        print(f"driving point: {'yes' if decision else 'no'} "
               f"({report['driving_point_reason']})")
-    print(f"FRF NRMSE {report['frf_nrmse']:.4g} ({data.quantity}); converged: "
-          f"{report['converged']}")
+    nrmse = report["frf_nrmse"]
+    nrmse = (f"{nrmse:.4g}" if np.ndim(nrmse) == 0 else          # a set: one per row
+             ", ".join(f"{label} {e:.4g}" for label, e in zip(data.outputs, nrmse)))
+    print(f"FRF NRMSE {nrmse} ({data.quantity}); converged: {report['converged']}")
     print(f"verdict: {report['verdict']}" + "".join(f"\n  - {r}"
                                                     for r in report["verdict_reasons"]))
 
 
-def _save_fit(fit, out: Path, stem: str, source: str) -> None:
+def _save_fit(fit, out: Path, stem: str, source: str, *, several: bool = False) -> None:
     import matplotlib
 
     from .saved_fit import SavedFit
@@ -65,8 +73,70 @@ def _save_fit(fit, out: Path, stem: str, source: str) -> None:
     fit.plot_stabilization(ax=axes[rows])
     fig.savefig(out / f"{stem}_fit.png", dpi=110)
     plt.close(fig)
-    print(f"wrote {out / (stem + '_model.json')} (the fit: impactpred predict takes it in "
-          f"place of {source}, with the same results) and {out / (stem + '_fit.png')}")
+    use = ("the common-pole fit: impactpred predict takes it as a body, its driving-point "
+           "row's model" if several else f"the fit: impactpred predict takes it in place of "
+           f"{source}, with the same results")
+    print(f"wrote {out / (stem + '_model.json')} ({use}) and {out / (stem + '_fit.png')}")
+
+
+def _read_set(args):
+    """The FRFSet of ``modalid fit FILE... --set``: every FRF of the files, rows in the
+    order given, each read (and ``--conjugate``/``--negate`` applied) as one FRF is."""
+    import numpy as np
+
+    from .frf_set import FRFSet
+    from .io_set import read_frf_set
+
+    if args.index is not None:
+        raise ValueError("--index picks one FRF of a file; a common-pole fit (--set, or "
+                         "several files) takes every FRF of its files")
+    options = {}
+    for path in args.file:
+        for key, value in read_options(args, path).items():
+            if key in ("conjugate", "negate"):
+                continue
+            if key in options and not np.array_equal(options[key], value):
+                raise ValueError(f"the files of a set need the same {key}= (--freq-start/--df "
+                                 f"give one per file's line count): {args.file[0]} and {path} "
+                                 "differ")
+            options[key] = value
+    data = read_frf_set(args.file if len(args.file) > 1 else args.file[0],
+                        driving_point=_driving_row(args.driving_row), **options)
+    if args.conjugate or args.negate:
+        values = np.conj(data.values) if args.conjugate else data.values
+        data = FRFSet(data.freq_hz, -values if args.negate else values,
+                      quantity=data.quantity, coherence=data.coherence,
+                      outputs=data.outputs, driving_point=data.driving_point)
+    return data
+
+
+def _driving_row(text):
+    """``--driving-row``: a row index (digits) or an output label; None: from the files."""
+    if text is None:
+        return "auto"
+    return int(text) if text.isdigit() else text
+
+
+def _print_shapes(fit) -> None:
+    """The set's mode shapes, scaled to 1 at the driving point, one row per output (the
+    real part; the largest imaginary part, a measure of how complex the shapes are,
+    below)."""
+    import numpy as np
+    import pandas as pd
+
+    model = fit.model_
+    # the physical modes (the report's), not the pseudo-modes standing for those outside
+    # the band: the model's columns are sorted by omega_n as its modes table is
+    everything = model.modes["omega_n"].to_numpy()
+    physical = np.isin(everything, fit.report_["modes"]["omega_n"].to_numpy())
+    shapes = model.mode_shapes()[:, physical]
+    columns = [f"{f:.6g} Hz" for f in model.modes["frequency_hz"].to_numpy()[physical]]
+    table = pd.DataFrame(shapes.real, index=list(model.outputs), columns=columns)
+    with pd.option_context("display.width", 140, "display.float_format", "{:.4g}".format):
+        print("mode shapes (real part, 1 at the driving point):")
+        print(table.to_string())
+    if shapes.size:
+        print(f"largest imaginary part: {np.max(np.abs(shapes.imag)):.3g}")
 
 
 def _cmd_fit(args) -> int:
@@ -76,8 +146,18 @@ def _cmd_fit(args) -> int:
 
     out = check_out_dir(args.out)                 # before any work
     fit = ModalFit(progress=True, **fit_options(args))    # a wide band: one line a segment
-    data = read_frf(args.file, **read_options(args, args.file))
-    sign = check_sign(data)
+    several = args.set or len(args.file) > 1
+    if args.driving_row is not None and not several:
+        raise ValueError("--driving-row names a row of a set: give several files or --set")
+    paths = args.file
+    if several:
+        data = _read_set(args)
+        judged = data.driving                     # the sign check reads the driving row
+        args.file = " + ".join(Path(f).name for f in paths)
+    else:
+        data = judged = read_frf(paths[0], **read_options(args, paths[0]))
+        args.file = paths[0]
+    sign = check_sign(judged)
     if sign.verdict != "ok":
         _warn(sign.problem(args.file))
     with warnings.catch_warnings(record=True) as caught:
@@ -90,10 +170,14 @@ def _cmd_fit(args) -> int:
         _warn(w.message)
     report = fit.report_
     _print_report(args, data, report)
+    if several:
+        _print_shapes(fit)
+    stem = Path(paths[0]).stem + ("_set" if several else "")
     if out is None:
         print(nothing_saved("DIR writes the model JSON and the plots"))
     else:
-        _save_fit(fit, out, Path(args.file).stem, Path(args.file).name)
+        _save_fit(fit, out, stem, Path(args.file).name if not several else args.file,
+                  several=several)
     if report["verdict"] == "failed":
         fix = (f"; {in_flags(sign.problem(args.file))}" if sign.verdict != "ok" else "")
         print(f"{args.file}: the fit failed (see the verdict); try --fmin/--fmax, "
@@ -196,8 +280,18 @@ def _cmd_hammer(args) -> int:
 
 # --------------------------------------------------------------------------- parser
 def _add_fit_parser(sub) -> None:
-    fit = sub.add_parser("fit", help="identify a modal model from an FRF file")
-    fit.add_argument("file", help="CSV, .npz, .mat, UFF 58 or complex-lines file")
+    fit = sub.add_parser("fit", help="identify a modal model from an FRF file (or, with "
+                                     "common poles, from several FRFs)")
+    fit.add_argument("file", nargs="+", metavar="FILE",
+                     help="CSV, .npz, .mat, UFF 58 or complex-lines file; several files: "
+                          "one common-pole fit of all their FRFs (as --set)")
+    fit.add_argument("--set", action="store_true",
+                     help="fit every FRF of the files together, with common poles (one "
+                          "file holding several FRFs, e.g. a UFF of several points): the "
+                          "modes, their shapes and a model of every row")
+    fit.add_argument("--driving-row", metavar="ROW", default=None,
+                     help="the set's row measured at the excitation point (index from 0, "
+                          "or output label); default: from the UFF records' DOFs")
     add_read_options(fit)
     add_fit_options(fit)
     fit.add_argument("--out", metavar="DIR", help="folder for the model JSON and the plots "

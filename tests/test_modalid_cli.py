@@ -78,6 +78,85 @@ def test_fit_command_on_a_bare_complex_lines_file(capsys):
     assert "--df must be a positive" in capsys.readouterr().err
 
 
+@pytest.mark.filterwarnings("ignore::UserWarning")
+def test_several_files_are_one_common_pole_fit_with_shapes(tmp_path, capsys):
+    """Three points of a cantilever (tip = driving point, mid-span, near the clamp), one
+    CSV each: ``modalid fit`` of the three files is one common-pole fit, printing the
+    modes and their shapes (1 at the driving row), with the poles of the same fit made in
+    Python; the saved model is a body for ``impactpred predict``.
+    Without --driving-row the message names the flag; --index is refused for a set."""
+    from data_synth import CantileverBeam, synthetic_frf
+    from impactpred.cli import main as impactpred_main
+    from modalid import FRFSet, ModalFit, MultiOutputModalModel, write_frf
+
+    beam = CantileverBeam(1.0, 1.0)
+    xi = [0.0, 0.5, 0.8]
+    truth = beam.multi_output_model(xi, 12, damping_ratio=0.01, residual=True)
+    freq_hz = np.linspace(0.05, 60.0, 1200)
+    frfs = [synthetic_frf(truth.row(i), freq_hz, noise=0.01, seed=i) for i in range(3)]
+    paths = []
+    for name, frf in zip(("tip", "mid", "clamp"), frfs):
+        paths.append(str(tmp_path / f"{name}.csv"))
+        write_frf(paths[-1], frf)
+    assert main(["fit", *paths]) == 2
+    err = capsys.readouterr().err
+    assert "--driving-row" in err and "driving_point" not in err
+    assert main(["fit", *paths, "--index", "1", "--driving-row", "0"]) == 2
+    assert "--index picks one FRF" in capsys.readouterr().err
+    out_dir = tmp_path / "out"
+    assert main(["fit", *paths, "--driving-row", "tip", "--out", str(out_dir)]) == 0
+    out = capsys.readouterr().out
+    assert "3 FRFs (tip, mid, clamp)" in out and "driving point: yes" in out
+    assert "mode shapes (real part, 1 at the driving point)" in out
+    model = MultiOutputModalModel.from_json(out_dir / "tip_set_model.json")
+    python = ModalFit().fit(FRFSet.from_frfs(frfs, driving_point=0,
+                                             outputs=["tip", "mid", "clamp"])).model_
+    assert np.allclose(np.sort(np.abs(model.poles)), np.sort(np.abs(python.poles)),
+                       rtol=1e-9)
+    # the first bending mode's shape (its column: the model's lowest pole), against
+    # the exact one scaled to 1 at the tip
+    exact = beam.mode_shapes(xi, 1)[:, 0]
+    first = model.mode_shapes()[:, np.argsort(np.abs(model.poles))[0]]
+    assert np.allclose(first.real, exact / exact[0], atol=0.02)
+    assert impactpred_main(["predict", "mass:0.1", str(out_dir / "tip_set_model.json"),
+                            "--v1", "1", "--t-end", "2"]) == 0
+    assert "restitution" in capsys.readouterr().out
+
+
+@pytest.mark.filterwarnings("ignore::UserWarning")
+@pytest.mark.filterwarnings("ignore::ResourceWarning")
+def test_one_uff_of_several_points_is_a_set_with_its_driving_point_from_the_dofs(tmp_path,
+                                                                                  capsys):
+    """A UFF file of three records (response DOFs 1, 2, 3 against reference 1): without
+    --index or --set the message names both flags; with --set the records are one
+    common-pole fit whose driving row, record 0 (response DOF = reference DOF), comes
+    from the file."""
+    from data_synth import CantileverBeam, synthetic_frf
+    from modalid import write_frf
+
+    truth = CantileverBeam(1.0, 1.0).multi_output_model([0.0, 0.5, 0.8], 8,
+                                                         damping_ratio=0.01, residual=True)
+    freq_hz = np.linspace(0.05, 40.0, 800)
+    text = ""
+    for i in range(3):
+        path = tmp_path / f"p{i}.uff"
+        write_frf(path, synthetic_frf(truth.row(i), freq_hz, noise=0.01, seed=i),
+                  response=(i + 1, 3), reference=(1, 3))
+        text += path.read_text()
+    (tmp_path / "all.uff").write_text(text)
+    assert main(["fit", str(tmp_path / "all.uff")]) == 2
+    err = capsys.readouterr().err
+    assert "--index" in err and "--set" in err and "read_frfs" not in err
+    assert main(["fit", str(tmp_path / "all.uff"), "--set"]) == 0
+    out = capsys.readouterr().out
+    assert "all.uff: 3 FRFs (1+Z, 2+Z, 3+Z)" in out and "driving point: yes" in out
+    shapes = out.split("mode shapes (real part, 1 at the driving point):")[1].splitlines()
+    assert [line.split()[0] for line in shapes[2:5]] == ["1+Z", "2+Z", "3+Z"]
+    first = CantileverBeam(1.0, 1.0).natural_frequencies(1)[0] / (2 * np.pi)
+    assert shapes[1].split()[1] == "Hz"                        # the first bending mode
+    assert float(shapes[1].split()[0]) == pytest.approx(first, rel=1e-3)
+
+
 def test_fit_command_on_a_file_with_no_usable_band(tmp_path, capsys):
     """Coherence near zero on every line: an error naming the file, exit 2."""
     freq = np.linspace(1.0, 100.0, 200)
