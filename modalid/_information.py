@@ -15,7 +15,7 @@ from scipy.linalg import cho_factor, cho_solve, cholesky, solve_triangular
 
 from ._lsfd import Terms, _realify, design_matrix
 
-__all__ = ["select_by_information", "prefix_information"]
+__all__ = ["select_by_information", "prefix_information", "misfit_ratio"]
 
 
 def select_by_information(omega, values, weights, candidates, terms: Terms, fixed=(), *,
@@ -167,3 +167,25 @@ def _greedy_information(mat, gram, y, n_head, n_cand, per, n_params, floor, scal
         x = fit(cols)[1] / scale[cols]
         negative[np.asarray(chosen[:k])[x[n_head + 1::2] > 0.0]] = True
     return keep & ~negative if passive else keep, bic, negative
+
+
+def misfit_ratio(bic, n_data, n_params=4) -> float:
+    """The residual sum of squares of the prefix :func:`prefix_information` chose over the
+    one without candidates, from its ``bic`` (``n ln(SSE/n) + n_params k ln(n)``).
+
+    Parameters
+    ----------
+    bic : ndarray, shape (n_candidates + 1,)
+        As returned by :func:`select_by_information` (not greedy: of the prefixes).
+    n_data : int
+        The real data ``n`` of the criterion (twice the lines).
+    n_params : int
+        Parameters per candidate, as in the criterion.
+
+    Returns
+    -------
+    float
+        In (0, 1]: 1 when no candidate is chosen.
+    """
+    k = int(np.argmin(bic))
+    return float(np.exp((bic[k] - bic[0] - n_params * k * np.log(n_data)) / n_data))

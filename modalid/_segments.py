@@ -20,7 +20,7 @@ information lies.
 
 Why peaks too: the stabilization diagram's default order (``4 n_peaks + 16``) is capped
 at :data:`MAX_ORDER`; above 26 peaks one fit of the band runs short of order. Segments
-are chosen on the *distinct* peaks only (:func:`modalid._frf_pipeline.distinct_peaks`),
+are chosen on the *distinct* peaks only (:func:`distinct_peaks`),
 which noise does not make: a band of more than 26 peaks but at most 26 distinct ones
 (noisy data, or modes overlapping into ripples) is still one fit at order 120. A fixed
 rod's 40 modes (zeta 1e-3, 4001 lines, 1 % noise) came out 32 of 40, FRF error 100 %,
@@ -38,11 +38,13 @@ import time
 import warnings
 
 import numpy as np
+from scipy.ndimage import median_filter
+from scipy.signal import find_peaks
 from sklearn.base import clone
 
 __all__ = ["SEGMENT_LINES", "SEGMENT_MARGIN", "MIN_SEGMENTED", "MAX_ORDER",
            "MAX_PEAKS_ONE_FIT", "PEAKS_PER_SEGMENT", "default_order", "segment_edges",
-           "segment_length", "segment_poles"]
+           "segment_length", "segment_poles", "resonance_peaks", "distinct_peaks"]
 
 SEGMENT_LINES = 1600     # lines per segment (at most)
 SEGMENT_MARGIN = 200     # lines at a segment's inner edges: their poles are its neighbour's
@@ -53,6 +55,33 @@ MAX_ORDER = 120          # the stabilization diagram's default order is at most 
 MAX_PEAKS_ONE_FIT = (MAX_ORDER - 16) // 4
 PEAKS_PER_SEGMENT = 12   # a band of many peaks: segments short enough to hold this many
 _MIN_SEGMENT_LINES = 200
+_LEVEL_LINES = 101  # a distinct peak stands above the median level of this many lines
+
+
+def _log_level(h):
+    """``log10 |h|``, a zero line at 1e-300 (no -inf)."""
+    return np.log10(np.maximum(np.abs(h), 1e-300))
+
+
+def resonance_peaks(h):
+    """Indices of the peaks of ``|h|`` standing a factor 2 (0.3 in log10) above their
+    surroundings: what sets the diagram's default order and the missed-mode budget."""
+    return find_peaks(_log_level(h), prominence=0.3)[0]
+
+
+def distinct_peaks(h, peaks):
+    """The ``peaks`` (indices into ``h``) that also stand above the median level of the
+    :data:`_LEVEL_LINES` lines around them by ``0.3 + 3 s`` in ``log10 |h|`` (a factor 2,
+    and three times the line-to-line scatter ``s``: the median absolute step of
+    ``log10 |h|``, scaled to a standard deviation): what decides a fit by segments.
+    Noise makes peaks of a factor 2 at an antiresonance, at a floor, or anywhere where it
+    is large: a 20-mode hammer FRF at 5 % noise has 46 peaks and 19 distinct ones,
+    vibration_toolbox's case2 (coherence about 0.3) 204 and 2, a fixed rod's 40 modes
+    (zeta 1e-3) 40 and 40."""
+    level = _log_level(h)
+    median = median_filter(level, size=_LEVEL_LINES, mode="nearest")
+    scatter = 1.4826 * np.median(np.abs(np.diff(level))) / np.sqrt(2.0) if h.size > 1 else 0.0
+    return peaks[level[peaks] - median[peaks] >= 0.3 + 3.0 * scatter]
 
 
 def default_order(n_peaks: float) -> int:
@@ -115,7 +144,7 @@ def segment_poles(estimator, band, n_peaks=0, n_distinct=None):
         The band's resonance peaks: a segment's diagram order is at least what their
         mean density gives its lines (its own peaks undercount overlapping modes).
     n_distinct : int, optional
-        The band's distinct peaks (:func:`modalid._frf_pipeline.distinct_peaks`), which
+        The band's distinct peaks (:func:`distinct_peaks`), which
         set the segments' length (:func:`segment_length`); default ``n_peaks``.
 
     Returns
