@@ -30,9 +30,9 @@ import warnings
 
 import numpy as np
 
-from data_synth import lightly_damped, synthetic_frf
+from data_synth import lightly_damped, random_modal_model, synthetic_frf
 from data_synth.rod import Rod
-from modalid import ModalFit, ModalModel
+from modalid import ModalFit
 
 F_TOP = 20000.0
 ZETAS = (1e-4, 1e-3, 1e-2)
@@ -41,25 +41,10 @@ LINES = (2401, 4001, 8001)
 TOLERANCE = 1e-3
 
 
-def random_modes(zeta, seed=7, n=50):
-    """A driving point of ``n`` modes at random frequencies (module docstring)."""
-    rng = np.random.default_rng(seed)
-    ratio = 1.0 + max(0.005, 4.0 * zeta)      # resolvable: two half-power widths apart
-    kept = []
-    for f in rng.uniform(200.0, F_TOP - 200.0, 100 * n):
-        if all(max(f, k) > ratio * min(f, k) for k in kept):
-            kept.append(f)
-        if len(kept) == n:
-            break
-    freq = np.sort(kept)
-    return ModalModel.from_modes(2 * np.pi * freq, zeta * 2.0 ** rng.uniform(-1, 1, freq.size),
-                                 rng.uniform(0.5, 5.0, freq.size))
-
-
 def structure(name, zeta):
     """The truth (a ModalModel) of the structure ``name`` at damping ``zeta``."""
     if name == "random":
-        return random_modes(zeta)
+        return random_modal_model(50, (200.0, F_TOP - 200.0), zeta, seed=7)
     return lightly_damped(Rod(1.0, 1e-3, support=name.split()[0]), 80, zeta)
 
 

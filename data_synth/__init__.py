@@ -9,6 +9,7 @@ frequencies and a truncated :class:`modalid.ModalModel` (method.md section 2):
 * :class:`CantileverBeam` - an Euler-Bernoulli cantilever struck at its free tip;
 * :func:`cantilever_roots` - roots of ``1 + cosh(e) cos(e) = 0``;
 * :func:`example_data_path` - the measured example files of ``tests/data``, from any directory.
+* :func:`random_modal_model` - many well-separated modes at random frequencies.
 """
 
 from importlib.metadata import PackageNotFoundError as _NotInstalled
@@ -25,10 +26,11 @@ from .beam import CantileverBeam
 from .lumped import LumpedMass, SpringMass
 from .measure import (HammerTest, lightly_damped, synthetic_frf, synthetic_hammer_test,
                       synthetic_impulse_response)
+from .random_modes import random_modal_model
 from .rod import Rod
 from .roots import cantilever_roots
 
 __all__ = ["ExactModel", "LumpedMass", "SpringMass", "Rod", "CantileverBeam",
            "cantilever_roots"]
 __all__ += ["synthetic_frf", "lightly_damped", "synthetic_impulse_response",
-            "synthetic_hammer_test", "HammerTest", "example_data_path"]
+            "synthetic_hammer_test", "HammerTest", "example_data_path", "random_modal_model"]

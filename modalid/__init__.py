@@ -24,11 +24,11 @@ from .model import ModalModel
 from .multi_output import MultiOutputModalModel
 from .quantities import QUANTITIES, receptance_to, to_receptance
 from .saved_fit import SavedFit
-from .shapes import mac
+from .shapes import mac, mpc
 
 __all__ = ["ModalFit", "ModalFitWarning", "FRFData", "ModalModel", "QUANTITIES", "receptance_to",
            "to_receptance", "read_frf", "write_frf"]
 __all__ += ["HammerFRF", "DoubleHitWarning", "frf_from_hammer", "find_double_hits",
             "correct_exponential_window"]
 __all__ += ["MultiOutputModalModel", "FitReport", "SavedFit"]
-__all__ += ["FRFSet", "read_frf_set", "mac"]
+__all__ += ["FRFSet", "read_frf_set", "mac", "mpc"]

@@ -26,7 +26,13 @@ _PHRASES = (("check_passive=False", "--no-passivity-check"),
             ("read_options={'conjugate': True}", "--conjugate"),
             ("read_options={'negate': True}", "--negate"),
             ("freq_hz=", "--freq-start/--df"),
-            ("or use read_frfs", "or, in modalid fit, --set to fit them all with common poles"),
+            ("or use read_frfs", "or fit them all with common poles (modalid fit FILE --set "
+             "--out DIR) and give the _set_model.json it writes"),
+            ("pass driving_point= a row index or label, or None",
+             "pass --driving-row (an output label, or a row index from 0)"),
+            ("negate it and pass driving_point= its row explicitly",
+             "reverse that record's sign (in Python: its row of read_frf_set, then FRFSet; "
+             "--negate reverses every row) and name its row"),
             ("pass driving_point=", "pass --driving-row"),
             # a set read from the command line needs a driving row to be fitted
             ("or driving_point=None if there is none",

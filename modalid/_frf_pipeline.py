@@ -176,31 +176,35 @@ class FRFPipeline(PoleChecks, LowEnd):
         error 100 %; the wider candidates take 13 (misfit 0.0016) and find all 50. A
         noisy band's are refused: vtb case2 on 100-300 Hz (0.45) got a 120 Hz mode.
         """
-        poles, selected, _ = self._select_from(omega, h, w, clusters, cut, min_share)
+        poles, selected, _, negative = self._select_from(omega, h, w, clusters, cut,
+                                                         min_share)
         if poles.size == 0 and min_share > FALLBACK_SHARE:
-            wider, chosen, misfit = self._select_from(omega, h, w, clusters, cut,
-                                                      FALLBACK_SHARE)
-            if misfit <= FALLBACK_MISFIT:
-                poles, selected = wider, chosen
+            wider = self._select_from(omega, h, w, clusters, cut, FALLBACK_SHARE)
+            if wider[2] <= FALLBACK_MISFIT:
+                poles, selected, _, negative = wider
+        self._warn_negative(negative)             # of the selection kept
         return poles, selected
 
     def _select_from(self, omega, h, w, clusters, cut, min_share):
         """The selection among the clusters in ``min_share`` of the orders: ``(poles,
-        mask of the clusters, misfit ratio)``, the ratio the selected poles' residual
-        sum of squares over the one without them (1 when none is selected)."""
+        mask of the clusters, misfit ratio, the chosen poles of negative modal mass
+        left out)``. The ratio is the chosen prefix's residual sum of squares over the
+        one without it; 1 when none is chosen, or when the passivity constraint left
+        some out (their share of the misfit is not the selection's)."""
         share = clusters["share"].to_numpy(float)
         cand = clusters["pole"].to_numpy(complex)[share >= min_share]
         selected = np.zeros(len(clusters), bool)
-        ratio = 1.0
+        ratio, negative = 1.0, np.zeros(0, complex)
         if cand.size:
-            keep, bic, negative = select_by_information(
+            keep, bic, flagged = select_by_information(
                 omega, h, w, cand, *self._linear_terms(omega, h, w, cand, cut),
                 passive=self._passive_on)
-            self._warn_negative(cand[negative])
+            negative = cand[flagged]
             selected[np.flatnonzero(share >= min_share)[keep]] = True
-            ratio = misfit_ratio(bic, 2 * omega.size)
+            left_out = bool(np.any(flagged & ~keep))
+            ratio = 1.0 if left_out else misfit_ratio(bic, 2 * omega.size)
             cand = cand[keep]
-        return cand[np.argsort(np.abs(cand))], selected, ratio
+        return cand[np.argsort(np.abs(cand))], selected, ratio, negative
 
     def _warn_negative(self, poles):
         """Resonances the data support but with a negative modal mass: not a passive

@@ -11,6 +11,7 @@ from pathlib import Path
 
 from ._cli import (add_fit_options, add_read_options, check_out_dir, fit_options, in_flags,
                    nothing_saved, read_options, run_command)
+from ._cli_set import print_shapes, read_set
 
 __all__ = ["main", "build_parser"]
 
@@ -43,7 +44,7 @@ def _print_report(args, data, report) -> None:
     if decision is not None:
         print(f"driving point: {'yes' if decision else 'no'} "
               f"({report['driving_point_reason']})")
-    nrmse = report["frf_nrmse"]
+    nrmse = report.get("frf_nrmse_data", report["frf_nrmse"])     # the data's quantity
     nrmse = (f"{nrmse:.4g}" if np.ndim(nrmse) == 0 else          # a set: one per row
              ", ".join(f"{label} {e:.4g}" for label, e in zip(data.outputs, nrmse)))
     print(f"FRF NRMSE {nrmse} ({data.quantity}); converged: {report['converged']}")
@@ -51,7 +52,8 @@ def _print_report(args, data, report) -> None:
                                                     for r in report["verdict_reasons"]))
 
 
-def _save_fit(fit, out: Path, stem: str, source: str, *, several: bool = False) -> None:
+def _save_fit(fit, out: Path, stem: str, source: str, *, several: bool = False,
+              body: bool = True) -> None:
     import matplotlib
 
     from .saved_fit import SavedFit
@@ -73,70 +75,14 @@ def _save_fit(fit, out: Path, stem: str, source: str, *, several: bool = False) 
     fit.plot_stabilization(ax=axes[rows])
     fig.savefig(out / f"{stem}_fit.png", dpi=110)
     plt.close(fig)
-    use = ("the common-pole fit: impactpred predict takes it as a body, its driving-point "
-           "row's model" if several else f"the fit: impactpred predict takes it in place of "
-           f"{source}, with the same results")
+    if not several:
+        use = f"the fit: impactpred predict takes it in place of {source}, with the same results"
+    elif body:
+        use = "the common-pole fit: impactpred predict takes it as a body, its driving row's model"
+    else:
+        use = ("the common-pole fit of transfer FRFs: modes and shapes, not an impact body "
+               "(no row is a driving point)")
     print(f"wrote {out / (stem + '_model.json')} ({use}) and {out / (stem + '_fit.png')}")
-
-
-def _read_set(args):
-    """The FRFSet of ``modalid fit FILE... --set``: every FRF of the files, rows in the
-    order given, each read (and ``--conjugate``/``--negate`` applied) as one FRF is."""
-    import numpy as np
-
-    from .frf_set import FRFSet
-    from .io_set import read_frf_set
-
-    if args.index is not None:
-        raise ValueError("--index picks one FRF of a file; a common-pole fit (--set, or "
-                         "several files) takes every FRF of its files")
-    options = {}
-    for path in args.file:
-        for key, value in read_options(args, path).items():
-            if key in ("conjugate", "negate"):
-                continue
-            if key in options and not np.array_equal(options[key], value):
-                raise ValueError(f"the files of a set need the same {key}= (--freq-start/--df "
-                                 f"give one per file's line count): {args.file[0]} and {path} "
-                                 "differ")
-            options[key] = value
-    data = read_frf_set(args.file if len(args.file) > 1 else args.file[0],
-                        driving_point=_driving_row(args.driving_row), **options)
-    if args.conjugate or args.negate:
-        values = np.conj(data.values) if args.conjugate else data.values
-        data = FRFSet(data.freq_hz, -values if args.negate else values,
-                      quantity=data.quantity, coherence=data.coherence,
-                      outputs=data.outputs, driving_point=data.driving_point)
-    return data
-
-
-def _driving_row(text):
-    """``--driving-row``: a row index (digits) or an output label; None: from the files."""
-    if text is None:
-        return "auto"
-    return int(text) if text.isdigit() else text
-
-
-def _print_shapes(fit) -> None:
-    """The set's mode shapes, scaled to 1 at the driving point, one row per output (the
-    real part; the largest imaginary part, a measure of how complex the shapes are,
-    below)."""
-    import numpy as np
-    import pandas as pd
-
-    model = fit.model_
-    # the physical modes (the report's), not the pseudo-modes standing for those outside
-    # the band: the model's columns are sorted by omega_n as its modes table is
-    everything = model.modes["omega_n"].to_numpy()
-    physical = np.isin(everything, fit.report_["modes"]["omega_n"].to_numpy())
-    shapes = model.mode_shapes()[:, physical]
-    columns = [f"{f:.6g} Hz" for f in model.modes["frequency_hz"].to_numpy()[physical]]
-    table = pd.DataFrame(shapes.real, index=list(model.outputs), columns=columns)
-    with pd.option_context("display.width", 140, "display.float_format", "{:.4g}".format):
-        print("mode shapes (real part, 1 at the driving point):")
-        print(table.to_string())
-    if shapes.size:
-        print(f"largest imaginary part: {np.max(np.abs(shapes.imag)):.3g}")
 
 
 def _cmd_fit(args) -> int:
@@ -151,15 +97,16 @@ def _cmd_fit(args) -> int:
         raise ValueError("--driving-row names a row of a set: give several files or --set")
     paths = args.file
     if several:
-        data = _read_set(args)
-        judged = data.driving                     # the sign check reads the driving row
+        data = read_set(args)
         args.file = " + ".join(Path(f).name for f in paths)
+        # the sign check reads the driving row (named: the message is about one FRF)
+        judged, named = data.driving, f"{args.file} (row {data.outputs[data.driving_point]})"
     else:
         data = judged = read_frf(paths[0], **read_options(args, paths[0]))
-        args.file = paths[0]
+        args.file = named = paths[0]
     sign = check_sign(judged)
     if sign.verdict != "ok":
-        _warn(sign.problem(args.file))
+        _warn(sign.problem(named))
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         try:
@@ -171,15 +118,16 @@ def _cmd_fit(args) -> int:
     report = fit.report_
     _print_report(args, data, report)
     if several:
-        _print_shapes(fit)
+        print_shapes(fit)
     stem = Path(paths[0]).stem + ("_set" if several else "")
     if out is None:
         print(nothing_saved("DIR writes the model JSON and the plots"))
     else:
+        body = not several or bool(report["driving_row_is_driving_point"])
         _save_fit(fit, out, stem, Path(args.file).name if not several else args.file,
-                  several=several)
+                  several=several, body=body)
     if report["verdict"] == "failed":
-        fix = (f"; {in_flags(sign.problem(args.file))}" if sign.verdict != "ok" else "")
+        fix = (f"; {in_flags(sign.problem(named))}" if sign.verdict != "ok" else "")
         print(f"{args.file}: the fit failed (see the verdict); try --fmin/--fmax, "
               f"--weighting, --driving-point or --n-modes{fix}", file=sys.stderr)
         return 3

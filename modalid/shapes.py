@@ -14,7 +14,7 @@ import numpy as np
 
 from ._checks import as_complex_array
 
-__all__ = ["mac"]
+__all__ = ["mac", "mpc"]
 
 
 def _shapes(name, value):
@@ -67,3 +67,43 @@ def mac(shapes_a, shapes_b) -> np.ndarray:
                          f"got {a.shape[0]} and {b.shape[0]} (shapes {a.shape} and {b.shape})")
     cross = np.abs(a.conj().T @ b) ** 2
     return np.clip(cross / np.outer(na, nb), 0.0, 1.0)
+
+
+def mpc(shapes) -> np.ndarray:
+    """Modal phase collinearity of each shape: 1 for a real (normal) mode, whose points
+    move in phase or in antiphase, towards 0 for a complex one.
+
+        MPC = ((S_rr - S_ii)^2 + 4 S_ri^2) / (S_rr + S_ii)^2
+
+    with ``S_rr = sum Re^2``, ``S_ii = sum Im^2``, ``S_ri = sum Re Im`` over the points
+    (Pappa, Elliott and Schenk, 1993): the squared ratio of the two principal axes'
+    difference to their sum, for the points of the shape in the complex plane. It does not
+    depend on the shape's complex scale.
+
+    Parameters
+    ----------
+    shapes : array_like of complex, shape (n_points, n_modes)
+        One shape per column (a 1-D array is one shape).
+
+    Returns
+    -------
+    ndarray of float, shape (n_modes,)
+        Each in [0, 1].
+
+    Raises
+    ------
+    ValueError
+        Non-finite values or a zero shape vector.
+    TypeError
+        Non-numeric input.
+
+    Examples
+    --------
+    >>> mpc([[1.0, 1.0], [-2.0, 1j]]).round(3)
+    array([1., 0.])
+    """
+    arr, norms = _shapes("shapes", shapes)
+    s_rr = np.sum(arr.real ** 2, axis=0)
+    s_ii = np.sum(arr.imag ** 2, axis=0)
+    s_ri = np.sum(arr.real * arr.imag, axis=0)
+    return np.clip(((s_rr - s_ii) ** 2 + 4.0 * s_ri ** 2) / norms ** 2, 0.0, 1.0)

@@ -33,6 +33,7 @@ DIFFERENT = {
     ("data_synth.synthetic_frf", "seed"): None,
     ("data_synth.synthetic_impulse_response", "seed"): None,
     ("data_synth.synthetic_hammer_test", "seed"): None,
+    ("data_synth.random_modal_model", "seed"): None,
     ("impactpred.benchmark.run_case", "uncertainty"): True,   # a case measures coverage
     # the extent for a model with no fit to count its modes (16 band tops), and the smooth
     # tail's design, in units of omega_a

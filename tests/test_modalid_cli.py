@@ -107,17 +107,23 @@ def test_several_files_are_one_common_pole_fit_with_shapes(tmp_path, capsys):
     assert main(["fit", *paths, "--driving-row", "tip", "--out", str(out_dir)]) == 0
     out = capsys.readouterr().out
     assert "3 FRFs (tip, mid, clamp)" in out and "driving point: yes" in out
-    assert "mode shapes (real part, 1 at the driving point)" in out
+    assert "mode shapes (real part, 1 at the driving point;" in out
     model = MultiOutputModalModel.from_json(out_dir / "tip_set_model.json")
     python = ModalFit().fit(FRFSet.from_frfs(frfs, driving_point=0,
                                              outputs=["tip", "mid", "clamp"])).model_
     assert np.allclose(np.sort(np.abs(model.poles)), np.sort(np.abs(python.poles)),
                        rtol=1e-9)
-    # the first bending mode's shape (its column: the model's lowest pole), against
-    # the exact one scaled to 1 at the tip
+    # the first bending mode's shape (the columns are sorted by |p|: the one of the pole
+    # nearest the exact first mode), against the exact one scaled to 1 at the tip
     exact = beam.mode_shapes(xi, 1)[:, 0]
-    first = model.mode_shapes()[:, np.argsort(np.abs(model.poles))[0]]
-    assert np.allclose(first.real, exact / exact[0], atol=0.02)
+    w1 = beam.natural_frequencies(1)[0]
+    column = int(np.argmin(np.abs(np.sort(np.abs(model.poles)) - w1)))
+    assert np.allclose(model.mode_shapes()[:, column].real, exact / exact[0], atol=0.02)
+    # the printed table: the same shape, and the phase collinearity of a real mode
+    table = out.split("real mode):")[1].splitlines()
+    assert [line.split()[0] for line in table[2:6]] == ["tip", "mid", "clamp", "MPC"]
+    assert float(table[3].split()[1]) == pytest.approx(exact[1] / exact[0], abs=0.02)
+    assert float(table[5].split()[1]) > 0.99
     assert impactpred_main(["predict", "mass:0.1", str(out_dir / "tip_set_model.json"),
                             "--v1", "1", "--t-end", "2"]) == 0
     assert "restitution" in capsys.readouterr().out
@@ -140,7 +146,8 @@ def test_one_uff_of_several_points_is_a_set_with_its_driving_point_from_the_dofs
     text = ""
     for i in range(3):
         path = tmp_path / f"p{i}.uff"
-        write_frf(path, synthetic_frf(truth.row(i), freq_hz, noise=0.01, seed=i),
+        write_frf(path, synthetic_frf(truth.row(i), freq_hz, quantity="accelerance",
+                                      noise=0.01, seed=i),
                   response=(i + 1, 3), reference=(1, 3))
         text += path.read_text()
     (tmp_path / "all.uff").write_text(text)
@@ -150,11 +157,49 @@ def test_one_uff_of_several_points_is_a_set_with_its_driving_point_from_the_dofs
     assert main(["fit", str(tmp_path / "all.uff"), "--set"]) == 0
     out = capsys.readouterr().out
     assert "all.uff: 3 FRFs (1+Z, 2+Z, 3+Z)" in out and "driving point: yes" in out
-    shapes = out.split("mode shapes (real part, 1 at the driving point):")[1].splitlines()
+    shapes = out.split("real mode):")[1].splitlines()
     assert [line.split()[0] for line in shapes[2:5]] == ["1+Z", "2+Z", "3+Z"]
     first = CantileverBeam(1.0, 1.0).natural_frequencies(1)[0] / (2 * np.pi)
     assert shapes[1].split()[1] == "Hz"                        # the first bending mode
     assert float(shapes[1].split()[0]) == pytest.approx(first, rel=1e-3)
+    # the errors printed are in the data's quantity (accelerance), as the Python fit's
+    from modalid import ModalFit, read_frf_set
+
+    python = ModalFit().fit(read_frf_set(tmp_path / "all.uff")).report_["frf_nrmse_data"]
+    printed = out.split("FRF NRMSE ")[1].split(" (accelerance)")[0]
+    assert printed == ", ".join(f"{label} {e:.4g}"
+                                for label, e in zip(("1+Z", "2+Z", "3+Z"), python))
+    assert main(["fit", str(tmp_path / "p0.uff"), "--set"]) == 2       # one FRF: no set
+    assert "holds one FRF" in capsys.readouterr().err
+
+
+@pytest.mark.filterwarnings("ignore::UserWarning")
+def test_a_set_named_by_numbers_and_one_with_no_driving_point(tmp_path, capsys):
+    """Files named 1.csv, 2.csv, 3.csv: --driving-row 2 is the label "2" (the second
+    file), not the index 2; an unknown row is named with the labels. pyuff's three points
+    (transfer FRFs, no driving point): any row named, the fit says it is not one, the
+    shapes are scaled to that row and the saved model is no impact body."""
+    from data_synth import CantileverBeam, synthetic_frf
+    from modalid import write_frf
+
+    truth = CantileverBeam(1.0, 1.0).multi_output_model([0.5, 0.0, 0.8], 8,
+                                                         damping_ratio=0.01, residual=True)
+    freq_hz = np.linspace(0.05, 40.0, 800)
+    paths = []
+    for i in range(3):
+        paths.append(str(tmp_path / f"{i + 1}.csv"))
+        write_frf(paths[-1], synthetic_frf(truth.row(i), freq_hz, noise=0.01, seed=i))
+    assert main(["fit", *paths, "--driving-row", "2"]) == 0
+    out = capsys.readouterr().out
+    assert "driving point: yes" in out and "1 at the driving point" in out
+    assert main(["fit", *paths, "--driving-row", "7"]) == 2
+    assert "neither an output label of the set (1, 2, 3)" in capsys.readouterr().err
+    points = [str(Path(__file__).parent / "data" / f"meas_point_{i}.txt") for i in (1, 2, 3)]
+    assert main(["fit", *points, "--quantity", "accelerance", "--df", "1",
+                 "--driving-row", "meas_point_1", "--out", str(tmp_path / "out")]) == 0
+    out = capsys.readouterr().out
+    assert "driving point: no" in out and "1 at row meas_point_1, not a driving point" in out
+    assert "not an impact body" in out
 
 
 def test_fit_command_on_a_file_with_no_usable_band(tmp_path, capsys):

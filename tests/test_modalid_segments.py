@@ -209,23 +209,6 @@ def test_a_wide_band_without_resonance_says_so():
     assert any("no resonance found" in str(c.message) for c in caught)
 
 
-def fifty_random_modes(zeta=1e-4, seed=7, n=50, f_top=20000.0):
-    """``benchmarks/many_modes.py``'s random set: ``n`` modes uniformly at random on
-    200 Hz .. ``f_top`` - 200 Hz, at least 0.5 % apart, each damping ratio within a factor
-    2 of ``zeta``, modal masses 0.5-5 kg."""
-    rng = np.random.default_rng(seed)
-    ratio = 1.0 + max(0.005, 4.0 * zeta)
-    kept = []
-    for f in rng.uniform(200.0, f_top - 200.0, 100 * n):
-        if all(max(f, k) > ratio * min(f, k) for k in kept):
-            kept.append(f)
-        if len(kept) == n:
-            break
-    freq = np.sort(kept)
-    return ModalModel.from_modes(2 * np.pi * freq, zeta * 2.0 ** rng.uniform(-1, 1, n),
-                                 rng.uniform(0.5, 5.0, n))
-
-
 @pytest.mark.parametrize("n_lines", [2401, 4001])
 def test_modes_far_narrower_than_their_lines_are_found_under_noise(n_lines):
     """Fifty modes of damping about 1e-4 on 5-8 Hz lines (half-power bandwidths of 1/200
@@ -234,9 +217,9 @@ def test_modes_far_narrower_than_their_lines_are_found_under_noise(n_lines):
     rest missing, none lowers the relative misfit), and the missed-mode search's
     one-at-a-time refinements lost every mode below 4.4 kHz: 39 of 50, FRF error 100 %,
     "failed". The wider candidates (``FALLBACK_SHARE``) find all of them."""
-    from data_synth import synthetic_frf
+    from data_synth import random_modal_model, synthetic_frf
 
-    truth = fifty_random_modes()
+    truth = random_modal_model(50, (200.0, 19800.0), 1e-4, seed=7)  # many_modes.py's
     true_hz = np.sort(truth.modes["frequency_hz"].to_numpy(float))
     data = synthetic_frf(truth, np.linspace(1.0, 20000.0, n_lines), noise=0.01, seed=1)
     with warnings.catch_warnings():
