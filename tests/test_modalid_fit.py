@@ -403,10 +403,10 @@ def test_noisy_analyzer_export_case2():
     assert np.min(np.abs(freqs - 192.59)) < 0.5
 
 
-def test_noise_candidates_of_case2_are_refused_by_the_fallback_gate():
+def test_noise_candidates_of_case2_are_refused_by_the_wider_candidates_gate():
     """case2 on 100-300 Hz, no options: no persistent LSCF candidate is supported, and the
-    less persistent ones (``FALLBACK_SHARE``) explain only 55 % of the misfit (ratio
-    0.45 > ``FALLBACK_MISFIT``): they are refused, and the one resonance is found by the
+    less persistent ones (``WIDER_SHARE``) explain only 55 % of the misfit (ratio 0.45,
+    above ``WIDER_MISFIT``): they are refused, and the one resonance is found by the
     missed-mode search as before. Taken, they had kept a 120 Hz mode (FRF error 73 ->
     96 %)."""
     from modalid.io import read_frf
@@ -417,6 +417,30 @@ def test_noise_candidates_of_case2_are_refused_by_the_fallback_gate():
         fit = ModalFit(freq_range=(100, 300)).fit(data)
     freqs = fit.report_["modes"]["frequency_hz"].to_numpy(float)
     assert freqs.size == 1 and abs(freqs[0] - 192.59) < 0.3
+
+
+@pytest.mark.parametrize("seed", [1, 2, 3])
+def test_sharp_modes_the_persistent_candidates_half_miss_are_found_under_noise(seed):
+    """Thirteen modes of damping 5e-5 to 2e-4 on 5 Hz lines (half-power bandwidths 1/200
+    to 1/5 of a line), 1 % noise: the persistent LSCF candidates hold 5-9 of them and leave
+    a third to nine tenths of the misfit; the wider ones (``WIDER_SHARE``) explain it
+    290-1150 times better and are taken. Before, the missed-mode search added the rest
+    one at a time and its refinements merged 3971 and 4132 Hz into one mode at 4158 Hz or
+    lost the lowest or the top one: 12 of 13, "suspect", on every seed."""
+    from data_synth import synthetic_frf
+
+    freq = np.array([273.2, 303.2, 431.2, 899.3, 1061.3, 1361.3, 1993.3, 3227.4, 3340.2,
+                     3971.1, 4131.9, 4420.1, 4614.1])
+    rng = np.random.default_rng(7)
+    truth = ModalModel.from_modes(2 * np.pi * freq, 1e-4 * 2.0 ** rng.uniform(-1, 1, 13),
+                                  rng.uniform(0.5, 5.0, 13))
+    data = synthetic_frf(truth, np.arange(1.0, 4800.0, 5.0), noise=0.01, seed=seed)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        fit = ModalFit().fit(data)
+    found = np.sort(fit.report_["modes"]["frequency_hz"].to_numpy(float))
+    assert fit.report_["verdict"] == "ok" and found.size == 13
+    assert np.allclose(found, freq, rtol=1e-4)
 
 
 def _transfer_accelerance():
@@ -997,7 +1021,10 @@ def test_a_driving_point_whose_passive_fit_stalls_keeps_its_unconstrained_fit():
     itself, but the passive fit started afresh stalled at 20.9 % median line error
     (its upper pseudo-modes dropped), so the FRF was called "not a passive driving point"
     and the impact refused. An unconstrained fit that satisfies the constraint is the
-    constrained optimum: it stands, as a driving point, and the report says why."""
+    constrained optimum: it stands, as a driving point, and the report says why. (Since
+    the less persistent candidates are judged too, the passive fit of this FRF no longer
+    stalls and the outcome is reached directly; the rule itself is checked by
+    :func:`test_a_discarded_passive_fit_says_nothing`.)"""
     from data_synth import lightly_damped, synthetic_frf
 
     rod = Rod(0.3928963509214992, 1.8631548819449462, support="fixed")
@@ -1008,8 +1035,7 @@ def test_a_driving_point_whose_passive_fit_stalls_keeps_its_unconstrained_fit():
         warnings.simplefilter("ignore")
         fit = ModalFit().fit(frf)
     r = fit.report_
-    assert r["driving_point"] is True and "satisfies the passivity constraint" in (
-        r["driving_point_reason"])
+    assert r["driving_point"] is True
     np.testing.assert_allclose(r["modes"]["modal_mass"], rod.modal_model(3).modes[
         "modal_mass"], rtol=2e-3)
     assert r["verdict"] == "ok" and fit.model_.is_passive()

@@ -216,7 +216,7 @@ def test_modes_far_narrower_than_their_lines_are_found_under_noise(n_lines):
     two thirds of the orders; in the first segment no persistent one was supported (the
     rest missing, none lowers the relative misfit), and the missed-mode search's
     one-at-a-time refinements lost every mode below 4.4 kHz: 39 of 50, FRF error 100 %,
-    "failed". The wider candidates (``FALLBACK_SHARE``) find all of them."""
+    "failed". The wider candidates (``WIDER_SHARE``) find all of them."""
     from data_synth import random_modal_model, synthetic_frf
 
     truth = random_modal_model(50, (200.0, 19800.0), 1e-4, seed=7)  # many_modes.py's
