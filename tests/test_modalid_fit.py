@@ -435,12 +435,34 @@ def test_sharp_modes_the_persistent_candidates_half_miss_are_found_under_noise(s
     truth = ModalModel.from_modes(2 * np.pi * freq, 1e-4 * 2.0 ** rng.uniform(-1, 1, 13),
                                   rng.uniform(0.5, 5.0, 13))
     data = synthetic_frf(truth, np.arange(1.0, 4800.0, 5.0), noise=0.01, seed=seed)
+    _assert_finds_every_mode(data, freq, rtol=1e-4)
+
+
+def _assert_finds_every_mode(data, true_hz, rtol):
+    """``ModalFit()`` on ``data``: verdict ok, every frequency of ``true_hz`` (sorted)
+    found within ``rtol`` and no other mode."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         fit = ModalFit().fit(data)
     found = np.sort(fit.report_["modes"]["frequency_hz"].to_numpy(float))
-    assert fit.report_["verdict"] == "ok" and found.size == 13
-    assert np.allclose(found, freq, rtol=1e-4)
+    assert fit.report_["verdict"] == "ok" and found.size == true_hz.size
+    assert np.allclose(found, true_hz, rtol=rtol)
+
+
+@pytest.mark.parametrize("n_lines", [2401, 4001])
+def test_modes_far_narrower_than_their_lines_are_found_under_noise(n_lines):
+    """Fifty modes of damping about 1e-4 on 5-8 Hz lines (half-power bandwidths of 1/200
+    to 1/2 of a line) with 1 % noise, fitted by segments. In the first segment no
+    persistent candidate was supported (the rest missing, none lowers the relative
+    misfit), and the missed-mode search's one-at-a-time refinements lost every mode below
+    4.4 kHz: 39 of 50, FRF error 100 %, "failed". The wider candidates
+    (``WIDER_SHARE``) find all of them."""
+    from data_synth import random_modal_model, synthetic_frf
+
+    truth = random_modal_model(50, (200.0, 19800.0), 1e-4, seed=7)  # many_modes.py's
+    true_hz = np.sort(truth.modes["frequency_hz"].to_numpy(float))
+    data = synthetic_frf(truth, np.linspace(1.0, 20000.0, n_lines), noise=0.01, seed=1)
+    _assert_finds_every_mode(data, true_hz, rtol=3e-4)
 
 
 def _transfer_accelerance():
