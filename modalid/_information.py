@@ -169,9 +169,10 @@ def _greedy_information(mat, gram, y, n_head, n_cand, per, n_params, floor, scal
     return keep & ~negative if passive else keep, bic, negative
 
 
-def misfit_ratio(bic, n_data, n_params=4) -> float:
-    """The residual sum of squares of the prefix :func:`prefix_information` chose over the
-    one without candidates, from its ``bic`` (``n ln(SSE/n) + n_params k ln(n)``).
+def misfit_ratio(bic, n_data, n_params=4, k=None) -> float:
+    """The residual sum of squares of the prefix :func:`prefix_information` chose (or of
+    its first ``k`` candidates) over the one without candidates, from its ``bic``
+    (``n ln(SSE/n) + n_params k ln(n)``).
 
     Parameters
     ----------
@@ -181,11 +182,13 @@ def misfit_ratio(bic, n_data, n_params=4) -> float:
         The real data ``n`` of the criterion (twice the lines).
     n_params : int
         Parameters per candidate, as in the criterion.
+    k : int, optional
+        The prefix's length; default the one the criterion chose (``argmin bic``).
 
     Returns
     -------
     float
-        In (0, 1]: 1 when no candidate is chosen.
+        In (0, 1] for the chosen prefix (1 when no candidate is chosen).
     """
-    k = int(np.argmin(bic))
+    k = int(np.argmin(bic)) if k is None else int(k)
     return float(np.exp((bic[k] - bic[0] - n_params * k * np.log(n_data)) / n_data))
