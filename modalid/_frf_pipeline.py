@@ -41,7 +41,7 @@ __all__ = ["FRFPipeline", "ModalFitWarning", "fit_report"]
 
 _FAR = 2.0          # the held upper pseudo-mode sits at twice the top of the band
 # the free upper pseudo-mode's starts (x band top): not the held one's (both dropped idle)
-_UPPER_RATIOS = (1.02, 1.05, 1.1, 1.2, 1.35, 1.6, 2.8, 4.0)
+_UPPER_RATIOS = tuple(r for r in (1.02, 1.05, 1.1, 1.2, 1.35, 1.6, 2.0, 2.8, 4.0) if r != _FAR)
 # missed modes: per pass (two passes) at most this many added, and the search stops after
 # this many residual peaks rejected in a row ("strict": sparse bands; "dense": many weak
 # modes). On a real hammer test one miss was too few (hold-out error 3.5 % against 2.7 %
@@ -166,7 +166,7 @@ class FRFPipeline(PoleChecks, LowEnd):
         """Clusters in ``min_share`` of their band's orders, ranked by persistence; the
         information criterion decides how many are physical. (Noise and antiresonance
         poles persist over at most two fifths of the orders, physical ones two thirds; a
-        less persistent mode is left to :meth:`_missed_mode`.)
+        less persistent one is judged among the wider candidates, else missed-mode search.)
 
         The clusters in :data:`WIDER_SHARE` of the orders are judged too, and taken
         instead when they explain the band a hundred times better (the misfit of the

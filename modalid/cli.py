@@ -80,8 +80,9 @@ def _save_fit(fit, out: Path, stem: str, source: str, *, several: bool = False,
     elif body:
         use = "the common-pole fit: impactpred predict takes it as a body, its driving row's model"
     else:
-        use = ("the common-pole fit of transfer FRFs: modes and shapes, not an impact body "
-               "(no row is a driving point)")
+        row = fit.model_.outputs[fit.model_.driving_point]
+        use = (f"the common-pole fit of transfer FRFs: modes and shapes, not an impact body "
+               f"(its driving row {row} is not a driving point)")
     print(f"wrote {out / (stem + '_model.json')} ({use}) and {out / (stem + '_fit.png')}")
 
 

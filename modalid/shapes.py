@@ -1,4 +1,5 @@
-"""Mode-shape comparison: the modal assurance criterion (MAC).
+"""Mode-shape measures: the modal assurance criterion (MAC) between shapes, and each
+shape's modal phase collinearity (MPC, :func:`mpc`).
 
     MAC_jk = |a_j^H b_k|^2 / ((a_j^H a_j) (b_k^H b_k))
 
@@ -29,7 +30,7 @@ def _shapes(name, value):
     norms = np.sum(np.abs(arr) ** 2, axis=0)
     if np.any(norms == 0):
         raise ValueError(f"{name} has a zero shape vector (mode {int(np.argmax(norms == 0))}): "
-                         "the MAC is undefined for it")
+                         "the criterion is undefined for it")
     return arr, norms
 
 

@@ -421,7 +421,7 @@ def test_noise_candidates_of_case2_are_refused_by_the_wider_candidates_gate():
 
 @pytest.mark.parametrize("seed", [1, 2, 3])
 def test_sharp_modes_the_persistent_candidates_half_miss_are_found_under_noise(seed):
-    """Thirteen modes of damping 5e-5 to 2e-4 on 5 Hz lines (half-power bandwidths 1/200
+    """Thirteen modes of damping 5e-5 to 2e-4 on 5 Hz lines (half-power bandwidths 1/77
     to 1/5 of a line), 1 % noise: the persistent LSCF candidates hold 5-9 of them and leave
     a third to nine tenths of the misfit; the wider ones (``WIDER_SHARE``) explain it
     290-1150 times better and are taken. Before, the missed-mode search added the rest
@@ -454,8 +454,8 @@ def _assert_finds_every_mode(data, true_hz, rtol):
 
 @pytest.mark.parametrize("n_lines", [2401, 4001])
 def test_modes_far_narrower_than_their_lines_are_found_under_noise(n_lines):
-    """Fifty modes of damping about 1e-4 on 5-8 Hz lines (half-power bandwidths of 1/200
-    to 1/2 of a line) with 1 % noise, fitted by segments. In the first segment no
+    """Fifty modes of damping about 1e-4 on 5-8 Hz lines (half-power bandwidths of 1/140
+    of a line to 1.5 lines) with 1 % noise, fitted by segments. In the first segment no
     persistent candidate was supported (the rest missing, none lowers the relative
     misfit), and the missed-mode search's one-at-a-time refinements lost every mode below
     4.4 kHz: 39 of 50, FRF error 100 %, "failed". The wider candidates

@@ -48,3 +48,22 @@ def test_bad_shapes_are_refused(a, b, match):
 def test_non_numeric_is_a_type_error():
     with pytest.raises(TypeError, match="shapes_a"):
         mac("abc", np.ones((3, 1)))
+
+
+def test_phase_collinearity_of_real_complex_and_scaled_shapes():
+    """modalid.mpc: 1 for a real shape under any complex scale, 0 for points on a circle
+    (a travelling wave), the closed form for one point off the line, and the refusals of
+    the shared checks."""
+    from modalid import mpc
+
+    real = np.array([1.0, -0.5, 0.3, 2.0])
+    np.testing.assert_allclose(mpc(np.outer(real, [1.0, np.exp(0.7j), -3j])), 1.0,
+                               atol=1e-15)
+    circle = np.exp(2j * np.pi * np.arange(4) / 4)
+    np.testing.assert_allclose(mpc(circle), 0.0, atol=1e-15)
+    # (1, i a): S_rr = 1, S_ii = a^2, S_ri = 0 -> ((1 - a^2) / (1 + a^2))^2
+    a = 0.3
+    np.testing.assert_allclose(mpc([1.0, 1j * a]), ((1 - a**2) / (1 + a**2)) ** 2,
+                               rtol=1e-14)
+    with pytest.raises(ValueError, match="zero shape vector"):
+        mpc([[0.0], [0.0]])
