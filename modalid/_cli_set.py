@@ -3,7 +3,6 @@ files as one :class:`modalid.FRFSet` with its driving row, and printing the mode
 
 from __future__ import annotations
 
-import numpy as np
 
 from ._cli import read_options
 
@@ -13,8 +12,7 @@ __all__ = ["read_set", "print_shapes"]
 def read_set(args):
     """The FRFSet of ``modalid fit FILE... [--set] [--driving-row ROW]``: every FRF of the
     files, rows in the order given, read with the reading flags (one ``--quantity``,
-    ``--format``, ``--freq-start``/``--df`` for all; ``--conjugate``/``--negate`` applied
-    to every row).
+    ``--format``, ``--freq-start``/``--df``, ``--conjugate``, ``--negate`` for all).
 
     ``--driving-row`` is an output label or, when no label equals it, a row index from 0;
     without it the UFF records' DOFs decide (:func:`modalid.read_frf_set`).
@@ -35,8 +33,6 @@ def read_set(args):
     options: dict = {}
     for path in args.file:
         for key, value in read_options(args, path).items():
-            if key in ("conjugate", "negate"):
-                continue
             if key == "freq_hz" and "freq_hz" in options and value.size != options[key].size:
                 raise ValueError(f"the complex-lines files of a set must have as many lines "
                                  f"each: {args.file[0]} has {options[key].size}, {path} "
@@ -60,11 +56,6 @@ def read_set(args):
                              f"{len(labels) - 1}")
         data = FRFSet(data.freq_hz, data.values, quantity=data.quantity,
                       coherence=data.coherence, outputs=data.outputs, driving_point=index)
-    if args.conjugate or args.negate:
-        values = np.conj(data.values) if args.conjugate else data.values
-        data = FRFSet(data.freq_hz, -values if args.negate else values,
-                      quantity=data.quantity, coherence=data.coherence,
-                      outputs=data.outputs, driving_point=data.driving_point)
     return data
 
 

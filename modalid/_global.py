@@ -22,7 +22,6 @@ import warnings
 
 import numpy as np
 from scipy.linalg import cholesky, solve_triangular
-from scipy.signal import find_peaks
 
 from ._checks import as_count
 from ._frf_pipeline import ModalFitWarning, reweighting_kept
@@ -34,7 +33,7 @@ from ._band import choose_band, noise_model
 from ._unresolved_damping import damping_off_bound
 from ._zero_start import hold_at_zero
 from ._lscf import lscf_subbands
-from ._segments import default_order
+from ._segments import default_order, resonance_peaks
 from ._lsfd import (Terms, _bounds, _Projection, _realify, _std, design_matrix, noise_level,
                     split_coefficients)
 from .frf_set import FRFSet
@@ -425,7 +424,7 @@ def fit_set(est, data: FRFSet):
     w, coh = _row_weights(est, rec, data)
     est.frf_ = rec
     level = np.sum(np.abs(h) / np.sqrt(np.mean(np.abs(h) ** 2, axis=1, keepdims=True)), axis=0)
-    peaks, _ = find_peaks(np.log10(level), prominence=0.3)
+    peaks = resonance_peaks(level)
     max_order = (as_count("max_order", est.max_order, minimum=2) if est.max_order
                  else default_order(peaks.size))
     bands = lscf_subbands(omega, h, w, max_order, peaks=omega[peaks])

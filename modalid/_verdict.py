@@ -100,10 +100,17 @@ MISS_ERROR = 0.2
 MISS_FACTOR = 10.0
 
 
+def _miss_threshold(noise):
+    """The FRF error the missed-peak gate allows: :data:`MISS_ERROR`, and :data:`MISS_FACTOR`
+    times the data's median relative scatter ``noise`` (scalar or per row); infinite (the
+    gate off) where the scatter is not measured."""
+    noise = np.asarray(noise, float)
+    return np.where(np.isfinite(noise), np.maximum(MISS_ERROR, MISS_FACTOR * noise), np.inf)
+
+
 def _missed_peaks(error, noise) -> bool:
-    """The missed-peak gate: an FRF error above :data:`MISS_ERROR` and :data:`MISS_FACTOR`
-    times the data's median relative scatter (off where the scatter is not measured)."""
-    return bool(np.isfinite(noise) and error > max(MISS_ERROR, MISS_FACTOR * noise))
+    """The missed-peak gate: an FRF error above :func:`_miss_threshold`."""
+    return bool(error > _miss_threshold(noise))
 
 
 def line_error_tolerance(relative_noise):
@@ -229,6 +236,7 @@ def judged_report(report, model, frf, *, driving_point, reason, weighting, weigh
     weighting and band entries are stored as given.
     """
     modes = report["modes"].copy()
+    miss = None                               # the missed-peak gate's row: a set's own
     if isinstance(frf, FRFData):
         spacing = float(np.median(np.diff(frf.freq_hz)))
         band = report["band_hz"]
@@ -243,17 +251,13 @@ def judged_report(report, model, frf, *, driving_point, reason, weighting, weigh
         worst = int(np.argmax(errors / line_error_tolerance(noises)))
         relative = (float(errors[worst]), float(noises[worst]))
         rows = np.atleast_1d(np.asarray(report["frf_nrmse_data"], dtype=float))
-        scale = np.maximum(MISS_ERROR, MISS_FACTOR * np.where(np.isfinite(noises), noises,
-                                                               np.inf))
-        judged = int(np.argmax(rows / scale))       # each row against its own scatter
+        judged = int(np.argmax(rows / _miss_threshold(noises)))    # each row, own scatter
         miss = (float(rows[judged]), float(noises[judged]))
     else:                                     # an impulse response
         spacing, band = 0.0, report.get("band_hz", (0.0, np.inf))
         nrmse = float(np.max(np.atleast_1d(report.get("frf_nrmse",
                                                       report.get("impulse_nrmse", 0.0)))))
         relative = (0.0, np.nan)
-    if not isinstance(frf, FRFSet):
-        miss = None
     modes["damping_resolved"] = damping_resolved(modes, spacing)
     finite = all(np.all(np.isfinite(np.asarray(a))) for a in (
         model.poles, model.residues, model.inverse_mass, model.flexibility,

@@ -435,15 +435,26 @@ def read_frf(path, *, format=None, quantity=None, columns=None, index=None,
     -------
     FRFData
     """
+    _check_orientation(conjugate, negate)
+    return _oriented(_read_one(path, format, quantity, columns, index, freq_hz), conjugate,
+                     negate)
+
+
+def _check_orientation(conjugate, negate) -> None:
+    """``TypeError`` unless ``conjugate`` and ``negate`` are booleans."""
     for name, flag in (("conjugate", conjugate), ("negate", negate)):
         if not isinstance(flag, (bool, np.bool_)):
             raise TypeError(f"{name} must be True or False, got {flag!r}")
-    frf = _read_one(path, format, quantity, columns, index, freq_hz)
-    if conjugate or negate:
-        values = np.conj(frf.values) if conjugate else frf.values
-        frf = FRFData(frf.freq_hz, -values if negate else values, quantity=frf.quantity,
-                      coherence=frf.coherence, excitation=frf.excitation)
-    return frf
+
+
+def _oriented(frf: FRFData, conjugate, negate) -> FRFData:
+    """``frf`` read with :func:`read_frf`'s ``conjugate`` (complex conjugate values) and
+    ``negate`` (values of reversed sign); itself when neither is asked."""
+    if not (conjugate or negate):
+        return frf
+    values = np.conj(frf.values) if conjugate else frf.values
+    return FRFData(frf.freq_hz, -values if negate else values, quantity=frf.quantity,
+                   coherence=frf.coherence, excitation=frf.excitation)
 
 
 def _read_one(path, format, quantity, columns, index, freq_hz):

@@ -15,7 +15,8 @@ import re
 
 from ._io_records import _QUANTITY_WORDS, _UNITS, _WORDS, _build, split_unit
 from .frf_set import FRFSet, grid_difference
-from .io import _load_table, _read_raw, _read_table, _resolve, read_complex_lines
+from .io import (_check_orientation, _load_table, _oriented, _read_raw, _read_table, _resolve,
+                 read_complex_lines)
 
 __all__ = ["read_frf_set"]
 
@@ -83,7 +84,8 @@ def _unique(labels):
 
 
 def read_frf_set(path_or_paths, *, driving_point="auto", format=None, quantity=None,
-                 columns=None, outputs=None, freq_hz=None) -> FRFSet:
+                 columns=None, outputs=None, freq_hz=None, conjugate=False,
+                 negate=False) -> FRFSet:
     """Read several FRFs of one input as one :class:`FRFSet`.
 
     Parameters
@@ -110,6 +112,9 @@ def read_frf_set(path_or_paths, *, driving_point="auto", format=None, quantity=N
         the file names.
     freq_hz : array_like of float, optional
         Frequencies (Hz) of bare complex-lines files.
+    conjugate, negate : bool, default False
+        As :func:`modalid.io.read_frf`, for every FRF read (a file convention, or a
+        response direction, that all the rows share).
 
     Returns
     -------
@@ -122,6 +127,7 @@ def read_frf_set(path_or_paths, *, driving_point="auto", format=None, quantity=N
         of different quantities, no driving point found for ``"auto"`` (or several), an
         output index or label out of range, non-finite values.
     """
+    _check_orientation(conjugate, negate)
     single = isinstance(path_or_paths, (str, os.PathLike))
     paths = [path_or_paths] if single else list(path_or_paths)
     if not paths:
@@ -149,6 +155,7 @@ def read_frf_set(path_or_paths, *, driving_point="auto", format=None, quantity=N
         sources += [f"{path}" + (f" (FRF {k})" if len(names) > 1 else "")
                     for k in range(len(names))]
         labels += names
+    frfs = [_oriented(frf, conjugate, negate) for frf in frfs]
     for i, frf in enumerate(frfs[1:], start=1):
         if frf.quantity != frfs[0].quantity:
             raise ValueError(f"{sources[i]} is {frf.quantity}, {sources[0]} is "

@@ -6,7 +6,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from modalid import FRFData, FRFSet, read_frf_set, write_frf
+from modalid import FRFData, FRFSet, read_frf, read_frf_set, write_frf
 
 DATA = Path(__file__).parent / "data"
 MEASURED = [DATA / f"meas_point_{k}.txt" for k in (1, 2, 3)]
@@ -261,3 +261,19 @@ def test_frf_data_carries_its_excitation_spectrum_and_checks_it():
         FRFData(freq, np.ones(4), excitation=np.ones(3))
     with pytest.raises(ValueError, match="excitation must be non-negative.*-1.0"):
         FRFData(freq, np.ones(4), excitation=[1.0, -1.0, 1.0, 1.0])
+
+
+def test_read_frf_set_reads_every_row_conjugated_or_negated_as_read_frf_does(tmp_path):
+    """``conjugate``/``negate`` apply to every row, as :func:`read_frf` applies them to one
+    FRF (the command line's --conjugate/--negate for a set); a flag that is not a bool is
+    refused as read_frf refuses it."""
+    paths = write_uffs(tmp_path, [(1, 1), (2, 1)])
+    plain = read_frf_set(paths)
+    turned = read_frf_set(paths, conjugate=True, negate=True)
+    np.testing.assert_array_equal(turned.values, -np.conj(plain.values))
+    assert turned.driving_point == plain.driving_point and turned.outputs == plain.outputs
+    for i, path in enumerate(paths):
+        np.testing.assert_array_equal(turned.values[i],
+                                      read_frf(path, conjugate=True, negate=True).values)
+    with pytest.raises(TypeError, match="negate must be True or False"):
+        read_frf_set(paths, negate="yes")
