@@ -29,7 +29,8 @@ MAX_STALLS = 50
 #: and their samples all memory, to reach ``t_end``)
 MIN_ADVANCE = 1e-12
 #: a phase that starts where the loop decided its event row opens takes a start below
-#: zero by at most this share of the row's terms as the previous phase's rounding
+#: zero by at most this share of the row's terms, or the worst-case rounding of their sum
+#: (``terms x eps x`` its rounding scale, larger where the terms cancel), as rounding
 _START_OFFSET = 1e-9
 
 
@@ -183,10 +184,12 @@ def phase_run(rates, abs_rates, abs_rates4, order, modes_r, modes_i, proj_r, pro
         # the loop has decided the row opens here (the gap in a free flight, the force in
         # a contact), so it is zero here: a start below zero by the previous phase's
         # rounding (a held gap's drift above this phase's own rounding level; a stiff
-        # spring's force -k g at a gap located to its tolerance) is not an event; the
-        # search takes the row from that offset
+        # spring's force -k g at a gap located to its tolerance; a stuck phase's force at
+        # a contact start, its terms cancelling from 1e6 times their sum) is not an event;
+        # the search takes the row from that offset
         start = row_value(rates, b_ev[0], p_ev[0], 0.0, 0)
-        if -_START_OFFSET * total <= start < 0.0:
+        allowed = max(_START_OFFSET * total, (m + k) * np.finfo(np.float64).eps * rounding)
+        if -allowed <= start < 0.0:
             p_ev[0, 0] -= start
     if m:
         tau, _ = first_event(rates, abs_rates, abs_rates4, order, b_ev, p_ev, t_end - t0,
