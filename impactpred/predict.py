@@ -35,6 +35,8 @@ import numpy as np
 from modalid import ModalModel, MultiOutputModalModel, SavedFit
 from modalid.validation import as_real_scalar
 
+from ._band_checks import (RIGID_LINE_SHARE, RIGID_LINE_SPAN, BandWarning, band_reach,
+                           force_energy_above, force_energy_below)
 from ._figures import band_resolution, impact_figures
 from ._specs import (READ_OPTIONS, body_label, check_estimator, identify, parse_contact,
                      read_options_pair)
@@ -55,10 +57,6 @@ __all__ = ["predict", "Prediction", "parse_body", "parse_contact", "BandWarning"
 #: by a rod, identified on 20 modes, had 1.2-1.7 % there and its restitution 0.6-1.1 % off
 #: (0.01-0.07 % with the continuation)
 CONTINUATION_SHARE = 1e-3
-
-
-class BandWarning(UserWarning):
-    """The predicted force has a good part of its spectrum above a body's measured band."""
 
 
 class ContinuationWarning(UserWarning):
@@ -262,117 +260,6 @@ class Prediction:
     band_reach_below: tuple = (None, None)
 
 
-def _force_samples(result: ImpactResult) -> tuple:
-    """``(samples, dt)``: the contact force resampled on a uniform grid over the run (at
-    least 4096 samples, a power of two), each Dirac impulse as one sample of
-    ``impulse / dt``."""
-    t, f = result.t, result.force
-    n = max(4096, int(2 ** np.ceil(np.log2(t.size))))
-    grid = np.linspace(t[0], t[-1], n)
-    dt = grid[1] - grid[0]
-    signal = np.interp(grid, t, f)
-    for time, impulse in result.dirac_impulses:
-        signal[min(int(round(time / dt)), n - 1)] += impulse / dt
-    return signal, dt
-
-
-def force_energy_above(result: ImpactResult, freq_hz: float) -> float:
-    """Share (0-1) of the contact force's spectral energy above ``freq_hz``.
-
-    Computed from the force history resampled on a uniform grid (FFT); Dirac parts
-    count as white (all frequencies alike) over the grid's band.
-    """
-    signal, dt = _force_samples(result)
-    spectrum = np.abs(np.fft.rfft(signal)) ** 2
-    freq = np.fft.rfftfreq(signal.size, dt)
-    total = float(np.sum(spectrum[1:]))
-    return float(np.sum(spectrum[freq > freq_hz]) / total) if total > 0 else 0.0
-
-
-def force_energy_below(result: ImpactResult, freq_hz: float) -> float:
-    """Share (0-1) of the contact force's spectral energy below ``freq_hz``.
-
-    As :func:`force_energy_above` (the force resampled on a uniform grid, Dirac parts white
-    over the grid's band), with the record padded with zeros (the force after the run:
-    none, unless the bodies are still in contact at its end) until its spectral lines lie
-    at most ``freq_hz / 16`` apart (padded to 2**22 samples at most), so that a low
-    ``freq_hz`` is resolved: the run's own length, 1/t_end apart, may not. Each line holds
-    the energy of its own width (the DC line half of one), read linearly within the line
-    at ``freq_hz``. (The share above of :func:`force_energy_above`, the continuation's
-    rule, leaves the DC line out of its total and is not padded, so it sees nothing
-    between its lines, 1/t_end apart: the two need not add to 1. A half-sine pulse in a
-    run of 0.2 s: 0.97-0.99 together at 5-50 Hz, 1.07 at 2 Hz.)
-
-    Parameters
-    ----------
-    result : ImpactResult
-        A solved impact.
-    freq_hz : float
-        The frequency (Hz) below which the energy is counted.
-
-    Returns
-    -------
-    float
-        The share, 0 for a force that is zero throughout.
-    """
-    signal, dt = _force_samples(result)
-    lines = 16.0 / (freq_hz * dt) if freq_hz > 0 else 1.0      # lines freq_hz / 16 apart
-    padded = max(signal.size, min(int(2 ** np.ceil(np.log2(lines))), 2 ** 22))
-    spectrum = np.abs(np.fft.rfft(signal, padded)) ** 2
-    spectrum[0] *= 0.5                   # the DC line holds [0, df/2), the others df each
-    df = 1.0 / (padded * dt)
-    # the energy up to each line's upper edge, read at freq_hz (linear within a line)
-    edges = (np.arange(spectrum.size) + 0.5) * df
-    cumulative = np.cumsum(spectrum)
-    total = float(cumulative[-1])
-    if total <= 0:
-        return 0.0
-    return float(np.interp(freq_hz, np.concatenate(([0.0], edges)),
-                           np.concatenate(([0.0], cumulative))) / total)
-
-
-#: a rigid-body line is a free body's exact receptance, but a mode just below the band
-#: looks the same from above it: the line is taken on trust only where the band shows it
-#: over this span, its bottom at most this fraction of the lowest mode's frequency (a free
-#: rod measured from 30 Hz, its first mode at 500 Hz: trusted; a fixed rod measured from
-#: 300 Hz, its 250 Hz mode taken for a rigid body and its next at 750 Hz, or a cantilever
-#: measured from 1.65 times its first mode, next at 3.8 times the band's bottom: not)
-RIGID_LINE_SPAN = 0.1
-#: the share of the contact force's energy below the band a trusted rigid-body line is
-#: trusted with (a free rod struck by a mass of its weight, measured from 1, 7 and 30 Hz:
-#: 0.3, 2.7 and 9 % of the force's energy below the band, its restitution right each time)
-RIGID_LINE_SHARE = 0.1
-
-
-def _lower_terms(fit, band_tolerance: float) -> tuple:
-    """``(words, share)``: what of ``fit``'s model stands for the body below its band, and
-    the share of the force's energy below the band it is trusted with; ``(None, inf)``
-    without such a term (the model below the band is then its modes' own, right when no
-    mode lies there). A lower residual pseudo-mode (modes below the band, lumped) is
-    trusted with ``band_tolerance``; a rigid-body line the band shows over a decade below
-    its lowest mode (:data:`RIGID_LINE_SPAN`) with :data:`RIGID_LINE_SHARE`, one it shows
-    over less with ``band_tolerance``."""
-    report = fit.report_
-    if report.get("lower_residual_mode"):
-        return ("a lower residual term (what lies below the band, as one pseudo-mode)",
-                band_tolerance)
-    if report.get("rigid_body"):
-        low, top = report["band_hz"]
-        modes = report.get("modes")
-        freqs = (np.asarray(modes["frequency_hz"], float) if modes is not None
-                 and "frequency_hz" in modes else np.zeros(0))
-        freqs = freqs[np.isfinite(freqs)]
-        lowest = float(freqs.min()) if freqs.size else top
-        if low <= RIGID_LINE_SPAN * lowest:
-            return ("a rigid-body line (a free body's, seen over a decade below its first "
-                    "mode)", max(band_tolerance, RIGID_LINE_SHARE))
-        seen = (f"seen up to {lowest / low:.2g} times the band's bottom" if lowest > low
-                else "beside a mode at the band's bottom")
-        return (f"a rigid-body line {seen} (a mode just below the band looks the same from "
-                "above it)", band_tolerance)
-    return None, np.inf
-
-
 def _check_model(model, spec, body: int, check_passive: bool) -> None:
     """Refuse a modal model that is not a stable, passive driving point (see
     :func:`check_driving_point`), unless ``check_passive`` is False."""
@@ -398,40 +285,6 @@ def _bodies(specs, *, quantity, estimator, read_options, check_passive):
         models.append(model)
         fits.append(fit)
     return models, fits
-
-
-def _band_reach(result, fits, notes, band_tolerance) -> tuple:
-    """Per identified body, the shares of the force's energy above and below its band
-    (None for the other bodies), with a :class:`BandWarning` for each above
-    ``band_tolerance``: above, always; below, where the model has a term standing for
-    what lies below the band and more than it is trusted with lies there
-    (:func:`_lower_terms`)."""
-    above: list[float | None] = []
-    below: list[float | None] = []
-    for i, (fit, note) in enumerate(zip(fits, notes)):
-        if fit is None:
-            above.append(None)
-            below.append(None)
-            continue
-        low, top = fit.report_["band_hz"]
-        share = force_energy_above(result, top)
-        above.append(share)
-        if share > band_tolerance:
-            there = ("its continuation above the band" if note.startswith("on")
-                     else "the model's residual terms there")
-            warnings.warn(f"body {i + 1}: {100 * share:.1f} % of the contact force's energy "
-                          f"lies above its measured band ({top:.4g} Hz); the prediction "
-                          f"relies on {there}", BandWarning, stacklevel=3)
-        share = force_energy_below(result, low)
-        below.append(share)
-        terms, trusted = _lower_terms(fit, band_tolerance)
-        if share > trusted:
-            warnings.warn(f"body {i + 1}: {100 * share:.1f} % of the contact force's energy "
-                          f"lies below its measured band ({low:.4g} Hz), where its model "
-                          f"has only {terms}: the prediction relies on it there; an FRF "
-                          "measured from below both the body's first mode and the bulk of "
-                          "the force's spectrum would settle it", BandWarning, stacklevel=3)
-    return above, below
 
 
 def _solve_pair(model1, model2, *, velocity1, velocity2, check_passive, gap, contact, t_end,
@@ -477,7 +330,9 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
         lies above an identified body's band (the model is extrapolated there), or below
         it where the model has a lower residual pseudo-mode or a rigid-body line standing
         for what lies there (one seen over a decade: above :data:`RIGID_LINE_SHARE`;
-        ``Prediction.band_reach_below``).
+        ``Prediction.band_reach_below``); and, where such a term is not seen over a
+        decade, when the run goes on after the first contact for more than a quarter
+        period of the band's bottom (a mode below the band would turn the body back).
     continuation : {"auto", True, False}, default "auto"
         Continue the models identified from FRF files above their band (the structure's
         high-frequency impedance from its top modes; see
@@ -591,7 +446,7 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
         band = uncertainty_band(models, fits, solve, n_draws=uncertainty_draws, seed=seed,
                                 continuation=continued, nominal=result, executor=executor,
                                 contact=law)
-    reach, reach_below = _band_reach(result, fits, notes, band_tolerance)
+    reach, reach_below = band_reach(result, fits, notes, band_tolerance)
     return Prediction(result=result, fits=tuple(fits), band_reach=tuple(reach),
                       figures=figures, uncertainty=band, continuation=tuple(notes),
                       band_reach_below=tuple(reach_below))

@@ -1,0 +1,200 @@
+"""What of a predicted impact lies outside an identified body's measured band: the contact
+force's energy above and below it, and how long the run relies on the model below it.
+
+:func:`band_reach` is :func:`impactpred.predict`'s check of the band: a
+:class:`BandWarning` for what the prediction relies on outside the data (the continuation
+or residual terms above the band; below it, a rigid-body line or a lower residual
+pseudo-mode, by the force's energy there and by the time the run goes on after the first
+contact).
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+
+from .result import ImpactResult
+
+__all__ = ["BandWarning", "force_energy_above", "force_energy_below", "lower_terms",
+           "band_reach", "RIGID_LINE_SPAN", "RIGID_LINE_SHARE"]
+
+
+class BandWarning(UserWarning):
+    """A prediction relies on a body's model outside its measured band: a good part of the
+    contact force's spectrum lies above or below the band, or the run outlasts what the
+    band vouches for below it."""
+
+
+def _force_samples(result: ImpactResult) -> tuple:
+    """``(samples, dt)``: the contact force resampled on a uniform grid over the run (at
+    least 4096 samples, a power of two), each Dirac impulse as one sample of
+    ``impulse / dt``."""
+    t, f = result.t, result.force
+    n = max(4096, int(2 ** np.ceil(np.log2(t.size))))
+    grid = np.linspace(t[0], t[-1], n)
+    dt = grid[1] - grid[0]
+    signal = np.interp(grid, t, f)
+    for time, impulse in result.dirac_impulses:
+        signal[min(int(round(time / dt)), n - 1)] += impulse / dt
+    return signal, dt
+
+
+def force_energy_above(result: ImpactResult, freq_hz: float) -> float:
+    """Share (0-1) of the contact force's spectral energy above ``freq_hz``.
+
+    Computed from the force history resampled on a uniform grid (FFT); Dirac parts
+    count as white (all frequencies alike) over the grid's band.
+    """
+    signal, dt = _force_samples(result)
+    spectrum = np.abs(np.fft.rfft(signal)) ** 2
+    freq = np.fft.rfftfreq(signal.size, dt)
+    total = float(np.sum(spectrum[1:]))
+    return float(np.sum(spectrum[freq > freq_hz]) / total) if total > 0 else 0.0
+
+
+def force_energy_below(result: ImpactResult, freq_hz: float) -> float:
+    """Share (0-1) of the contact force's spectral energy below ``freq_hz``.
+
+    As :func:`force_energy_above` (the force resampled on a uniform grid, Dirac parts white
+    over the grid's band), with the record padded with zeros (the force after the run:
+    none, unless the bodies are still in contact at its end) until its spectral lines lie
+    at most ``freq_hz / 16`` apart (padded to 2**22 samples at most), so that a low
+    ``freq_hz`` is resolved: the run's own length, 1/t_end apart, may not. Each line holds
+    the energy of its own width (the DC line half of one), read linearly within the line
+    at ``freq_hz``. (The share above of :func:`force_energy_above`, the continuation's
+    rule, leaves the DC line out of its total and is not padded, so it sees nothing
+    between its lines, 1/t_end apart: the two need not add to 1. A half-sine pulse in a
+    run of 0.2 s: 0.97-0.99 together at 5-50 Hz, 1.07 at 2 Hz.)
+
+    Parameters
+    ----------
+    result : ImpactResult
+        A solved impact.
+    freq_hz : float
+        The frequency (Hz) below which the energy is counted.
+
+    Returns
+    -------
+    float
+        The share, 0 for a force that is zero throughout.
+    """
+    signal, dt = _force_samples(result)
+    lines = 16.0 / (freq_hz * dt) if freq_hz > 0 else 1.0      # lines freq_hz / 16 apart
+    padded = max(signal.size, min(int(2 ** np.ceil(np.log2(lines))), 2 ** 22))
+    spectrum = np.abs(np.fft.rfft(signal, padded)) ** 2
+    spectrum[0] *= 0.5                   # the DC line holds [0, df/2), the others df each
+    df = 1.0 / (padded * dt)
+    # the energy up to each line's upper edge, read at freq_hz (linear within a line)
+    edges = (np.arange(spectrum.size) + 0.5) * df
+    cumulative = np.cumsum(spectrum)
+    total = float(cumulative[-1])
+    if total <= 0:
+        return 0.0
+    return float(np.interp(freq_hz, np.concatenate(([0.0], edges)),
+                           np.concatenate(([0.0], cumulative))) / total)
+
+
+#: a rigid-body line is a free body's exact receptance, but a mode just below the band
+#: looks the same from above it: the line is taken on trust only where the band shows it
+#: over this span, its bottom at most this fraction of the lowest mode's frequency (a free
+#: rod measured from 30 Hz, its first mode at 500 Hz: trusted; a fixed rod measured from
+#: 300 Hz, its 250 Hz mode taken for a rigid body and its next at 750 Hz, or a cantilever
+#: measured from 1.65 times its first mode, next at 3.8 times the band's bottom: not)
+RIGID_LINE_SPAN = 0.1
+#: the share of the contact force's energy below the band a trusted rigid-body line is
+#: trusted with (a free rod struck by a mass of its weight, measured from 1, 7 and 30 Hz:
+#: 0.3, 2.7 and 9 % of the force's energy below the band, its restitution right each time)
+RIGID_LINE_SHARE = 0.1
+
+
+def lower_terms(fit, band_tolerance: float) -> tuple:
+    """``(words, share)``: what of ``fit``'s model stands for the body below its band, and
+    the share of the force's energy below the band it is trusted with; ``(None, inf)``
+    without such a term (the model below the band is then its modes' own, right when no
+    mode lies there). A lower residual pseudo-mode (modes below the band, lumped) is
+    trusted with ``band_tolerance``; a rigid-body line the band shows over a decade below
+    its lowest mode (:data:`RIGID_LINE_SPAN`) with :data:`RIGID_LINE_SHARE`, one it shows
+    over less with ``band_tolerance``."""
+    report = fit.report_
+    if report.get("lower_residual_mode"):
+        return ("a lower residual term (what lies below the band, as one pseudo-mode)",
+                band_tolerance)
+    if report.get("rigid_body"):
+        low, top = report["band_hz"]
+        modes = report.get("modes")
+        freqs = (np.asarray(modes["frequency_hz"], float) if modes is not None
+                 and "frequency_hz" in modes else np.zeros(0))
+        freqs = freqs[np.isfinite(freqs)]
+        lowest = float(freqs.min()) if freqs.size else top
+        if low <= RIGID_LINE_SPAN * lowest:
+            return ("a rigid-body line (a free body's, seen over a decade below its first "
+                    "mode)", max(band_tolerance, RIGID_LINE_SHARE))
+        seen = (f"seen up to {lowest / low:.2g} times the band's bottom" if lowest > low
+                else "beside a mode at the band's bottom")
+        return (f"a rigid-body line {seen} (a mode just below the band looks the same from "
+                "above it)", band_tolerance)
+    return None, np.inf
+
+
+def band_reach(result, fits, notes, band_tolerance) -> tuple:
+    """Per identified body, the shares of the force's energy above and below its band
+    (None for the other bodies), with a :class:`BandWarning` for each above
+    ``band_tolerance``: above, always; below, where the model has a term standing for
+    what lies below the band and more than it is trusted with lies there
+    (:func:`lower_terms`), or, for a term trusted only with ``band_tolerance``, where the
+    run goes on after the first contact past a quarter period of the band's bottom
+    (:func:`_outlasts_band_bottom`)."""
+    above: list[float | None] = []
+    below: list[float | None] = []
+    for i, (fit, note) in enumerate(zip(fits, notes)):
+        if fit is None:
+            above.append(None)
+            below.append(None)
+            continue
+        low, top = fit.report_["band_hz"]
+        share = force_energy_above(result, top)
+        above.append(share)
+        if share > band_tolerance:
+            there = ("its continuation above the band" if note.startswith("on")
+                     else "the model's residual terms there")
+            warnings.warn(f"body {i + 1}: {100 * share:.1f} % of the contact force's energy "
+                          f"lies above its measured band ({top:.4g} Hz); the prediction "
+                          f"relies on {there}", BandWarning, stacklevel=3)
+        share = force_energy_below(result, low)
+        below.append(share)
+        terms, trusted = lower_terms(fit, band_tolerance)
+        if share > trusted:
+            warnings.warn(f"body {i + 1}: {100 * share:.1f} % of the contact force's energy "
+                          f"lies below its measured band ({low:.4g} Hz), where its model "
+                          f"has only {terms}: the prediction relies on it there; an FRF "
+                          "measured from below both the body's first mode and the bulk of "
+                          "the force's spectrum would settle it", BandWarning, stacklevel=3)
+        elif terms is not None and trusted <= band_tolerance:
+            _outlasts_band_bottom(result, i + 1, low, terms)
+    return above, below
+
+
+def _outlasts_band_bottom(result, body: int, low: float, terms: str) -> None:
+    """A :class:`BandWarning` when the run goes on after its first contact for more than a
+    quarter period of the band's bottom ``low`` (Hz), where the body's model below the
+    band is ``terms`` (a term the band does not vouch for): a mode below the band turns
+    the body back after a quarter of its period, longer than that; the model's term need
+    not (a rigid-body line never does). What the force's energy below the band cannot
+    show: the model's own run has no late contact to put energy there. A cantilever
+    measured from 2.1 times its first mode, its mode taken for a rigid body, struck by a
+    mass for 30 s: 0.8 % of the force's energy below the band, restitution 0.17 for the
+    exact 0.34 (the beam comes back and chatters against the mass)."""
+    starts = [start for start, _ in result.contact_intervals]
+    if not starts or not low > 0:
+        return
+    after = float(result.t[-1]) - min(starts)
+    quarter = 0.25 / low
+    if after > quarter:
+        warnings.warn(f"body {body}: the run goes on {after:.3g} s after the first contact, "
+                      f"{after / quarter:.3g} times a quarter period of the bottom of its "
+                      f"measured band ({low:.4g} Hz: {quarter:.3g} s), below which its model "
+                      f"has only {terms}: the motion after that (a return, later contacts, "
+                      "the final restitution) relies on it; an FRF measured from below the "
+                      "body's first mode, or a t_end within that time of the contact, "
+                      "would settle it", BandWarning, stacklevel=4)
