@@ -16,8 +16,7 @@ import numpy as np
 
 from .result import ImpactResult
 
-__all__ = ["BandWarning", "force_energy_above", "force_energy_below", "lower_terms",
-           "band_reach", "RIGID_LINE_SPAN", "RIGID_LINE_SHARE"]
+__all__ = ["BandWarning", "force_energy_above", "force_energy_below", "band_reach"]
 
 
 class BandWarning(UserWarning):
@@ -95,59 +94,18 @@ def force_energy_below(result: ImpactResult, freq_hz: float) -> float:
                            np.concatenate(([0.0], cumulative))) / total)
 
 
-#: a rigid-body line is a free body's exact receptance, but a mode just below the band
-#: looks the same from above it: the line is taken on trust only where the band shows it
-#: over this span, its bottom at most this fraction of the lowest mode's frequency (a free
-#: rod measured from 30 Hz, its first mode at 500 Hz: trusted; a fixed rod measured from
-#: 300 Hz, its 250 Hz mode taken for a rigid body and its next at 750 Hz, or a cantilever
-#: measured from 1.65 times its first mode, next at 3.8 times the band's bottom: not)
-RIGID_LINE_SPAN = 0.1
-#: the share of the contact force's energy below the band a trusted rigid-body line is
-#: trusted with (a free rod struck by a mass of its weight, measured from 1, 7 and 30 Hz:
-#: 0.3, 2.7 and 9 % of the force's energy below the band, its restitution right each time)
-RIGID_LINE_SHARE = 0.1
-
-
-def lower_terms(fit, band_tolerance: float) -> tuple:
-    """``(words, share)``: what of ``fit``'s model stands for the body below its band, and
-    the share of the force's energy below the band it is trusted with; ``(None, inf)``
-    without such a term (the model below the band is then its modes' own, right when no
-    mode lies there). A lower residual pseudo-mode (modes below the band, lumped) is
-    trusted with ``band_tolerance``; a rigid-body line the band shows over a decade below
-    its lowest mode (:data:`RIGID_LINE_SPAN`) with :data:`RIGID_LINE_SHARE`, one it shows
-    over less with ``band_tolerance``."""
-    report = fit.report_
-    if report.get("lower_residual_mode"):
-        return ("a lower residual term (what lies below the band, as one pseudo-mode)",
-                band_tolerance)
-    if report.get("rigid_body"):
-        low, top = report["band_hz"]
-        modes = report.get("modes")
-        freqs = (np.asarray(modes["frequency_hz"], float) if modes is not None
-                 and "frequency_hz" in modes else np.zeros(0))
-        freqs = freqs[np.isfinite(freqs)]
-        lowest = float(freqs.min()) if freqs.size else top
-        if low <= RIGID_LINE_SPAN * lowest:
-            return ("a rigid-body line (a free body's, seen over a decade below its first "
-                    "mode)", max(band_tolerance, RIGID_LINE_SHARE))
-        seen = (f"seen up to {lowest / low:.2g} times the band's bottom" if lowest > low
-                else "beside a mode at the band's bottom")
-        return (f"a rigid-body line {seen} (a mode just below the band looks the same from "
-                "above it)", band_tolerance)
-    return None, np.inf
-
-
-def band_reach(result, fits, notes, band_tolerance) -> tuple:
+def band_reach(result, fits, notes, band_tolerance, lower) -> tuple:
     """Per identified body, the shares of the force's energy above and below its band
     (None for the other bodies), with a :class:`BandWarning` for each above
     ``band_tolerance``: above, always; below, where the model has a term standing for
-    what lies below the band and more than it is trusted with lies there
-    (:func:`lower_terms`), or, for a term trusted only with ``band_tolerance``, where the
-    run goes on after the first contact past a quarter period of the band's bottom
-    (:func:`_outlasts_band_bottom`)."""
+    what lies below the band and more than it is trusted with lies there (``lower``: per
+    body, ``(words, share)`` naming that term and the share of the energy it is trusted
+    with, ``(None, inf)`` without one; ``impactpred.predict._lower_terms``), or, for a
+    term trusted only with ``band_tolerance``, where the run goes on after the first
+    contact past a quarter period of the band's bottom (:func:`_outlasts_band_bottom`)."""
     above: list[float | None] = []
     below: list[float | None] = []
-    for i, (fit, note) in enumerate(zip(fits, notes)):
+    for i, (fit, note, (terms, trusted)) in enumerate(zip(fits, notes, lower)):
         if fit is None:
             above.append(None)
             below.append(None)
@@ -163,7 +121,6 @@ def band_reach(result, fits, notes, band_tolerance) -> tuple:
                           f"relies on {there}", BandWarning, stacklevel=3)
         share = force_energy_below(result, low)
         below.append(share)
-        terms, trusted = lower_terms(fit, band_tolerance)
         if share > trusted:
             warnings.warn(f"body {i + 1}: {100 * share:.1f} % of the contact force's energy "
                           f"lies below its measured band ({low:.4g} Hz), where its model "

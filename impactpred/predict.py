@@ -35,8 +35,7 @@ import numpy as np
 from modalid import ModalModel, MultiOutputModalModel, SavedFit
 from modalid.validation import as_real_scalar
 
-from ._band_checks import (RIGID_LINE_SHARE, RIGID_LINE_SPAN, BandWarning, band_reach,
-                           force_energy_above, force_energy_below)
+from ._band_checks import BandWarning, band_reach, force_energy_above, force_energy_below
 from ._figures import band_resolution, impact_figures
 from ._specs import (READ_OPTIONS, body_label, check_estimator, identify, parse_contact,
                      read_options_pair)
@@ -260,6 +259,48 @@ class Prediction:
     band_reach_below: tuple = (None, None)
 
 
+#: a rigid-body line is a free body's exact receptance, but a mode just below the band
+#: looks the same from above it: the line is taken on trust only where the band shows it
+#: over this span, its bottom at most this fraction of the lowest mode's frequency (a free
+#: rod measured from 30 Hz, its first mode at 500 Hz: trusted; a fixed rod measured from
+#: 300 Hz, its 250 Hz mode taken for a rigid body and its next at 750 Hz, or a cantilever
+#: measured from 1.65 times its first mode, next at 3.8 times the band's bottom: not)
+RIGID_LINE_SPAN = 0.1
+#: the share of the contact force's energy below the band a trusted rigid-body line is
+#: trusted with (a free rod struck by a mass of its weight, measured from 1, 7 and 30 Hz:
+#: 0.3, 2.7 and 9 % of the force's energy below the band, its restitution right each time)
+RIGID_LINE_SHARE = 0.1
+
+
+def _lower_terms(fit, band_tolerance: float) -> tuple:
+    """``(words, share)``: what of ``fit``'s model stands for the body below its band, and
+    the share of the force's energy below the band it is trusted with; ``(None, inf)``
+    without such a term (the model below the band is then its modes' own, right when no
+    mode lies there). A lower residual pseudo-mode (modes below the band, lumped) is
+    trusted with ``band_tolerance``; a rigid-body line the band shows over a decade below
+    its lowest mode (:data:`RIGID_LINE_SPAN`) with :data:`RIGID_LINE_SHARE`, one it shows
+    over less with ``band_tolerance``."""
+    report = fit.report_
+    if report.get("lower_residual_mode"):
+        return ("a lower residual term (what lies below the band, as one pseudo-mode)",
+                band_tolerance)
+    if report.get("rigid_body"):
+        low, top = report["band_hz"]
+        modes = report.get("modes")
+        freqs = (np.asarray(modes["frequency_hz"], float) if modes is not None
+                 and "frequency_hz" in modes else np.zeros(0))
+        freqs = freqs[np.isfinite(freqs)]
+        lowest = float(freqs.min()) if freqs.size else top
+        if low <= RIGID_LINE_SPAN * lowest:
+            return ("a rigid-body line (a free body's, seen over a decade below its first "
+                    "mode)", max(band_tolerance, RIGID_LINE_SHARE))
+        seen = (f"seen up to {lowest / low:.2g} times the band's bottom" if lowest > low
+                else "beside a mode at the band's bottom")
+        return (f"a rigid-body line {seen} (a mode just below the band looks the same from "
+                "above it)", band_tolerance)
+    return None, np.inf
+
+
 def _check_model(model, spec, body: int, check_passive: bool) -> None:
     """Refuse a modal model that is not a stable, passive driving point (see
     :func:`check_driving_point`), unless ``check_passive`` is False."""
@@ -446,7 +487,9 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
         band = uncertainty_band(models, fits, solve, n_draws=uncertainty_draws, seed=seed,
                                 continuation=continued, nominal=result, executor=executor,
                                 contact=law)
-    reach, reach_below = band_reach(result, fits, notes, band_tolerance)
+    reach, reach_below = band_reach(result, fits, notes, band_tolerance,
+                                    [_lower_terms(fit, band_tolerance) if fit is not None
+                                     else (None, np.inf) for fit in fits])
     return Prediction(result=result, fits=tuple(fits), band_reach=tuple(reach),
                       figures=figures, uncertainty=band, continuation=tuple(notes),
                       band_reach_below=tuple(reach_below))
