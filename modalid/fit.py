@@ -349,6 +349,20 @@ class ModalFit(FRFPipeline, FitLines, BaseEstimator):
                 with warnings.catch_warnings(record=True) as refit_said:
                     warnings.simplefilter("always")
                     self._fit_frf(data)
+                if not driving:
+                    # the probe's junk poles can carry the sign: the full fit decides (a
+                    # free rod at 1 % noise: two at damping 0.5-0.6 and modal mass -0.12,
+                    # -1.1, 29 % of the strength; the full fit's 11 modes all positive)
+                    driving, full_reason = driving_point_decision(self.report_["modes"],
+                                                                  self._raw_inverse_mass)
+                    if driving:
+                        reason = (f"{full_reason} (the full unconstrained fit; the quick "
+                                  f"probe's modes had said: {reason})")
+                        probe_error = self.report_["frf_median_relative_error"]
+                        self._passive_on = True
+                        with warnings.catch_warnings(record=True) as refit_said:
+                            warnings.simplefilter("always")
+                            self._fit_frf(data)
             else:
                 # by segments: the probe was the whole unconstrained identification already
                 for message in self._held_warnings:
