@@ -87,17 +87,22 @@ def load(name):
                            response_type="acceleration").frf
 
 
-def score(found_hz, published, tol):
-    """``(n_found, worst relative error of those found, unmatched fitted modes)``."""
+def score(found_hz, published, tol, half_line):
+    """``(n_found, worst relative error of those found, unmatched fitted modes)``: a
+    published resonance is found within ``tol`` (relative) of it or half a line
+    (``half_line``, Hz) where that is wider, as on the user bands (a peak bin, pyuff's
+    52 Hz, places a resonance only to half a line: its lines at 51 and 52 Hz stand at 7.8
+    and 8.4, a sharp resonance at 51.52 Hz)."""
     found_hz = np.asarray(found_hz, float)
-    errors = [np.min(np.abs(found_hz - p)) / p if found_hz.size else np.inf for p in published]
-    hit = [e for e in errors if e < tol]
+    errors = [np.min(np.abs(found_hz - p)) if found_hz.size else np.inf for p in published]
+    hit = [e / p for e, p in zip(errors, published) if e <= max(tol * p, half_line)]
     unmatched = [round(float(f), 2) for f in found_hz
                  if np.min(np.abs(np.asarray(published) - f) / f) >= max(tol, 0.01)]
     return len(hit), (max(hit) if hit else np.nan), unmatched
 
 
 def run_modalfit(frf, published, tol):
+    half_line = 0.5 * float(np.median(np.diff(frf.freq_hz)))
     from modalid import ModalFit
 
     t0 = time.perf_counter()
@@ -106,7 +111,7 @@ def run_modalfit(frf, published, tol):
         fit = ModalFit().fit(frf)
     seconds = time.perf_counter() - t0
     r = fit.report_
-    found, worst, unmatched = score(r["modes"]["frequency_hz"], published, tol)
+    found, worst, unmatched = score(r["modes"]["frequency_hz"], published, tol, half_line)
     return fit, seconds, found, worst, unmatched
 
 
@@ -301,8 +306,8 @@ def main(argv=None):
               f"({r['driving_point_reason']})")
         print(f"  verdict {r['verdict']}" + (f": {'; '.join(r['verdict_reasons'])}"
                                             if r["verdict_reasons"] else ""))
-        print(f"  ModalFit: {found}/{len(published)} found within {100 * tol:.2g} % "
-              f"(worst {100 * worst:.3g} %), {r['n_modes']} modes fitted, unmatched "
+        print(f"  ModalFit: {found}/{len(published)} found within {100 * tol:.2g} % or half "
+              f"a line (worst {100 * worst:.3g} %), {r['n_modes']} modes fitted, unmatched "
               f"{unmatched}, FRF error {100 * r['frf_nrmse']:.3g} %, "
               f"{seconds:.2f} s")
         ema = run_sdypy(frf, band, published)
@@ -328,9 +333,11 @@ def main(argv=None):
             print("  sdypy-EMA: not installed (pip install -e .[bench])")
         else:
             f_e, z_e, s_e = ema
-            e_found, e_worst, _ = score(f_e, published, tol)
+            e_found, e_worst, _ = score(f_e, published, tol,
+                                        0.5 * float(np.median(np.diff(frf.freq_hz))))
             print(f"  sdypy LSCF (told {len(f_e)} frequencies): {e_found}/{len(published)} "
-                  f"within {100 * tol:.2g} % (worst {100 * e_worst:.3g} %), {s_e:.2f} s")
+                  f"within {100 * tol:.2g} % or half a line (worst {100 * e_worst:.3g} %), "
+                  f"{s_e:.2f} s")
         print()
     print("ModalFit(freq_range=band) on bands a user may choose (USER_BANDS), no other option")
     for label, found, expected, unmatched, ok, failed, seconds in user_bands(names):
