@@ -32,8 +32,9 @@ from ._checks import (as_choice, as_count, as_nonnegative_scalar, as_positive_sc
 from ._band import choose_weighting
 from ._era import fit_impulse
 from ._fit_lines import FitLines
+from ._fit_one import FitOne
 from ._frf_pipeline import FRFPipeline, ModalFitWarning
-from ._verdict import driving_point_decision, judged_report, line_error_tolerance
+from ._verdict import driving_point_decision, judged_report
 from ._window import windowed_receptance
 from .frf import FRFData, check_fittable
 from .frf_set import FRFSet
@@ -44,7 +45,7 @@ from .stabilization import plot_fit, plot_stabilization
 __all__ = ["ModalFit", "ModalFitWarning"]
 
 
-class ModalFit(FRFPipeline, FitLines, BaseEstimator):
+class ModalFit(FitOne, FRFPipeline, FitLines, BaseEstimator):
     """Identify a pole-residue driving-point receptance.
 
     Parameters
@@ -98,7 +99,10 @@ class ModalFit(FRFPipeline, FitLines, BaseEstimator):
     weighting : {"auto", "relative", "mixed", "noise", "uniform"}
         ``"auto"`` (default): ``"relative"`` for noise proportional to the FRF, ``"mixed"``
         for a noise floor under it, ``"noise"`` where the floor dominates
-        (:func:`modalid._band.choose_weighting`; an FRFSet: ``"relative"``);
+        (:func:`modalid._band.choose_weighting`; an FRFSet: ``"relative"``); a fit
+        weighted ``"relative"`` whose verdict is ``"failed"`` is refitted ``"noise"``,
+        which stands unless it fails too or misses the lines by more
+        (:class:`modalid._fit_one.FitOne`);
         ``report_["weighting"]`` says which and why. ``"mixed"``: one over the modelled
         noise ``sqrt((sigma_rel |H|)^2 + floor^2)`` (:func:`modalid._band.noise_model`),
         then with the model's ``|H|``.
@@ -318,81 +322,7 @@ class ModalFit(FRFPipeline, FitLines, BaseEstimator):
                 fit_impulse(self, data)
                 return self._judge(driving_point=None, reason="an impulse response: not "
                                    "decided (taken as a driving point)")
-            if not auto:
-                self._fit_frf(data)
-                return self._judge(driving_point=self._passive_on,
-                                   reason=f"passive={self.passive!r} given")
-            # a quick unconstrained probe decides; one full identification follows
-            self._passive_on, self.__dict__["_probe"] = False, True
-            self.__dict__["_stabilization_cache"] = None     # the passes share the diagram
-            try:
-                self._fit_frf(data)
-            finally:
-                del self.__dict__["_probe"]
-            full = self._segment_count == 1 and not self._probe_suffices()
-            if full:
-                # the probe (stable poles, no missed-mode search) missed what the band
-                # holds: the full unconstrained fit decides (the hammer test on 4000-4600
-                # Hz: eight modes found by the search, a transfer FRF; taken as a driving
-                # point for want of evidence, the passive fit had dropped them all)
-                with warnings.catch_warnings(record=True) as unconstrained:
-                    warnings.simplefilter("always")
-                    self._fit_frf(data)
-            driving, reason = driving_point_decision(self.report_["modes"],
-                                                     self._raw_inverse_mass)
-            probe_error = self.report_["frf_median_relative_error"]
-            self._passive_on, refit_said = driving, []
-            if full and not driving:
-                for w in unconstrained:           # the unconstrained fit stands
-                    warnings.warn(w.message, w.category, stacklevel=2)
-            elif driving or self._segment_count == 1:     # its warnings, if it stands
-                with warnings.catch_warnings(record=True) as refit_said:
-                    warnings.simplefilter("always")
-                    self._fit_frf(data)
-                if not driving:
-                    # the probe's junk poles can carry the sign: the full fit decides (a
-                    # free rod at 1 % noise: two at damping 0.5-0.6 and modal mass -0.12,
-                    # -1.1, 29 % of the strength; the full fit's 11 modes all positive)
-                    driving, full_reason = driving_point_decision(self.report_["modes"],
-                                                                  self._raw_inverse_mass)
-                    if driving:
-                        reason = (f"{full_reason} (the full unconstrained fit; the quick "
-                                  f"probe's modes had said: {reason})")
-                        probe_error = self.report_["frf_median_relative_error"]
-                        self._passive_on = True
-                        with warnings.catch_warnings(record=True) as refit_said:
-                            warnings.simplefilter("always")
-                            self._fit_frf(data)
-            else:
-                # by segments: the probe was the whole unconstrained identification already
-                for message in self._held_warnings:
-                    warnings.warn(message, ModalFitWarning, stacklevel=2)
-            error = self.report_["frf_median_relative_error"]
-            if driving and error > 1.5 * probe_error + 0.01:
-                self._passive_on = False          # the data contradict a passive model,
-                self._fit_frf(data)               # or the passive fit stalled
-                stalled = (f"the passive fit's median error per line is {100 * error:.3g} "
-                           f"% against {100 * probe_error:.3g} % for "
-                           f"{'the full' if full else 'a quick'} unconstrained one")
-                if self._shift == 0 and self.model_.is_passive():
-                    reason = (f"{reason}; {stalled}, which satisfies the passivity "
-                              "constraint itself and stands")
-                else:
-                    driving, reason = False, (f"{reason}, but {stalled}: not a passive "
-                                              "driving point")
-            else:
-                for w in refit_said:
-                    warnings.warn(w.message, w.category, stacklevel=2)
-            self.__dict__.pop("_stabilization_cache", None)
-            return self._judge(driving_point=driving, reason=reason)
-
-    def _probe_suffices(self) -> bool:
-        """Whether the quick unconstrained probe's modes can decide the driving point: it
-        found a resonance and its median line error is within the verdict's tolerance
-        (:func:`modalid._verdict.line_error_tolerance`: no modes missing)."""
-        report = self.report_
-        tolerance = line_error_tolerance(report["noise_median_relative"])
-        return len(report["modes"]) > 0 and report["frf_median_relative_error"] <= tolerance
+            return self._fit_weighted(data, auto)
 
     def _fit_set(self, data: FRFSet, auto: bool):
         """Common poles (:func:`modalid._global.fit_set`). ``weighting="auto"``: the
