@@ -117,8 +117,10 @@ def check_identification(fit, source, *, body: int) -> None:
         fix = (" (or, if it is the driving point with its sign reversed, read it with "
                "read_options={'negate': True}; with its quantity stated wrong, with "
                f"quantity=...{refit})" if "sign reversed" in why else "")
-        raise ValueError(f"body {body}: {source} is not a driving-point FRF ({why}): a "
-                         "transfer FRF cannot be an impact body, a body needs its "
+        failed = (f"; the fit this decision rests on failed ({reasons}), so it may be "
+                  "wrong" if verdict == "failed" else "")
+        raise ValueError(f"body {body}: {source} is not a driving-point FRF ({why}{failed}): "
+                         "a transfer FRF cannot be an impact body, a body needs its "
                          "driving-point receptance (force and response at the contact "
                          f"point); give the FRF measured there{fix}; if it is the one, "
                          f"fit it with passive=True{refit}")

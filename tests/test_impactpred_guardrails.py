@@ -417,6 +417,19 @@ def test_transfer_frf_cannot_be_an_impact_body(two_mode_frf, verdict):
         predict("mass:1", two_mode_frf, velocity1=0.1, t_end=0.5)
 
 
+def test_a_transfer_frf_decided_on_a_failed_fit_says_so(two_mode_frf, verdict):
+    """A driving-point decision made on a failed fit may be wrong (random_predictions
+    seed 4, case 45: a cantilever's driving point, its fit failed, refused as a transfer
+    FRF): the refusal names the failure it rests on."""
+    verdict.update(verdict="failed", verdict_reasons=["the FRF error (95 %) is large"],
+                   driving_point=False, driving_point_reason="modal masses of both signs")
+    with pytest.raises(ValueError, match=r"two_modes.csv is not a driving-point FRF \(modal "
+                                         r"masses of both signs; the fit this decision "
+                                         r"rests on failed \(the FRF error \(95 %\) is "
+                                         r"large\), so it may be wrong\): a transfer FRF"):
+        predict("mass:1", two_mode_frf, velocity1=0.1, t_end=0.5)
+
+
 @pytest.mark.filterwarnings("ignore::impactpred.predict.BandWarning")
 def test_suspect_identification_warns_and_goes_on(two_mode_frf, verdict):
     verdict.update(verdict="suspect", verdict_reasons=["damping ratio at its lower bound"])
