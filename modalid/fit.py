@@ -289,7 +289,7 @@ class ModalFit(FitOne, FRFPipeline, FitLines, BaseEstimator):
         self._selection()                        # validates n_modes
         for name in ("model_", "poles_", "stabilization_", "clusters_", "report_", "frf_",
                      "data_", "weights_", "impulse_", "mode_shapes_", "_stabilization_cache",
-                     "_probe", "_zero_start"):
+                     "_probe", "_zero_start", "_passive_stalled", "_weighting_forced"):
             self.__dict__.pop(name, None)         # a second fit starts afresh
         self._check_window()
         windowed = self._windowed
