@@ -6,7 +6,8 @@ Each file is read as a user would and fitted with ``ModalFit()`` (no options: th
 the weighting and whether it is a driving point are decided from the data). Against the
 published (or observed) resonances it prints, per file: the band chosen, the weighting,
 the driving-point decision, the verdict, the time, how many published resonances were
-found within the tolerance the project targets, the worst frequency error, and the modes
+found within the tolerance the project targets (or half a line, where that is wider: a
+published peak bin places a resonance no closer), the worst frequency error, and the modes
 fitted that match none of them. Beside it, sdypy-EMA's LSCF + LSFD (the ``bench``
 extra), told the published frequencies (it cannot find them alone), on the same band;
 and per published resonance the damping ratios of ModalFit, sdypy and the half-power

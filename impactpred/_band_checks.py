@@ -99,13 +99,14 @@ def band_reach(result, fits, notes, band_tolerance, lower) -> tuple:
     (None for the other bodies), with a :class:`BandWarning` for each above
     ``band_tolerance``: above, always; below, where the model has a term standing for
     what lies below the band and more than it is trusted with lies there (``lower``: per
-    body, ``(words, share)`` naming that term and the share of the energy it is trusted
-    with, ``(None, inf)`` without one; ``impactpred.predict._lower_terms``), or, for a
-    term trusted only with ``band_tolerance``, where the run goes on after the first
-    contact past a quarter period of the band's bottom (:func:`_outlasts_band_bottom`)."""
+    body, ``(words, share, vouched)`` naming that term, the share of the energy it is
+    trusted with and whether the band vouches for it, ``(None, inf, True)`` without one;
+    ``impactpred.predict._lower_terms``), or, for a term the band does not vouch for,
+    where the run goes on after the first contact past a quarter period of the band's
+    bottom (:func:`_outlasts_band_bottom`)."""
     above: list[float | None] = []
     below: list[float | None] = []
-    for i, (fit, note, (terms, trusted)) in enumerate(zip(fits, notes, lower)):
+    for i, (fit, note, (terms, trusted, vouched)) in enumerate(zip(fits, notes, lower)):
         if fit is None:
             above.append(None)
             below.append(None)
@@ -127,7 +128,7 @@ def band_reach(result, fits, notes, band_tolerance, lower) -> tuple:
                           f"has only {terms}: the prediction relies on it there; an FRF "
                           "measured from below both the body's first mode and the bulk of "
                           "the force's spectrum would settle it", BandWarning, stacklevel=3)
-        elif terms is not None and trusted <= band_tolerance:
+        elif not vouched:
             _outlasts_band_bottom(result, i + 1, low, terms)
     return above, below
 

@@ -275,8 +275,9 @@ RIGID_LINE_SHARE = 0.1
 
 
 def _lower_terms(fit, band_tolerance: float) -> tuple:
-    """``(words, share)``: what of ``fit``'s model stands for the body below its band, and
-    the share of the force's energy below the band it is trusted with; ``(None, inf)``
+    """``(words, share, vouched)``: what of ``fit``'s model stands for the body below its
+    band, the share of the force's energy below the band it is trusted with, and whether
+    the band vouches for it (a rigid-body line seen over a decade); ``(None, inf, True)``
     without such a term (the model below the band is then its modes' own, right when no
     mode lies there). A lower residual pseudo-mode (modes below the band, lumped) is
     trusted with ``band_tolerance``; a rigid-body line the band shows over a decade below
@@ -285,7 +286,7 @@ def _lower_terms(fit, band_tolerance: float) -> tuple:
     report = fit.report_
     if report.get("lower_residual_mode"):
         return ("a lower residual term (what lies below the band, as one pseudo-mode)",
-                band_tolerance)
+                band_tolerance, False)
     if report.get("rigid_body"):
         low, top = report["band_hz"]
         modes = report.get("modes")
@@ -295,12 +296,12 @@ def _lower_terms(fit, band_tolerance: float) -> tuple:
         lowest = float(freqs.min()) if freqs.size else top
         if low <= RIGID_LINE_SPAN * lowest:
             return ("a rigid-body line (a free body's, seen over a decade below its first "
-                    "mode)", max(band_tolerance, RIGID_LINE_SHARE))
+                    "mode)", max(band_tolerance, RIGID_LINE_SHARE), True)
         seen = (f"seen up to {lowest / low:.2g} times the band's bottom" if lowest > low
                 else "beside a mode at the band's bottom")
         return (f"a rigid-body line {seen} (a mode just below the band looks the same from "
-                "above it)", band_tolerance)
-    return None, np.inf
+                "above it)", band_tolerance, False)
+    return None, np.inf, True
 
 
 def _check_model(model, spec, body: int, check_passive: bool) -> None:
@@ -491,7 +492,7 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
                                 contact=law)
     reach, reach_below = band_reach(result, fits, notes, band_tolerance,
                                     [_lower_terms(fit, band_tolerance) if fit is not None
-                                     else (None, np.inf) for fit in fits])
+                                     else (None, np.inf, True) for fit in fits])
     return Prediction(result=result, fits=tuple(fits), band_reach=tuple(reach),
                       figures=figures, uncertainty=band, continuation=tuple(notes),
                       band_reach_below=tuple(reach_below))

@@ -86,7 +86,7 @@ class FitLines:
         # lines that scatter like noise: the data still reach below the first resonance)
         cut = self.freq_range is not None and bool(data.freq_hz[0] > first)
         self._data_band = self.data_ = data           # in the data's own quantity
-        if self.weighting == "auto":      # a refit of a failed one may force its choice
+        if self.weighting == "auto":      # a refit (FitOne._fit_weighted) forces its own
             self._weighting_on, self._weighting_reason = (
                 self.__dict__.get("_weighting_forced") or choose_weighting(data.values))
         frf = data.to_receptance()

@@ -2,15 +2,20 @@
 ``passive="auto"``.
 
 :class:`FitOne` is a mixin of :class:`modalid.ModalFit`. :meth:`FitOne._fit_weighted`
-runs :meth:`FitOne._fit_passive_choice` and, under ``weighting="auto"``, refits a failed
-fit weighted ``1/|H|`` with one over the data's own scatter; :meth:`FitOne._fit_passive_choice`
-fits with the passivity constraint given, or (``passive="auto"``) lets an unconstrained
-fit decide whether the FRF is a driving point and refits passive where it is.
+runs :meth:`FitOne._fit_passive_choice` and, under ``weighting="auto"``, refits with one
+over the data's own scatter a fit weighted ``1/|H|`` that failed or found no passive fit
+of a driving point; :meth:`FitOne._fit_passive_choice` fits with the passivity constraint
+given, or (``passive="auto"``) lets an unconstrained fit decide whether the FRF is a
+driving point (the quick probe, or the full fit where the probe misses lines or calls it a
+transfer FRF that the full fit does not) and refits passive where it is.
 """
 
 from __future__ import annotations
 
+import sys
 import warnings
+
+import numpy as np
 
 from ._frf_pipeline import ModalFitWarning
 from ._verdict import driving_point_decision, line_error_tolerance
@@ -22,57 +27,65 @@ class FitOne:
     """Mixin of :class:`modalid.ModalFit`: one FRF's fit (see the module docstring)."""
 
     def _fit_weighted(self, data, auto: bool):
-        """Fit ``data`` (:meth:`_fit_passive_choice`) and return self. Under
-        ``weighting="auto"``, a fit weighted ``1/|H|`` (maximum likelihood for noise
-        proportional to the FRF) whose verdict is ``"failed"`` is refitted weighted by one
-        over the data's own scatter (:func:`modalid._lsfd.noise_level`, smoothed over
-        the lines around: a sharp peak keeps the weight of its surroundings), which
-        stands unless it fails too or misses the lines by more (median relative error
-        per line, in the data's quantity: a fixed rod's exact FRF at zeta 1e-2, failed
-        for an infinite modal mass at 0.8 % error, is kept rather than a refit at 29 %);
-        ``report_["weighting_reason"]`` says so. So is a fit ``passive="auto"`` found no
-        passive driving point for want of a passive fit (its modes all of positive mass,
-        the passive fit stalled), where the refit is one: a cantilever's accelerance at
-        3 % noise, its lowest modes under-resolved (0.16 Hz for 0.21, 2.0 Hz at damping
-        0.23 for 1.32), passive at 15.8 % median error against 3.6 %; weighted by the
-        scatter, a driving point at 2.6 %. Its modes'
-        evidence lies in one or two lines each: a cantilever's mobility from above its
-        first mode (3 % noise, modes far narrower than the lines, one 40 times its
-        neighbours) lost its two lowest modes weighted ``1/|H|``, and its pseudo-modes
-        cancelled to a model near zero below 50 Hz (error 95 %); weighted by the scatter,
-        all ten modes and an error of 0.4 %. The warnings said are those of the fit that
-        stands."""
+        """Fit ``data`` (:meth:`_fit_passive_choice`) and return self.
+
+        Under ``weighting="auto"`` (no per-line weights), a fit weighted ``1/|H|``
+        (maximum likelihood for noise proportional to the FRF) that failed, or that
+        ``passive="auto"`` found no passive driving point for want of a passive fit (its
+        modes' strength positive, the passive fit stalled), is refitted weighted by one
+        over the data's own scatter (:func:`modalid._lsfd.noise_level`, smoothed over the
+        lines around: a sharp peak keeps the weight of its surroundings). The refit
+        stands unless it fails too, misses the lines by more (median relative error per
+        line, in the data's quantity) or, after a stall, is no driving point either;
+        ``report_["weighting_reason"]`` says which fit stands and why, and the warnings
+        said are those of the fit that stands.
+
+        Where a mode's evidence lies in one or two lines, weights ``1/|H|`` give those
+        lines little say: a cantilever's mobility from 3 times its first mode (3 %
+        noise, modes far narrower than the lines, one 40 times its neighbours) lost its
+        two lowest modes and its pseudo-modes cancelled to a model near zero below 50 Hz
+        (error 95 %, failed); refitted, all ten modes at 0.4 %. A cantilever's
+        accelerance with under-resolved lowest modes (0.16 Hz for 0.21, 2.0 Hz at damping
+        0.23 for 1.32) stalled passive at 15.8 % median error against 3.6 %; refitted, a
+        passive driving point at 2.6 %. A fixed rod's exact FRF at zeta 1e-2, failed for
+        an infinite modal mass at 0.8 % error, keeps its fit rather than a refit at 29 %.
+        """
         with warnings.catch_warnings(record=True) as said:
             warnings.simplefilter("always")
             self._fit_passive_choice(data, auto)
         stalled = self.__dict__.pop("_passive_stalled", False)
         failed_verdict = self.report_["verdict"] == "failed"
         if (self.weighting == "auto" and self._weighting_on == "relative"
-                and (failed_verdict or stalled)):
-            failed = dict(self.__dict__)
+                and self._line_weights is None and (failed_verdict or stalled)):
+            first = dict(self.__dict__)
             why = (f"failed ({'; '.join(self.report_['verdict_reasons'])})" if failed_verdict
                    else f"was no passive driving point ({self.report_['driving_point_reason']})")
             self.__dict__["_weighting_forced"] = (
                 "noise", f"the fit weighted 1/|H| {why}: weighted by the data's own scatter "
                 "instead")
+            refit = None
             try:
                 with warnings.catch_warnings(record=True) as retried:
                     warnings.simplefilter("always")
                     self._fit_passive_choice(data, auto)
+                refit = self.report_
+            except (ValueError, np.linalg.LinAlgError):
+                pass                              # the first fit stands
             finally:
                 self.__dict__.pop("_weighting_forced", None)
-            self.__dict__.pop("_passive_stalled", None)
-            worse = (self.report_["verdict"] == "failed"
-                     or self.report_["frf_median_relative_error"]
-                     > failed["report_"]["frf_median_relative_error"]
-                     or (stalled and not self.report_["driving_point"]))
-            if worse:                             # the first fit stands
-                self.__dict__.clear()
-                self.__dict__.update(failed)
+                self.__dict__.pop("_passive_stalled", None)
+            if (refit is None or refit["verdict"] == "failed"
+                    or refit["frf_median_relative_error"]
+                    > first["report_"]["frf_median_relative_error"]
+                    or (stalled and not refit["driving_point"])):
+                self.__dict__.clear()             # the first fit stands
+                self.__dict__.update(first)
+                self.report_ = self.report_.replace(weighting_reason=(
+                    f"{self.report_['weighting_reason']}; a refit weighted by the data's own "
+                    "scatter did no better"))
             else:
                 said = retried
-        for w in said:
-            warnings.warn(w.message, w.category, stacklevel=3)
+        _say_again(said)
         return self
 
     def _fit_passive_choice(self, data, auto: bool):
@@ -107,7 +120,7 @@ class FitOne:
         self._passive_on, refit_said = driving, []
         if full and not driving:
             for w in unconstrained:           # the unconstrained fit stands
-                warnings.warn(w.message, w.category, stacklevel=2)
+                warnings.warn(w.message, w.category, stacklevel=4)
         elif driving or self._segment_count == 1:     # its warnings, if it stands
             with warnings.catch_warnings(record=True) as refit_said:
                 warnings.simplefilter("always")
@@ -119,6 +132,7 @@ class FitOne:
                 driving, full_reason = driving_point_decision(self.report_["modes"],
                                                               self._raw_inverse_mass)
                 if driving:
+                    full = True                   # the full fit's error is the reference
                     reason = (f"{full_reason} (the full unconstrained fit; the quick "
                               f"probe's modes had said: {reason})")
                     probe_error = self.report_["frf_median_relative_error"]
@@ -129,7 +143,7 @@ class FitOne:
         else:
             # by segments: the probe was the whole unconstrained identification already
             for message in self._held_warnings:
-                warnings.warn(message, ModalFitWarning, stacklevel=2)
+                warnings.warn(message, ModalFitWarning, stacklevel=4)
         error = self.report_["frf_median_relative_error"]
         if driving and error > 1.5 * probe_error + 0.01:
             self._passive_on = False          # the data contradict a passive model,
@@ -146,7 +160,7 @@ class FitOne:
                 self.__dict__["_passive_stalled"] = True
         else:
             for w in refit_said:
-                warnings.warn(w.message, w.category, stacklevel=2)
+                warnings.warn(w.message, w.category, stacklevel=4)
         self.__dict__.pop("_stabilization_cache", None)
         return self._judge(driving_point=driving, reason=reason)
 
@@ -157,3 +171,18 @@ class FitOne:
         report = self.report_
         tolerance = line_error_tolerance(report["noise_median_relative"])
         return len(report["modes"]) > 0 and report["frf_median_relative_error"] <= tolerance
+
+
+def _say_again(caught) -> None:
+    """Say the recorded warnings again: those meant for the user (``UserWarning``s, e.g.
+    :class:`ModalFitWarning`) at the caller of ``ModalFit.fit``, the others (numerical
+    ``RuntimeWarning``s and the like) where they were raised, under their module's name,
+    so that filters by module (``error::RuntimeWarning:modalid.*``) still apply."""
+    modules = {getattr(module, "__file__", None): name
+               for name, module in list(sys.modules.items())}
+    for w in caught:
+        if issubclass(w.category, UserWarning):
+            warnings.warn(w.message, w.category, stacklevel=4)
+        else:
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno,
+                                   module=modules.get(w.filename))

@@ -86,8 +86,9 @@ class ModalFit(FitOne, FRFPipeline, FitLines, BaseEstimator):
         positive modal mass carry 90 % of the modes' strength ``1/|m|`` and the mass line
         is not negative; :func:`modalid._verdict.driving_point_decision`) and, where it
         is, identify with it (a quick unconstrained refinement decides, or the full
-        unconstrained identification where the quick one finds no resonance or misses
-        lines by more than the verdict allows; the full identification follows with the
+        unconstrained identification where the quick one finds no resonance, misses
+        lines by more than the verdict allows or calls it a transfer FRF that the full
+        one does not; the full identification follows with the
         constraint, and stays unconstrained when the constraint raises the median error
         per line by half); ``report_["driving_point"]``
         and ``report_["driving_point_reason"]`` say what was decided. An FRFSet's
@@ -100,9 +101,10 @@ class ModalFit(FitOne, FRFPipeline, FitLines, BaseEstimator):
         ``"auto"`` (default): ``"relative"`` for noise proportional to the FRF, ``"mixed"``
         for a noise floor under it, ``"noise"`` where the floor dominates
         (:func:`modalid._band.choose_weighting`; an FRFSet: ``"relative"``); a fit
-        weighted ``"relative"`` whose verdict is ``"failed"`` is refitted ``"noise"``,
-        which stands unless it fails too or misses the lines by more
-        (:class:`modalid._fit_one.FitOne`);
+        weighted ``"relative"`` whose verdict is ``"failed"``, or that ``passive="auto"``
+        found no passive driving point for want of a passive fit, is refitted
+        ``"noise"``, which stands where it does better (an FRF's fit, not an FRFSet's;
+        :meth:`modalid._fit_one.FitOne._fit_weighted`);
         ``report_["weighting"]`` says which and why. ``"mixed"``: one over the modelled
         noise ``sqrt((sigma_rel |H|)^2 + floor^2)`` (:func:`modalid._band.noise_model`),
         then with the model's ``|H|``.

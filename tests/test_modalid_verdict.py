@@ -112,7 +112,7 @@ def test_exact_fits_are_ok_and_a_noise_fit_fails():
     assert isinstance(pd.DataFrame(fit.report_["modes"]), pd.DataFrame)
 
 
-def test_a_fit_of_an_undamped_models_frf_says_why_it_fails():
+def test_a_fit_of_an_undamped_models_frf_says_why_it_is_suspect():
     """An exact undamped FRF is real at every line: no line resolves its infinitely sharp
     resonances. Weighted 1/|H| the fit finds none (a fixed rod's 10 modes on 1001 lines:
     "no resonance in the band", failed); refitted by the data's own scatter
