@@ -1090,6 +1090,17 @@ def test_a_fixed_rod_accelerance_with_a_mode_just_above_its_band_is_a_driving_po
     assert r["verdict"] == "ok" and fit.model_.is_passive()
 
 
+def _random_case_frf(body, zeta, top, *, quantity, noise, seed, low=None):
+    """A case of benchmarks/random_predictions.py: the driving-point FRF of ``body``'s
+    first 300 modes at damping ratio ``zeta`` on 2000 lines from ``low`` (default
+    ``top / 2000``) to ``top`` Hz, in ``quantity``, with ``noise``."""
+    from data_synth import lightly_damped, synthetic_frf
+
+    low = top / 2000 if low is None else low
+    return synthetic_frf(lightly_damped(body, 300, zeta), np.linspace(low, top, 2000),
+                         quantity=quantity, noise=noise, seed=seed)
+
+
 def test_a_probe_whose_junk_poles_carry_the_sign_does_not_decide():
     """A free rod's driving-point accelerance, 11 modes in band, 1 % noise
     (benchmarks/random_predictions.py seed 3, case 28): the quick unconstrained probe kept
@@ -1098,13 +1109,10 @@ def test_a_probe_whose_junk_poles_carry_the_sign_does_not_decide():
     fit that then stood had dropped them (they left the band) and its 11 modes were all
     positive, yet the impact was refused. The fit that stands now decides: a driving
     point, its modes the rod's."""
-    from data_synth import lightly_damped, synthetic_frf
-
     rod = Rod(0.9802501951719393, 1.0731951295241557)
     top = 5.363303936502078
-    frf = synthetic_frf(lightly_damped(rod, 300, 2.626688781396768e-4),
-                        np.linspace(top / 2000, top, 2000), quantity="accelerance",
-                        noise=0.01, seed=28)
+    frf = _random_case_frf(rod, 2.626688781396768e-4, top, quantity="accelerance",
+                           noise=0.01, seed=28)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         fit = ModalFit().fit(frf)
@@ -1127,12 +1135,9 @@ def test_a_failed_fit_weighted_by_the_frf_is_refitted_by_the_scatter():
     two lowest modes and its pseudo-modes cancelled to a model near zero below 50 Hz
     (error 95 %, "failed"; the impact was refused). The failed fit is refitted weighted
     by the data's scatter, which stands: the ten modes in band, a driving point."""
-    from data_synth import lightly_damped, synthetic_frf
-
     beam = CantileverBeam(4.1625533859322355, 0.7037545381520051)
-    frf = synthetic_frf(lightly_damped(beam, 300, 2.596307205355822e-4),
-                        np.linspace(2.423185040657117, 280.08354970973886, 2000),
-                        quantity="mobility", noise=0.03, seed=45)
+    frf = _random_case_frf(beam, 2.596307205355822e-4, 280.08354970973886,
+                           low=2.423185040657117, quantity="mobility", noise=0.03, seed=45)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         fit = ModalFit().fit(frf)
@@ -1155,13 +1160,9 @@ def test_a_stalled_passive_fit_weighted_by_the_frf_is_refitted_by_the_scatter():
     stalled at 15.8 % median error against 3.6 %: "not a passive driving point", the
     impact refused. Refitted weighted by the data's scatter: a passive driving point at
     2.6 %."""
-    from data_synth import lightly_damped, synthetic_frf
-
     beam = CantileverBeam(4.75823437772677, 2.649254637747698)
-    top = 130.42020105858865
-    frf = synthetic_frf(lightly_damped(beam, 300, 2.621833890804686e-4),
-                        np.linspace(top / 2000, top, 2000), quantity="accelerance",
-                        noise=0.03, seed=23)
+    frf = _random_case_frf(beam, 2.621833890804686e-4, 130.42020105858865,
+                           quantity="accelerance", noise=0.03, seed=23)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         fit = ModalFit().fit(frf)
