@@ -3,7 +3,6 @@ files as one :class:`modalid.FRFSet` with its driving row, and printing the mode
 
 from __future__ import annotations
 
-
 from ._cli import read_options
 
 __all__ = ["read_set", "print_shapes"]

@@ -111,9 +111,7 @@ class FitOne:
             # holds: the full unconstrained fit decides (the hammer test on 4000-4600
             # Hz: eight modes found by the search, a transfer FRF; taken as a driving
             # point for want of evidence, the passive fit had dropped them all)
-            with warnings.catch_warnings(record=True) as unconstrained:
-                warnings.simplefilter("always")
-                self._fit_frf(data)
+            unconstrained = self._fit_recorded(data)
         driving, reason = driving_point_decision(self.report_["modes"],
                                                  self._raw_inverse_mass)
         probe_error = self.report_["frf_median_relative_error"]
@@ -122,9 +120,7 @@ class FitOne:
             for w in unconstrained:           # the unconstrained fit stands
                 warnings.warn(w.message, w.category, stacklevel=4)
         elif driving or self._segment_count == 1:     # its warnings, if it stands
-            with warnings.catch_warnings(record=True) as refit_said:
-                warnings.simplefilter("always")
-                self._fit_frf(data)
+            refit_said = self._fit_recorded(data)
             if not driving:
                 # the probe's junk poles can carry the sign: the full fit decides (a
                 # free rod at 1 % noise: two at damping 0.5-0.6 and modal mass -0.12,
@@ -137,9 +133,7 @@ class FitOne:
                               f"probe's modes had said: {reason})")
                     probe_error = self.report_["frf_median_relative_error"]
                     self._passive_on = True
-                    with warnings.catch_warnings(record=True) as refit_said:
-                        warnings.simplefilter("always")
-                        self._fit_frf(data)
+                    refit_said = self._fit_recorded(data)
         else:
             # by segments: the probe was the whole unconstrained identification already
             for message in self._held_warnings:
@@ -163,6 +157,14 @@ class FitOne:
                 warnings.warn(w.message, w.category, stacklevel=4)
         self.__dict__.pop("_stabilization_cache", None)
         return self._judge(driving_point=driving, reason=reason)
+
+    def _fit_recorded(self, data) -> list:
+        """``_fit_frf(data)`` with its warnings recorded, not said: the caller says them
+        if the fit stands."""
+        with warnings.catch_warnings(record=True) as said:
+            warnings.simplefilter("always")
+            self._fit_frf(data)
+        return said
 
     def _probe_suffices(self) -> bool:
         """Whether the quick unconstrained probe's modes can decide the driving point: it
