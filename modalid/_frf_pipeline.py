@@ -35,6 +35,7 @@ from .frf import FRFData
 from .model import ModalModel
 from .quantities import receptance_to
 from ._information import misfit_ratio, select_by_information
+from ._verdict import missed_resonances
 from .stabilization import cluster_poles, select_poles, stabilization_table
 
 __all__ = ["FRFPipeline", "ModalFitWarning", "fit_report"]
@@ -577,9 +578,8 @@ class FRFPipeline(PoleChecks, LowEnd):
                 flexibility_std = float(extra[int(terms.rigid)])
         nrmse = float(np.linalg.norm(own) / np.linalg.norm(band.values))
         scatter = noise_level(band.values)               # the data's own, per line
-        # the lines the median error counts: all, or with per-line weights those that
-        # carry them (weighted data at least 1 % of its largest): a response-weighted fit
-        # leaves the lines it was told to neglect, and is judged where it was not
+        # the lines the median error counts: all, or with per-line weights those that carry
+        # them (at least 1 % of the largest): a fit is judged where it was told to look
         counted = np.ones(band.values.size, bool)
         if self._band_weights is not None:
             carried = self._band_weights * np.abs(band.values)
@@ -589,10 +589,10 @@ class FRFPipeline(PoleChecks, LowEnd):
             frf_nrmse=nrmse, frf_nrmse_data=nrmse,
             frf_nrmse_receptance=float(np.linalg.norm(fitted - h) / np.linalg.norm(h)),
             noise_estimate_data=float(np.linalg.norm(scatter) / np.linalg.norm(band.values)),
-            frf_median_relative_error=float(np.median((np.abs(own) / np.abs(band.values))[
-                counted])),
+            frf_median_relative_error=float(np.median(np.abs(own / band.values)[counted])),
             noise_median_relative=float(np.median((scatter / np.abs(band.values))[counted])),
-            data_quantity=band.quantity,
+            data_quantity=band.quantity, missed_resonances_hz=missed_resonances(
+                band.freq_hz, band.values, band.values + own).tolist(),
             band_hz=(float(frf.freq_hz[0]), float(frf.freq_hz[-1])), segments=self._segment_count,
             vf_iterations=vf_iterations, modes=modes, inverse_mass_std=inverse_mass_std,
             flexibility_std=flexibility_std, std_inflation=inflation,

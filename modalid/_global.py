@@ -41,6 +41,7 @@ from .model import ModalModel
 from .quantities import receptance_to
 from .multi_output import MultiOutputModalModel
 from .stabilization import cluster_poles, select_poles, stabilization_table
+from ._verdict import missed_resonances
 
 __all__ = ["fit_set", "refine_joint"]
 
@@ -551,6 +552,8 @@ def _store(est, rec, poles, kinds, xs, terms, info, notes, max_order, dp):
         frf_nrmse=nrmse(fitted, rec.values).tolist(),
         frf_nrmse_data=nrmse(own, band.values).tolist(),
         noise_estimate_data=noise.tolist(), data_quantity=band.quantity,
+        missed_resonances_hz=np.unique(np.concatenate([missed_resonances(
+            band.freq_hz, h, m) for h, m in zip(band.values, own)])).tolist(),
         frf_median_relative_error=np.median(np.abs(own - band.values) / magnitude,
                                             axis=1).tolist(),
         noise_median_relative=np.median(scatter / magnitude, axis=1).tolist(),

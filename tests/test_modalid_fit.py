@@ -1001,7 +1001,10 @@ def test_a_one_hit_hammer_record_with_no_options():
     mass line of this transfer FRF is kept (it was zeroed: 50-90 % error below the first
     mode), and the publisher's four modes (pyEMA LSCF on 1-4000 Hz: 695.0, 1897.6,
     2777.3, 3671.2 Hz, damping 0.0047, 0.0031, 0.0024, 0.0020) come out within 0.1 % and
-    their damping within 5 %; verdict ok."""
+    their damping within 5 %. The verdict is "suspect": below them, at 18 Hz, the data
+    hold a sharp resonance (2.5 against 1.2 and 0.9 on the lines beside it, the force's
+    spectrum smooth there: the beam on its suspension) that the model misses by 104 %
+    of the data, 67 times their scatter (it was "ok", silent)."""
     import importlib.util
 
     path = Path(__file__).resolve().parent.parent / "benchmarks" / "real_data.py"
@@ -1012,7 +1015,8 @@ def test_a_one_hit_hammer_record_with_no_options():
         warnings.simplefilter("ignore")
         fit = ModalFit().fit(real_data.load("ladisk beam, one hit"))
     r = fit.report_
-    assert r["verdict"] == "ok" and r["driving_point"] is False
+    assert r["verdict"] == "suspect" and r["driving_point"] is False
+    assert [round(f, 1) for f in r["missed_resonances_hz"]] == [18.0]
     assert 6000 < r["band_hz"][1] < 7000 and "20 dB" in r["band_reason"]
     assert fit.model_.inverse_mass < 0 and r["frf_median_relative_error"] < 0.05
     modes = r["modes"]
@@ -1030,7 +1034,8 @@ def test_a_refinement_through_coinciding_poles_does_not_break_down(seed):
     negative (-1.9e11 on a measured beam); scaled by them, the step overflowed to NaN and
     numpy raised "SVD did not converge" from inside the refinement (seed 13). A step that
     is not finite, or a trial the projection cannot solve, is now a rejected step: the
-    refinement ends with finite poles, and says it stopped on a singular matrix."""
+    refinement ends with finite poles, and says it stopped on a singular matrix where it
+    did."""
     from modalid._lsfd import Terms, refine_varpro
 
     truth = ModalModel.from_modes(2 * np.pi * np.array([100.0, 180.0]), [0.01, 0.01],
@@ -1045,7 +1050,9 @@ def test_a_refinement_through_coinciding_poles_does_not_break_down(seed):
                                    Terms(np.zeros(0), False, False, 0.0))
     assert np.all(np.isfinite(poles)) and np.all(np.isfinite(x))
     np.testing.assert_allclose(np.sort(np.abs(poles))[[0, -1]], np.abs(p), rtol=2e-3)
-    assert not info["converged"] and "singular" in info["message"]
+    # where the rounding makes the normal matrix singular (this seed's, on the machine of
+    # 2026-11-26), the refinement stops and says so; elsewhere (numpy 2.4.6) it converges
+    assert info["converged"] or "singular" in info["message"]
 
 
 @pytest.mark.parametrize("method", ["vf", "lscf"])
@@ -1127,17 +1134,42 @@ def test_a_probe_whose_junk_poles_carry_the_sign_does_not_decide():
     assert r["verdict"] == "ok" and fit.model_.is_passive()
 
 
-def test_a_failed_fit_weighted_by_the_frf_is_refitted_by_the_scatter():
+def _ends_left_to_the_pseudo_modes(h, resid):
+    """The missed-mode search's lines at the band's ends as they were before it looked
+    at a resonance missed there: the 2 % at either end, all (``_edge_lines``' stand-in
+    for the tests whose fits weighted 1/|H| failed or stalled for a mode lost there)."""
+    edge = np.zeros(h.size, bool)
+    n = int(0.02 * h.size)
+    edge[:n] = True
+    edge[h.size - n:] = True
+    return edge
+
+
+def test_a_failed_fit_weighted_by_the_frf_is_refitted_by_the_scatter(monkeypatch):
     """A cantilever's driving-point mobility measured from 3 times its first mode, 3 %
     noise (benchmarks/random_predictions.py seed 4, case 45 from 2.42 Hz): its modes are
     far narrower than the 0.14 Hz lines (one line stands 40 times above its neighbours).
     Weighted 1/|H| (``weighting="auto"``'s choice for proportional noise) the fit lost the
     two lowest modes and its pseudo-modes cancelled to a model near zero below 50 Hz
     (error 95 %, "failed"; the impact was refused). The failed fit is refitted weighted
-    by the data's scatter, which stands: the ten modes in band, a driving point."""
+    by the data's scatter, which stands: the ten modes in band, a driving point. (Since
+    the missed-mode search looks at a resonance missed at the band's ends, the 1/|H| fit
+    keeps its lowest mode and is "suspect", its passive fit stalling: the refit stands
+    too. The search as it was, the ends left to the pseudo-modes, reproduces the failed
+    fit.)"""
+    import modalid._pole_checks
+
     beam = CantileverBeam(4.1625533859322355, 0.7037545381520051)
     frf = _random_case_frf(beam, 2.596307205355822e-4, 280.08354970973886,
                            low=2.423185040657117, quantity="mobility", noise=0.03, seed=45)
+    exact = beam.modal_model(12).modes["frequency_hz"].to_numpy()
+    exact = exact[(exact > 2.43) & (exact < 280.0)]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        today = ModalFit().fit(frf).report_
+    assert today["weighting"] == "noise" and today["verdict"] == "ok"
+    np.testing.assert_allclose(today["modes"]["frequency_hz"], exact, rtol=2e-3)
+    monkeypatch.setattr(modalid._pole_checks, "_edge_lines", _ends_left_to_the_pseudo_modes)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         fit = ModalFit().fit(frf)
@@ -1146,23 +1178,33 @@ def test_a_failed_fit_weighted_by_the_frf_is_refitted_by_the_scatter():
     r = fit.report_
     assert r["weighting"] == "noise" and r["weighting_reason"].startswith(
         "the fit weighted 1/|H| failed (the FRF error")
-    exact = beam.modal_model(12).modes["frequency_hz"].to_numpy()
-    exact = exact[(exact > 2.43) & (exact < 280.0)]
     assert r["verdict"] == "ok" and r["driving_point"] is True
     np.testing.assert_allclose(r["modes"]["frequency_hz"], exact, rtol=2e-3)
 
 
-def test_a_stalled_passive_fit_weighted_by_the_frf_is_refitted_by_the_scatter():
+def test_a_stalled_passive_fit_weighted_by_the_frf_is_refitted_by_the_scatter(monkeypatch):
     """A cantilever's driving-point accelerance, 15 modes, 3 % noise, its lowest modes
     under-resolved (benchmarks/random_predictions.py seed 6, case 23). Weighted 1/|H|
     the unconstrained fit's modes were all of positive mass but off at the low end (0.16
     Hz for 0.21, 2.0 Hz at damping 0.23 for 1.32) and not passive, and the passive fit
     stalled at 15.8 % median error against 3.6 %: "not a passive driving point", the
     impact refused. Refitted weighted by the data's scatter: a passive driving point at
-    2.6 %."""
+    2.6 %. (Since the missed-mode search looks at a resonance missed at the band's ends,
+    the 1/|H| fit finds the 1.3 Hz mode, 19 lines up, and is a passive driving point at
+    2.5 %, all 15 modes found; the search as it was reproduces the stall, and the
+    verdict says the 1.3 Hz mode is missed.)"""
+    import modalid._pole_checks
+
     beam = CantileverBeam(4.75823437772677, 2.649254637747698)
     frf = _random_case_frf(beam, 2.621833890804686e-4, 130.42020105858865,
                            quantity="accelerance", noise=0.03, seed=23)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        today = ModalFit().fit(frf)
+    assert today.report_["driving_point"] is True and today.model_.is_passive()
+    assert today.report_["verdict"] == "ok"
+    assert today.report_["frf_median_relative_error"] < 0.03
+    monkeypatch.setattr(modalid._pole_checks, "_edge_lines", _ends_left_to_the_pseudo_modes)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         fit = ModalFit().fit(frf)
@@ -1171,7 +1213,9 @@ def test_a_stalled_passive_fit_weighted_by_the_frf_is_refitted_by_the_scatter():
     assert r["weighting"] == "noise" and r["weighting_reason"].startswith(
         "the fit weighted 1/|H| was no passive driving point (15 of 15 modes have a "
         "positive modal mass")
-    assert r["verdict"] == "ok" and r["frf_median_relative_error"] < 0.03
+    # the second mode (1.32 Hz), at line 19 of 2000, lost at the band's end: said now
+    assert r["frf_median_relative_error"] < 0.03 and r["verdict"] == "suspect"
+    assert [round(f, 1) for f in r["missed_resonances_hz"]] == [1.3]
 
 
 def test_a_refit_by_the_scatter_that_does_no_better_is_not_kept():
@@ -1227,8 +1271,9 @@ def test_a_mode_missed_near_the_band_bottom_does_not_hide_the_low_end():
     first mode below the band, the fits missed the lines by 22 % and the FRF was refused
     as not a passive driving point. The low end is now judged below the data's first
     resonance peak: a driving point, its modes from the third on the beam's, masses
-    included (m/4 at the tip). (The 0.93 Hz mode itself is still missed: its peak, in
-    accelerance a hundredth of the top modes', moves neither error measure.)"""
+    included (m/4 at the tip). The 0.93 Hz mode itself, at line 11 of 2000 (in the 2 %
+    at the band's end the missed-mode search left to the pseudo-modes, then), is found
+    since the search looks at a distinct resonance peak of the data there too."""
     from data_synth import lightly_damped, synthetic_frf
 
     beam = CantileverBeam(0.7939172801757642, 3.775289294499222)
@@ -1243,9 +1288,9 @@ def test_a_mode_missed_near_the_band_bottom_does_not_hide_the_low_end():
     assert r["verdict"] == "ok" and r["driving_point"] is True
     assert r["rigid_body"] or r["lower_residual_mode"]
     exact = beam.modal_model(14).modes
-    exact = exact[(exact["frequency_hz"] > 2.0) & (exact["frequency_hz"] < 76.9)]
-    np.testing.assert_allclose(r["modes"]["frequency_hz"], exact["frequency_hz"], rtol=1e-3)
-    np.testing.assert_allclose(r["modes"]["modal_mass"], exact["modal_mass"], rtol=0.1)
+    exact = exact[(exact["frequency_hz"] > 0.6) & (exact["frequency_hz"] < 76.9)]
+    np.testing.assert_allclose(r["modes"]["frequency_hz"], exact["frequency_hz"], rtol=1e-4)
+    np.testing.assert_allclose(r["modes"]["modal_mass"], exact["modal_mass"], rtol=0.02)
 
 
 def _spring_mass_accelerance(noise=0.03):
@@ -1289,17 +1334,129 @@ def test_a_driving_points_impulse_response_does_not_start_against_the_force():
 def test_a_discarded_passive_fit_says_nothing():
     """A fixed rod's exact (undamped) accelerance: the passive fit fails on it (median
     error 100 %, "no resonance found in the band") and the unconstrained fit, which finds
-    all 20 modes and is passive itself, stands. The discarded fit's warning had been said
-    beside the 20-mode table."""
-    freq = np.arange(0.005, 10.0, 0.01)
+    all 24 modes and is passive itself, stands. The discarded fit's warning had been said
+    beside the mode table. (On 0.005-10 Hz, where this was found, the passive fit no
+    longer fails with numpy 2.4.6.)"""
+    freq = np.arange(0.005, 12.0, 0.01)
     rod = Rod(1.0, 1.0, support="fixed")
     data = FRFData(freq, rod.frf(2 * np.pi * freq, quantity="accelerance"),
                    quantity="accelerance")
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         fit = ModalFit().fit(data)
-    np.testing.assert_allclose(fit.report_["modes"]["frequency_hz"], 0.25 + 0.5 * np.arange(20),
+    np.testing.assert_allclose(fit.report_["modes"]["frequency_hz"], 0.25 + 0.5 * np.arange(24),
                                rtol=1e-6)
     assert "which satisfies the passivity constraint itself" in fit.report_[
         "driving_point_reason"]
     assert not [w for w in caught if "no resonance found" in str(w.message)]
+
+
+def test_a_mode_at_the_band_top_is_found():
+    """A mode whose peak lies in the 2 % of the lines at either end of the band, which the
+    missed-mode search left to the pseudo-modes, is found when the data show it as a
+    distinct resonance peak (benchmarks/random_predictions.py: 12 of 708 files of seeds
+    1-10 lost such a mode, 9 with the verdict "ok"; the band's bottom:
+    test_a_mode_missed_near_the_band_bottom_does_not_hide_the_low_end). A cantilever's
+    receptance to 13.232 Hz, 3 % noise: its 13.2 Hz mode, 5 lines from the top, was
+    missing (seed 1, case 15)."""
+    beam, zeta, top = (CantileverBeam(2.6980215218848573, 1.4577394790315046),
+                       1.842436781541699e-4, 13.232006593718095)
+    frf = _random_case_frf(beam, zeta, top, quantity="receptance", noise=0.03, seed=15)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        fit = ModalFit().fit(frf)
+    r = fit.report_
+    exact = beam.modal_model(20).modes
+    exact = exact[(exact["frequency_hz"] > frf.freq_hz[0])
+                  & (exact["frequency_hz"] < frf.freq_hz[-1])]
+    assert len(r["modes"]) == len(exact)
+    np.testing.assert_allclose(r["modes"]["frequency_hz"], exact["frequency_hz"], rtol=1e-4)
+    np.testing.assert_allclose(r["modes"]["modal_mass"], exact["modal_mass"], rtol=0.02)
+    assert r["verdict"] == "ok" and r["missed_resonances_hz"] == []
+
+
+def test_a_fit_weighted_by_the_frf_that_misses_a_resonance_is_refitted_by_the_scatter():
+    """A cantilever's accelerance, 13 modes, 3 % noise (benchmarks/random_predictions.py
+    seed 7, case 22): weighted 1/|H| the fit put the 0.7275 Hz mode, far narrower than
+    the 0.028 Hz lines, at 0.7055 Hz with damping 0.005, and missed the data's peak by
+    130 % (10 times their scatter and more at its three lines): "suspect", the data's
+    resonance missed. Refitted weighted by the data's scatter: "ok", every mode within
+    0.2 % (the first, 4 lines above the band's bottom, 0.17 % off; the others 3e-4)."""
+    beam = CantileverBeam(4.10748982291343, 4.820319126617792)
+    frf = _random_case_frf(beam, 1.2630463610044653e-4, 55.55699112571345,
+                           quantity="accelerance", noise=0.03, seed=22)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        relative = ModalFit(weighting="relative").fit(frf)
+        fit = ModalFit().fit(frf)
+    assert relative.report_["verdict"] == "suspect"
+    missed = relative.report_["missed_resonances_hz"]
+    assert len(missed) == 1 and abs(missed[0] - 0.7275) < 0.03
+    assert any("resonance at 0.72" in why for why in relative.report_["verdict_reasons"])
+    r = fit.report_
+    assert r["weighting"] == "noise" and r["weighting_reason"].startswith(
+        "the fit weighted 1/|H| missed the data's resonance at 0.72")
+    exact = beam.modal_model(20).modes
+    exact = exact[exact["frequency_hz"] < 55.5]
+    assert r["verdict"] == "ok" and len(r["modes"]) == len(exact) == 13
+    np.testing.assert_allclose(r["modes"]["frequency_hz"], exact["frequency_hz"], rtol=2e-3)
+
+
+def test_a_suspect_fit_weighted_by_the_frf_is_refitted_by_the_scatter(tmp_path):
+    """A cantilever's mobility, 16 modes, 1 % noise, written to a CSV file and read back
+    (benchmarks/random_predictions.py seed 8, case 22): weighted 1/|H| the first mode
+    came out at 0.108 Hz for 0.116 (the band's third line), which misses its peak, the
+    largest of the FRF: error 70.8 %, median line error 0.9 %, "suspect". Refitted
+    weighted by the data's scatter: "ok" at 0.26 %, every mode within 0.3 %, and the
+    refit stands. (The 1/|H| fit's path turns on the rounding: the same FRF not through
+    the file, 4e-16 apart, is fitted "ok" at 0.33 % weighted 1/|H|; the rule itself:
+    test_which_refit_by_the_scatter_stands.)"""
+    from data_synth import lightly_damped, synthetic_frf
+    from modalid import read_frf, write_frf
+
+    beam = CantileverBeam(4.1466469350266735, 4.8244126928207445)
+    top = 78.61323017313646
+    write_frf(tmp_path / "case22.csv", synthetic_frf(
+        lightly_damped(beam, 300, 8.82847733818296e-4), np.linspace(top / 2000, top, 2000),
+        quantity="mobility", noise=0.01, seed=22))
+    frf = read_frf(tmp_path / "case22.csv")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        relative = ModalFit(weighting="relative").fit(frf).report_
+        fit = ModalFit().fit(frf)
+    r = fit.report_
+    if relative["verdict"] == "suspect":
+        assert r["weighting"] == "noise" and r["weighting_reason"].startswith(
+            "the fit weighted 1/|H| was suspect (the FRF error is")
+    exact = beam.modal_model(20).modes
+    exact = exact[exact["frequency_hz"] < 78.6]
+    assert r["verdict"] == "ok" and r["frf_nrmse"] < 0.01 and len(r["modes"]) == len(exact)
+    np.testing.assert_allclose(r["modes"]["frequency_hz"], exact["frequency_hz"], rtol=3e-3)
+
+
+def test_which_refit_by_the_scatter_stands():
+    """The rule of :func:`modalid._fit_one._refit_stands` on reports whose answer is known:
+    a failed refit never; after a stall a driving point at no larger median error; for
+    a missed resonance one that misses fewer, its median error up to the verdict's
+    tolerance (3 times the scatter, at least 5 %); for a suspect fit an "ok" one."""
+    from modalid._fit_one import _refit_stands
+
+    def report(verdict="ok", error=0.02, noise=0.01, missed=(), driving=True):
+        return {"verdict": verdict, "frf_median_relative_error": error,
+                "noise_median_relative": noise, "missed_resonances_hz": list(missed),
+                "driving_point": driving}
+
+    first = report(verdict="suspect", error=0.02, missed=[1.0])
+    assert not _refit_stands(first, None, trigger="missed")
+    assert not _refit_stands(first, report(verdict="failed"), trigger="missed")
+    assert _refit_stands(first, report(error=0.04), trigger="missed")      # under 5 %
+    assert not _refit_stands(first, report(error=0.06), trigger="missed")
+    assert not _refit_stands(first, report(error=0.01, missed=[2.0]), trigger="missed")
+    assert _refit_stands(first, report(error=0.04), trigger="failed")
+    assert not _refit_stands(first, report(error=0.03), trigger="stalled")  # above 2 %
+    assert not _refit_stands(first, report(error=0.01, driving=False), trigger="stalled")
+    assert _refit_stands(first, report(error=0.01), trigger="stalled")
+    assert not _refit_stands(first, report(verdict="suspect", error=0.01), trigger="suspect")
+    assert _refit_stands(first, report(error=0.04), trigger="suspect")
+    noisy = report(verdict="failed", error=0.5, noise=0.6)                  # tolerance 180 %
+    assert _refit_stands(noisy, report(verdict="suspect", error=0.52), trigger="failed")

@@ -1,10 +1,13 @@
 """The missed-mode search (modalid._pole_checks): the noise a trial mode is judged against,
 and the refinement that follows a mode added late."""
 
+import warnings
+
 import numpy as np
 
 from modalid import FRFData, ModalFit, ModalModel
 from modalid._lsfd import Terms
+from modalid._pole_checks import PoleChecks
 
 F_MODES = np.array([810., 851.5, 900., 1300., 1518., 1700., 1850.])
 
@@ -68,15 +71,38 @@ def close_pair_data(seed, weak_mass):
     return FRFData(freq, h * (1 + sigma * noise), quantity="accelerance")
 
 
-def test_a_mode_added_by_the_second_search_is_refined_in_full():
+def test_a_mode_added_by_the_second_search_is_refined_in_full(monkeypatch):
     """A mode the second search adds comes from a quick trial refinement (15 steps, no
     standard deviations under relative weights); the fit refines in full after it, so
-    every mode has its standard deviation (before: NaN for the whole fit)."""
-    fit = ModalFit(passive=False).fit(close_pair_data(seed=1, weak_mass=-8.0))
-    modes = fit.report_["modes"]
-    assert len(fit.report_["notes"]) >= 5                 # modes added in both stages
-    for column in ("frequency_hz_std", "damping_ratio_std"):
-        assert np.all(np.isfinite(modes[column])) and np.all(modes[column] > 0)
+    every mode has its standard deviation (before: NaN for the whole fit). Which noise
+    draws make the second search add a mode depends on the rounding of the machine
+    (seed 1 did, with numpy 2.4.6 seed 11 of the stronger partner does): the draws
+    where it does are found by watching the search (a mode added from a full
+    refinement under relative weights: the second search), and there must be one."""
+    started_full = []
+    search = PoleChecks._missed_mode
+
+    def watched(self, omega, h, w, poles, kinds, x, info, *rest):
+        out = search(self, omega, h, w, poles, kinds, x, info, *rest)
+        if out[-1]:
+            started_full.append(not info.get("quick"))
+        return out
+
+    monkeypatch.setattr(PoleChecks, "_missed_mode", watched)
+    checked = 0
+    for seed in range(1, 13):
+        for weak_mass in (-8.0, 8.0):
+            started_full.clear()
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                fit = ModalFit(passive=False).fit(close_pair_data(seed, weak_mass))
+            if fit.report_["weighting"] != "relative" or not any(started_full):
+                continue
+            checked += 1
+            modes = fit.report_["modes"]
+            for column in ("frequency_hz_std", "damping_ratio_std"):
+                assert np.all(np.isfinite(modes[column])) and np.all(modes[column] > 0)
+    assert checked >= 1
 
 
 def test_a_kept_local_trial_joins_with_its_own_poles_unless_a_mode_moved_away():
