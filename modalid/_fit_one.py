@@ -19,7 +19,7 @@ import warnings
 import numpy as np
 
 from ._frf_pipeline import ModalFitWarning
-from ._verdict import driving_point_decision, line_error_tolerance
+from ._verdict import driving_point_decision, line_error_tolerance, misfit_suspect
 
 __all__ = ["FitOne"]
 
@@ -35,13 +35,15 @@ class FitOne:
         ``passive="auto"`` found no passive driving point for want of a passive fit (its
         modes' strength positive, the passive fit stalled), that missed a resonance of the
         data (``report_["missed_resonances_hz"]``,
-        :func:`modalid._verdict.missed_resonances`) or that is "suspect" otherwise is
-        refitted weighted by one over the data's own scatter
+        :func:`modalid._verdict.missed_resonances`) or that is "suspect" for its error
+        otherwise (:func:`modalid._verdict.misfit_suspect`) is refitted weighted by one
+        over the data's own scatter
         (:func:`modalid._lsfd.noise_level`, smoothed over the lines around: a sharp peak
-        keeps the weight of its surroundings). The refit stands unless it fails too,
-        misses the lines by more (median relative error per line, in the data's quantity)
-        or, after a stall, is no driving point either; refitted for a missed resonance, it
-        must miss fewer, for a suspect fit be "ok" (:func:`_refit_stands`).
+        keeps the weight of its surroundings). The refit stands unless it fails too or
+        misses the lines by more (median relative error per line, in the data's quantity;
+        up to the verdict's tolerance it may, but after a stall); after a stall it must be
+        a driving point, for a missed resonance miss fewer, for a suspect fit be "ok"
+        (:func:`_refit_stands`).
         ``report_["weighting_reason"]`` says which fit stands and why, and the warnings
         said are those of the fit that stands.
 
@@ -61,7 +63,9 @@ class FitOne:
         stalled = self.__dict__.pop("_passive_stalled", False)
         verdict, missed = self.report_["verdict"], self.report_["missed_resonances_hz"]
         trigger = ("failed" if verdict == "failed" else "stalled" if stalled
-                   else "missed" if missed else "suspect" if verdict == "suspect" else None)
+                   else "missed" if missed
+                   else "suspect" if verdict == "suspect" and misfit_suspect(self.report_)
+                   else None)
         if (self.weighting == "auto" and self._weighting_on == "relative"
                 and self._line_weights is None and trigger):
             first = dict(self.__dict__)
@@ -187,22 +191,26 @@ class FitOne:
 
 def _refit_stands(first, refit, *, trigger: str) -> bool:
     """Whether the refit weighted by the data's scatter (report ``refit``, None if it
-    raised) replaces the fit weighted ``1/|H|`` (report ``first``), refitted because the
-    first ``trigger`` (``"failed"``, ``"stalled"``: its passive fit, ``"missed"``: a
-    resonance of the data, or was ``"suspect"`` otherwise): not failed, after a stall a
-    driving point, for a missed resonance missing fewer, for a suspect fit "ok", and its
-    median relative error per line no more than
-    the first's or, unless after a stall, the verdict's tolerance
+    raised) replaces the fit weighted ``1/|H|`` (report ``first``).
+
+    ``trigger``: why it was refitted: the first ``"failed"``, its passive fit
+    ``"stalled"``, it ``"missed"`` a resonance of the data, or it was ``"suspect"`` for
+    its error. The refit must not fail; after a stall it must be a driving point, for a
+    missed resonance miss fewer, for a suspect fit be "ok"; and its median relative error
+    per line may not exceed the first's or, but after a stall, the verdict's tolerance
     (:func:`modalid._verdict.line_error_tolerance`, the error at which modes count as
-    missing), the larger. Weighted by the scatter, a
-    sharp peak's own lines count for more than the median line: a cantilever's
-    accelerance at 3 % noise, 0.7276 Hz where 1/|H| put 0.7055 Hz, at 2.58 % median
-    error against 2.53 %; vibration_toolbox's case2 on 100-300 Hz, 192.39 Hz alone at
-    51.6 % against 119.9 and 192.7 Hz failed at 51.6 % (its scatter 59 %). A fixed rod's
-    exact FRF at zeta 1e-2 keeps its failed fit at 0.8 % against a refit's 29 %. After a
-    stall the first's error is the bound: a fixed rod's receptance (3 % noise) whose
-    passive fit stalled at 5.5 % against 2.5 % was refitted at 4.6 %, a passive driving
-    point without the mode 1.4 lines below the band's top."""
+    missing), the larger.
+
+    Weighted by the scatter, a sharp peak's own lines count for more than the median
+    line: a cantilever's accelerance at 3 % noise, 0.7276 Hz where 1/|H| put 0.7055 Hz,
+    at 2.58 % median error against 2.53 %; vibration_toolbox's case2 on 100-300 Hz,
+    192.39 Hz alone at a median error of 51.63 % (FRF error 68.6 %) against 119.9 and
+    192.7 Hz, failed, at 51.56 % (103 %), its scatter 59 %. A fixed rod's exact FRF at
+    zeta 1e-2 keeps its failed fit at 0.8 % against a refit's 29 %. After a stall the
+    first's error is the bound: a fixed rod's receptance (3 % noise) whose passive fit
+    stalled at 5.5 % against 2.5 % was refitted at 4.6 %, a passive driving point without
+    the mode 1.4 lines below the band's top.
+    """
     if refit is None or refit["verdict"] == "failed":
         return False
     if trigger == "suspect" and refit["verdict"] != "ok":

@@ -74,12 +74,14 @@ def _edge_lines(h, resid):
     """The lines (bool, shape of ``h``) the missed-mode search leaves alone: the 2 % at
     either end of the band (the pseudo-modes' ground), but for the three lines around a
     resonance of the data there that the model, ``h - resid``, misses outright
-    (:func:`modalid._verdict.missed_peak_lines`: a distinct peak of the data, missed by
-    more than half of it and ten times the scatter at its line and both neighbours).
-    A cantilever's accelerance from 0.52 Hz lost its 0.929 Hz mode, at line 11 of
-    2000, 194 in the data against 0.3 in the model. The lower humps a one-hit hammer
-    record has at 18-58 Hz, which the model explains well enough, stay out: taken as
-    modes, they had the transfer FRF's negative mass line turn positive."""
+    (:func:`modalid._verdict.missed_peak_lines`: a sharp distinct peak of the data,
+    missed by more than half of it and ten times the scatter at its line and both
+    neighbours), judged here in receptance, the quantity fitted (the verdict judges the
+    data's own). A cantilever's accelerance from 0.52 Hz lost its 0.929 Hz mode, at line
+    11 of 2000, 194 in the data against 0.3 in the model. The broad humps a one-hit
+    hammer record has at 30-60 Hz stay out (taken as modes, at damping 0.1-0.15, they
+    had the transfer FRF's negative mass line turn positive); its sharp 18 Hz resonance
+    is tried, and the trial, drawn to the hump beside it, rejected."""
     edge = np.zeros(h.size, bool)
     n = int(0.02 * h.size)
     edge[:n] = True
@@ -102,8 +104,10 @@ class PoleChecks:
         beside the 4128 Hz mode of a real hammer test) and three half-power half-widths
         from a peak rejected before (``tried``: ``(omega, radius)`` pairs, appended to
         here; retrying a rejected peak's shoulders used up the search's misses before it
-        reached the next peak), away from the 2 % of the lines
-        at either end (the pseudo-modes' ground). A pole is placed there,
+        reached the next peak), away from the 2 % of the lines at either end (the
+        pseudo-modes' ground) but for a sharp resonance of the data the model misses
+        outright there (:func:`_edge_lines`: tried from its own line, once, a rejection
+        costing the search no miss). A pole is placed there,
         refined quickly (:meth:`_trial_mode`), and kept when it passes
         :meth:`_worst_pole`, lies two lines or more from every other mode (closer ones
         cannot be resolved: a sharp peak's shape, not a mode) and, with
@@ -136,7 +140,7 @@ class PoleChecks:
         k = int(np.argmax(e2))
         if e2[k] < 14.0:
             return poles, kinds, x, info, None
-        at_end = int(0.02 * e2.size) > min(k, e2.size - 1 - k)
+        k0, at_end = k, int(0.02 * e2.size) > min(k, e2.size - 1 - k)
         if at_end:            # a missed peak at an end of the band: from its own line
             k = max(k - 1, 0) + int(np.argmax(np.abs(resid[max(k - 1, 0):k + 2])))
         wk = omega[k]
@@ -146,8 +150,9 @@ class PoleChecks:
         # feature, not a next peak), a mode found only 0.3 % (its close partner may lie
         # there)
         tried.append((wk, max(0.003 * wk, 3.0 * narrow)))
-        if at_end:            # its three lines, once
-            tried[-1] = (wk, max(tried[-1][1], 2.5 * float(np.median(np.diff(omega)))))
+        if at_end:            # tried once: its line, the line the search chose, beside them
+            beside = 1.5 * float(np.max(np.diff(omega[max(k - 2, 0):k + 3])))
+            tried[-1] = (wk, max(tried[-1][1], abs(omega[k0] - wk) + beside))
         starts = [complex(-d, wk) for d in ((0.01 * wk, narrow) if narrow < 0.005 * wk
                                              else (0.01 * wk,))]
         if self.missed_modes != "dense":
@@ -160,7 +165,8 @@ class PoleChecks:
             if out is not None:
                 break
         else:
-            if at_end:        # costs the search no miss: on to the next peak
+            if at_end:        # costs the search no miss: on to the next peak (the line
+                # chosen is hidden now: the unmasked lines at the ends run out)
                 return self._missed_mode(omega, h, w, poles, kinds, x, info, terms, tried)
             return poles, kinds, x, info, []
         tried[-1] = (wk, 0.003 * wk)

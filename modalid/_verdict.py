@@ -26,7 +26,7 @@ from .frf_set import FRFSet
 from .multi_output import MultiOutputModalModel
 
 __all__ = ["driving_point_decision", "quality_verdict", "damping_resolved", "judged_report",
-           "line_error_tolerance", "missed_resonances"]
+           "line_error_tolerance", "missed_resonances", "missed_peak_lines", "misfit_suspect"]
 
 _DOMINANT = 0.9       # share of the peak receptance that decides a driving point
 MIN_DAMPING = 1e-6   # below this the damping ratio sits at the refinement's bound
@@ -152,8 +152,18 @@ def missed_resonances(freq_hz, values, model_values) -> np.ndarray:
 
 
 def missed_peak_lines(values, model_values) -> np.ndarray:
-    """The lines (indices) of :func:`missed_resonances`' peaks: ``values`` and
-    ``model_values`` (complex, shape (n,)) in one quantity."""
+    """The lines of :func:`missed_resonances`' peaks.
+
+    Parameters
+    ----------
+    values, model_values : ndarray of complex, shape (n,)
+        The data and the model at the lines, in one quantity.
+
+    Returns
+    -------
+    ndarray of int
+        Indices into ``values``, ascending.
+    """
     h = np.asarray(values, complex)
     size = np.abs(h)
     error = np.abs(np.asarray(model_values, complex) - h)
@@ -165,6 +175,17 @@ def missed_peak_lines(values, model_values) -> np.ndarray:
              & (np.where(peaks + 2 < size.size, size[np.minimum(peaks + 2, size.size - 1)],
                          0.0) < half))
     return np.array([k for k in peaks[sharp] if wrong[max(k - 1, 0):k + 2].all()], dtype=int)
+
+
+def misfit_suspect(report) -> bool:
+    """Whether an FRF fit's report (one FRF) makes it "suspect" for its error, as
+    :func:`quality_verdict` judges it: an FRF error above 50 %, a median line error above
+    :func:`line_error_tolerance`, or the missed-peak gate (:data:`MISS_ERROR`,
+    :data:`MISS_FACTOR`); not for a mode's damping at its bound, a mode outside the band
+    or the like, which no other weighting of the lines mends."""
+    nrmse, noise = report["frf_nrmse"], report["noise_median_relative"]
+    return bool(nrmse > 0.5 or report["frf_median_relative_error"] > line_error_tolerance(
+        noise) or _missed_peaks(nrmse, noise))
 
 
 def line_error_tolerance(relative_noise):
@@ -245,8 +266,9 @@ def quality_verdict(modes: pd.DataFrame, *, band_hz, driving_point, nrmse, relat
                        "peaks are missed, modes may be missing")
     for f_missed in missed_hz:
         suspect.append(f"the data's resonance at {f_missed:.6g} Hz is missed (the model "
-                       "errs there by more than half the data and ten times their scatter): "
-                       "a mode is missing or misplaced")
+                       f"errs there by more than {100 * PEAK_MISS_ERROR:.3g} % of the data "
+                       f"and {MISS_FACTOR:.3g} times their scatter): a mode is missing or "
+                       "misplaced")
     if len(modes) == 0 and not rigid_body and nrmse > 0.1:
         failed.append("no resonance in the band")
     f = modes["frequency_hz"].to_numpy(float)

@@ -101,9 +101,11 @@ class ModalFit(FitOne, FRFPipeline, FitLines, BaseEstimator):
         ``"auto"`` (default): ``"relative"`` for noise proportional to the FRF, ``"mixed"``
         for a noise floor under it, ``"noise"`` where the floor dominates
         (:func:`modalid._band.choose_weighting`; an FRFSet: ``"relative"``); a fit
-        weighted ``"relative"`` whose verdict is ``"failed"``, or that ``passive="auto"``
-        found no passive driving point for want of a passive fit, is refitted
-        ``"noise"``, which stands where it does better (an FRF's fit, not an FRFSet's;
+        weighted ``"relative"`` whose verdict is ``"failed"``, that ``passive="auto"``
+        found no passive driving point for want of a passive fit, that misses a resonance
+        of the data (``report_["missed_resonances_hz"]``) or is ``"suspect"`` for its
+        error, is refitted ``"noise"``, which stands where it does better (an FRF's fit,
+        not an FRFSet's;
         :meth:`modalid._fit_one.FitOne._fit_weighted`);
         ``report_["weighting"]`` says which and why. ``"mixed"``: one over the modelled
         noise ``sqrt((sigma_rel |H|)^2 + floor^2)`` (:func:`modalid._band.noise_model`),

@@ -308,7 +308,7 @@ def test_phase_run_start_tolerance_covers_the_rounding_of_a_cancelling_row():
     # the closed form's rounding at the start is some 1e-11 to 1e-10 of its terms, of
     # either sign by machine and library: the start is set below zero by that much
     # (rows of 0 and 1 differ by it), as the rounding leaves it on some machines
-    x[1] = x[0] + 3e-10 * total * (row[0] if row[0] > 0 else -1.0)
+    x[1] = x[0] + 3e-10 * total * row[0]         # row[0] = +-1: row @ x = -3e-10 total
     coefficients = sp.output_coefficients(row, sp.coordinates(x))
     e0 = sp.evaluate(coefficients, [0.0])[0, 0]
     assert -1e-9 * total < e0 < -1e-12 * total

@@ -1050,8 +1050,9 @@ def test_a_refinement_through_coinciding_poles_does_not_break_down(seed):
                                    Terms(np.zeros(0), False, False, 0.0))
     assert np.all(np.isfinite(poles)) and np.all(np.isfinite(x))
     np.testing.assert_allclose(np.sort(np.abs(poles))[[0, -1]], np.abs(p), rtol=2e-3)
-    # where the rounding makes the normal matrix singular (this seed's, on the machine of
-    # 2026-11-26), the refinement stops and says so; elsewhere (numpy 2.4.6) it converges
+    # where the rounding makes the normal matrix singular (this seed's did with the
+    # numpy of the test's writing), the refinement stops and says so; with numpy 2.4.6
+    # it converges through
     assert info["converged"] or "singular" in info["message"]
 
 
