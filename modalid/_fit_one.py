@@ -41,8 +41,8 @@ class FitOne:
         (:func:`modalid._lsfd.noise_level`, smoothed over the lines around: a sharp peak
         keeps the weight of its surroundings). The refit stands unless it fails too or
         misses the lines by more (median relative error per line, in the data's quantity;
-        up to the verdict's tolerance it may, but after a stall); after a stall it must be
-        a driving point, for a missed resonance miss fewer, for a suspect fit be "ok"
+        up to the verdict's tolerance it may); after a stall it must be a driving point
+        with as many modes, for a missed resonance miss fewer, for a suspect fit be "ok"
         (:func:`_refit_stands`).
         ``report_["weighting_reason"]`` says which fit stands and why, and the warnings
         said are those of the fit that stands.
@@ -195,34 +195,36 @@ def _refit_stands(first, refit, *, trigger: str) -> bool:
 
     ``trigger``: why it was refitted: the first ``"failed"``, its passive fit
     ``"stalled"``, it ``"missed"`` a resonance of the data, or it was ``"suspect"`` for
-    its error. The refit must not fail; after a stall it must be a driving point, for a
-    missed resonance miss fewer, for a suspect fit be "ok"; and its median relative error
-    per line may not exceed the first's or, but after a stall, the verdict's tolerance
-    (:func:`modalid._verdict.line_error_tolerance`, the error at which modes count as
-    missing), the larger.
+    its error. The refit must not fail; after a stall it must be a driving point with as
+    many modes as the first, for a missed resonance miss fewer, for a suspect fit be
+    "ok"; and its median relative error per line may not exceed the first's or the
+    verdict's tolerance (:func:`modalid._verdict.line_error_tolerance`, the error at
+    which modes count as missing), the larger.
 
     Weighted by the scatter, a sharp peak's own lines count for more than the median
     line: a cantilever's accelerance at 3 % noise, 0.7276 Hz where 1/|H| put 0.7055 Hz,
     at 2.58 % median error against 2.53 %; vibration_toolbox's case2 on 100-300 Hz,
     192.39 Hz alone at a median error of 51.63 % (FRF error 68.6 %) against 119.9 and
     192.7 Hz, failed, at 51.56 % (103 %), its scatter 59 %. A fixed rod's exact FRF at
-    zeta 1e-2 keeps its failed fit at 0.8 % against a refit's 29 %. After a stall the
-    first's error is the bound: a fixed rod's receptance (3 % noise) whose passive fit
-    stalled at 5.5 % against 2.5 % was refitted at 4.6 %, a passive driving point without
-    the mode 1.4 lines below the band's top.
+    zeta 1e-2 keeps its failed fit at 0.8 % against a refit's 29 %. After a stall: a
+    fixed rod's accelerance from above its second mode (3 % noise, 4 modes) whose passive
+    fit stalled at 21.5 % against 6.4 % is refitted a passive driving point at 6.9 %, its
+    4 modes (refused before); a fixed rod's receptance whose passive fit stalled at 5.5 %
+    against 2.5 % was refitted at 4.6 % without the mode 1.4 lines below the band's top,
+    and predicted a restitution of -0.69 for the exact 0.92: refused.
     """
     if refit is None or refit["verdict"] == "failed":
         return False
     if trigger == "suspect" and refit["verdict"] != "ok":
         return False
-    if trigger == "stalled" and not refit["driving_point"]:
+    if trigger == "stalled" and (not refit["driving_point"]
+                                 or len(refit["modes"]) < len(first["modes"])):
         return False
     if trigger == "missed" and (len(refit["missed_resonances_hz"])
                                 >= len(first["missed_resonances_hz"])):
         return False
-    allowed = first["frf_median_relative_error"]
-    if trigger != "stalled":
-        allowed = max(allowed, line_error_tolerance(first["noise_median_relative"]))
+    allowed = max(first["frf_median_relative_error"],
+                  line_error_tolerance(first["noise_median_relative"]))
     return refit["frf_median_relative_error"] <= allowed
 
 

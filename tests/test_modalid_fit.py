@@ -1183,19 +1183,33 @@ def test_a_failed_fit_weighted_by_the_frf_is_refitted_by_the_scatter(monkeypatch
     np.testing.assert_allclose(r["modes"]["frequency_hz"], exact, rtol=2e-3)
 
 
-def test_a_stalled_passive_fit_weighted_by_the_frf_is_refitted_by_the_scatter(monkeypatch):
-    """A cantilever's driving-point accelerance, 15 modes, 3 % noise, its lowest modes
-    under-resolved (benchmarks/random_predictions.py seed 6, case 23). Weighted 1/|H|
-    the unconstrained fit's modes were all of positive mass but off at the low end (0.16
-    Hz for 0.21, 2.0 Hz at damping 0.23 for 1.32) and not passive, and the passive fit
-    stalled at 15.8 % median error against 3.6 %: "not a passive driving point", the
-    impact refused. Refitted weighted by the data's scatter: a passive driving point at
-    2.6 %. (Since the missed-mode search looks at a resonance missed at the band's ends,
-    the 1/|H| fit finds the 1.3 Hz mode, 19 lines up, and is a passive driving point at
-    2.5 %, all 15 modes found; the search as it was reproduces the stall, and the
-    verdict says the 1.3 Hz mode is missed.)"""
-    import modalid._pole_checks
-
+def test_a_stalled_passive_fit_weighted_by_the_frf_is_refitted_by_the_scatter():
+    """A fixed rod's accelerance measured from above its second mode (0.459-1.697 Hz, 4
+    modes, 3 % noise; benchmarks/random_predictions.py seed 5, case 41 from 0.459 Hz):
+    weighted 1/|H| the unconstrained fit's modes are all of positive mass but it is not
+    passive (two upper pseudo-modes), and the passive fit stalled at 21.5 % median error
+    against 6.4 %: "not a passive driving point", the impact refused. Refitted weighted
+    by the data's scatter: a passive driving point at 6.9 % with the same 4 modes, which
+    stands (within the verdict's tolerance, 9 %). (Session #20's case, a cantilever's
+    accelerance whose lowest modes were under-resolved, seed 6, case 23, no longer
+    stalls: the 1/|H| fit finds its 1.32 Hz mode at line 19, since the search looks at
+    the band's ends, and is a passive driving point at 2.5 %.)"""
+    rod = Rod(1.0580912101302862, 1.6774046834283156, support="fixed")
+    frf = _random_case_frf(rod, 1.102228806533333e-4, 1.6966330275142365,
+                           low=0.45871625834587876, quantity="accelerance", noise=0.03,
+                           seed=41)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        fit = ModalFit().fit(frf)
+    r = fit.report_
+    assert r["driving_point"] is True and fit.model_.is_passive()
+    assert r["weighting"] == "noise" and r["weighting_reason"].startswith(
+        "the fit weighted 1/|H| was no passive driving point (4 of 4 modes have a "
+        "positive modal mass")
+    exact = rod.modal_model(12).modes["frequency_hz"].to_numpy()
+    exact = exact[(exact > 0.46) & (exact < 1.69)]
+    np.testing.assert_allclose(r["modes"]["frequency_hz"], exact, rtol=1e-4)
+    assert r["verdict"] == "ok" and r["frf_median_relative_error"] < 0.08
     beam = CantileverBeam(4.75823437772677, 2.649254637747698)
     frf = _random_case_frf(beam, 2.621833890804686e-4, 130.42020105858865,
                            quantity="accelerance", noise=0.03, seed=23)
@@ -1203,20 +1217,8 @@ def test_a_stalled_passive_fit_weighted_by_the_frf_is_refitted_by_the_scatter(mo
         warnings.simplefilter("ignore")
         today = ModalFit().fit(frf)
     assert today.report_["driving_point"] is True and today.model_.is_passive()
-    assert today.report_["verdict"] == "ok"
+    assert today.report_["verdict"] == "ok" and len(today.report_["modes"]) == 15
     assert today.report_["frf_median_relative_error"] < 0.03
-    monkeypatch.setattr(modalid._pole_checks, "_edge_lines", _ends_left_to_the_pseudo_modes)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        fit = ModalFit().fit(frf)
-    r = fit.report_
-    assert r["driving_point"] is True and fit.model_.is_passive()
-    assert r["weighting"] == "noise" and r["weighting_reason"].startswith(
-        "the fit weighted 1/|H| was no passive driving point (15 of 15 modes have a "
-        "positive modal mass")
-    # the second mode (1.32 Hz), at line 19 of 2000, lost at the band's end: said now
-    assert r["frf_median_relative_error"] < 0.03 and r["verdict"] == "suspect"
-    assert [round(f, 1) for f in r["missed_resonances_hz"]] == [1.3]
 
 
 def test_a_refit_by_the_scatter_that_does_no_better_is_not_kept():
@@ -1437,15 +1439,15 @@ def test_a_suspect_fit_weighted_by_the_frf_is_refitted_by_the_scatter(tmp_path):
 
 def test_which_refit_by_the_scatter_stands():
     """The rule of :func:`modalid._fit_one._refit_stands` on reports whose answer is known:
-    a failed refit never; after a stall a driving point at no larger median error; for
-    a missed resonance one that misses fewer, its median error up to the verdict's
-    tolerance (3 times the scatter, at least 5 %); for a suspect fit an "ok" one."""
+    a failed refit never; after a stall a driving point with as many modes; for a missed
+    resonance one that misses fewer; for a suspect fit an "ok" one; and a median error
+    up to the first's or the verdict's tolerance (3 times the scatter, at least 5 %)."""
     from modalid._fit_one import _refit_stands
 
-    def report(verdict="ok", error=0.02, noise=0.01, missed=(), driving=True):
+    def report(verdict="ok", error=0.02, noise=0.01, missed=(), driving=True, n_modes=4):
         return {"verdict": verdict, "frf_median_relative_error": error,
                 "noise_median_relative": noise, "missed_resonances_hz": list(missed),
-                "driving_point": driving}
+                "driving_point": driving, "modes": [None] * n_modes}
 
     first = report(verdict="suspect", error=0.02, missed=[1.0])
     assert not _refit_stands(first, None, trigger="missed")
@@ -1454,9 +1456,10 @@ def test_which_refit_by_the_scatter_stands():
     assert not _refit_stands(first, report(error=0.06), trigger="missed")
     assert not _refit_stands(first, report(error=0.01, missed=[2.0]), trigger="missed")
     assert _refit_stands(first, report(error=0.04), trigger="failed")
-    assert not _refit_stands(first, report(error=0.03), trigger="stalled")  # above 2 %
+    assert _refit_stands(first, report(error=0.04), trigger="stalled")
+    assert not _refit_stands(first, report(error=0.06), trigger="stalled")
     assert not _refit_stands(first, report(error=0.01, driving=False), trigger="stalled")
-    assert _refit_stands(first, report(error=0.01), trigger="stalled")
+    assert not _refit_stands(first, report(error=0.01, n_modes=3), trigger="stalled")
     assert not _refit_stands(first, report(verdict="suspect", error=0.01), trigger="suspect")
     assert _refit_stands(first, report(error=0.04), trigger="suspect")
     noisy = report(verdict="failed", error=0.5, noise=0.6)                  # tolerance 180 %
