@@ -70,6 +70,17 @@ def local_evidence(omega, h, w, sigma, poles, r, model):
     return evidence
 
 
+#: the share of the band's lines at either end that the missed-mode search leaves to the
+#: pseudo-modes (but for a resonance missed outright there: :func:`_edge_lines`)
+END_SHARE = 0.02
+
+
+def _at_end(k, n: int):
+    """Whether line ``k`` (an index, or an array of them) of ``n`` lies in the
+    :data:`END_SHARE` of the lines at either end of the band."""
+    return np.minimum(k, n - 1 - k) < int(END_SHARE * n)
+
+
 def _edge_lines(h, resid):
     """The lines (bool, shape of ``h``) the missed-mode search leaves alone: the 2 % at
     either end of the band (the pseudo-modes' ground), but for the three lines around a
@@ -82,10 +93,7 @@ def _edge_lines(h, resid):
     hammer record has at 30-60 Hz stay out (taken as modes, at damping 0.1-0.15, they
     had the transfer FRF's negative mass line turn positive); its sharp 18 Hz resonance
     is tried, and the trial, drawn to the hump beside it, rejected."""
-    edge = np.zeros(h.size, bool)
-    n = int(0.02 * h.size)
-    edge[:n] = True
-    edge[h.size - n:] = True
+    edge = _at_end(np.arange(h.size), h.size)
     missed = missed_peak_lines(h, h - resid)
     for k in missed[edge[missed]]:
         edge[max(k - 1, 0):k + 2] = False
@@ -140,7 +148,7 @@ class PoleChecks:
         k = int(np.argmax(e2))
         if e2[k] < 14.0:
             return poles, kinds, x, info, None
-        k0, at_end = k, int(0.02 * e2.size) > min(k, e2.size - 1 - k)
+        k0, at_end = k, bool(_at_end(k, e2.size))
         if at_end:            # a missed peak at an end of the band: from its own line
             k = max(k - 1, 0) + int(np.argmax(np.abs(resid[max(k - 1, 0):k + 2])))
         wk = omega[k]
