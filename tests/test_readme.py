@@ -65,6 +65,13 @@ def test_readme_example_runs(index, tmp_path, monkeypatch):
         pred = namespace["pred"]
         assert pred.fits[1].report_["verdict"] == "ok"
         assert pred.figures["restitution"] == pytest.approx(0.4513, abs=5e-4)
+        # the comment's comparison: the same impact on the damped rod the file came from
+        from data_synth import LumpedMass
+        from impactpred import Body, Rigid, solve_impact
+        exact = solve_impact(Body(LumpedMass(0.5), velocity=1.0), Body(namespace["truth"]),
+                             gap=0.0, contact=Rigid(), t_end=4.0).restitution
+        assert exact == pytest.approx(0.4509, abs=1e-4)
+        assert pred.figures["restitution"] == pytest.approx(exact, abs=1e-3)
     if "masri_caughey(" in code:  # the impact damper reaches the classical closed form
         res, exact = namespace["res"], namespace["exact"]
         assert exact.exists and exact.stable and res.impacts_per_cycle == 2.0
