@@ -257,7 +257,11 @@ def main(argv=None):
         print(summary(table[table.run.isin(_runs(args.runs))], factors=factors))
         return
     start = time.perf_counter()
-    keys = args.cases or [c.key for c in benchmark_cases()]
+    every = [c.key for c in benchmark_cases()]
+    unknown = [k for k in args.cases or () if k not in every]
+    if unknown:
+        parser.error(f"unknown case key(s) {unknown}: the keys are {every}")
+    keys = args.cases or every
     runs = _runs(args.runs)
     # one task per band, run and noise (every case), the bands in the order given and the
     # runs outermost: a study stopped early holds the same runs of every case
