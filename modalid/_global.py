@@ -26,7 +26,7 @@ from scipy.linalg import cholesky, solve_triangular
 from ._checks import as_count
 from ._frf_pipeline import ModalFitWarning, reweighting_kept
 from ._pole_checks import line_noise, local_evidence
-from ._report import (fit_report, local_misfit_inflation, misfit_notes,
+from ._report import (fit_report, local_misfit_inflation, misfit_notes, mode_std_columns,
                       residual_correlation_inflation)
 from ._lm import bounded_lm, pole_limits
 from ._band import choose_band, noise_model
@@ -529,8 +529,7 @@ def _store(est, rec, poles, kinds, xs, terms, info, notes, max_order, dp):
     all_order = np.argsort(np.abs(poles), kind="stable")
     est.mode_shapes_ = shapes[:, physical[all_order]]
     modes = ModalModel(poles=poles[physical], residues=r[dp][physical]).modes
-    for name in ("frequency_hz_std", "damping_ratio_std", "residue_std"):
-        modes[name] = np.nan
+    modes = mode_std_columns(modes)
     # as a single FRF's (ModalFit._store): the formula assumes independent lines and the
     # band's mean residual; widen by Bartlett's factor of the rows' residuals and, per
     # pole, by the misfit on its own lines where noise does not explain it
@@ -539,12 +538,10 @@ def _store(est, rec, poles, kinds, xs, terms, info, notes, max_order, dp):
     local = local_misfit_inflation(rec.omega, weighted, poles, correlation=inflation)
     if info.get("pole_std") is not None:
         widen = inflation * local[physical][order]
-        s2, p = info["pole_std"][physical][order] * widen[:, None], poles[physical][order]
-        wn, sig, nu = np.abs(p), p.real, p.imag
-        modes["frequency_hz_std"] = np.hypot(sig * s2[:, 0], nu * s2[:, 1]) / wn / (2 * np.pi)
-        modes["damping_ratio_std"] = np.hypot(nu**2 * s2[:, 0], sig * nu * s2[:, 1]) / wn**3
-        rs = info["residue_std"][dp][physical][order]
-        modes["residue_std"] = np.hypot(rs[:, 0], rs[:, 1]) * widen
+        s4 = np.hstack([info["pole_std"][physical][order],
+                        info["residue_std"][dp][physical][order]]) * widen[:, None]
+        p = poles[physical][order]
+        modes = mode_std_columns(modes, s4, p, np.ones(p.size))
         notes += misfit_notes(p, local[physical][order])
     est.report_ = fit_report(
         model.driving, kinds, info, notes, method=est.method, max_order=max_order,

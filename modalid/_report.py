@@ -10,8 +10,12 @@ import numpy as np
 
 from ._pole_checks import pole_lines
 
-__all__ = ["FitReport", "fit_report", "local_misfit_inflation",
-           "residual_correlation_inflation", "misfit_notes"]
+__all__ = ["FitReport", "fit_report", "local_misfit_inflation", "misfit_notes",
+           "mode_std_columns", "residual_correlation_inflation"]
+
+#: the modes table's standard deviations (NaN where a fit has none)
+STD_COLUMNS = ("frequency_hz_std", "damping_ratio_std", "residue_std", "residue_real_std",
+               "residue_imag_std")
 
 
 class FitReport(Mapping):
@@ -155,6 +159,36 @@ def local_misfit_inflation(omega, residual, poles, *, correlation=1.0, quantile=
         if ratio > chi2.ppf(quantile, dof) / dof:
             factors[k] = np.sqrt(ratio)
     return factors
+
+
+def mode_std_columns(modes, s4=None, poles=None, scale=None):
+    """``modes`` (a DataFrame, one row per physical mode by frequency) with the standard
+    deviations of :data:`STD_COLUMNS` from those of the fitted parameters.
+
+    First-order propagation: ``s4`` (shape (n, 4)) holds the stds of ``Re p``, ``Im p``
+    (rad/s), ``Re r`` and ``Im r`` of each mode's pole ``p`` (``poles``) and of its
+    residue as fitted; the structure's residue is the fitted one divided by ``scale`` (the
+    record's truncation factors, complex, shape (n,); ones without a window), so that its
+    real and imaginary parts' stds mix the fitted parts' by the factor's phase. The
+    fitted parts' errors are taken as independent. ``residue_std`` is the complex
+    residue's (``hypot`` of the two parts). ``s4`` None: every column NaN.
+    """
+    modes = modes.copy()
+    for name in STD_COLUMNS:
+        modes[name] = np.nan
+    if s4 is None:
+        return modes
+    wn, sig, nu = np.abs(poles), poles.real, poles.imag
+    modes["frequency_hz_std"] = np.hypot(sig * s4[:, 0], nu * s4[:, 1]) / wn / (2 * np.pi)
+    modes["damping_ratio_std"] = np.hypot(nu**2 * s4[:, 0], sig * nu * s4[:, 1]) / wn**3
+    scale = np.asarray(scale, complex)
+    size = np.abs(scale) ** 2
+    # r = r_f / c: Re r = (Re r_f Re c + Im r_f Im c) / |c|^2,
+    #              Im r = (Im r_f Re c - Re r_f Im c) / |c|^2
+    modes["residue_real_std"] = np.hypot(s4[:, 2] * scale.real, s4[:, 3] * scale.imag) / size
+    modes["residue_imag_std"] = np.hypot(s4[:, 3] * scale.real, s4[:, 2] * scale.imag) / size
+    modes["residue_std"] = np.hypot(s4[:, 2], s4[:, 3]) / np.abs(scale)
+    return modes
 
 
 def misfit_notes(poles, factors):
