@@ -130,6 +130,38 @@ def _excitation_reach(excitation, window) -> int | None:
     return None if start is None else top + start
 
 
+def given_band(freq_range, automatic) -> tuple[tuple[float, float], str]:
+    """The band (Hz) a user's ``freq_range`` asks for and a sentence saying why: an end
+    given as None is the automatic band's (``automatic()``, returning ``((fmin, fmax),
+    reason)`` like :func:`choose_band`), so that ``--fmax`` alone keeps the automatic low
+    end (on a real hammer record the noisy lines under 7 Hz made the fit "suspect").
+
+    Parameters
+    ----------
+    freq_range : pair of (float or None)
+        ``(fmin, fmax)`` (Hz).
+    automatic : callable
+        The automatic band, called only when an end is None.
+
+    Returns
+    -------
+    (fmin, fmax) : tuple of float
+    reason : str
+    """
+    try:
+        lo, hi = freq_range
+    except (TypeError, ValueError) as exc:
+        raise TypeError(f"freq_range must be a pair (fmin, fmax) in Hz, got "
+                        f"{freq_range!r}") from exc
+    if lo is not None and hi is not None:
+        return (lo, hi), "freq_range"
+    (auto_lo, auto_hi), why = automatic()
+    ends = "both ends" if lo is None and hi is None else ("the low end" if lo is None
+                                                          else "the top")
+    return ((auto_lo if lo is None else lo, auto_hi if hi is None else hi),
+            f"freq_range, {ends} chosen from the data ({why})")
+
+
 def choose_band(data: FRFData, *, low_end=True) -> tuple[tuple[float, float], str]:
     """The band (Hz) to fit and a sentence saying why.
 

@@ -144,10 +144,11 @@ def add_fit_options(parser: argparse.ArgumentParser, *, method_flags=("--method"
     parser.add_argument("--n-modes", type=int, default=None,
                         help="number of modes (default: chosen from the data)")
     parser.add_argument("--fmin", type=float, default=None, metavar="HZ",
-                        help="lowest frequency (Hz); with neither --fmin nor --fmax the band "
-                             "is chosen from the data")
+                        help="lowest frequency (Hz); an end not given is chosen from the "
+                             "data")
     parser.add_argument("--fmax", type=float, default=None, metavar="HZ",
-                        help="highest frequency (Hz)")
+                        help="highest frequency (Hz); an end not given is chosen from the "
+                             "data")
     parser.add_argument("--rigid-body", choices=("auto", "yes", "no"), default=None,
                         help="a free body's mass line 1/(M s^2): auto (default) decides from "
                              "the data")
@@ -181,7 +182,8 @@ def fit_options(args) -> dict:
     """The :class:`modalid.ModalFit` keyword arguments of :func:`add_fit_options`'s
     options, only those given.
 
-    ``--fmin``/``--fmax`` give ``freq_range`` (0 and infinity for the one left out);
+    ``--fmin``/``--fmax`` give ``freq_range`` (None for the one left out: that end is
+    chosen from the data);
     ``--driving-point``/``--not-driving-point`` give ``passive``.
 
     Raises
@@ -195,8 +197,7 @@ def fit_options(args) -> dict:
     if args.n_modes is not None:
         options["n_modes"] = args.n_modes
     if args.fmin is not None or args.fmax is not None:
-        options["freq_range"] = (0.0 if args.fmin is None else args.fmin,
-                                 float("inf") if args.fmax is None else args.fmax)
+        options["freq_range"] = (args.fmin, args.fmax)
     if args.rigid_body is not None:
         options["rigid_body"] = _CHOICE[args.rigid_body]
     if args.weighting is not None:

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._band import choose_band, choose_weighting, decimation, noise_model
+from ._band import choose_band, choose_weighting, decimation, given_band, noise_model
 from ._checks import as_real_array
 from ._lsfd import noise_level
 from .quantities import receptance_to
@@ -64,10 +64,11 @@ class FitLines:
             given = given[data.freq_hz > 0]
         data = data.select(data.freq_hz > 0)
         first = data.freq_hz[0]
-        if self.freq_range is None:                   # the lines the data can vouch for
-            band, self._band_reason = choose_band(data, low_end=not self._windowed)
-        else:
-            band, self._band_reason = self.freq_range, "freq_range"
+        def automatic():                              # the lines the data can vouch for
+            return choose_band(data, low_end=not self._windowed)
+
+        band, self._band_reason = (automatic() if self.freq_range is None
+                                   else given_band(self.freq_range, automatic))
         if given is not None:
             lo, hi = band
             given = given[(data.freq_hz >= lo) & (data.freq_hz <= hi)]
@@ -84,7 +85,8 @@ class FitLines:
         self._band_weights = self.weights_ = given    # per line of the band, or None
         # lines below the band were dropped by the user (the automatic band drops only
         # lines that scatter like noise: the data still reach below the first resonance)
-        cut = self.freq_range is not None and bool(data.freq_hz[0] > first)
+        cut = (self.freq_range is not None and self.freq_range[0] is not None
+               and bool(data.freq_hz[0] > first))
         self._data_band = self.data_ = data           # in the data's own quantity
         if self.weighting == "auto":      # a refit (FitOne._fit_weighted) forces its own
             self._weighting_on, self._weighting_reason = (

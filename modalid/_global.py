@@ -29,7 +29,7 @@ from ._pole_checks import line_noise, local_evidence
 from ._report import (fit_report, local_misfit_inflation, misfit_notes, mode_std_columns,
                       residual_correlation_inflation)
 from ._lm import bounded_lm, pole_limits
-from ._band import choose_band, noise_model
+from ._band import choose_band, given_band, noise_model
 from ._unresolved_damping import damping_off_bound
 from ._zero_start import hold_at_zero
 from ._lscf import lscf_subbands
@@ -414,11 +414,13 @@ def fit_set(est, data: FRFSet):
     data = data.select(data.freq_hz > 0)
     first = data.freq_hz[0]
     if est.freq_range is not None:
-        data = data.band(est.freq_range)
-        est._band_reason = "freq_range"
+        band, est._band_reason = given_band(
+            est.freq_range, lambda: (_common_band(est, data), est._band_reason))
+        data = data.band(band)
     else:
         data = data.band(_common_band(est, data))
-    cut = est.freq_range is not None and bool(data.freq_hz[0] > first)
+    cut = (est.freq_range is not None and est.freq_range[0] is not None
+           and bool(data.freq_hz[0] > first))
     est._data_band = est.data_ = data
     rec = data.to_receptance()
     omega, h = rec.omega, rec.values

@@ -62,8 +62,10 @@ class ModalFit(FitOne, FRFPipeline, FitLines, BaseEstimator):
         from 8000 lines or from 27 distinct peaks, those that noise does not make); for
         ERA from the rank of the Hankel matrix (its singular values above the noise,
         plus 12). Given, a band of under 8000 lines is fitted whole, up to that order.
-    freq_range : (float, float), optional
-        Band (Hz) to fit. Default: chosen from the data (:func:`modalid._band.choose_band`):
+    freq_range : (float or None, float or None), optional
+        Band (Hz) to fit; an end given as None is the automatic band's (``(None, 7000)``
+        keeps the automatic low end). Default: chosen from the data
+        (:func:`modalid._band.choose_band`):
         the lowest lines are dropped while they scatter like noise, the top ones where the
         coherence (or, without it, the lines' scatter, or the fall of the excitation's
         spectrum the data carry, ``FRFData.excitation``, 20 dB below its peak) says the

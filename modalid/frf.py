@@ -193,8 +193,9 @@ class FRFData:
                        coherence=coherence, excitation=excitation)
 
     def band(self, freq_range) -> FRFData:
-        """The lines with ``fmin <= freq_hz <= fmax`` (Hz; ``fmax`` may be ``numpy.inf``);
-        an empty band is an error.
+        """The lines with ``fmin <= freq_hz <= fmax`` (Hz, to a relative 1e-9: the
+        rounding of a line's frequency; ``fmax`` may be ``numpy.inf``); an empty band is
+        an error.
 
         Parameters
         ----------
@@ -216,7 +217,10 @@ class FRFData:
         fmax = np.inf if open_top else as_real_scalar("freq_range[1]", fmax)
         if fmax <= fmin:
             raise ValueError(f"freq_range must have fmin < fmax, got ({fmin!r}, {fmax!r})")
-        mask = (self._freq_hz >= fmin) & (self._freq_hz <= fmax)
+        # both ends included, to the rounding of a line's frequency (a hammer FRF's
+        # 6.99999999999986 Hz line is the 7 Hz one a user names)
+        slack = 1e-9 * max(abs(fmin), 1e-300)
+        mask = (self._freq_hz >= fmin - slack) & (self._freq_hz <= fmax * (1 + 1e-9))
         if np.count_nonzero(mask) < 2:
             raise ValueError(f"freq_range ({fmin:g}, {fmax:g}) Hz holds "
                              f"{np.count_nonzero(mask)} lines of the data's "

@@ -215,3 +215,31 @@ def test_noise_weighting_is_estimated_in_the_quantity_measured():
     true = truth.modes.sort_values("omega_n").iloc[0]
     assert modes["omega_n"].iloc[0] == pytest.approx(true["omega_n"], rel=1e-4)
     assert modes["modal_mass"].iloc[0] == pytest.approx(true["modal_mass"], rel=0.005)
+
+
+def test_a_band_given_at_one_end_keeps_the_automatic_other_end():
+    """``freq_range=(None, fmax)`` (``--fmax`` alone): the noisy lowest lines are still
+    dropped; ``(fmin, None)``: the automatic top. An end given wins, to a line's rounding
+    (a hammer FRF's 6.99999999999986 Hz line is the 7 Hz a user names)."""
+    from modalid import ModalFit
+    from modalid._band import given_band
+
+    freq, h = beam_frf(first=60)
+    rng = np.random.default_rng(1)
+    junk = h.copy()
+    junk[:12] = np.abs(h[:12]) * np.exp(2j * np.pi * rng.random(12)) * rng.uniform(0.3, 3, 12)
+    data = FRFData(freq, junk)
+    (auto_lo, auto_hi), why = choose_band(data)
+    top = float(freq[1500])
+    band, reason = given_band((None, top), lambda: choose_band(data))
+    assert band == (auto_lo, top)
+    assert reason == f"freq_range, the low end chosen from the data ({why})"
+    assert given_band((freq[20], None), lambda: choose_band(data))[0] == (freq[20], auto_hi)
+    assert given_band((1.0, 2.0), None) == ((1.0, 2.0), "freq_range")   # not called
+    with pytest.raises(TypeError, match="freq_range must be a pair"):
+        given_band(3.0, lambda: choose_band(data))
+    fit = ModalFit(freq_range=(None, top), n_modes=4).fit(data)
+    assert fit.report_["band_hz"][0] == pytest.approx(auto_lo)
+    assert fit.report_["band_hz"][1] <= top
+    rounded = FRFData(freq * (1 - 1e-13), junk)
+    assert rounded.band((freq[20], freq[40])).freq_hz.size == 21

@@ -217,7 +217,7 @@ def test_fit_command_on_a_file_with_no_usable_band(tmp_path, capsys):
 FIT_ARGS = ["--n-modes", "4", "--fmax", "50", "--rigid-body", "no", "--weighting", "noise",
             "--driving-point", "yes", "--missed-modes", "dense", "--window-decay", "2",
             "--record-length", "10"]
-FIT_OPTIONS = {"method": "vf", "n_modes": 4, "freq_range": (0.0, 50.0), "rigid_body": False,
+FIT_OPTIONS = {"method": "vf", "n_modes": 4, "freq_range": (None, 50.0), "rigid_body": False,
                "weighting": "noise", "passive": True, "missed_modes": "dense",
                "window_decay_rate": 2.0, "record_length": 10.0}
 
