@@ -178,14 +178,7 @@ def identify(spec, *, quantity=None, estimator=None, read_options=None, check_pa
     kind, _, rest = text.partition(":")
     if is_spec(text):
         cls, names = _SPECS[kind]
-        fields = _parse_fields(kind, rest, names)
-        required = [name for name, parameter in inspect.signature(cls).parameters.items()
-                    if parameter.default is inspect.Parameter.empty and name in names]
-        missing = [name for name in required if name not in fields]
-        if missing:
-            raise ValueError(f"{kind} spec {text!r} lacks {', '.join(missing)} (its fields: "
-                             f"{', '.join(names)}, e.g. {kind}:"
-                             f"{','.join(f'{n}=...' for n in required)})")
+        fields = _complete_fields(f"{kind} spec", text, cls, kind, rest, names)
         try:
             return cls(**fields), None
         except TypeError as exc:
@@ -272,7 +265,21 @@ def parse_contact(spec) -> ContactLaw:
         raise ValueError(f"contact {spec!r}: use rigid, spring:..., hertz:... or "
                          "hertz-sphere:...")
     factory, names = laws[kind]
-    return factory(**_parse_fields(kind, rest, names))
+    return factory(**_complete_fields("contact", spec, factory, kind, rest, names))
+
+
+def _complete_fields(what, text, factory, kind, rest, names) -> dict:
+    """The fields of the spec ``text`` (``kind:rest``), refused naming what ``factory``
+    requires and the spec lacks (``what``: how the message names the spec)."""
+    fields = _parse_fields(kind, rest, names)
+    required = [name for name, parameter in inspect.signature(factory).parameters.items()
+                if parameter.default is inspect.Parameter.empty and name in names]
+    missing = [name for name in required if name not in fields]
+    if missing:
+        raise ValueError(f"{what} {text!r} lacks {', '.join(missing)} (its fields: "
+                         f"{', '.join(names)}, e.g. {kind}:"
+                         f"{','.join(f'{n}=...' for n in required)})")
+    return fields
 
 
 def read_options_pair(read_options, specs):

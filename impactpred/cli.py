@@ -361,8 +361,10 @@ def _add_predict_parser(sub) -> None:
     pred.add_argument("body1", help="body 1 (moving towards +y): FRF file, saved fit or model "
                                     ".json, or spec")
     pred.add_argument("body2", help="body 2")
-    pred.add_argument("--v1", type=float, default=0.0, help="rigid velocity of body 1 (m/s; default 0)")
-    pred.add_argument("--v2", type=float, default=0.0, help="rigid velocity of body 2 (m/s; default 0)")
+    pred.add_argument("--v1", type=float, default=0.0,
+                      help="rigid velocity of body 1 (m/s; default 0)")
+    pred.add_argument("--v2", type=float, default=0.0,
+                      help="rigid velocity of body 2 (m/s; default 0)")
     pred.add_argument("--gap", type=float, default=0.0, help="initial clearance (m; default 0)")
     pred.add_argument("--contact", default="rigid", help="rigid | spring:stiffness=.. | "
                       "hertz:stiffness=.. | hertz-sphere:radius1=..,youngs_modulus1=..,...")
