@@ -43,12 +43,12 @@ def _print_report(args, data, report) -> None:
     decision = report.get("driving_row_is_driving_point", report.get("driving_point"))
     if decision is not None:
         print(f"driving point: {'yes' if decision else 'no'} "
-              f"({report['driving_point_reason']})")
+              f"({in_flags(report['driving_point_reason'])})")
     nrmse = report.get("frf_nrmse_data", report["frf_nrmse"])     # the data's quantity
     nrmse = (f"{nrmse:.4g}" if np.ndim(nrmse) == 0 else          # a set: one per row
              ", ".join(f"{label} {e:.4g}" for label, e in zip(data.outputs, nrmse)))
     print(f"FRF NRMSE {nrmse} ({data.quantity}); converged: {report['converged']}")
-    print(f"verdict: {report['verdict']}" + "".join(f"\n  - {r}"
+    print(f"verdict: {report['verdict']}" + "".join(f"\n  - {in_flags(r)}"
                                                     for r in report["verdict_reasons"]))
 
 
@@ -97,14 +97,21 @@ def _cmd_fit(args) -> int:
     if args.driving_row is not None and not several:
         raise ValueError("--driving-row names a row of a set: give several files or --set")
     paths = args.file
+    with warnings.catch_warnings(record=True) as caught:     # said as the fit's are
+        warnings.simplefilter("always")
+        if several:
+            data = read_set(args)
+        else:
+            data = read_frf(paths[0], **read_options(args, paths[0]))
+    for w in caught:
+        _warn(w.message)
     if several:
-        data = read_set(args)
         args.file = " + ".join(Path(f).name for f in paths)
         # the sign check reads the driving row (named: the message is about one FRF)
         judged, named = data.driving, f"{args.file} (row {data.outputs[data.driving_point]})"
     else:
-        data = judged = read_frf(paths[0], **read_options(args, paths[0]))
-        args.file = named = paths[0]
+        judged, args.file = data, paths[0]
+        named = paths[0]
     sign = check_sign(judged)
     if sign.verdict != "ok":
         _warn(sign.problem(named))
