@@ -17,8 +17,12 @@ def test_fit_command_prints_the_modes_and_writes_the_model(tmp_path, capsys):
                    "--fmax", "400", "--weighting", "noise", "--not-driving-point",
                    "--out", str(tmp_path)])
     assert status == 0
-    out = capsys.readouterr().out
+    captured = capsys.readouterr()
+    out = captured.out
     assert "212.08" in out
+    # the reader's warning (coherence above 1 at 5 lines) is said as the fit's are, once
+    assert captured.err.count("warning: Hf_coh_chan_2 of ") == 1
+    assert "UserWarning" not in captured.err and "return _oriented" not in captured.err
     model = ModalModel.from_json(tmp_path / "case1_model.json")
     assert model.n_modes >= 4
     # the same file holds the fit's report: a prediction judges and continues it
