@@ -128,6 +128,9 @@ class FitOne:
             unconstrained = self._fit_recorded(data)
         driving, reason = driving_point_decision(self.report_["modes"],
                                                  self._raw_inverse_mass)
+        probe_reason = reason
+        if not full:        # the counts are the probe's, not the final table's modes
+            reason = f"the quick unconstrained fit's {reason}"
         probe_error = self.report_["frf_median_relative_error"]
         self._passive_on, refit_said = driving, []
         if full and not driving:
@@ -144,7 +147,7 @@ class FitOne:
                 if driving:
                     full = True                   # the full fit's error is the reference
                     reason = (f"{full_reason} (the full unconstrained fit; the quick "
-                              f"probe's modes had said: {reason})")
+                              f"probe's modes had said: {probe_reason})")
                     probe_error = self.report_["frf_median_relative_error"]
                     self._passive_on = True
                     refit_said = self._fit_recorded(data)
