@@ -8,21 +8,10 @@ apart because they move different figures: :func:`perturb_residues` (the residue
 rigid mass and the residual flexibility: how strongly each mode responds) and
 :func:`perturb_poles` (the natural frequencies and damping ratios: when and how long).
 A figure decided by one lightly damped mode (a mass struck on a spring: its contact lasts
-about half that mode's period) moves with the poles only.
-
-Every parameter moves by its own standard deviation, with a sign drawn at random for each
-parameter and draw (a Rademacher draw), independently of the others: the figure's rms
-change over the draws then estimates its linearized standard deviation
-``sqrt(sum_k (g_k s_k)**2)`` without bias, and exactly when one parameter decides the
-figure, where Gaussian draws scatter like a chi variable of ``n_draws`` degrees of
-freedom (the estimator of least variance of its kind, as in Hutchinson's trace estimator).
-With the band's four draws that scatter was large: a mass on a fixed rod (M/m = 1) at 20
-modes, whose restitution hangs on the first mode's modal mass, had its spread at 0.47 of
-its draws' own standard deviation (seed run 1; the draws' seed is fixed, so every run drew
-alike), and the band held its restitution in 75 % of 20 runs; with signs, 100 %. The
-fit's covariances between parameters (a pole and its residue) are not used, so a
-combination may over- or understate the scatter of a figure that depends on both (the
-coverage study, benchmarks/README.md, measures the net).
+about half that mode's period) moves with the poles only. Every parameter is drawn from its
+own standard deviation, independently: the fit's covariances between them (a pole and its
+residue) are not used, so a combination of draws may over- or understate the scatter of a
+figure that depends on both (the coverage study, benchmarks/README.md, measures the net).
 """
 
 from __future__ import annotations
@@ -39,22 +28,6 @@ __all__ = ["perturb_poles", "perturb_residues"]
 MAX_DRAWN_DAMPING = 0.99
 
 
-def _signs(rng, n: int = 1) -> np.ndarray:
-    """``n`` random signs (+1 or -1, equally likely)."""
-    return np.where(rng.integers(0, 2, size=n) == 1, 1.0, -1.0)
-
-
-def _residue_part_stds(modes) -> tuple:
-    """Per mode, the stds of the residue's real and imaginary parts: the report's
-    ``residue_real_std`` and ``residue_imag_std``, or (a report without them: a saved fit
-    of an older version, a hand-made one) ``residue_std / sqrt(2)`` each."""
-    if "residue_real_std" in modes and "residue_imag_std" in modes:
-        return (modes["residue_real_std"].to_numpy(float),
-                modes["residue_imag_std"].to_numpy(float))
-    half = modes["residue_std"].to_numpy(float) / math.sqrt(2.0)
-    return half, half
-
-
 def _mode_indices(fit) -> list:
     """Per physical mode of ``fit.report_["modes"]`` (in its order), the index of its pole
     in ``fit.model_.poles`` (the model also holds the pseudo-modes outside the band)."""
@@ -65,14 +38,10 @@ def _mode_indices(fit) -> list:
 def perturb_residues(fit, rng) -> ModalModel:
     """``fit.model_`` with its identified parameters moved by a draw of their std.
 
-    Each physical mode's residue moves by plus or minus the reported standard deviation of
-    its real part and of its imaginary part (``residue_real_std``, ``residue_imag_std`` of
-    ``report_["modes"]``; ``residue_std / sqrt(2)`` each where a report lacks them), each
-    sign drawn; the rigid body's inverse mass and the residual flexibility (the constant
-    term) by plus or minus theirs (``report_["inverse_mass_std"]``,
-    ``report_["flexibility_std"]``), kept >= 0. (Module docstring: why signs, not
-    Gaussians.) The imaginary part is the one an impact sees (the modal mass); for a
-    lightly damped mode fitted with little noise its std is most of the residue's.
+    Each physical mode's residue moves by a complex Gaussian of its reported standard
+    deviation; the rigid body's inverse mass and the residual flexibility (the constant
+    term) by a real one of theirs (``report_["inverse_mass_std"]``,
+    ``report_["flexibility_std"]``), kept >= 0.
 
     For a driving point (``report_["driving_point"]`` not False) every drawn mode has a
     positive modal mass: a draw whose residue's imaginary part falls on the wrong side of
@@ -96,15 +65,15 @@ def perturb_residues(fit, rng) -> ModalModel:
     """
     model = fit.model_
     modes = fit.report_["modes"]
-    real_std, imag_std = _residue_part_stds(modes)
+    std = modes["residue_std"].to_numpy()
     residues = model.residues.copy()
     driving = fit.report_.get("driving_point") is not False
-    for k, sr, si in zip(_mode_indices(fit), real_std, imag_std):
-        signs = _signs(rng, 2)              # drawn always: the sequence stays reproducible
-        if not (np.isfinite(sr) and np.isfinite(si)):
+    for k, s in zip(_mode_indices(fit), std):
+        if not np.isfinite(s):
             continue
         nominal = residues[k]
-        drawn = nominal + complex(sr * signs[0], si * signs[1])
+        drawn = nominal + s / math.sqrt(2.0) * complex(rng.standard_normal(),
+                                                       rng.standard_normal())
         # modal mass -1/(2 Im p Im r) > 0  <=>  Im r has the sign of -Im p
         if driving and drawn.imag * model.poles[k].imag > 0:
             drawn = complex(drawn.real, -drawn.imag)
@@ -112,7 +81,7 @@ def perturb_residues(fit, rng) -> ModalModel:
     scalars = {}
     for name in ("inverse_mass", "flexibility"):
         value, s = getattr(model, name), fit.report_.get(f"{name}_std", math.nan)
-        draw = _signs(rng)[0]               # drawn always: the sequence stays reproducible
+        draw = rng.standard_normal()        # drawn always: the sequence stays reproducible
         scalars[name] = max(value + s * draw, 0.0) if value and np.isfinite(s) else value
     return ModalModel(poles=model.poles, residues=residues, real_poles=model.real_poles,
                       real_residues=model.real_residues, **scalars)
@@ -122,8 +91,7 @@ def perturb_poles(fit, rng) -> ModalModel:
     """``fit.model_`` with each physical mode's pole moved by a draw of its std.
 
     The natural frequency and the damping ratio of each mode in ``report_["modes"]`` move
-    by plus or minus their reported standard deviations, each sign drawn (module
-    docstring)
+    by independent Gaussians of their reported standard deviations
     (``frequency_hz_std``, ``damping_ratio_std``), the damping ratio only where the fit
     resolved it (``damping_resolved``): an unresolved one's std is a linearization's
     figure, not the data's (a cantilever's first mode, zeta 1e-5 with a std of 2.5e-3, drawn
@@ -155,7 +123,7 @@ def perturb_poles(fit, rng) -> ModalModel:
         z_std = np.where(modes["damping_resolved"].to_numpy(bool), z_std, 0.0)
     poles = model.poles.copy()
     for k, ws, zs in zip(_mode_indices(fit), f_std, z_std):
-        dw, dz = _signs(rng, 2)
+        dw, dz = rng.standard_normal(2)
         if not (np.isfinite(ws) and np.isfinite(zs)):
             continue
         wn = abs(poles[k])
