@@ -531,7 +531,6 @@ def _store(est, rec, poles, kinds, xs, terms, info, notes, max_order, dp):
     all_order = np.argsort(np.abs(poles), kind="stable")
     est.mode_shapes_ = shapes[:, physical[all_order]]
     modes = ModalModel(poles=poles[physical], residues=r[dp][physical]).modes
-    modes = mode_std_columns(modes)
     # as a single FRF's (ModalFit._store): the formula assumes independent lines and the
     # band's mean residual; widen by Bartlett's factor of the rows' residuals and, per
     # pole, by the misfit on its own lines where noise does not explain it
@@ -545,6 +544,8 @@ def _store(est, rec, poles, kinds, xs, terms, info, notes, max_order, dp):
         p = poles[physical][order]
         modes = mode_std_columns(modes, s4, p, np.ones(p.size))
         notes += misfit_notes(p, local[physical][order])
+    else:
+        modes = mode_std_columns(modes)
     est.report_ = fit_report(
         model.driving, kinds, info, notes, method=est.method, max_order=max_order,
         outputs=list(rec.outputs), driving_point=dp,

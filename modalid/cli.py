@@ -110,8 +110,8 @@ def _cmd_fit(args) -> int:
         # the sign check reads the driving row (named: the message is about one FRF)
         judged, named = data.driving, f"{args.file} (row {data.outputs[data.driving_point]})"
     else:
-        judged, args.file = data, paths[0]
-        named = paths[0]
+        judged = data
+        args.file = named = paths[0]
     sign = check_sign(judged)
     if sign.verdict != "ok":
         _warn(sign.problem(named))

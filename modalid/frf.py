@@ -219,8 +219,8 @@ class FRFData:
             raise ValueError(f"freq_range must have fmin < fmax, got ({fmin!r}, {fmax!r})")
         # both ends included, to the rounding of a line's frequency (a hammer FRF's
         # 6.99999999999986 Hz line is the 7 Hz one a user names)
-        slack = 1e-9 * max(abs(fmin), 1e-300)
-        mask = (self._freq_hz >= fmin - slack) & (self._freq_hz <= fmax * (1 + 1e-9))
+        mask = ((self._freq_hz >= fmin - 1e-9 * abs(fmin))
+                & (self._freq_hz <= fmax + 1e-9 * abs(fmax)))
         if np.count_nonzero(mask) < 2:
             raise ValueError(f"freq_range ({fmin:g}, {fmax:g}) Hz holds "
                              f"{np.count_nonzero(mask)} lines of the data's "
