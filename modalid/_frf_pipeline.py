@@ -534,12 +534,12 @@ class FRFPipeline(PoleChecks, LowEnd):
                 fitted_model, kinds, decay_rate=self._shift, record_length=self.record_length,
                 quantity=self._data_band.quantity)
             poles, residues = fitted_model.poles, fitted_model.residues
-            if window["window_clipped"]:   # a pole moved: judged as delivered (a hammer
-                # H1 cut at 7 kHz: 30 % FRF error where the fit's own said 10 %)
+            if window["window_clipped"]:   # a pole moved: judged as delivered
                 own = receptance_to(band.quantity, windowed_receptance(
                     fitted_model, band.omega, float(self._shift), self.record_length,
-                    quantity=band.quantity), band.omega) - band.values
-        self.model_ = fitted_model
+                    quantity=band.quantity, cut=window["record_cut"]),
+                    band.omega) - band.values
+        self.model_, self._record_cut = fitted_model, window.get("record_cut")
         physical = kinds == "mode"
         self.poles_ = poles[physical][np.argsort(np.abs(poles[physical]))]
         modes = ModalModel(poles=poles[physical], residues=residues[physical]).modes
@@ -597,4 +597,4 @@ class FRFPipeline(PoleChecks, LowEnd):
             vf_iterations=vf_iterations, modes=modes, inverse_mass_std=inverse_mass_std,
             flexibility_std=flexibility_std, std_inflation=inflation,
             **{k: v for k, v in window.items()
-               if k not in ("truncation_factors", "rigid_factor")})
+               if k not in ("truncation_factors", "rigid_factor", "record_cut")})

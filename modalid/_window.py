@@ -27,6 +27,14 @@ against the modes' periods multiplies the second term of ``c_k`` by
 ``record_length``) fits the poles, ``c_k r_k``, ``c_0 u`` and ``D``, divides the factors
 out and takes ``A_2`` out of an acceleration's mass line; it neglects the other ``A_j``
 and the displacement ramp's term.
+
+A fit's pseudo-modes (the band's lower and upper residual poles) describe the windowed
+data over the band, not free decays the record's end cut: the record-end transforms take
+a mask ``cut`` of the poles they act on (``None``: all), and :func:`structure_model`
+leaves the pseudo-modes out (only the window's shift is undone on them). Dividing by
+``c_k`` a pseudo-mode that sat near 0 Hz or on a DFT line, all but undamped, turned it into
+a term 80 times the fit's (a real one-hit record fitted from 3 Hz with its record length:
+a residue of 939 at 0.002 Hz and an FRF error of 3e8 %).
 """
 
 from __future__ import annotations
@@ -58,11 +66,23 @@ def _checked(decay_rate, record_length, quantity):
     return decay_rate, record_length
 
 
-def _cut_sums(model: ModalModel, decay_rate, record_length, j):
-    """``A_j`` of the module docstring for the structure ``model``."""
-    cut = np.exp((model.poles - decay_rate) * record_length)
+def _cut_mask(model: ModalModel, cut):
+    """``cut`` as a boolean mask over ``model``'s complex poles (``None``: all)."""
+    if cut is None:
+        return np.ones(model.poles.size, bool)
+    cut = np.asarray(cut)
+    if cut.dtype != bool or cut.shape != model.poles.shape:
+        raise ValueError(f"cut must be a boolean mask of shape {model.poles.shape} (one per "
+                         f"complex pole), got dtype {cut.dtype} and shape {cut.shape}")
+    return cut
+
+
+def _cut_sums(model: ModalModel, decay_rate, record_length, j, cut):
+    """``A_j`` of the module docstring for the structure ``model``, over the complex poles
+    ``cut`` (boolean mask) and every real pole."""
+    decays = np.where(cut, np.exp((model.poles - decay_rate) * record_length), 0.0)
     cut_real = np.exp((model.real_poles - decay_rate) * record_length)
-    return float(2.0 * np.sum((model.residues * model.poles ** (j - 1) * cut).real)
+    return float(2.0 * np.sum((model.residues * model.poles ** (j - 1) * decays).real)
                  + np.sum(model.real_residues * model.real_poles ** (j - 1) * cut_real))
 
 
@@ -79,7 +99,7 @@ def rigid_factor(decay_rate, record_length, quantity):
 
 
 def unwindow(model: ModalModel, decay_rate: float, record_length=None, *,
-             quantity: str = "mobility") -> ModalModel:
+             quantity: str = "mobility", cut=None) -> ModalModel:
     """The structure's model from ``model`` fitted to a windowed, truncated FRF.
 
     ``model`` holds the windowed poles ``p_w`` and residues (its rigid term meaning
@@ -87,26 +107,29 @@ def unwindow(model: ModalModel, decay_rate: float, record_length=None, *,
     and, with ``record_length``, the residues divided by :func:`truncation_factors` and
     the inverse mass by the rigid line's factor for the measured ``quantity`` (module
     docstring). ``flexibility`` is unchanged (an instantaneous term is neither shifted
-    nor cut).
+    nor cut). ``cut`` (boolean, one per complex pole; default all): the poles the record's
+    end acts on; the others (pseudo-modes) are only shifted.
     """
     decay_rate, record_length = _checked(decay_rate, record_length, quantity)
+    cut = _cut_mask(model, cut)
     residues, real_residues = model.residues, model.real_residues
     inverse_mass = model.inverse_mass
     if record_length is not None:
-        residues = residues / truncation_factors(model.poles, record_length)
+        residues = residues / np.where(cut, truncation_factors(model.poles, record_length),
+                                       1.0)
         real_residues = real_residues / truncation_factors(model.real_poles, record_length)
     out = ModalModel(poles=model.poles + decay_rate, residues=residues,
                      real_poles=model.real_poles + decay_rate, real_residues=real_residues,
                      flexibility=model.flexibility)
     if record_length is not None and inverse_mass:
         if _POWER[quantity] == 2:            # the fit read u + A_2 (module docstring)
-            inverse_mass -= _cut_sums(out, decay_rate, record_length, 2)
+            inverse_mass -= _cut_sums(out, decay_rate, record_length, 2, cut)
         inverse_mass /= rigid_factor(decay_rate, record_length, quantity)
     return out.replace(inverse_mass=inverse_mass)
 
 
 def windowed_receptance(model: ModalModel, omega, decay_rate: float, record_length=None, *,
-                        quantity: str = "mobility"):
+                        quantity: str = "mobility", cut=None):
     """The receptance form of what an exponentially windowed test of ``model`` measures.
 
     Parameters
@@ -122,6 +145,9 @@ def windowed_receptance(model: ModalModel, omega, decay_rate: float, record_leng
         ``T`` (s); ``None`` for an untruncated record (then ``H(i omega + sigma)``).
     quantity : {"receptance", "mobility", "accelerance"}
         What was recorded: displacement, velocity or acceleration.
+    cut : array_like of bool, optional
+        One per complex pole of ``model``: the free decays the record's end cuts (default
+        all); the others (a fit's pseudo-modes, :func:`structure_model`) are only shifted.
 
     Returns
     -------
@@ -130,6 +156,7 @@ def windowed_receptance(model: ModalModel, omega, decay_rate: float, record_leng
         module docstring's sum, exact for a hit at ``t = 0``.
     """
     decay_rate, record_length = _checked(decay_rate, record_length, quantity)
+    cut = _cut_mask(model, cut)
     omega = np.asarray(omega, dtype=float)
     w = omega.ravel()
     x = 1j * w + decay_rate
@@ -138,12 +165,13 @@ def windowed_receptance(model: ModalModel, omega, decay_rate: float, record_leng
     extra = np.zeros(w.shape, dtype=complex)
     if record_length is not None:
         for j in range(1, _POWER[quantity] + 1):
-            extra += _cut_sums(model, decay_rate, record_length, j) / x**j
+            extra += _cut_sums(model, decay_rate, record_length, j, cut) / x**j
         if quantity == "receptance" and model.inverse_mass:
             extra -= model.inverse_mass * record_length * np.exp(-decay_rate * record_length) / x
-        residues = residues * truncation_factors(poles, record_length)
+        residues = residues * np.where(cut, truncation_factors(poles, record_length), 1.0)
         real_residues = real_residues * truncation_factors(real_poles, record_length)
-    rigid = model.inverse_mass * rigid_factor(decay_rate, record_length, quantity)
+    rigid = (model.inverse_mass * rigid_factor(decay_rate, record_length, quantity)
+             if model.inverse_mass else 0.0)
     out = evaluate(w, poles, residues, real_poles, real_residues, rigid, model.flexibility,
                    rigid_shift=decay_rate) + extra
     return out.reshape(omega.shape)
@@ -164,8 +192,13 @@ def structure_model(model, kinds, *, decay_rate, record_length, quantity, min_da
     pseudo-mode into a static compliance of 1.5e-6 m/N where the omitted modes hold
     about 2e-10: a soft spring under the contact.
 
+    Only the physical poles (kind ``"mode"``) are taken as free decays the record's end
+    cut; the pseudo-modes keep their fitted residues (module docstring).
+
     Returns ``(model, info)``: ``info`` holds ``window_decay_rate``, ``record_length``,
-    ``window_clipped``, ``truncation_factors`` (per pole) and ``rigid_factor``.
+    ``window_clipped``, ``truncation_factors`` (per pole, 1 for a pseudo-mode),
+    ``rigid_factor`` and ``record_cut`` (the mask to re-window ``model`` with:
+    :func:`windowed_receptance`'s ``cut``).
     """
     sigma, length = decay_rate, record_length
     windowed = model.poles
@@ -173,14 +206,16 @@ def structure_model(model, kinds, *, decay_rate, record_length, quantity, min_da
     clipped = ((windowed + sigma).real > limit) & (kinds != "far")
     model = model.replace(poles=np.where(clipped, limit - sigma + 1j * windowed.imag,
                                          windowed))
+    cut = np.asarray(kinds) == "mode"
     factors = (np.ones(model.poles.size) if length is None
-               else truncation_factors(model.poles, length))
+               else np.where(cut, truncation_factors(model.poles, length), 1.0))
     try:
-        out = unwindow(model, sigma, length, quantity=quantity)
+        out = unwindow(model, sigma, length, quantity=quantity, cut=cut)
     except ValueError as exc:        # a rigid line with record_length and no window
         raise ValueError(f"ModalFit(window_decay_rate={sigma!r}, record_length={length!r}) "
                          f"found a rigid body: {exc}") from None
     return out, {"window_decay_rate": sigma, "record_length": length,
                  "window_clipped": int(np.sum(clipped)), "truncation_factors": factors,
+                 "record_cut": cut,
                  "rigid_factor": (rigid_factor(sigma, length, quantity)
                                   if model.inverse_mass else 1.0)}

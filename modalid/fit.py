@@ -469,7 +469,8 @@ class ModalFit(FitOne, FRFPipeline, FitLines, BaseEstimator):
         if self.method == "era" or not (self.window_decay_rate or self.record_length):
             return self.model_.frf(data.omega, quantity=data.quantity)
         h = windowed_receptance(self.model_, data.omega, float(self.window_decay_rate),
-                                self.record_length, quantity=self.data_.quantity)
+                                self.record_length, quantity=self.data_.quantity,
+                                cut=getattr(self, "_record_cut", None))
         return receptance_to(data.quantity, h, data.omega)
 
     def plot_stabilization(self, ax=None):

@@ -390,13 +390,11 @@ def test_real_hammer_frf_on_a_wide_band_the_user_chose(real_records):
 def test_a_windowed_fit_is_judged_as_delivered(real_records):
     """The real hits with an exponential window, fitted on 1-7020 Hz with the window
     undone: a pseudo-mode at four times the band top, all but undamped, has its damping
-    held when the window is removed (``window_clipped``), and the structure's model,
-    windowed again, misses the data by 30 % where the windowed fit did by 10 %. The
-    report and the verdict speak of the model delivered (the one plotted), not of the
-    fit before the window's removal. (Where no pole is clipped, the fit's own errors
-    stand: the same hits with the record's end alone modelled read 5 % both ways at the
-    fit's lines but the record-end terms of the model windowed again differ by a median
-    14 %, with the prediction of a fifth hit as good, benchmarks/hammer_hit5.py.)"""
+    held when the window is removed (``window_clipped``). The report speaks of the model
+    delivered (the one plotted), windowed again. That model used to miss the data by 30 %
+    where the fit did by 10 %: the pseudo-mode, on a DFT line, had its residue divided by
+    its record-end factor. A pseudo-mode is not a free decay the record cut; kept as
+    fitted, the delivered model misses the data by the fit's own 10 %."""
     fs = 1.0 / np.mean(np.diff(real_records[0, 0]))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
@@ -408,5 +406,4 @@ def test_a_windowed_fit_is_judged_as_delivered(real_records):
     delivered = fit._fitted_values(row)           # what plot_fit draws
     error = np.linalg.norm(delivered - row.values) / np.linalg.norm(row.values)
     assert report["frf_nrmse"] == pytest.approx(error, rel=1e-9)
-    assert report["window_clipped"] >= 1 and error > 0.2
-    assert report["verdict"] != "ok"
+    assert report["window_clipped"] >= 1 and error < 0.11
