@@ -128,7 +128,7 @@ def solve_impact(body1: Body, body2: Body, *, gap: float = 0.0, contact=Rigid(),
         dt = _step_within_records(bodies, t_end, dt, notes)
     solver = {"laplace": solve_laplace, "modal": solve_modal, "convolution": solve_convolution,
               "closed_form": solve_closed_form}[chosen]
-    if stepping and t_end / dt > _MAX_STEPS * (1 + 1e-9):
+    if t_end / dt > _MAX_STEPS * (1 + 1e-9):       # steps, or an exact solver's samples
         raise ValueError(f"t_end={t_end:.6g} / dt={dt:.4g} = {t_end / dt:.3g} steps exceeds "
                          f"{_MAX_STEPS}: increase dt or shorten t_end (at most "
                          f"t_end={_MAX_STEPS * dt:.4g} at this step)")
@@ -514,8 +514,15 @@ def choose_dt(bodies, contact, *, t_end, method="convolution") -> float:
         :func:`solve_impact`).
     """
     as_choice("method", method, METHODS)
+    t_end, contact = as_positive_scalar("t_end", t_end), check_contact(contact)
+    if not isinstance(bodies, (list, tuple)) or not bodies:
+        raise TypeError(f"bodies must be a non-empty list or tuple of impactpred.Body, "
+                        f"got {bodies!r:.60}")
+    for k, body in enumerate(bodies):
+        if not isinstance(body, Body):
+            raise TypeError(f"bodies[{k}] must be an impactpred.Body, got {type(body).__name__}")
     if method == "auto":
-        method = _choose_method(tuple(bodies), check_contact(contact), method)
+        method = _choose_method(tuple(bodies), contact, method)
     pairs = [p for b in bodies for p in _time_scales(b)]
     # a harmonic load is resolved like a mode: its 1/omega gets the modal steps
     pairs += [(1.0 / b.load.omega, _STEPS_BY_KIND["modal"]) for b in bodies

@@ -138,6 +138,10 @@ class SampledResponse:
         return np.where(t > 0, out, 0.0)
 
 
+#: m/s: no velocity of a body reaches it (a linear elastic model fails far below)
+_SPEED_OF_LIGHT = 299_792_458.0
+
+
 @dataclass(frozen=True, eq=False)
 class Body:
     """One of the two colliding bodies.
@@ -202,6 +206,9 @@ class Body:
     def __init__(self, model, *, velocity=0.0, displacement=0.0, vibration=None, load=None,
                  outputs=None, check_passive=True):
         model, outputs = _split_outputs(model, outputs)
+        if isinstance(model, type):
+            raise TypeError(f"model must be a model object, got the class {model.__name__}: "
+                            f"build one, e.g. {model.__name__}(...)")
         if not isinstance(model, Receptance):
             raise TypeError(f"model must be a ModalModel, a MultiOutputModalModel, a data_synth "
                             f"model or a SampledResponse (a modalid.receptance.Receptance), got "
@@ -213,6 +220,9 @@ class Body:
                                 opt_out="to use it anyway, check_passive=False")
         velocity = as_real_scalar("velocity", velocity)
         displacement = as_real_scalar("displacement", displacement)
+        if abs(velocity) >= _SPEED_OF_LIGHT:         # the arithmetic overflows long before
+            raise ValueError(f"velocity must be under the speed of light (3e8 m/s), got "
+                             f"{velocity!r}")
         if model.inverse_mass < 0.0:
             raise ValueError(f"model is not a driving-point receptance: its rigid-body term "
                              f"1/M = {model.inverse_mass!r} is negative")

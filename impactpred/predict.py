@@ -33,7 +33,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from modalid import ModalModel, MultiOutputModalModel, SavedFit
-from modalid.validation import as_real_scalar
+from modalid.validation import as_nonnegative_scalar, as_real_scalar
 
 from ._band_checks import BandWarning, band_reach, force_energy_above, force_energy_below
 from ._figures import band_resolution, impact_figures
@@ -436,6 +436,9 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
     estimator = check_estimator(estimator)
     if not (isinstance(continuation, (bool, np.bool_)) or continuation == "auto"):
         raise ValueError(f"continuation must be True, False or 'auto', got {continuation!r}")
+    if not isinstance(uncertainty, (bool, np.bool_)):
+        raise TypeError(f"uncertainty must be True or False, got {uncertainty!r}")
+    band_tolerance = as_nonnegative_scalar("band_tolerance", band_tolerance)
     # before any identification: a wide band's fit takes seconds
     velocity1, velocity2 = as_real_scalar("velocity1", velocity1), as_real_scalar("velocity2",
                                                                                   velocity2)

@@ -130,6 +130,23 @@ def _excitation_reach(excitation, window) -> int | None:
     return None if start is None else top + start
 
 
+#: the fewest lines a band may hold to be fitted (a mode and its pseudo-modes need more
+#: lines than parameters; the automatic band asks the same of the data)
+MIN_BAND_LINES = 8
+
+
+def band_to_fit(data, band):
+    """``data.band(band)`` (an FRFData or FRFSet), refused naming the band when it holds
+    fewer than :data:`MIN_BAND_LINES` lines (2 lines crashed deep in numpy; 3 gave an
+    "ok" fit of one mode and two pseudo-modes through three points)."""
+    out = data.band(band)
+    n = out.freq_hz.size
+    if n < MIN_BAND_LINES:
+        raise ValueError(f"freq_range ({band[0]:g}, {band[1]:g}) Hz holds {n} lines of the "
+                         f"data; a fit needs at least {MIN_BAND_LINES}: widen it")
+    return out
+
+
 def given_band(freq_range, automatic) -> tuple[tuple[float, float], str]:
     """The band (Hz) a user's ``freq_range`` asks for and a sentence saying why: an end
     given as None is the automatic band's (``automatic()``, returning ``((fmin, fmax),
@@ -205,7 +222,7 @@ def choose_band(data: FRFData, *, low_end=True) -> tuple[tuple[float, float], st
         g = np.clip(median_filter(data.coherence, size=window, mode="nearest"), 1e-6, 1.0)
         nsr = (1.0 - g) / g
         limit = max(1.0, 100.0 * float(np.quantile(nsr, 0.1)))
-        if np.count_nonzero(g >= _MIN_COHERENCE) < 8:
+        if np.count_nonzero(g >= _MIN_COHERENCE) < MIN_BAND_LINES:
             raise ValueError(f"the FRF holds no usable band: the smoothed coherence is below "
                              f"{_MIN_COHERENCE} on {np.count_nonzero(g < _MIN_COHERENCE)} of "
                              f"its {n} lines")
@@ -228,7 +245,7 @@ def choose_band(data: FRFData, *, low_end=True) -> tuple[tuple[float, float], st
             reasons.append(f"dropped the {n - hi} lines above {f[hi - 1]:.6g} Hz (the lines "
                            "scatter like noise there)")
     hi = n if hi is None else hi
-    if hi - lo < 8:
+    if hi - lo < MIN_BAND_LINES:
         raise ValueError(f"the FRF holds no usable band: {hi - lo} informative lines of "
                          f"{n} ({'; '.join(reasons)})")
     return (float(f[lo]), float(f[hi - 1])), "; ".join(reasons) or "all lines"

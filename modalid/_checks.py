@@ -197,3 +197,36 @@ def as_count(name: str, value, *, minimum: int = 0) -> int:
     if out < minimum:
         raise ValueError(f"{name} must be >= {minimum}, got {out}")
     return out
+
+
+def as_line_selection(name: str, index, n_lines: int):
+    """``index`` as a selection of ``n_lines`` frequency lines, or raise naming ``name``.
+
+    A slice is returned as given; otherwise a 1-D boolean mask of ``n_lines`` or a 1-D
+    array of integer indices in range (a single integer is refused: a selection keeps an
+    FRF of lines, one line is ``[k]``).
+
+    Returns
+    -------
+    slice or ndarray of bool or ndarray of int
+    """
+    if isinstance(index, slice):
+        return index
+    if isinstance(index, (numbers.Integral, np.integer)) and not isinstance(index, bool):
+        raise TypeError(f"{name} must be a slice, a boolean mask or an array of line "
+                        f"indices, got the integer {index!r}: for one line pass [{index!r}]")
+    out = np.asarray(index)
+    if out.ndim != 1 or not (out.dtype == bool or np.issubdtype(out.dtype, np.integer)
+                             or out.size == 0):
+        raise TypeError(f"{name} must be a slice, a boolean mask or an array of line "
+                        f"indices, got {_describe(index)}")
+    if out.dtype == bool:
+        if out.size != n_lines:
+            raise ValueError(f"{name} as a mask must hold {n_lines} values (one per line), "
+                             f"got {out.size}")
+        return out
+    out = out.astype(int)
+    if out.size and (out.min() < -n_lines or out.max() >= n_lines):
+        raise ValueError(f"{name} holds line indices out of range for {n_lines} lines "
+                         f"(from {out.min()} to {out.max()})")
+    return out

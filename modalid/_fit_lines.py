@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._band import choose_band, choose_weighting, decimation, given_band, noise_model
+from ._band import band_to_fit, choose_band, choose_weighting, decimation, given_band, noise_model
 from ._checks import as_real_array
 from ._lsfd import noise_level
 from .quantities import receptance_to
@@ -75,7 +75,7 @@ class FitLines:
             if not np.any(given > 0):
                 raise ValueError(f"weights must not be all 0 on the band fitted ({lo:g}-"
                                  f"{hi:g} Hz)")
-        data = data.band(band)
+        data = band_to_fit(data, band)
         step, why = decimation(data.values)           # a very fine band: every step-th line
         if step > 1:
             data = data.select(slice(None, None, step))

@@ -29,7 +29,7 @@ from ._pole_checks import line_noise, local_evidence
 from ._report import (fit_report, local_misfit_inflation, misfit_notes, mode_std_columns,
                       residual_correlation_inflation)
 from ._lm import bounded_lm, pole_limits
-from ._band import choose_band, given_band, noise_model
+from ._band import band_to_fit, choose_band, given_band, noise_model
 from ._unresolved_damping import damping_off_bound
 from ._zero_start import hold_at_zero
 from ._lscf import lscf_subbands
@@ -416,7 +416,7 @@ def fit_set(est, data: FRFSet):
     if est.freq_range is not None:
         band, est._band_reason = given_band(
             est.freq_range, lambda: (_common_band(est, data), est._band_reason))
-        data = data.band(band)
+        data = band_to_fit(data, band)
     else:
         data = data.band(_common_band(est, data))
     cut = (est.freq_range is not None and est.freq_range[0] is not None

@@ -172,6 +172,10 @@ def _channels_of(path, channels, named, *, time, force, response):
         else:
             raise ValueError(f"{path}: cannot tell its force and response channels among "
                              f"{keys}: name them with --force and --response (and --time)")
+    n = np.size(channels[picks["force"]])
+    if n < 8:                  # a header and no rows, or a stub: nothing to transform
+        raise ValueError(f"{path}: its channels hold {n} samples; a hammer record needs "
+                         "at least 8")
     return (None if picks["time"] is None else np.asarray(channels[picks["time"]], float),
             np.asarray(channels[picks["force"]], float),
             np.asarray(channels[picks["response"]], float), picks)

@@ -300,3 +300,40 @@ def _build(source, raw, quantity):
                        quantity=quantity, coherence=coherence, excitation=excitation)
     except ValueError as exc:
         raise ValueError(f"{source}: {exc}") from exc
+
+
+def _text_encoding(path) -> str:
+    """``"utf-8-sig"``, or ``"cp1252"`` for a text file that is not UTF-8 (an analyzer's
+    Windows export: ``µm/N`` in a header is the byte 0xB5); a file with NUL bytes in its
+    first 512 bytes is refused as binary, naming it."""
+    with open(path, "rb") as fh:
+        raw = fh.read()
+    if b"\0" in raw[:512]:
+        raise ValueError(f"{path} is a binary file, not a text table (NUL bytes in its "
+                         "first 512 bytes)")
+    try:
+        raw.decode("utf-8-sig")
+        return "utf-8-sig"
+    except UnicodeDecodeError:
+        try:
+            raw.decode("cp1252")
+        except UnicodeDecodeError as exc:
+            raise ValueError(f"{path} is neither UTF-8 nor Windows-1252 text: "
+                             f"{exc}") from None
+        return "cp1252"
+
+
+def _text_head(path):
+    """The first line of ``path`` when the file starts as text (no NUL byte in its first
+    512 bytes, not a MATLAB 5 header), else None."""
+    with open(path, "rb") as fh:
+        head = fh.read(512)
+    if not head or b"\0" in head or head.startswith(b"MATLAB"):
+        return None
+    try:
+        text = head.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        if exc.start < len(head) - 3:     # not a character cut by the 512 bytes
+            return None
+        text = head[:exc.start].decode("utf-8")
+    return text.strip().splitlines()[0][:60] if text.strip() else ""

@@ -118,9 +118,11 @@ def read_model_json(source, *, formats=(_FORMAT, "modalid.MultiOutputModalModel"
     kind = " or ".join(f.split(".")[-1] for f in formats)
     try:
         payload = json.loads(text)
-    except json.JSONDecodeError as exc:
+    except (json.JSONDecodeError, RecursionError) as exc:   # RecursionError: nested too deep
         where = f"{label} is not JSON" if label else f"not a {kind} JSON text"
-        raise ValueError(f"{where}: {exc}") from exc
+        why = f"RecursionError: nested too deep ({exc})" if isinstance(
+            exc, RecursionError) else str(exc)
+        raise ValueError(f"{where}: {why}") from None
     stated = payload.get("format") if isinstance(payload, dict) else None
     if stated not in formats:
         where = f"{label} is not a {kind} JSON file" if label else f"not a {kind} JSON text"

@@ -42,8 +42,10 @@ def read_multi_output_json(source) -> dict:
         text = Path(source).read_text()
     try:
         payload = json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise ValueError(f"not a MultiOutputModalModel JSON text: {exc}") from exc
+    except (json.JSONDecodeError, RecursionError) as exc:   # RecursionError: nested too deep
+        why = f"RecursionError: nested too deep ({exc})" if isinstance(
+            exc, RecursionError) else str(exc)
+        raise ValueError(f"not a MultiOutputModalModel JSON text: {why}") from None
     if not isinstance(payload, dict) or payload.get("format") != FORMAT:
         raise ValueError(f"not a MultiOutputModalModel JSON text: 'format' is not {FORMAT!r}")
     return payload

@@ -454,6 +454,7 @@ class ModalFit(FitOne, FRFPipeline, FitLines, BaseEstimator):
             1 for a perfect fit.
         """
         self._check_fitted()
+        _check_data("data", data)
         data = data.select(data.freq_hz > 0)
         fitted = self._fitted_values(data)
         h = data.values
@@ -520,6 +521,7 @@ class ModalFit(FitOne, FRFPipeline, FitLines, BaseEstimator):
             return plot_fit(self.model_, impulse=self.impulse_, ax=ax)
         if data is None:
             data = self.data_ if isinstance(self.model_, ModalModel) else self.frf_
+        _check_data("data", data)
         if isinstance(self.model_, ModalModel):
             if output is not None:
                 raise ValueError(f"output={output!r} applies to a fit of an FRFSet only")
@@ -528,3 +530,10 @@ class ModalFit(FitOne, FRFPipeline, FitLines, BaseEstimator):
         i = self.model_.index(self.model_.driving_point if output is None else output)
         row = data.row(i) if isinstance(data, FRFSet) else data
         return plot_fit(self.model_.row(i), frf=row, ax=ax)
+
+
+def _check_data(name, data):
+    """Refuse ``data`` that is not an FRFData or FRFSet, naming ``name``."""
+    if not isinstance(data, (FRFData, FRFSet)):
+        raise TypeError(f"{name} must be an FRFData or an FRFSet, got "
+                        f"{type(data).__name__}")

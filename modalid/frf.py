@@ -6,7 +6,8 @@ import warnings
 
 import numpy as np
 
-from ._checks import as_choice, as_complex_array, as_real_array, as_real_scalar
+from ._checks import (as_choice, as_complex_array, as_line_selection, as_real_array,
+                      as_real_scalar)
 from .model import _rebuild
 from .quantities import QUANTITIES, receptance_to, to_receptance
 
@@ -187,6 +188,7 @@ class FRFData:
         -------
         FRFData
         """
+        index = as_line_selection("index", index, self._freq_hz.size)
         coherence = None if self._coherence is None else self._coherence[index]
         excitation = None if self._excitation is None else self._excitation[index]
         return FRFData(self._freq_hz[index], self._values[index], quantity=self._quantity,

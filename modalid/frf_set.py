@@ -13,7 +13,7 @@ import warnings
 
 import numpy as np
 
-from ._checks import as_choice, as_complex_array, as_real_array
+from ._checks import as_choice, as_complex_array, as_line_selection, as_real_array
 from .frf import FRFData
 from .model import _rebuild
 from .quantities import QUANTITIES, receptance_to, to_receptance
@@ -319,6 +319,7 @@ class FRFSet:
         -------
         FRFSet
         """
+        index = as_line_selection("index", index, self._freq_hz.size)
         coherence = None if self._coherence is None else self._coherence[:, index]
         return self._new(self._freq_hz[index], self._values[:, index], self._quantity,
                          coherence)

@@ -429,6 +429,11 @@ def correct_exponential_window(model_or_poles, decay_rate):
         Of the input's kind: every pole (complex and real) moved right by ``decay_rate``,
         ``p = p_w + decay_rate``; residues, ``flexibility`` and ``inverse_mass`` unchanged.
 
+    Raises
+    ------
+    ValueError
+        A pole the move would leave at ``Re p >= 0`` (not damped by the window alone).
+
     Notes
     -----
     The window multiplies the impulse response: ``h_w(t) = h(t) exp(-t/tau)``. By the
@@ -442,13 +447,19 @@ def correct_exponential_window(model_or_poles, decay_rate):
     accelerances so that this holds for them too.
     """
     decay_rate = as_nonnegative_scalar("decay_rate", decay_rate)
+
+    def stable(windowed, kind):
+        moved = windowed + decay_rate
+        if np.any(moved.real >= 0):
+            bad = windowed[moved.real >= 0][0]
+            bad = f"{float(bad)!r}" if np.isrealobj(windowed) else f"{complex(bad):.6g}"
+            raise ValueError(f"decay_rate {decay_rate!r} moves the {kind} {bad} to Re p >= "
+                             f"0: it was not damped by the window alone")
+        return moved
+
     if isinstance(model_or_poles, ModalModel):
         m = model_or_poles
-        real_poles = m.real_poles + decay_rate
-        if np.any(real_poles >= 0):
-            bad = m.real_poles[real_poles >= 0][0]
-            raise ValueError(f"decay_rate {decay_rate!r} moves the real pole {float(bad)!r} to "
-                             f"Re p >= 0: it was not damped by the window alone")
-        return m.replace(poles=m.poles + decay_rate, real_poles=real_poles)
+        real_poles = stable(m.real_poles, "real pole")
+        return m.replace(poles=stable(m.poles, "pole"), real_poles=real_poles)
     poles = as_complex_array("model_or_poles", model_or_poles)
-    return poles + decay_rate
+    return stable(poles, "pole")

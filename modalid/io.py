@@ -29,6 +29,8 @@ from __future__ import annotations
 
 import os
 import re
+import struct
+import zipfile
 from pathlib import Path
 
 import numpy as np
@@ -45,6 +47,8 @@ from ._io_records import (
     _column_role,
     _finite,
     _Raw,
+    _text_encoding,
+    _text_head,
     _vector,
     header_unit,
     unit_factor,
@@ -68,7 +72,8 @@ def _load_table(path):
     """``(table, stated)``: a table (str column names), the quantities its comments state."""
     import pandas as pd
 
-    lines = path.read_text(encoding="utf-8-sig").splitlines()
+    encoding = _text_encoding(path)
+    lines = path.read_text(encoding=encoding).splitlines()
     lead, stated = 0, set()
     for line in lines:
         if line.strip() and not line.lstrip().startswith("#"):
@@ -95,7 +100,7 @@ def _load_table(path):
     # pandas >= 3 parses floats exactly by default and deprecates float_precision
     exact = {"float_precision": "round_trip"} if int(pd.__version__.split(".")[0]) < 3 else {}
     try:
-        table = pd.read_csv(path, sep=sep, skiprows=lead, comment="#", encoding="utf-8-sig",
+        table = pd.read_csv(path, sep=sep, skiprows=lead, comment="#", encoding=encoding,
                             skipinitialspace=True, **header, **exact)
     except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
         raise ValueError(f"cannot parse {path} as a table: {exc}") from exc
@@ -235,7 +240,18 @@ def _from_arrays(source, arrays, columns):
                 excitation=excitation)
 
 
+#: how an .npz (a zip archive) and an .npy file begin
+_NPZ_MAGIC, _NPY_MAGIC = b"PK\x03\x04", b"\x93NUMPY"
+
+
 def _read_npz(path, columns):
+    with open(path, "rb") as fh:
+        magic = fh.read(6)
+    if not magic.startswith((_NPZ_MAGIC, _NPY_MAGIC)):
+        head = _text_head(path)
+        start = f"it starts {head!r}" if head is not None else f"it starts {magic!r}"
+        raise ValueError(f"{path} is not an .npz archive ({start}; an .npz is a zip file "
+                         "written by numpy.savez)")
     try:
         archive = np.load(path, allow_pickle=False)
         if not isinstance(archive, np.lib.npyio.NpzFile):
@@ -245,25 +261,10 @@ def _read_npz(path, columns):
     except ValueError as exc:
         raise ValueError(f"cannot read {path} as .npz (pickled/object arrays are refused): "
                          f"{exc}") from exc
-    except (OSError, EOFError) as exc:
-        raise ValueError(f"{path} is not a readable .npz archive: {exc}") from exc
+    except (OSError, EOFError, zipfile.BadZipFile) as exc:
+        raise ValueError(f"{path} is not a readable .npz archive (truncated or damaged?): "
+                         f"{exc}") from exc
     return [_from_arrays(str(path), arrays, columns)]
-
-
-def _text_head(path):
-    """The first line of ``path`` when the file starts as text (no NUL byte in its first
-    512 bytes, not a MATLAB 5 header), else None."""
-    with open(path, "rb") as fh:
-        head = fh.read(512)
-    if not head or b"\0" in head or head.startswith(b"MATLAB"):
-        return None
-    try:
-        text = head.decode("utf-8")
-    except UnicodeDecodeError as exc:
-        if exc.start < len(head) - 3:     # not a character cut by the 512 bytes
-            return None
-        text = head[:exc.start].decode("utf-8")
-    return text.strip().splitlines()[0][:60] if text.strip() else ""
 
 
 def _read_mat(path, columns):
@@ -278,8 +279,10 @@ def _read_mat(path, columns):
     except NotImplementedError as exc:
         raise ValueError(f"{path} is a MATLAB v7.3 (HDF5) file, not supported: save it with "
                          "-v7 or -v6") from exc
-    except (ValueError, TypeError, OSError, scipy.io.matlab.MatReadError) as exc:
-        raise ValueError(f"{path} is not a readable MATLAB file: {exc}") from exc
+    except (ValueError, TypeError, OSError, IndexError, KeyError, EOFError, struct.error,
+            scipy.io.matlab.MatReadError) as exc:   # scipy's own errors on a damaged file
+        raise ValueError(f"{path} is not a readable MATLAB file: {type(exc).__name__}: "
+                         f"{exc}") from exc
     arrays = {k: v for k, v in data.items() if not k.startswith("__")}
     channels = sorted((int(m.group(1)), k) for k in arrays
                       if (m := re.fullmatch(r"Hf_chan_(\d+)", k)))

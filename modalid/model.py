@@ -475,7 +475,10 @@ class ModalModel:
         def pairs(name):
             values = np.asarray(payload.get(name, []), dtype=float).reshape(-1, 2)
             return values[:, 0] + 1j * values[:, 1]
-
+        fields = "poles residues real_poles real_residues inverse_mass flexibility".split()
+        if not any(name in payload for name in fields):    # read as nothing: a rigid wall
+            raise ValueError(f"invalid ModalModel JSON{_of(label)}: it holds none of the "
+                             f"model's fields ({', '.join(fields)})")
         try:
             return cls(poles=pairs("poles"), residues=pairs("residues"),
                        real_poles=payload.get("real_poles", []),

@@ -15,6 +15,26 @@ __all__ = ["QUANTITIES", "receptance_to", "to_receptance"]
 QUANTITIES = ("receptance", "mobility", "accelerance")
 
 
+def _operands(name, values, omega):
+    """``(values, omega)`` as complex and float arrays that broadcast, ``omega`` finite;
+    refused naming the argument otherwise (numpy's own message named neither)."""
+    if omega is None:
+        raise TypeError("omega must be an array of angular frequencies (rad/s), got None")
+    try:
+        omega = np.asarray(omega, dtype=float)
+        values = np.asarray(values, dtype=complex)
+    except (TypeError, ValueError) as exc:
+        raise TypeError(f"{name} and omega must be numeric arrays: {exc}") from None
+    if not np.all(np.isfinite(omega)):
+        raise ValueError("omega must be finite (rad/s), got a NaN or infinite value")
+    try:
+        np.broadcast_shapes(values.shape, omega.shape)
+    except ValueError:
+        raise ValueError(f"{name} (shape {values.shape}) and omega (shape {omega.shape}) do "
+                         "not broadcast: give one value per frequency") from None
+    return values, omega
+
+
 def receptance_to(quantity: str, receptance, omega) -> np.ndarray:
     """Convert receptance values (m/N) at angular frequencies ``omega`` (rad/s).
 
@@ -32,9 +52,10 @@ def receptance_to(quantity: str, receptance, omega) -> np.ndarray:
         The values in ``quantity`` (m/N, m/(N s) or m/(N s^2)).
     """
     as_choice("quantity", quantity, QUANTITIES)
-    iw = 1j * np.asarray(omega, dtype=float)
+    receptance, omega = _operands("receptance", receptance, omega)
+    iw = 1j * omega
     if quantity == "receptance":
-        return np.asarray(receptance, dtype=complex)
+        return receptance
     if quantity == "mobility":
         return iw * receptance
     return iw * iw * receptance
@@ -62,8 +83,7 @@ def to_receptance(quantity: str, values, omega) -> np.ndarray:
         Receptance (m/N).
     """
     as_choice("quantity", quantity, QUANTITIES)
-    values = np.asarray(values, dtype=complex)
-    omega = np.asarray(omega, dtype=float)
+    values, omega = _operands("values", values, omega)
     if quantity == "receptance":
         return values
     if np.any(omega == 0.0):

@@ -106,6 +106,28 @@ def test_bad_body_input():
         Hertz(-1.0)
 
 
+def test_inputs_a_bad_input_sweep_found_are_refused_naming_them():
+    """An exact solver's output samples are capped like a stepping solver's steps (dt 1e-9
+    over 4 s was a MemoryError inside numba); a velocity of 1e200 m/s overflowed; a
+    model class instead of an instance failed comparing a property; choose_dt returned a
+    negative step for t_end=-1 and an AttributeError for a bare model."""
+    with pytest.raises(ValueError, match="4e\\+09 steps exceeds 4000000"):
+        solve_impact(mass(), Body(LumpedMass(1.0)), t_end=4.0, dt=1e-9, method="laplace")
+    with pytest.raises(ValueError, match="velocity must be under the speed of light"):
+        Body(LumpedMass(1.0), velocity=1e200)
+    with pytest.raises(TypeError, match="got the class LumpedMass: build one"):
+        Body(LumpedMass)
+    with pytest.raises(ValueError, match="t_end must be positive"):
+        choose_dt([mass()], Rigid(), t_end=-1.0)
+    with pytest.raises(TypeError, match="contact"):
+        choose_dt([mass()], None, t_end=1.0)
+    with pytest.raises(TypeError, match=r"bodies\[0\] must be an impactpred.Body, got "
+                                         "LumpedMass"):
+        choose_dt([LumpedMass(1.0)], Rigid(), t_end=1.0)
+    with pytest.raises(TypeError, match=r"bodies must be a non-empty list .* got \[\]"):
+        choose_dt([], Rigid(), t_end=1.0)
+
+
 def test_modal_solver_converges_to_the_exact_solver():
     beam = CantileverBeam(1.0, 1.0).modal_model(6, residual=True)
     body1, body2 = Body(LumpedMass(0.5), velocity=1.0), Body(beam)

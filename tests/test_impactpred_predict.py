@@ -368,6 +368,17 @@ def test_bad_body_specs(spec, error, match):
         parse_body(spec)
 
 
+@pytest.mark.parametrize("kwargs, error, match", [
+    ({"band_tolerance": float("nan")}, ValueError, "band_tolerance must be finite"),
+    ({"band_tolerance": -1}, ValueError, "band_tolerance must be non-negative"),
+    ({"band_tolerance": "a"}, TypeError, "band_tolerance must be a real number"),
+    ({"uncertainty": "yes"}, TypeError, "uncertainty must be True or False, got 'yes'"),
+])
+def test_bad_predict_options_are_refused_before_identification(kwargs, error, match):
+    with pytest.raises(error, match=match):
+        predict("mass:0.5", "mass:1", velocity1=1.0, t_end=1.0, **kwargs)
+
+
 def test_bad_contact_spec():
     with pytest.raises(ValueError, match="glue"):
         parse_contact("glue")

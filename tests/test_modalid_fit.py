@@ -361,6 +361,24 @@ def test_bad_data_raise():
             ModalFit().fit(huge)
 
 
+def test_a_band_of_too_few_lines_is_refused_naming_it():
+    """A user's band of 2 lines crashed deep in numpy (IndexError); of 3, it returned an
+    "ok" fit of a mode and two pseudo-modes through three points. The automatic band
+    asks at least 8 lines of the data; a given one now too."""
+    _, data, _ = frf_case("fixed rod", n_lines=200)
+    f = data.freq_hz
+    for n in (2, 3, 7):
+        with pytest.raises(ValueError, match=rf"freq_range .* holds {n} lines of the data; "
+                                             "a fit needs at least 8"):
+            ModalFit(freq_range=(f[50], f[50 + n - 1])).fit(data)
+    fit = ModalFit(freq_range=(f[50], f[57])).fit(data)
+    assert fit.data_.freq_hz.size == 8
+    with pytest.raises(TypeError, match="data must be an FRFData or an FRFSet, got NoneType"):
+        fit.score(None)
+    with pytest.raises(TypeError, match="data must be an FRFData or an FRFSet, got str"):
+        fit.plot_fit(data="x")
+
+
 # --------------------------------------------------------------- estimator protocol
 def test_scikit_learn_conventions_and_plots():
     import matplotlib

@@ -78,6 +78,22 @@ def test_bad_input_is_refused(kwargs, error, match):
         FRFSet(args.pop("freq_hz"), args.pop("values"), **args)
 
 
+@pytest.mark.parametrize("index, error, match", [
+    (3, TypeError, r"got the integer 3: for one line pass \[3\]"),
+    ("a", TypeError, "a slice, a boolean mask or an array of line indices"),
+    ([True, False], ValueError, "as a mask must hold 20 values .one per line., got 2"),
+    ([0, 25], ValueError, "line indices out of range for 20 lines"),
+])
+def test_a_bad_line_selection_is_refused_naming_it(index, error, match):
+    """``select(3)`` said "freq_hz must be 1-D, got shape ()"; ``select('a')`` raised
+    IndexError. Both FRFData and FRFSet."""
+    data = make_set(n=20)
+    for target in (data, data.row(0)):
+        with pytest.raises(error, match=match):
+            target.select(index)
+    assert data.select([0, -1]).freq_hz.size == 2
+
+
 def test_from_frfs_refuses_different_grids_and_quantities():
     f = np.arange(1.0, 101.0)
     a, b = FRFData(f, np.ones(100)), FRFData(f, 2 * np.ones(100))

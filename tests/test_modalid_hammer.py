@@ -124,6 +124,11 @@ def test_correct_exponential_window_models_and_poles():
     np.testing.assert_allclose(correct_exponential_window([-3 + 1j, -4 + 2j], 1.0),
                                [-2 + 1j, -3 + 2j])
     assert correct_exponential_window(model, 0.0) == model
+    # a pole the window did not damp alone is refused, not moved to Re p > 0
+    with pytest.raises(ValueError, match=r"moves the pole -1\+10j to Re p >= 0"):
+        correct_exponential_window([-1 + 10j], 5.0)
+    with pytest.raises(ValueError, match=r"moves the pole -1\+10j to Re p >= 0"):
+        correct_exponential_window(ModalModel(poles=[-1 + 10j], residues=[1j]), 5.0)
     with pytest.raises(ValueError, match="decay_rate must be non-negative, got -1.0"):
         correct_exponential_window(model, -1.0)
     with pytest.raises(ValueError, match="moves the real pole -50.0"):

@@ -522,6 +522,53 @@ def test_npz_and_mat_bad_data(tmp_path):
         read_frf(tmp_path / "binary.mat", quantity="receptance")
 
 
+def test_damaged_and_misnamed_files_are_refused_naming_them(tmp_path):
+    """What a bad-input sweep found leaking library errors: a truncated .npz (an
+    interrupted copy: zipfile's BadZipFile), a text file named .npz (refused as "pickled
+    data"), a pickle named .mat (IndexError inside scipy), a binary file named .csv."""
+    f, h = np.arange(1.0, 200.0), np.ones(199, complex)
+    np.savez(tmp_path / "good.npz", freq_hz=f, values=h, quantity="receptance")
+    (tmp_path / "cut.npz").write_bytes((tmp_path / "good.npz").read_bytes()[:3000])
+    with pytest.raises(ValueError, match=r"cut.npz is not a readable .npz archive \(truncated"):
+        read_frf(tmp_path / "cut.npz")
+    (tmp_path / "text.npz").write_text("hello\n")
+    with pytest.raises(ValueError, match="text.npz is not an .npz archive .it starts 'hello'"):
+        read_frf(tmp_path / "text.npz")
+    (tmp_path / "pickle.mat").write_bytes(b"\x80\x04K\x01.")
+    with pytest.raises(ValueError, match="pickle.mat is not a readable MATLAB file"):
+        read_frf(tmp_path / "pickle.mat", quantity="receptance")
+    (tmp_path / "binary.csv").write_bytes(b"freq\x00\x01\x02" * 10)
+    with pytest.raises(ValueError, match="binary.csv is a binary file, not a text table"):
+        read_frf(tmp_path / "binary.csv")
+
+
+def test_a_windows_1252_table_is_read_with_its_units(tmp_path):
+    """An analyzer's Windows export writes ``µm/N`` as the byte 0xB5 (not UTF-8): read as
+    Windows-1252, the unit is honoured as in a UTF-8 file (it raised UnicodeDecodeError
+    with no file name)."""
+    text = "freq [Hz],real [\u00b5m/N],imag [\u00b5m/N]\n1,2,0\n2,4,-1\n"
+    (tmp_path / "cp1252.csv").write_bytes(text.encode("cp1252"))
+    (tmp_path / "utf8.csv").write_bytes(text.encode("utf-8"))
+    windows, utf8 = read_frf(tmp_path / "cp1252.csv"), read_frf(tmp_path / "utf8.csv")
+    np.testing.assert_array_equal(windows.values, [2e-6, 4e-6 - 1e-6j])
+    np.testing.assert_array_equal(windows.values, utf8.values)
+
+
+def test_model_json_without_fields_or_nested_too_deep_is_refused(tmp_path):
+    """A JSON holding only the format line was read as an empty model (a rigid wall that
+    ``impactpred predict`` then hit, "ok"); a deeply nested one raised RecursionError."""
+    from modalid import ModalModel
+
+    (tmp_path / "bare.json").write_text('{"format": "modalid.ModalModel"}')
+    with pytest.raises(ValueError, match="bare.json.*holds none of the model's fields"):
+        ModalModel.from_json(tmp_path / "bare.json")
+    (tmp_path / "deep.json").write_text("[" * 100_000 + "]" * 100_000)
+    with pytest.raises(ValueError, match="deep.json is not JSON: RecursionError"):
+        ModalModel.from_json(tmp_path / "deep.json")
+    model = ModalModel.from_json('{"format": "modalid.ModalModel", "inverse_mass": 2.0}')
+    assert model.inverse_mass == 2.0                      # a partial model is still read
+
+
 class _Payload:
     """Unpickling this object would create the file ``_Payload.target``."""
 

@@ -108,6 +108,16 @@ def test_files_that_are_no_measurement_are_refused_naming_them(tmp_path):
         read_lvm(fake)
 
 
+def test_a_table_with_no_samples_is_refused_naming_it(tmp_path):
+    """A CSV with its header and no rows raised IndexError in ``modalid hammer``."""
+    for rows, n in (("", 0), ("0,1,2\n", 1)):
+        path = tmp_path / f"rows{n}.csv"
+        path.write_text("time,force,acceleration\n" + rows)
+        with pytest.raises(ValueError, match=rf"rows{n}.csv: its channels hold {n} samples; "
+                                             "a hammer record needs at least 8"):
+            read_hammer_records([path])
+
+
 def test_bare_rows_of_several_hits_rounded_intervals_and_unknown_units(tmp_path):
     """Multi_Headings No: the second hit follows as bare rows, ``Samples`` of them, and is
     a hit of its own; a Delta_X written with three digits is warned about and ``--fs``

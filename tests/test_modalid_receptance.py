@@ -123,3 +123,19 @@ def test_the_public_validation_module_is_the_shared_one():
         assert getattr(validation, name) is getattr(_checks, name)
     with pytest.raises(ValueError, match="clearance must be positive, got -1.0"):
         validation.as_positive_scalar("clearance", -1)
+
+
+def test_quantity_conversions_name_bad_operands():
+    """``to_receptance(q, values, None)`` returned NaN; mismatched lengths gave numpy's
+    broadcast message naming neither argument."""
+    from modalid import receptance_to, to_receptance
+
+    with pytest.raises(TypeError, match="omega must be an array .* got None"):
+        to_receptance("mobility", [1 + 1j], None)
+    with pytest.raises(ValueError, match=r"values \(shape \(2,\)\) and omega \(shape "
+                                         r"\(3,\)\) do not broadcast"):
+        to_receptance("mobility", [1 + 1j, 2], [1.0, 2.0, 3.0])
+    with pytest.raises(ValueError, match="omega must be finite"):
+        receptance_to("accelerance", [1.0], [np.nan])
+    np.testing.assert_array_equal(receptance_to("accelerance", [1, 2], [1, 2]), [-1, -8])
+
