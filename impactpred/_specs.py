@@ -38,7 +38,11 @@ def _parse_fields(kind, text, names):
         if "=" in item:
             key, value = (x.strip() for x in item.split("=", 1))
             if key not in names:
-                raise ValueError(f"{kind} spec: unknown field {key!r}; fields are {names}")
+                raise ValueError(f"{kind} spec: unknown field {key!r}; fields are "
+                                 f"{', '.join(names)}")
+            if key in values:
+                raise ValueError(f"{kind} spec: {key} given twice ({key}={values[key]} and "
+                                 f"{key}={value})")
             values[key] = value
         else:
             positional.append(item)
@@ -260,6 +264,8 @@ def parse_contact(spec) -> ContactLaw:
             "hertz-sphere": (Hertz.from_materials, ("radius1", "youngs_modulus1", "poisson1",
                                                     "youngs_modulus2", "poisson2", "radius2"))}
     if kind == "rigid":
+        if rest.strip():
+            raise ValueError(f"contact {spec!r}: rigid takes no fields")
         return Rigid()
     if kind not in laws:
         raise ValueError(f"contact {spec!r}: use rigid, spring:..., hertz:... or "

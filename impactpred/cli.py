@@ -373,13 +373,15 @@ def _add_predict_parser(sub) -> None:
     pred.add_argument("--method", default="auto",
                       choices=("auto", "laplace", "modal", "convolution", "closed_form"),
                       help="the impact solver (the identification's: --fit-method)")
-    pred.add_argument("--continuation", dest="continuation", action="store_const", const=True,
-                      default="auto",
-                      help="continue every identified model above its band with the "
-                           "high-frequency impedance of its top modes (default: those with "
-                           "more than 0.1 %% of the force's energy above their band)")
-    pred.add_argument("--no-continuation", dest="continuation", action="store_const",
-                      const=False, help="the identified models as they are")
+    continued = pred.add_mutually_exclusive_group()
+    continued.add_argument("--continuation", dest="continuation", action="store_const",
+                           const=True, default="auto",
+                           help="continue every identified model above its band with the "
+                                "high-frequency impedance of its top modes (default: those "
+                                "with more than 0.1 %% of the force's energy above their "
+                                "band)")
+    continued.add_argument("--no-continuation", dest="continuation", action="store_const",
+                           const=False, help="the identified models as they are")
     pred.add_argument("--uncertainty", action="store_true",
                       help="report the spread over cut-band re-identifications")
     pred.add_argument("--no-passivity-check", action="store_true",

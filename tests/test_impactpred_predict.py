@@ -362,6 +362,9 @@ def test_contact_specs():
     ("rod:mass=1", ValueError, r"^rod spec 'rod:mass=1' lacks transit_time \(its fields: mass, "
                                r"transit_time, support, e.g. rod:mass=...,transit_time=...\)$"),
     ("rod:1,mass=2", ValueError, r"^rod spec: mass given twice \('1' in place and mass='2'\)$"),
+    # a field given twice by name kept the last, silently
+    ("rod:mass=1,mass=2,transit_time=1", ValueError,
+     r"^rod spec: mass given twice \(mass=1 and mass=2\)$"),
 ])
 def test_bad_body_specs(spec, error, match):
     with pytest.raises(error, match=match):
@@ -379,9 +382,19 @@ def test_bad_predict_options_are_refused_before_identification(kwargs, error, ma
         predict("mass:0.5", "mass:1", velocity1=1.0, t_end=1.0, **kwargs)
 
 
-def test_bad_contact_spec():
+def test_bad_contact_spec(capsys):
     with pytest.raises(ValueError, match="glue"):
         parse_contact("glue")
+    # fields on rigid were ignored, a field given twice kept the last, and both
+    # continuation flags were accepted (the last won)
+    with pytest.raises(ValueError, match="'rigid:foo=1': rigid takes no fields"):
+        parse_contact("rigid:foo=1")
+    with pytest.raises(ValueError, match=r"stiffness given twice \(stiffness=1e6 and "):
+        parse_contact("spring:stiffness=1e6,stiffness=2")
+    with pytest.raises(SystemExit):
+        main(["predict", "mass:1", "mass:2", "--v1", "1", "--t-end", "1", "--continuation",
+              "--no-continuation"])
+    assert "not allowed with argument --continuation" in capsys.readouterr().err
 
 
 def test_predict_command_writes_results(measured_rod, tmp_path, capsys):
