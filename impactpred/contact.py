@@ -303,6 +303,9 @@ def check_contact(contact) -> ContactLaw:
     it: a contact law with a force history (an impulsive law such as
     ``InstantaneousImpact`` is for ``ImpactDamper``)."""
     if isinstance(contact, ContactLaw) and not contact.is_impulsive:
+        if type(contact) is ContactLaw:       # the base class: no law of its own
+            raise TypeError("contact must be a contact law such as Rigid(), "
+                            "LinearSpring(...) or Hertz(...), not the base ContactLaw()")
         return contact
     why = (": an impulsive law has no force history (ImpactDamper takes it)"
            if isinstance(contact, ContactLaw) else "")

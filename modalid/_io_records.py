@@ -276,6 +276,9 @@ def _build(source, raw, quantity):
     if raw.freq_hz.size != raw.values.size:
         raise ValueError(f"{f_name} and {v_name} of {source} differ in length: "
                          f"{raw.freq_hz.size} and {raw.values.size}")
+    for name, arr in ((f_name, raw.freq_hz), (c_name, raw.coherence)):
+        if arr is not None and np.iscomplexobj(arr) and np.any(np.imag(arr) != 0):
+            raise ValueError(f"{name} of {source} must be real, got complex values")
     coherence = raw.coherence
     if coherence is not None:
         coherence = np.real(coherence).astype(float)
@@ -296,7 +299,7 @@ def _build(source, raw, quantity):
                              f"got complex values")
         excitation = np.real(excitation).astype(float)
     try:
-        return FRFData(raw.freq_hz.astype(float), raw.values.astype(complex),
+        return FRFData(np.real(raw.freq_hz).astype(float), raw.values.astype(complex),
                        quantity=quantity, coherence=coherence, excitation=excitation)
     except ValueError as exc:
         raise ValueError(f"{source}: {exc}") from exc

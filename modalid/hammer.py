@@ -254,6 +254,10 @@ def _as_threshold(value) -> float:
     return out
 
 
+#: the most zero padding ``n_fft / n_samples`` frf_from_hammer accepts
+_MAX_PAD = 64
+
+
 def frf_from_hammer(force, response, fs, *, response_type="acceleration",
                     force_window="force", force_window_length=None, exponential_decay=0.0,
                     n_fft=None, double_hit_threshold=0.1) -> HammerFRF:
@@ -349,6 +353,9 @@ def frf_from_hammer(force, response, fs, *, response_type="acceleration",
     if n_fft < n_samples:
         raise ValueError(f"n_fft must be >= the record length {n_samples} (records are "
                          f"zero-padded, never cut), got {n_fft}")
+    if n_fft > _MAX_PAD * n_samples:        # 1e11 was a MemoryError (or minutes of swap)
+        raise ValueError(f"n_fft must be at most {_MAX_PAD} times the record length "
+                         f"{n_samples} (zero padding only interpolates the FRF), got {n_fft}")
 
     found = _double_hits_in(forces, fs, threshold)
     for i, t_second, ratio, t_main in found:

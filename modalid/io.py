@@ -218,7 +218,7 @@ def _from_arrays(source, arrays, columns):
                          f"{sorted(arrays)}; " + ARRAY_HELP
                          + "; or pass columns={'freq_hz': ..., 'values': ...}")
     f_name, v_name = found[freq_role[0]][0], found["values"][0]
-    freq = _vector(source, f_name, arrays[f_name]).real.astype(float)
+    freq = _vector(source, f_name, arrays[f_name])      # real: checked by _build
     if freq_role[0] == "omega_rad_s":
         freq = freq / (2 * np.pi)
     values = _vector(source, v_name, arrays[v_name])

@@ -7,6 +7,7 @@ import pytest
 from data_synth import CantileverBeam, LumpedMass, Rod, SpringMass
 from impactpred import (Body, HarmonicForce, Hertz, LinearSpring, Rigid, SampledResponse,
                         choose_dt, solve_impact)
+from impactpred.contact import ContactLaw
 from impactpred.solvers.modal import solve_modal
 from modalid import ModalModel
 
@@ -79,6 +80,7 @@ def test_sampled_load_pair_is_accepted():
     (dict(dt=-1.0), ValueError, "dt"),
     (dict(method="euler"), ValueError, "method"),
     (dict(contact="rigid"), TypeError, "contact"),
+    (dict(contact=ContactLaw()), TypeError, "not the base ContactLaw"),  # NotImplementedError
 ])
 def test_bad_solver_input(kwargs, error, match):
     args = dict(t_end=1.0)

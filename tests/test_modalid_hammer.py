@@ -241,6 +241,9 @@ def test_bad_inputs_raise_naming_the_value(clean):
     with pytest.raises(ValueError,
                        match=r"n_fft must be >= the record length 40000 \(.*\), got 100"):
         frf_from_hammer(f, x, FS, n_fft=100)
+    with pytest.raises(ValueError, match=r"n_fft must be at most 64 times the record length "
+                                         r"40000 \(.*\), got 100000000000"):
+        frf_from_hammer(f, x, FS, n_fft=10**11)           # was a MemoryError
     with pytest.raises(ValueError, match="exponential_decay must be non-negative, got -2.0"):
         frf_from_hammer(f, x, FS, exponential_decay=-2.0)
     with pytest.raises(ValueError, match="response_type must be one of"):

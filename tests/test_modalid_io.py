@@ -503,6 +503,9 @@ def test_npz_and_mat_bad_data(tmp_path):
     np.savez(tmp_path / "q.npz", freq_hz=f, values=h, quantity="mobility")
     with pytest.raises(ValueError, match="says its FRF is mobility"):
         read_frf(tmp_path / "q.npz", quantity="receptance")
+    np.savez(tmp_path / "cf.npz", freq_hz=f + 1j, values=h, quantity="receptance")
+    with pytest.raises(ValueError, match="freq_hz of .*cf.npz must be real, got complex"):
+        read_frf(tmp_path / "cf.npz")               # its imaginary part was dropped
     np.savez(tmp_path / "other.npz", t=f, y=h)
     with pytest.raises(ValueError, match=r"one frequency and one values .*\['t', 'y'\]"):
         read_frf(tmp_path / "other.npz", quantity="receptance")
