@@ -289,6 +289,9 @@ class ModalFit(FitOne, FRFPipeline, FitLines, BaseEstimator):
         if not (isinstance(self.rigid_body, str) and self.rigid_body == "auto"
                 or isinstance(self.rigid_body, (bool, np.bool_))):
             raise ValueError(f"rigid_body must be 'auto', True or False, got {self.rigid_body!r}")
+        if not isinstance(self.residuals, (list, tuple, set, frozenset)):
+            raise TypeError(f"residuals must be a tuple of 'lower' and/or 'upper', got "
+                            f"{self.residuals!r}")
         bad = set(self.residuals) - {"lower", "upper"}
         if bad:
             raise ValueError(f"residuals must be a subset of ('lower', 'upper'), got {bad}")

@@ -245,6 +245,9 @@ class FRFSet:
         -------
         FRFSet
         """
+        if isinstance(frfs, (str, bytes)) or not hasattr(frfs, "__iter__"):
+            raise TypeError(f"frfs must be an FRFData or a list of them, got "
+                            f"{type(frfs).__name__}")
         frfs = list(frfs) if not isinstance(frfs, FRFData) else [frfs]
         if not frfs:
             raise ValueError("frfs must hold at least one FRFData, got none")

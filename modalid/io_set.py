@@ -129,6 +129,9 @@ def read_frf_set(path_or_paths, *, driving_point="auto", format=None, quantity=N
     """
     _check_orientation(conjugate, negate)
     single = isinstance(path_or_paths, (str, os.PathLike))
+    if not single and not hasattr(path_or_paths, "__iter__"):
+        raise TypeError(f"path_or_paths must be a path or a list of paths, got "
+                        f"{type(path_or_paths).__name__}")
     paths = [path_or_paths] if single else list(path_or_paths)
     if not paths:
         raise ValueError("path_or_paths must name at least one file, got an empty sequence")

@@ -32,3 +32,6 @@ def test_a_seed_gives_one_model_and_bad_input_is_refused():
         random_modal_model(500, (100.0, 101.0), 0.01, seed=0)
     with pytest.raises(ValueError, match="damping_ratio"):
         random_modal_model(5, (10.0, 100.0), 0.0)
+    with pytest.raises(TypeError, match=r"freq_range_hz must be a pair \(low, high\) in Hz, "
+                                        "got 5"):        # "'int' object is not iterable"
+        random_modal_model(3, 5, 0.01)

@@ -329,6 +329,7 @@ def test_a_result_that_more_steps_would_not_move_is_converged():
     (dict(rigid_body="yes"), ValueError), (dict(residuals=("middle",)), ValueError),
     (dict(n_modes=0), ValueError), (dict(n_modes=[-1.0]), ValueError),
     (dict(n_modes=2.5), TypeError),
+    (dict(residuals=None), TypeError), (dict(residuals="upper"), TypeError),
 ])
 def test_bad_settings_raise(settings, error):
     _, data, _ = frf_case("fixed rod", n_lines=200)

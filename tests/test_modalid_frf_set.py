@@ -94,6 +94,16 @@ def test_a_bad_line_selection_is_refused_naming_it(index, error, match):
     assert data.select([0, -1]).freq_hz.size == 2
 
 
+def test_none_for_the_rows_or_the_files_is_refused_naming_it():
+    """Both said "'NoneType' object is not iterable"."""
+    with pytest.raises(TypeError, match="frfs must be an FRFData or a list of them, got "
+                                        "NoneType"):
+        FRFSet.from_frfs(None)
+    with pytest.raises(TypeError, match="path_or_paths must be a path or a list of paths, "
+                                        "got NoneType"):
+        read_frf_set(None)
+
+
 def test_from_frfs_refuses_different_grids_and_quantities():
     f = np.arange(1.0, 101.0)
     a, b = FRFData(f, np.ones(100)), FRFData(f, 2 * np.ones(100))
