@@ -251,3 +251,17 @@ def test_a_flexibility_seen_as_a_mass_by_a_coarse_step_keeps_the_laws_rule():
     assert not StepForce(Rigid(), 1.0, ratio, 5e-3, small_time_ratio=small_time).plastic
     r = solve_impact(*bodies, t_end=2.0, method="convolution", dt=5e-3)
     assert r.restitution > 0.5
+
+
+def test_a_step_as_long_as_a_rods_period_is_named_as_such():
+    """A fixed rod's step response returns to 0 after four transit times: with that step
+    the first increment is 0 and the refusal said only "not a driving point"."""
+    from data_synth import LumpedMass, Rod
+    from impactpred import Body, solve_impact
+
+    with pytest.raises(ValueError, match=r"over the first step \(dt = 4 s\) is 0.0 m/N, "
+                                         "not positive: not a driving point, or a step far "
+                                         "too long"):
+        solve_impact(Body(LumpedMass(1.0), velocity=1.0), Body(Rod(1.0, 1.0, support="fixed")),
+                     t_end=8.0, dt=4.0, method="convolution")
+

@@ -41,7 +41,10 @@ def step_kernel(body, grid: Grid) -> np.ndarray:
     kernel = np.diff(s, prepend=0.0)
     if not kernel[0] > 0:
         raise ValueError(f"the step response of {type(body.model).__name__} over the first "
-                         f"step is {kernel[0]!r} m/N, not positive: not a driving point")
+                         f"step (dt = {grid.dt:.6g} s) is {float(kernel[0])!r} m/N, not "
+                         "positive: not a driving point, or a step far too long for it (a "
+                         "rod's step response returns to 0 at its period; choose_dt gives "
+                         "the step that resolves it)")
     return kernel
 
 

@@ -297,8 +297,9 @@ def _solve_constant_hold(bodies, gap0, contact, t_end, dt, *, notes=()):
     # only the first step-response increment enters the stepping: S(dt) of each body
     first = [float(m.step_response([dt])[0]) for m in models]
     if not all(x > 0 for x in first):
-        raise ValueError(f"the step responses over the first step are {first} m/N, not "
-                         "positive: not driving points")
+        raise ValueError(f"the step responses over the first step (dt = {dt:.6g} s) are "
+                         f"{first} m/N, not both positive: not driving points, or a step far "
+                         "too long for them (choose_dt gives the step that resolves them)")
     k0 = first[0] + first[1]
     # the contact rule as the convolution solver builds it (the two agree to rounding);
     # its rounding scale, the free motion with the loads' response, only where it is used
