@@ -398,6 +398,28 @@ def _add_predict_parser(sub) -> None:
     pred.set_defaults(func=_cmd_predict)
 
 
+def _mode_count(text) -> int:
+    """``--bands``: a whole number of modes >= 1."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a whole number of modes: {text!r}") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"a band covers at least 1 mode, got {value}")
+    return value
+
+
+def _percent(text) -> float:
+    """``--noise``: a finite level in per cent, >= 0."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+    if not 0.0 <= value < 100.0:          # NaN fails too
+        raise argparse.ArgumentTypeError(f"a noise level in per cent, 0 to 100, got {text}")
+    return value
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="impactpred",
@@ -419,7 +441,7 @@ def build_parser() -> argparse.ArgumentParser:
                                              "prediction, against the exact answers")
     bench.add_argument("--quick", action="store_true",
                        help="10 modes, 1 %% noise, two cases (seconds)")
-    bench.add_argument("--bands", type=int, nargs="+", default=[10, 20, 40],
+    bench.add_argument("--bands", type=_mode_count, nargs="+", default=[10, 20, 40],
                        help="modes covered by the measured band")
     bench.add_argument("--workers", type=int, default=2,
                        help="processes (2 cases at one band each); the numbers do not "
@@ -430,7 +452,7 @@ def build_parser() -> argparse.ArgumentParser:
                             "LocalCluster of N workers (default: every core) set up for "
                             "these tasks (impactpred.parallel.local_cluster); needs "
                             "impactpred[distributed]")
-    bench.add_argument("--noise", type=float, nargs="+", default=[1.0, 5.0],
+    bench.add_argument("--noise", type=_percent, nargs="+", default=[1.0, 5.0],
                        help="noise levels in per cent")
     bench.add_argument("--out", help="folder for the CSV and markdown tables and the figures")
     bench.set_defaults(func=_cmd_benchmark)

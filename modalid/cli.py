@@ -156,7 +156,11 @@ def _check_frf_out(out):
                          ".mat or .uff)")
     if path.exists():        # a measured FRF is not overwritten without a word
         raise ValueError(f"--out {out} exists: remove it first, or give another name")
-    _format_of(path, None, WRITE_FORMATS)
+    try:
+        _format_of(path, None, WRITE_FORMATS)
+    except ValueError:             # its hint names format=, which hammer has no flag for
+        raise ValueError(f"--out {out}: its extension says the format; give .csv, .npz, "
+                         ".mat or .uff") from None
     return path
 
 

@@ -235,6 +235,17 @@ def test_out_naming_a_file_is_refused_before_any_work(tmp_path, monkeypatch, cap
     assert out.read_text() == "keep me"
 
 
+@pytest.mark.parametrize("args, message", [
+    (["--noise", "nan"], "argument --noise: a noise level in per cent, 0 to 100, got nan"),
+    (["--bands", "-3"], "argument --bands: a band covers at least 1 mode, got -3"),
+])
+def test_benchmark_flags_out_of_range_are_refused(args, message, capsys):
+    """They said "cannot convert float NaN to integer" and "n must be >= 0"."""
+    with pytest.raises(SystemExit):
+        main(["benchmark", *args])
+    assert message in capsys.readouterr().err
+
+
 def test_models_command_says_nothing_is_saved(capsys):
     assert main(["models"]) == 0
     assert capsys.readouterr().out.splitlines()[-1] == "nothing saved (--out DIR writes the " \

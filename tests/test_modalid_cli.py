@@ -479,7 +479,7 @@ def test_hammer_command_refuses_bad_records_on_one_line(hammer_test, tmp_path, c
         ([str(two), "--fs", "13.75", "--out", str(folder)],
          f"--out {folder} is a folder: give the FRF file to write"),
         ([str(two), "--fs", "13.75", "--out", str(tmp_path / "frf.xyz")],
-         "cannot tell the format of"),
+         "frf.xyz: its extension says the format; give .csv, .npz, .mat or .uff"),
         ([str(tmp_path / "missing.npy"), "--fs", "1"], "no such file: "),
     ]
     for args, message in cases:
