@@ -63,6 +63,36 @@ def test_parameter_draws_move_the_rigid_mass_by_its_reported_std():
     assert all(m.flexibility == fit.model_.flexibility for m in many)   # NaN std: kept
 
 
+def test_residue_draws_give_each_part_its_own_std():
+    """A lightly damped mode's residue is nearly imaginary and so is its error: the report
+    gives each part's std, and the draws use them (an even split of the complex variance
+    drew the imaginary part, the modal mass, with 71 % of its std)."""
+    import types
+
+    import pandas as pd
+
+    from modalid import ModalModel
+
+    model = ModalModel.from_modes(2 * np.pi * np.array([3.0, 20.0]), [0.01, 0.02], [1.0, 0.5])
+    re_std, im_std = np.array([1e-6, 2e-6]), np.array([4e-4, 1e-4])
+    modes = pd.DataFrame({"residue_std": np.hypot(re_std, im_std),
+                          "residue_real_std": re_std, "residue_imag_std": im_std})
+    fit = types.SimpleNamespace(model_=model, poles_=model.poles,
+                                report_={"modes": modes, "driving_point": False})
+    rng = np.random.default_rng(11)
+    drawn = np.array([perturb_residues(fit, rng).residues for _ in range(2000)])
+    moved = drawn - model.residues
+    # 2000 Gaussian draws: the sample std within 5 % of the one drawn from (4.5 sigma)
+    np.testing.assert_allclose(moved.real.std(axis=0), re_std, rtol=0.05)
+    np.testing.assert_allclose(moved.imag.std(axis=0), im_std, rtol=0.05)
+    # without the parts' stds: half the complex variance each, as before
+    fit.report_["modes"] = modes[["residue_std"]]
+    rng = np.random.default_rng(11)
+    even = np.array([perturb_residues(fit, rng).residues for _ in range(2000)])
+    np.testing.assert_allclose((even - model.residues).imag.std(axis=0),
+                               np.hypot(re_std, im_std) / np.sqrt(2), rtol=0.05)
+
+
 def _measured_fixed_rod(seed=0):
     truth = lightly_damped(Rod(1.0, 1.0, support="fixed"), 20, 1e-3)
     freq = np.linspace(0.01, 5.25, 2100)                     # 10 modes in the band
