@@ -130,15 +130,17 @@ def _excitation_reach(excitation, window) -> int | None:
     return None if start is None else top + start
 
 
-#: the fewest lines a band may hold to be fitted (a mode and its pseudo-modes need more
-#: lines than parameters; the automatic band asks the same of the data)
-MIN_BAND_LINES = 8
+#: the fewest lines a band given by the user may hold: with 2 the fit crashed in numpy,
+#: with 3 it put a mode and two pseudo-modes through them, "ok" (with 5 it fits the
+#: residual terms alone and says the band holds no resonance)
+MIN_BAND_LINES = 4
+#: the fewest informative lines the automatic band must find
+_MIN_AUTOMATIC_LINES = 8
 
 
 def band_to_fit(data, band):
     """``data.band(band)`` (an FRFData or FRFSet), refused naming the band when it holds
-    fewer than :data:`MIN_BAND_LINES` lines (2 lines crashed deep in numpy; 3 gave an
-    "ok" fit of one mode and two pseudo-modes through three points)."""
+    fewer than :data:`MIN_BAND_LINES` lines."""
     out = data.band(band)
     n = out.freq_hz.size
     if n < MIN_BAND_LINES:
@@ -222,7 +224,7 @@ def choose_band(data: FRFData, *, low_end=True) -> tuple[tuple[float, float], st
         g = np.clip(median_filter(data.coherence, size=window, mode="nearest"), 1e-6, 1.0)
         nsr = (1.0 - g) / g
         limit = max(1.0, 100.0 * float(np.quantile(nsr, 0.1)))
-        if np.count_nonzero(g >= _MIN_COHERENCE) < MIN_BAND_LINES:
+        if np.count_nonzero(g >= _MIN_COHERENCE) < _MIN_AUTOMATIC_LINES:
             raise ValueError(f"the FRF holds no usable band: the smoothed coherence is below "
                              f"{_MIN_COHERENCE} on {np.count_nonzero(g < _MIN_COHERENCE)} of "
                              f"its {n} lines")
@@ -245,7 +247,7 @@ def choose_band(data: FRFData, *, low_end=True) -> tuple[tuple[float, float], st
             reasons.append(f"dropped the {n - hi} lines above {f[hi - 1]:.6g} Hz (the lines "
                            "scatter like noise there)")
     hi = n if hi is None else hi
-    if hi - lo < MIN_BAND_LINES:
+    if hi - lo < _MIN_AUTOMATIC_LINES:
         raise ValueError(f"the FRF holds no usable band: {hi - lo} informative lines of "
                          f"{n} ({'; '.join(reasons)})")
     return (float(f[lo]), float(f[hi - 1])), "; ".join(reasons) or "all lines"
