@@ -47,9 +47,9 @@ def random_modal_model(n_modes, freq_range_hz, damping_ratio, *, seed=None) -> M
     """
     n = as_count("n_modes", n_modes, minimum=1)
     zeta = as_positive_scalar("damping_ratio", damping_ratio)
-    if not isinstance(freq_range_hz, (list, tuple, np.ndarray)) or len(freq_range_hz) != 2:
-        raise TypeError(f"freq_range_hz must be a pair (low, high) in Hz, got "
-                        f"{freq_range_hz!r}")
+    if np.ndim(freq_range_hz) != 1 or np.shape(freq_range_hz) != (2,):
+        error = TypeError if np.ndim(freq_range_hz) == 0 else ValueError
+        raise error(f"freq_range_hz must be a pair (low, high) in Hz, got {freq_range_hz!r}")
     low, high = (as_positive_scalar(f"freq_range_hz[{k}]", v)
                  for k, v in enumerate(freq_range_hz))
     if not low < high:

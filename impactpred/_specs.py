@@ -41,8 +41,8 @@ def _parse_fields(kind, text, names):
                 raise ValueError(f"{kind} spec: unknown field {key!r}; fields are "
                                  f"{', '.join(names)}")
             if key in values:
-                raise ValueError(f"{kind} spec: {key} given twice ({key}={values[key]} and "
-                                 f"{key}={value})")
+                raise ValueError(f"{kind} spec: {key} given twice ({key}={values[key]!r} "
+                                 f"and {key}={value!r})")
             values[key] = value
         else:
             positional.append(item)

@@ -129,8 +129,8 @@ def solve_impact(body1: Body, body2: Body, *, gap: float = 0.0, contact=Rigid(),
     solver = {"laplace": solve_laplace, "modal": solve_modal, "convolution": solve_convolution,
               "closed_form": solve_closed_form}[chosen]
     if t_end / dt > _MAX_STEPS * (1 + 1e-9):       # steps, or an exact solver's samples
-        raise ValueError(f"t_end={t_end:.6g} / dt={dt:.4g} = {t_end / dt:.3g} steps exceeds "
-                         f"{_MAX_STEPS}: increase dt or shorten t_end (at most "
+        raise ValueError(f"t_end={t_end:.6g} / dt={dt:.4g} = {t_end / dt:.3g} steps or samples "
+                         f"exceeds {_MAX_STEPS}: increase dt or shorten t_end (at most "
                          f"t_end={_MAX_STEPS * dt:.4g} at this step)")
     result = solver(bodies, gap, contact, t_end, dt, notes=tuple(notes))
     audit = energy_audit(result, bodies, contact)
@@ -470,11 +470,10 @@ def choose_dt(bodies, contact, *, t_end, method="convolution") -> float:
     Each time scale gets its own number of steps: 1000 per rod transit time or beam
     ``1/omega_1`` (wave fronts are resolved only by the grid), 50 per ``1/omega`` of the
     fastest mode of a modal model (modes are discretised exactly) and of a
-    ``HarmonicForce`` load, 300 per period scale
-    of a compliant contact or of a residual flexibility against the bodies' masses, 10
-    per dashpot time ``m/c`` of a spring-dashpot contact, one per sample of a measured
-    response. With rods, the step divides every transit time
-    when it can, so that wave reflections fall on grid points.
+    ``HarmonicForce`` load, 300 per period scale of a compliant contact or of a residual
+    flexibility against the bodies' masses, 10 per dashpot time ``m/c`` of a
+    spring-dashpot contact, one per sample of a measured response. With rods, the step
+    divides every transit time when it can, so that wave reflections fall on grid points.
 
     The step of the time-stepping solvers (``"modal"``, ``"convolution"``) does not
     grow with ``t_end``: their accuracy depends on it. Where ``t_end`` would take more than
@@ -484,8 +483,7 @@ def choose_dt(bodies, contact, *, t_end, method="convolution") -> float:
     The exact solvers are exact at any step: it only places their output samples.
     ``method="laplace"``: ``_LAPLACE_SAMPLES_PER_SCALE`` (8) per ``1/omega`` of the
     fastest time scale (about 50 per period) and at least 200 over ``t_end``; the first
-    contact's exact peak is added. For both exact solvers the samples are at most
-    4,000,000 over ``t_end``.
+    contact's exact peak is added. For both the samples are at most 4,000,000.
 
     Parameters
     ----------
@@ -511,7 +509,9 @@ def choose_dt(bodies, contact, *, t_end, method="convolution") -> float:
     ------
     ValueError
         ``method`` not one of :data:`METHODS`, or not possible for these bodies (as in
-        :func:`solve_impact`).
+        :func:`solve_impact`); ``t_end`` not positive.
+    TypeError
+        ``bodies`` not a non-empty list of :class:`Body`, ``contact`` not a contact law.
     """
     as_choice("method", method, METHODS)
     t_end, contact = as_positive_scalar("t_end", t_end), check_contact(contact)

@@ -416,7 +416,8 @@ def _percent(text) -> float:
     except ValueError:
         raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
     if not 0.0 <= value < 100.0:          # NaN fails too
-        raise argparse.ArgumentTypeError(f"a noise level in per cent, 0 to 100, got {text}")
+        raise argparse.ArgumentTypeError(f"a noise level in per cent, at least 0 and under "
+                                         f"100, got {text}")
     return value
 
 

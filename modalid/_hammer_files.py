@@ -111,8 +111,10 @@ def _positional(path, array):
 def _load_text(path):
     import pandas as pd
 
-    lines = [line for line in path.read_text(encoding="utf-8-sig",
-                                             errors="replace").splitlines()
+    from ._io_records import _text_encoding
+
+    encoding = _text_encoding(path)          # UTF-8, or a Windows export's cp1252
+    lines = [line for line in path.read_text(encoding=encoding).splitlines()
              if line.strip() and not line.lstrip().startswith("#")]
     if not lines:
         raise ValueError(f"{path} holds no samples")
@@ -124,7 +126,7 @@ def _load_text(path):
     except ValueError:
         header = 0
     try:
-        table = pd.read_csv(path, sep=sep, comment="#", header=header, encoding="utf-8-sig",
+        table = pd.read_csv(path, sep=sep, comment="#", header=header, encoding=encoding,
                             skipinitialspace=True, engine="python")
     except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
         raise ValueError(f"cannot parse {path} as a table: {exc}") from None

@@ -279,6 +279,7 @@ def _build(source, raw, quantity):
     for name, arr in ((f_name, raw.freq_hz), (c_name, raw.coherence)):
         if arr is not None and np.iscomplexobj(arr) and np.any(np.imag(arr) != 0):
             raise ValueError(f"{name} of {source} must be real, got complex values")
+    freq = np.real(raw.freq_hz).astype(float)
     coherence = raw.coherence
     if coherence is not None:
         coherence = np.real(coherence).astype(float)
@@ -289,7 +290,7 @@ def _build(source, raw, quantity):
         if np.any(out):
             i = int(np.argmax(np.abs(coherence - np.clip(coherence, 0, 1))))
             warnings.warn(f"{c_name} of {source} lies outside [0, 1] at {np.count_nonzero(out)} "
-                          f"lines (worst {coherence[i]:.6g} at {raw.freq_hz[i]:.6g} Hz); "
+                          f"lines (worst {coherence[i]:.6g} at {freq[i]:.6g} Hz); "
                           "clipped to [0, 1]", UserWarning, stacklevel=4)
             coherence = np.clip(coherence, 0.0, 1.0)
     excitation = raw.excitation
@@ -299,7 +300,7 @@ def _build(source, raw, quantity):
                              f"got complex values")
         excitation = np.real(excitation).astype(float)
     try:
-        return FRFData(np.real(raw.freq_hz).astype(float), raw.values.astype(complex),
+        return FRFData(freq, raw.values.astype(complex),
                        quantity=quantity, coherence=coherence, excitation=excitation)
     except ValueError as exc:
         raise ValueError(f"{source}: {exc}") from exc
@@ -311,6 +312,9 @@ def _text_encoding(path) -> str:
     first 512 bytes is refused as binary, naming it."""
     with open(path, "rb") as fh:
         raw = fh.read()
+    if raw.startswith((b"\xff\xfe", b"\xfe\xff")):
+        raise ValueError(f"{path} is UTF-16 text (an Excel 'Unicode text' export): save it "
+                         "as UTF-8 (CSV UTF-8)")
     if b"\0" in raw[:512]:
         raise ValueError(f"{path} is a binary file, not a text table (NUL bytes in its "
                          "first 512 bytes)")

@@ -7,9 +7,10 @@
 from __future__ import annotations
 
 import json
-from pathlib import Path
 
 import numpy as np
+
+from ._model_json import _json_text
 
 __all__ = ["FORMAT", "multi_output_fields", "multi_output_payload", "read_multi_output_json"]
 
@@ -37,9 +38,7 @@ def multi_output_payload(fields: dict) -> dict:
 def read_multi_output_json(source) -> dict:
     """The JSON object of ``source`` (a JSON text or a path), refused (``ValueError``)
     unless it is JSON whose ``format`` is :data:`FORMAT`."""
-    text = str(source)
-    if not text.lstrip().startswith("{"):
-        text = Path(source).read_text()
+    text, _ = _json_text(source)          # a file read and refused as a model's is
     try:
         payload = json.loads(text)
     except (json.JSONDecodeError, RecursionError) as exc:   # RecursionError: nested too deep
@@ -59,6 +58,10 @@ def multi_output_fields(payload: dict) -> dict:
         values = np.asarray(values, dtype=float)
         return values[..., 0] + 1j * values[..., 1]
 
+    if not any(name in payload for name in ("poles", "real_poles", "inverse_mass",
+                                            "flexibility")):   # read as a rigid wall
+        raise ValueError("it holds none of the model's fields (poles, real_poles, "
+                         "inverse_mass, flexibility)")
     n_out = len(payload["outputs"])
     poles = complex_array(np.reshape(payload.get("poles", []), (-1, 2)))
     residues = complex_array(np.reshape(payload["residues"], (n_out, poles.size, 2)))

@@ -141,15 +141,16 @@ class ModalFit(FitOne, FRFPipeline, FitLines, BaseEstimator):
         Length ``T`` (s) of the records whose DFT gave the data, when it was not
         zero-padded (:attr:`~modalid.hammer.HammerFRF.record_length`). The record's end
         cuts each windowed free decay, which on the DFT lines scales mode ``k``'s residue
-        by ``1 - exp((p_k - sigma) T)`` and the rigid line by ``1 - exp(-sigma T)``
-        (exact for a hit at the record's start, :mod:`modalid._window`); the fit divides
-        them out. ``None`` (default): no correction (an untruncated FRF). Needs
-        ``window_decay_rate > 0`` for a rigid body. The rigid line's factor depends on
-        what was recorded (the data's ``quantity``); for an acceleration the record's end
-        also adds ``A_2/(s + sigma)^2`` to the mass line, which is taken out; the smaller
-        ``A_j`` terms are neglected (they are ``exp(-sigma T)`` of the first residues: the
-        correction assumes a window that ends well below 1, e.g. at 1 %), and a
-        displacement record of a free body adds a term the model lacks (prefer velocity
+        by ``1 - exp((p_k - sigma) T)`` and the rigid line by ``1 - exp(-sigma T)`` (exact
+        for a hit at the record's start, :mod:`modalid._window`); the fit divides them out
+        of the physical modes (its pseudo-modes describe the band's data, not free decays:
+        they keep their fitted residues). ``None`` (default): no correction (an untruncated
+        FRF). Needs ``window_decay_rate > 0`` for a rigid body. The rigid line's factor
+        depends on what was recorded (the data's ``quantity``); for an acceleration the
+        record's end also adds ``A_2/(s + sigma)^2`` to the mass line, which is taken out;
+        the smaller ``A_j`` terms are neglected (they are ``exp(-sigma T)`` of the first
+        residues: the correction assumes a window that ends well below 1, e.g. at 1 %), and
+        a displacement record of a free body adds a term the model lacks (prefer velocity
         or acceleration there).
     missed_modes : {"strict", "dense"}
         How readily a peak of the fit's residual becomes a mode the pole estimator
@@ -289,7 +290,7 @@ class ModalFit(FitOne, FRFPipeline, FitLines, BaseEstimator):
         if not (isinstance(self.rigid_body, str) and self.rigid_body == "auto"
                 or isinstance(self.rigid_body, (bool, np.bool_))):
             raise ValueError(f"rigid_body must be 'auto', True or False, got {self.rigid_body!r}")
-        if not isinstance(self.residuals, (list, tuple, set, frozenset)):
+        if isinstance(self.residuals, str) or not hasattr(self.residuals, "__iter__"):
             raise TypeError(f"residuals must be a tuple of 'lower' and/or 'upper', got "
                             f"{self.residuals!r}")
         bad = set(self.residuals) - {"lower", "upper"}
@@ -298,7 +299,8 @@ class ModalFit(FitOne, FRFPipeline, FitLines, BaseEstimator):
         self._selection()                        # validates n_modes
         for name in ("model_", "poles_", "stabilization_", "clusters_", "report_", "frf_",
                      "data_", "weights_", "impulse_", "mode_shapes_", "_stabilization_cache",
-                     "_probe", "_zero_start", "_passive_stalled", "_weighting_forced"):
+                     "_probe", "_zero_start", "_passive_stalled", "_weighting_forced",
+                     "_record_cut"):
             self.__dict__.pop(name, None)         # a second fit starts afresh
         self._check_window()
         windowed = self._windowed

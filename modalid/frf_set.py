@@ -245,7 +245,8 @@ class FRFSet:
         -------
         FRFSet
         """
-        if isinstance(frfs, (str, bytes)) or not hasattr(frfs, "__iter__"):
+        if not isinstance(frfs, FRFData) and (isinstance(frfs, (str, bytes))
+                                              or not hasattr(frfs, "__iter__")):
             raise TypeError(f"frfs must be an FRFData or a list of them, got "
                             f"{type(frfs).__name__}")
         frfs = list(frfs) if not isinstance(frfs, FRFData) else [frfs]

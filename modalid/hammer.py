@@ -254,8 +254,9 @@ def _as_threshold(value) -> float:
     return out
 
 
-#: the most zero padding ``n_fft / n_samples`` frf_from_hammer accepts
-_MAX_PAD = 64
+#: the largest ``n_fft`` frf_from_hammer accepts: 64 times the record, or 2**24 lines
+#: for a short one (1e11 was a MemoryError)
+_MAX_PAD, _MAX_FFT = 64, 2**24
 
 
 def frf_from_hammer(force, response, fs, *, response_type="acceleration",
@@ -286,8 +287,9 @@ def frf_from_hammer(force, response, fs, *, response_type="acceleration",
         ``w(t) = exp(-sigma_w t)`` applied to both channels; 0 (default) for none. For a
         window that ends at the value ``e`` use ``-log(e) / (n_samples / fs)``.
     n_fft : int or None
-        FFT length, ``>= n_samples`` (the records are zero-padded); ``None`` for
-        ``n_samples``. The frequency lines are ``k fs / n_fft``, ``k = 0 .. n_fft // 2``.
+        FFT length, ``>= n_samples`` (the records are zero-padded) and at most 64 times
+        it or ``2**24``, the larger; ``None`` for ``n_samples``. The frequency lines are
+        ``k fs / n_fft``, ``k = 0 .. n_fft // 2``.
     double_hit_threshold : float
         Fraction of the main force peak above which a later pulse is a double hit
         (:func:`find_double_hits`).
@@ -353,9 +355,10 @@ def frf_from_hammer(force, response, fs, *, response_type="acceleration",
     if n_fft < n_samples:
         raise ValueError(f"n_fft must be >= the record length {n_samples} (records are "
                          f"zero-padded, never cut), got {n_fft}")
-    if n_fft > _MAX_PAD * n_samples:        # 1e11 was a MemoryError (or minutes of swap)
-        raise ValueError(f"n_fft must be at most {_MAX_PAD} times the record length "
-                         f"{n_samples} (zero padding only interpolates the FRF), got {n_fft}")
+    if n_fft > max(_MAX_PAD * n_samples, _MAX_FFT):   # 1e11: a MemoryError, or swap
+        raise ValueError(f"n_fft must be at most {max(_MAX_PAD * n_samples, _MAX_FFT)} (64 "
+                         f"times the record length {n_samples}, or 2**24; zero padding "
+                         f"only interpolates the FRF), got {n_fft}")
 
     found = _double_hits_in(forces, fs, threshold)
     for i, t_second, ratio, t_main in found:
@@ -457,11 +460,13 @@ def correct_exponential_window(model_or_poles, decay_rate):
 
     def stable(windowed, kind):
         moved = windowed + decay_rate
-        if np.any(moved.real >= 0):
+        if decay_rate > 0 and np.any(moved.real >= 0):     # at 0 nothing moves
             bad = windowed[moved.real >= 0][0]
             bad = f"{float(bad)!r}" if np.isrealobj(windowed) else f"{complex(bad):.6g}"
             raise ValueError(f"decay_rate {decay_rate!r} moves the {kind} {bad} to Re p >= "
-                             f"0: it was not damped by the window alone")
+                             f"0: it was not damped by the window alone (fit the windowed "
+                             f"FRF with ModalFit(**est.fit_options()), or max_real="
+                             f"-(decay_rate + margin))")
         return moved
 
     if isinstance(model_or_poles, ModalModel):

@@ -191,7 +191,7 @@ def read_complex_lines(path, *, freq_hz, quantity) -> FRFData:
     path = _as_path(path)
     freq_hz = as_real_array("freq_hz", freq_hz, ndim=1)
     values = []
-    with open(path, encoding="utf-8-sig") as fh:
+    with open(path, encoding=_text_encoding(path)) as fh:
         for number, line in enumerate(fh, start=1):
             text = line.strip()
             if not text or text.startswith("#"):
@@ -247,15 +247,17 @@ _NPZ_MAGIC, _NPY_MAGIC = b"PK\x03\x04", b"\x93NUMPY"
 def _read_npz(path, columns):
     with open(path, "rb") as fh:
         magic = fh.read(6)
-    if not magic.startswith((_NPZ_MAGIC, _NPY_MAGIC)):
+    if magic.startswith(_NPY_MAGIC):
+        raise ValueError(f"cannot read {path} as .npz: it holds a single .npy array, not an "
+                         ".npz archive (save the FRF with numpy.savez)")
+    if not magic.startswith(_NPZ_MAGIC):
         head = _text_head(path)
-        start = f"it starts {head!r}" if head is not None else f"it starts {magic!r}"
+        start = ("it is empty" if not magic else f"it starts {head!r}" if head is not None
+                 else f"it starts {magic!r}")
         raise ValueError(f"{path} is not an .npz archive ({start}; an .npz is a zip file "
                          "written by numpy.savez)")
     try:
         archive = np.load(path, allow_pickle=False)
-        if not isinstance(archive, np.lib.npyio.NpzFile):
-            raise ValueError("it holds a single .npy array, not an .npz archive")
         with archive:
             arrays = {key: archive[key] for key in archive.files}
     except ValueError as exc:

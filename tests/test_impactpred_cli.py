@@ -236,7 +236,8 @@ def test_out_naming_a_file_is_refused_before_any_work(tmp_path, monkeypatch, cap
 
 
 @pytest.mark.parametrize("args, message", [
-    (["--noise", "nan"], "argument --noise: a noise level in per cent, 0 to 100, got nan"),
+    (["--noise", "nan"], "argument --noise: a noise level in per cent, at least 0 and under "
+                         "100, got nan"),
     (["--bands", "-3"], "argument --bands: a band covers at least 1 mode, got -3"),
 ])
 def test_benchmark_flags_out_of_range_are_refused(args, message, capsys):

@@ -102,6 +102,8 @@ def test_none_for_the_rows_or_the_files_is_refused_naming_it():
     with pytest.raises(TypeError, match="path_or_paths must be a path or a list of paths, "
                                         "got NoneType"):
         read_frf_set(None)
+    one = make_set(n=20).row(0)
+    assert len(FRFSet.from_frfs(one).outputs) == 1            # one FRFData is a set of one
 
 
 def test_from_frfs_refuses_different_grids_and_quantities():

@@ -543,6 +543,16 @@ def test_damaged_and_misnamed_files_are_refused_naming_them(tmp_path):
     (tmp_path / "binary.csv").write_bytes(b"freq\x00\x01\x02" * 10)
     with pytest.raises(ValueError, match="binary.csv is a binary file, not a text table"):
         read_frf(tmp_path / "binary.csv")
+    (tmp_path / "u16.csv").write_bytes("f,real,imag\n1,2,3\n".encode("utf-16"))
+    with pytest.raises(ValueError, match="u16.csv is UTF-16 text .* save it as UTF-8"):
+        read_frf(tmp_path / "u16.csv")
+    (tmp_path / "empty.npz").write_bytes(b"")
+    with pytest.raises(ValueError, match=r"empty.npz is not an .npz archive \(it is empty"):
+        read_frf(tmp_path / "empty.npz")
+    np.save(tmp_path / "one.npy", f)
+    (tmp_path / "one.npz").write_bytes((tmp_path / "one.npy").read_bytes())
+    with pytest.raises(ValueError, match="one.npz as .npz: it holds a single .npy array"):
+        read_frf(tmp_path / "one.npz")
 
 
 def test_a_windows_1252_table_is_read_with_its_units(tmp_path):
@@ -570,6 +580,13 @@ def test_model_json_without_fields_or_nested_too_deep_is_refused(tmp_path):
         ModalModel.from_json(tmp_path / "deep.json")
     model = ModalModel.from_json('{"format": "modalid.ModalModel", "inverse_mass": 2.0}')
     assert model.inverse_mass == 2.0                      # a partial model is still read
+    from modalid import MultiOutputModalModel              # the twin reader alike
+
+    with pytest.raises(ValueError, match="holds none of the model's fields"):
+        MultiOutputModalModel.from_json('{"format": "modalid.MultiOutputModalModel", '
+                                        '"outputs": ["a"], "residues": []}')
+    with pytest.raises(FileNotFoundError, match="no such file"):
+        MultiOutputModalModel.from_json(tmp_path / "missing.json")
 
 
 class _Payload:

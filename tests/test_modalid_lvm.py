@@ -118,6 +118,15 @@ def test_a_table_with_no_samples_is_refused_naming_it(tmp_path):
             read_hammer_records([path])
 
 
+def test_a_windows_1252_hammer_table_is_read(tmp_path):
+    """``m/s²`` in a Windows export's header: "cannot parse ... 'utf-8' codec" before."""
+    path = tmp_path / "hit.csv"
+    rows = "".join(f"{k / 1000},{float(k == 2)},{np.sin(k / 20)}\n" for k in range(64))
+    path.write_bytes(("time,force,acceleration [m/s\u00b2]\n" + rows).encode("cp1252"))
+    records = read_hammer_records([path])
+    assert records.force.shape == (1, 64)
+
+
 def test_bare_rows_of_several_hits_rounded_intervals_and_unknown_units(tmp_path):
     """Multi_Headings No: the second hit follows as bare rows, ``Samples`` of them, and is
     a hit of its own; a Delta_X written with three digits is warned about and ``--fs``
