@@ -112,7 +112,9 @@ def test_pole_draws_move_frequency_and_damping_by_their_reported_std():
     """A damped spring-mass (2 Hz, zeta 0.05) at 1 % noise: the fit's reported frequency
     and damping stds are the scatter over noise draws, and the pole draws reproduce them
     (the residues, rigid mass and flexibility stay); a mass struck on it has a contact of
-    about half its period, which the pole draws move and the residue draws hardly do."""
+    about half its period, which the pole draws move more than the residue draws do (1.6
+    times in every fit: the residue's imaginary part, the modal mass, sets the spring's
+    stiffness too; over 2 times while the draws gave it 71 % of its std)."""
     from data_synth import SpringMass, synthetic_frf
 
     body = SpringMass(1.0, (2 * np.pi * 2.0) ** 2, damping_ratio=0.05)
@@ -156,7 +158,7 @@ def test_pole_draws_move_frequency_and_damping_by_their_reported_std():
     for fit in fits:
         band = uncertainty_band([LumpedMass(0.5), identified_model(fit, continuation=False)],
                                 [None, fit], solve, continuation=False)
-        assert band.pole_spread["contact_duration"] > 2 * band.spread["contact_duration"]
+        assert band.pole_spread["contact_duration"] > 1.4 * band.spread["contact_duration"]
         held += all(band.low[k] <= exact[k] <= band.high[k] for k in FIGURES)
     assert held >= 11
 
