@@ -111,10 +111,10 @@ def _positional(path, array):
 def _load_text(path):
     import pandas as pd
 
-    from ._io_records import _text_encoding
+    from ._io_records import _decoded_text
 
-    encoding = _text_encoding(path)          # UTF-8, or a Windows export's cp1252
-    lines = [line for line in path.read_text(encoding=encoding).splitlines()
+    text, encoding = _decoded_text(path)       # UTF-8, or a Windows export's cp1252
+    lines = [line for line in text.splitlines()
              if line.strip() and not line.lstrip().startswith("#")]
     if not lines:
         raise ValueError(f"{path} holds no samples")

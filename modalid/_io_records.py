@@ -306,10 +306,10 @@ def _build(source, raw, quantity):
         raise ValueError(f"{source}: {exc}") from exc
 
 
-def _text_encoding(path) -> str:
-    """``"utf-8-sig"``, or ``"cp1252"`` for a text file that is not UTF-8 (an analyzer's
-    Windows export: ``µm/N`` in a header is the byte 0xB5); a file with NUL bytes in its
-    first 512 bytes is refused as binary, naming it."""
+def _decoded_text(path) -> tuple[str, str]:
+    """``(text, encoding)`` of a text file: ``"utf-8-sig"``, or ``"cp1252"`` for one that
+    is not UTF-8 (an analyzer's Windows export: ``µm/N`` in a header is the byte 0xB5);
+    a UTF-16 file, or one with NUL bytes in its first 512 bytes, is refused naming it."""
     with open(path, "rb") as fh:
         raw = fh.read()
     if raw.startswith((b"\xff\xfe", b"\xfe\xff")):
@@ -318,16 +318,12 @@ def _text_encoding(path) -> str:
     if b"\0" in raw[:512]:
         raise ValueError(f"{path} is a binary file, not a text table (NUL bytes in its "
                          "first 512 bytes)")
-    try:
-        raw.decode("utf-8-sig")
-        return "utf-8-sig"
-    except UnicodeDecodeError:
+    for encoding in ("utf-8-sig", "cp1252"):
         try:
-            raw.decode("cp1252")
+            return raw.decode(encoding), encoding
         except UnicodeDecodeError as exc:
-            raise ValueError(f"{path} is neither UTF-8 nor Windows-1252 text: "
-                             f"{exc}") from None
-        return "cp1252"
+            why = exc
+    raise ValueError(f"{path} is neither UTF-8 nor Windows-1252 text: {why}")
 
 
 def _text_head(path):

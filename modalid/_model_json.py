@@ -52,6 +52,14 @@ def _json_text(source):
     return text, str(path)
 
 
+def require_a_field(payload: dict, fields, what: str) -> None:
+    """Refuse (``ValueError``: "``what`` holds none ...") a model payload holding none of
+    ``fields``: read with every field at its default it was a rigid wall, which
+    ``impactpred predict`` hit with exit status 0."""
+    if not any(name in payload for name in fields):
+        raise ValueError(f"{what} holds none of the model's fields ({', '.join(fields)})")
+
+
 def _si_payload(payload: dict, label: str) -> dict:
     """``payload`` with its receptance fields in m/N, from the ``units`` it states."""
     units = payload.get("units", {})

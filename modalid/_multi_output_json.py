@@ -10,7 +10,7 @@ import json
 
 import numpy as np
 
-from ._model_json import _json_text
+from ._model_json import _json_text, require_a_field
 
 __all__ = ["FORMAT", "multi_output_fields", "multi_output_payload", "read_multi_output_json"]
 
@@ -58,10 +58,8 @@ def multi_output_fields(payload: dict) -> dict:
         values = np.asarray(values, dtype=float)
         return values[..., 0] + 1j * values[..., 1]
 
-    if not any(name in payload for name in ("poles", "real_poles", "inverse_mass",
-                                            "flexibility")):   # read as a rigid wall
-        raise ValueError("it holds none of the model's fields (poles, real_poles, "
-                         "inverse_mass, flexibility)")
+    require_a_field(payload, ("poles", "real_poles", "inverse_mass", "flexibility"),
+                    "it")
     n_out = len(payload["outputs"])
     poles = complex_array(np.reshape(payload.get("poles", []), (-1, 2)))
     residues = complex_array(np.reshape(payload["residues"], (n_out, poles.size, 2)))

@@ -47,7 +47,7 @@ from ._io_records import (
     _column_role,
     _finite,
     _Raw,
-    _text_encoding,
+    _decoded_text,
     _text_head,
     _vector,
     header_unit,
@@ -72,8 +72,8 @@ def _load_table(path):
     """``(table, stated)``: a table (str column names), the quantities its comments state."""
     import pandas as pd
 
-    encoding = _text_encoding(path)
-    lines = path.read_text(encoding=encoding).splitlines()
+    text, encoding = _decoded_text(path)
+    lines = text.splitlines()
     lead, stated = 0, set()
     for line in lines:
         if line.strip() and not line.lstrip().startswith("#"):
@@ -191,16 +191,15 @@ def read_complex_lines(path, *, freq_hz, quantity) -> FRFData:
     path = _as_path(path)
     freq_hz = as_real_array("freq_hz", freq_hz, ndim=1)
     values = []
-    with open(path, encoding=_text_encoding(path)) as fh:
-        for number, line in enumerate(fh, start=1):
-            text = line.strip()
-            if not text or text.startswith("#"):
-                continue
-            try:
-                values.append(complex(text.replace(" ", "")))
-            except ValueError:
-                raise ValueError(f"line {number} of {path} is not a complex number: "
-                                 f"{text[:60]!r}") from None
+    for number, line in enumerate(_decoded_text(path)[0].splitlines(), start=1):
+        text = line.strip()
+        if not text or text.startswith("#"):
+            continue
+        try:
+            values.append(complex(text.replace(" ", "")))
+        except ValueError:
+            raise ValueError(f"line {number} of {path} is not a complex number: "
+                             f"{text[:60]!r}") from None
     values = _finite(str(path), "the values", np.array(values, dtype=complex))
     if values.size != freq_hz.size:
         raise ValueError(f"{path} holds {values.size} values but freq_hz has {freq_hz.size}")

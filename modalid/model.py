@@ -21,7 +21,7 @@ from ._checks import (as_choice, as_complex_array, as_count, as_real_array, as_r
 from .quantities import QUANTITIES, receptance_to
 from .statespace import pole_residue_from_statespace, pole_residue_to_statespace
 from .receptance import modal_time_scales
-from ._model_json import _FORMAT, RECEPTANCE_UNITS, _of, read_model_json
+from ._model_json import _FORMAT, RECEPTANCE_UNITS, _of, read_model_json, require_a_field
 
 __all__ = ["ModalModel", "read_model_json", "RECEPTANCE_UNITS"]
 
@@ -475,10 +475,9 @@ class ModalModel:
         def pairs(name):
             values = np.asarray(payload.get(name, []), dtype=float).reshape(-1, 2)
             return values[:, 0] + 1j * values[:, 1]
-        fields = "poles residues real_poles real_residues inverse_mass flexibility".split()
-        if not any(name in payload for name in fields):    # read as nothing: a rigid wall
-            raise ValueError(f"invalid ModalModel JSON{_of(label)}: it holds none of the "
-                             f"model's fields ({', '.join(fields)})")
+        require_a_field(payload, ("poles", "residues", "real_poles", "real_residues",
+                                  "inverse_mass", "flexibility"),
+                        f"the ModalModel JSON{_of(label)}")
         try:
             return cls(poles=pairs("poles"), residues=pairs("residues"),
                        real_poles=payload.get("real_poles", []),
