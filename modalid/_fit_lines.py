@@ -17,6 +17,7 @@ import numpy as np
 from ._band import band_to_fit, choose_band, choose_weighting, decimation, given_band, noise_model
 from ._checks import as_real_array
 from ._lsfd import noise_level
+from ._window import check_record_lines
 from .quantities import receptance_to
 
 __all__ = ["FitLines"]
@@ -63,6 +64,8 @@ class FitLines:
                                  f"line of the data), got shape {given.shape}")
             given = given[data.freq_hz > 0]
         data = data.select(data.freq_hz > 0)
+        if self.record_length is not None:
+            check_record_lines(data.freq_hz, self.record_length)
         first = data.freq_hz[0]
         def automatic():                              # the lines the data can vouch for
             return choose_band(data, low_end=not self._windowed)

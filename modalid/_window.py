@@ -45,8 +45,24 @@ from ._checks import as_choice, as_nonnegative_scalar, as_positive_scalar
 from ._lsfd import evaluate
 from .model import ModalModel
 
-__all__ = ["rigid_factor", "structure_model", "truncation_factors", "unwindow",
-           "windowed_receptance"]
+__all__ = ["check_record_lines", "rigid_factor", "structure_model", "truncation_factors",
+           "unwindow", "windowed_receptance"]
+
+
+def check_record_lines(freq_hz, record_length) -> None:
+    """Refuse a ``record_length`` ``T`` (s) whose DFT lines ``k / T`` the data's lines
+    (``freq_hz``, Hz, > 0) are not on, to 1e-3 of a line: the record-end model holds on
+    those lines only (module docstring). A zero-padded FFT's lines, or a mistyped ``T``
+    (1e-9 s for lines 0.01 Hz apart), were fitted with it silently."""
+    k = np.asarray(freq_hz, dtype=float) * record_length
+    off = np.where(np.round(k) >= 1, np.abs(k - np.round(k)), 1.0)   # below line 1: off
+    if np.max(off) > 1e-3:
+        i = int(np.argmax(off))
+        raise ValueError(f"record_length={record_length!r} s puts the DFT lines at multiples "
+                         f"of {1 / record_length:.6g} Hz, and the data's line "
+                         f"{float(np.ravel(freq_hz)[i]):.6g} Hz is not on one: give the "
+                         "length of the record the FFT took (not zero-padded), or leave "
+                         "record_length out")
 
 
 def truncation_factors(windowed_poles, record_length):

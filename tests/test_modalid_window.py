@@ -234,6 +234,21 @@ def test_pseudo_modes_are_not_cut_by_the_record_end(free_body, sigma):
         windowed_receptance(model, w, sigma, T, cut=[True, False])
 
 
+def test_a_record_length_whose_lines_the_data_are_not_on_is_refused(free_body):
+    """The record-end model holds on the DFT lines ``k / T`` only: a mistyped ``T`` (1e-9
+    s for lines 0.05 Hz apart: every line under the first DFT line), or one that is not
+    the FFT's (the lines of a record zero-padded to twice its length are ``k / (2 T)``),
+    was fitted silently."""
+    freq = np.arange(1, 140) / T
+    data = FRFData(freq, 1j * 2 * np.pi * freq * windowed_receptance(
+        free_body, 2 * np.pi * freq, SIGMA, T), quantity="mobility")
+    for wrong in (1e-9, 1.5 * T, T + 0.01):
+        with pytest.raises(ValueError, match=rf"record_length={wrong!r} s puts the DFT "
+                                             "lines at multiples of .* is not on one"):
+            ModalFit(window_decay_rate=SIGMA, record_length=wrong).fit(data)
+    ModalFit(window_decay_rate=SIGMA, record_length=T).fit(data)          # the FFT's own
+
+
 @pytest.mark.parametrize("kwargs, match", [
     ({"quantity": "velocity"}, "quantity"),
     ({"decay_rate": -1.0}, "decay_rate"),
