@@ -19,8 +19,7 @@ import warnings
 import numpy as np
 
 from ._frf_pipeline import ModalFitWarning
-from ._verdict import (driving_point_decision, judged_report, line_error_tolerance,
-                       misfit_suspect)
+from ._verdict import driving_point_decision, line_error_tolerance, misfit_suspect
 
 __all__ = ["FitOne"]
 
@@ -182,11 +181,7 @@ class FitOne:
         their noise closer (a cantilever at 5 % noise, scatter 6.2 %: 16.6 % against
         10.0 % for an unconstrained fit with a noise mode of -203 kg, which was taken,
         "ok", and refused as a transfer FRF by ``impactpred``)."""
-        judged = judged_report(
-            self.report_, self.model_, getattr(self, "frf_", None), driving_point=True,
-            reason="", weighting=self._weighting_on, weighting_reason=self._weighting_reason,
-            band_reason=getattr(self, "_band_reason", None))
-        return judged["verdict"] == "ok"
+        return self._judged_report(driving_point=True, reason="")["verdict"] == "ok"
 
     def _fit_recorded(self, data) -> list:
         """``_fit_frf(data)`` with its warnings recorded, not said: the caller says them

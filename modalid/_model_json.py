@@ -52,6 +52,17 @@ def _json_text(source):
     return text, str(path)
 
 
+def parse_json(text: str, where: str):
+    """``json.loads(text)`` (never executes anything), refused as ``ValueError``
+    ("``where``: why") where it is not JSON or nested too deep (RecursionError)."""
+    try:
+        return json.loads(text)
+    except (json.JSONDecodeError, RecursionError) as exc:
+        why = f"RecursionError: nested too deep ({exc})" if isinstance(
+            exc, RecursionError) else str(exc)
+        raise ValueError(f"{where}: {why}") from None
+
+
 def require_a_field(payload: dict, fields, what: str) -> None:
     """Refuse (``ValueError``: "``what`` holds none ...") a model payload holding none of
     ``fields``: read with every field at its default it was a rigid wall, which
@@ -124,13 +135,7 @@ def read_model_json(source, *, formats=(_FORMAT, "modalid.MultiOutputModalModel"
     """
     text, label = _json_text(source)
     kind = " or ".join(f.split(".")[-1] for f in formats)
-    try:
-        payload = json.loads(text)
-    except (json.JSONDecodeError, RecursionError) as exc:   # RecursionError: nested too deep
-        where = f"{label} is not JSON" if label else f"not a {kind} JSON text"
-        why = f"RecursionError: nested too deep ({exc})" if isinstance(
-            exc, RecursionError) else str(exc)
-        raise ValueError(f"{where}: {why}") from None
+    payload = parse_json(text, f"{label} is not JSON" if label else f"not a {kind} JSON text")
     stated = payload.get("format") if isinstance(payload, dict) else None
     if stated not in formats:
         where = f"{label} is not a {kind} JSON file" if label else f"not a {kind} JSON text"

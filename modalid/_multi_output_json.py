@@ -6,11 +6,9 @@
 
 from __future__ import annotations
 
-import json
-
 import numpy as np
 
-from ._model_json import _json_text, require_a_field
+from ._model_json import _json_text, parse_json, require_a_field
 
 __all__ = ["FORMAT", "multi_output_fields", "multi_output_payload", "read_multi_output_json"]
 
@@ -39,12 +37,7 @@ def read_multi_output_json(source) -> dict:
     """The JSON object of ``source`` (a JSON text or a path), refused (``ValueError``)
     unless it is JSON whose ``format`` is :data:`FORMAT`."""
     text, _ = _json_text(source)          # a file read and refused as a model's is
-    try:
-        payload = json.loads(text)
-    except (json.JSONDecodeError, RecursionError) as exc:   # RecursionError: nested too deep
-        why = f"RecursionError: nested too deep ({exc})" if isinstance(
-            exc, RecursionError) else str(exc)
-        raise ValueError(f"not a MultiOutputModalModel JSON text: {why}") from None
+    payload = parse_json(text, "not a MultiOutputModalModel JSON text")
     if not isinstance(payload, dict) or payload.get("format") != FORMAT:
         raise ValueError(f"not a MultiOutputModalModel JSON text: 'format' is not {FORMAT!r}")
     return payload

@@ -375,16 +375,20 @@ class ModalFit(FitOne, FRFPipeline, FitLines, BaseEstimator):
         """Add the driving-point decision, damping resolution and the quality verdict
         to ``report_`` (:func:`modalid._verdict.judged_report`); warn
         (:class:`ModalFitWarning`) unless the verdict is ``"ok"``."""
-        self.report_ = judged_report(
-            self.report_, self.model_, getattr(self, "frf_", None),
-            driving_point=driving_point, reason=reason, weighting=self._weighting_on,
-            weighting_reason=self._weighting_reason,
-            band_reason=getattr(self, "_band_reason", None))
+        self.report_ = self._judged_report(driving_point=driving_point, reason=reason)
         if self.report_["verdict"] != "ok":
             warnings.warn(f"the fit is {self.report_['verdict']}: "
                           + "; ".join(self.report_["verdict_reasons"]), ModalFitWarning,
                           stacklevel=3)
         return self
+
+    def _judged_report(self, *, driving_point, reason):
+        """``report_`` judged (:func:`modalid._verdict.judged_report`), not stored."""
+        return judged_report(
+            self.report_, self.model_, getattr(self, "frf_", None),
+            driving_point=driving_point, reason=reason, weighting=self._weighting_on,
+            weighting_reason=self._weighting_reason,
+            band_reason=getattr(self, "_band_reason", None))
 
     def _check_window(self):
         as_nonnegative_scalar("window_decay_rate", self.window_decay_rate)
