@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from os import PathLike
 from pathlib import Path
 
 __all__ = ["example_data_path"]
@@ -33,6 +34,8 @@ def example_data_path(name: str) -> Path:
     FileNotFoundError
         Naming every place looked at, when none holds the file.
     """
+    if not isinstance(name, (str, PathLike)):
+        raise TypeError(f"name must be a file name (str), got {type(name).__name__}")
     name = str(name)
     relative = Path(name)
     if relative.is_absolute() or ".." in relative.parts:

@@ -317,6 +317,8 @@ def _pulse_response(model: ModalModel, u: np.ndarray, amplitude: float, width: f
 
 #: Anti-aliasing filter of :func:`synthetic_hammer_test`: analog Butterworth order and
 #: cutoff as a fraction of fs.
+#: most samples one synthetic hammer test computes (all hits' records together)
+MAX_RECORD_SAMPLES = 2**25
 ANTI_ALIAS_ORDER = 8
 ANTI_ALIAS_CUTOFF = 0.4
 
@@ -444,7 +446,8 @@ def synthetic_hammer_test(model, fs, duration, *, n_hits=1, hit_times=None, puls
     duration : float
         Record length (s); ``n_samples = round(duration * fs)``, at least 4.
     n_hits : int
-        Number of hits (records), >= 1.
+        Number of hits (records), >= 1; ``n_hits * n_samples`` at most
+        ``MAX_RECORD_SAMPLES`` (2**25).
     hit_times : float or array_like, shape (n_hits,), optional
         Start of each main pulse (s, from the record start); default 20 samples
         (``20 / fs``), a pre-trigger as an analyser records.
@@ -517,10 +520,18 @@ def synthetic_hammer_test(model, fs, duration, *, n_hits=1, hit_times=None, puls
                          f"{truth.flexibility!r} m/N holds Dirac impulses at the pulse ends; "
                          "use anti_alias=True, a model without the residual term "
                          "(residual=False) or response='displacement'/'velocity'")
+    if duration * fs * n_hits > MAX_RECORD_SAMPLES:     # before any work or allocation
+        raise ValueError(f"n_hits * duration * fs = {n_hits} * {duration:.6g} s * {fs:.6g} Hz "
+                         f"samples exceeds {MAX_RECORD_SAMPLES}: shorten the records, "
+                         "lower fs or test fewer hits")
     n_samples = int(round(duration * fs))
     if n_samples < 4:
         raise ValueError(f"duration * fs must give at least 4 samples, got "
                          f"{duration!r} s * {fs!r} Hz = {n_samples}")
+    if not (seed is None or isinstance(seed, np.random.Generator) or (isinstance(
+            seed, (int, np.integer)) and not isinstance(seed, bool) and seed >= 0)):
+        raise TypeError(f"seed must be None, a non-negative integer or a "
+                        f"numpy.random.Generator, got {seed!r}")
     t = np.arange(n_samples) / fs
     t_end = t[-1]
     width = 10.0 / fs if pulse_width is None else as_positive_scalar("pulse_width",

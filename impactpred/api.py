@@ -3,14 +3,17 @@
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 import warnings
+from collections.abc import Callable
 
 import numpy as np
 
 from modalid.validation import as_choice, as_positive_scalar, as_real_scalar
 
 from ._caveats import caveats, many_micro_contacts
+from ._energy_terms import contact_energy, dashpot_dissipation, exchangeable_energy, load_work
 from .body import Body, SampledResponse
 from .contact import Hertz, LinearSpring, Rigid, check_contact
 from .damper.excitation import HarmonicForce
@@ -44,7 +47,8 @@ _EXACT = ("closed_form", "laplace")
 
 
 def solve_impact(body1: Body, body2: Body, *, gap: float = 0.0, contact=Rigid(),
-                 t_end: float, dt: float | None = None, method: str = "auto") -> ImpactResult:
+                 t_end: float, dt: float | None = None, method: str = "auto",
+                 progress: bool = False) -> ImpactResult:
     """Predict the impact of two bodies touching at one point each.
 
     Parameters
@@ -67,6 +71,11 @@ def solve_impact(body1: Body, body2: Body, *, gap: float = 0.0, contact=Rigid(),
         output points), the exact Laplace solver for rational models with a linear contact
         law and no load or a ``HarmonicForce`` load, the modal solver for other rational
         cases, the convolution solver otherwise.
+    progress : bool, keyword-only
+        A progress bar on stderr over the steps of the time-stepping loops that run in
+        Python (``"convolution"``, O(log^2 steps) a step, and the ``"modal"`` method's
+        zero-order hold, O(modes) a step; up to 4e6 steps); the compiled loops (the exact
+        methods, the modal first-order hold) take none.
 
     Returns
     -------
@@ -107,6 +116,8 @@ def solve_impact(body1: Body, body2: Body, *, gap: float = 0.0, contact=Rigid(),
             raise ValueError(f"dt={dt!r} s exceeds t_end={t_end!r} s: the step must fit in "
                              "the run")
     as_choice("method", method, METHODS)
+    if not isinstance(progress, (bool, np.bool_)):
+        raise TypeError(f"progress must be True or False, got {progress!r}")
     bodies = (body1, body2)
     chosen = _choose_method(bodies, contact, method)
     stepping = chosen in ("modal", "convolution")       # on a grid, not exact
@@ -126,8 +137,11 @@ def solve_impact(body1: Body, body2: Body, *, gap: float = 0.0, contact=Rigid(),
                           "them to about 0.1 %", RuntimeWarning, stacklevel=2)
     if stepping:
         dt = _step_within_records(bodies, t_end, dt, notes)
-    solver = {"laplace": solve_laplace, "modal": solve_modal, "convolution": solve_convolution,
-              "closed_form": solve_closed_form}[chosen]
+    solver: Callable[..., ImpactResult] = {
+        "laplace": solve_laplace, "modal": solve_modal, "convolution": solve_convolution,
+        "closed_form": solve_closed_form}[chosen]
+    if stepping:
+        solver = functools.partial(solver, progress=bool(progress))
     if t_end / dt > _MAX_STEPS * (1 + 1e-9):       # steps, or an exact solver's samples
         raise ValueError(f"t_end={t_end:.6g} / dt={dt:.4g} = {t_end / dt:.3g} steps or samples "
                          f"exceeds {_MAX_STEPS}: increase dt or shorten t_end (at most "
@@ -260,12 +274,12 @@ def energy_audit(result, bodies, contact) -> EnergyAudit:
     coarse = (result.method == "laplace" and result.t.size > 1
               and float(np.max(np.diff(result.t))) > 1.5 * choose_dt(
                   bodies, contact, t_end=float(result.t[-1]), method="laplace"))
-    load_work, quadrature = _load_work(result, bodies, coarse=coarse)
-    scale = _exchangeable_energy(bodies, before, load_work)
+    work, quadrature = load_work(result, bodies, coarse=coarse)
+    scale = exchangeable_energy(bodies, before, work)
     audit = EnergyAudit(before=before, after=after,
-                        dissipated=_dashpot_dissipation(result, contact),
-                        stored=_contact_energy(contact, float(result.gap[-1])),
-                        load_work=load_work, scale=scale,
+                        dissipated=dashpot_dissipation(result, contact),
+                        stored=contact_energy(contact, float(result.gap[-1])),
+                        load_work=work, scale=scale,
                         tolerance=ENERGY_TOLERANCE[result.method]
                         + (quadrature / scale if scale > 0.0 else 0.0))
     fix = ("check the models (a model let through with check_passive=False?)"
@@ -299,114 +313,6 @@ def energy_audit(result, bodies, contact) -> EnergyAudit:
             reasons.append(f"{name} = {e:.6g} > 1 for bodies without pre-impact vibration "
                            f"or load: energy from nowhere; {fix}")
     return dataclasses.replace(audit, reasons=tuple(reasons))
-
-
-#: Gauss-Legendre nodes on [0, 1] and weights for the load work's Hermite quadrature
-_GAUSS_X, _GAUSS_WX = np.polynomial.legendre.leggauss(4)
-_GAUSS_S, _GAUSS_W = 0.5 * (_GAUSS_X + 1.0), 0.5 * _GAUSS_WX
-
-
-def _load_work(result, bodies, *, coarse=False) -> tuple[float, float]:
-    """Work (J) of the bodies' external loads along their contact points' motion, and an
-    estimate of its quadrature error (J).
-
-    With the contact points' velocities (the exact solver's ``v1``, ``v2``): the
-    displacement as the cubic Hermite interpolant of each sample interval, its rate times
-    the load integrated by 4-point Gauss-Legendre (error O(dt^4); a velocity jump at an
-    event is sampled on both sides, its zero-length interval adds nothing); its error
-    bounded by the change when the same sum runs over every other sample (events kept),
-    ``|W(dt) - W(2 dt)|`` (Richardson's ``/15`` holds only once the step resolves the
-    load and the modes: at 9 samples per load period the error was 6 times that), and,
-    with ``coarse`` (an output step coarser than the exact method's automatic one) or no
-    sample to leave out, by the change from the midpoint rule if larger; infinite (no
-    check) where a coarse step leaves under two samples per period of the load. The exact
-    solver is exact at any output step, its work integral is not: the bound widens the
-    audit's tolerance instead of flagging a coarse step's quadrature as energy created.
-    Otherwise the load at the interval's midpoint times the displacement step (O(dt^2),
-    within the time-stepping solvers' own error; no estimate).
-    """
-    work = error = 0.0
-    t = result.t
-    for body, y, v in zip(bodies, (result.y1, result.y2), (result.v1, result.v2)):
-        if body.load is None:
-            continue
-        if v is None:
-            work += _midpoint_work(body, t, y)
-            continue
-        fine = _hermite_work(body, t, y, v)
-        work += fine
-        if coarse and isinstance(body.load, HarmonicForce) and (
-                float(np.max(np.diff(t))) * body.load.omega > np.pi):
-            error = math.inf                             # under two samples a period
-            continue
-        # every other sample, both sides of each event (a zero-length interval) kept
-        event = np.zeros(t.size, bool)
-        event[:-1] |= t[1:] == t[:-1]
-        event[1:] |= t[1:] == t[:-1]
-        keep = event | (np.arange(t.size) % 2 == 0)
-        keep[[0, -1]] = True
-        half = abs(fine - _hermite_work(body, t[keep], y[keep], v[keep]))
-        # no sample to leave out, or a step coarser than the exact method's own: the
-        # midpoint rule's difference too (the step-halving one can be several times short)
-        error += (max(half, abs(fine - _midpoint_work(body, t, y)))
-                  if coarse or keep.all() else half)
-    return work, error
-
-
-def _midpoint_work(body, t, y) -> float:
-    """``integral load dy`` (J): the load at each sample interval's midpoint times the
-    displacement step (O(dt^2))."""
-    return float(np.dot(body.load_samples(0.5 * (t[1:] + t[:-1])), np.diff(y)))
-
-
-def _hermite_work(body, t, y, v) -> float:
-    """``integral load(t) y'(t) dt`` (J) with ``y`` the cubic Hermite interpolant of the
-    samples ``(t, y, v)``, by 4-point Gauss-Legendre on each interval."""
-    h = np.diff(t)
-    s = _GAUSS_S[None, :]
-    # d/dt of the interpolant, times h, at the Gauss nodes
-    rate_h = ((6 * s**2 - 6 * s) * (y[:-1] - y[1:])[:, None]
-              + (3 * s**2 - 4 * s + 1) * (v[:-1] * h)[:, None]
-              + (3 * s**2 - 2 * s) * (v[1:] * h)[:, None])
-    load = body.load_samples(t[:-1, None] + s * h[:, None])
-    return float(np.sum(load * rate_h * _GAUSS_W[None, :]))
-
-
-def _dashpot_dissipation(result, contact) -> float:
-    """Energy (J) a spring-dashpot contact took: its dashpot's ``c`` times the integral
-    of the penetration rate squared while the force acts, plus the spring energy left
-    behind where the force is clipped at 0 (the dashpot would pull) with the bodies
-    still overlapping. From the gap history alone, not from the force's work."""
-    if not isinstance(contact, LinearSpring) or contact.damping == 0.0:
-        return 0.0
-    depth = np.maximum(-result.gap, 0.0)
-    step = np.diff(depth)
-    acting = result.force[:-1] > 0.0
-    dashpot = contact.damping * float(np.sum(step[acting] ** 2 / np.diff(result.t)[acting]))
-    spring = 0.5 * contact.stiffness * depth**2
-    released = np.maximum(spring[:-1] - spring[1:], 0.0)
-    return dashpot + float(np.sum(released[~acting]))
-
-
-def _contact_energy(contact, gap_end: float) -> float:
-    """Elastic energy (J) of a compliant contact at penetration ``-gap_end`` (m)."""
-    depth = max(-gap_end, 0.0)
-    if isinstance(contact, LinearSpring):
-        return 0.5 * contact.stiffness * depth**2
-    if isinstance(contact, Hertz):
-        return contact.stiffness * depth ** (contact.exponent + 1) / (contact.exponent + 1)
-    return 0.0
-
-
-def _exchangeable_energy(bodies, before: float, load_work: float) -> float:
-    """Energy (J) an impact can redistribute: ``before`` less the centre of mass's kinetic
-    energy when both bodies are free and unloaded, plus ``|load_work|``."""
-    inv = [b.inverse_mass for b in bodies]
-    if all(i > 0.0 for i in inv) and all(b.load is None for b in bodies):
-        mass = 1.0 / inv[0] + 1.0 / inv[1]
-        momentum = bodies[0].velocity / inv[0] + bodies[1].velocity / inv[1]
-        before -= 0.5 * momentum**2 / mass
-    return max(before, 0.0) + abs(load_work)
 
 
 def _choose_method(bodies, contact, method):

@@ -12,6 +12,9 @@ from modalid._cli import (add_fit_options, add_read_options, check_out_dir, fit_
 
 __all__ = ["main"]
 
+#: ``impactpred models`` prints at most this many frequencies per model
+_MAX_LISTED_MODES = 1000
+
 
 def _cmd_models(args) -> int:
     import numpy as np
@@ -19,8 +22,9 @@ def _cmd_models(args) -> int:
     from data_synth import CantileverBeam, Rod, SpringMass
 
     out = check_out_dir(args.out)
-    if args.n_modes < 1:
-        raise ValueError(f"--n-modes must be at least 1, got {args.n_modes}")
+    if not 1 <= args.n_modes <= _MAX_LISTED_MODES:
+        raise ValueError(f"--n-modes must lie in [1, {_MAX_LISTED_MODES}] (frequencies printed "
+                         f"per model), got {args.n_modes}")
 
     models = {
         "Rod(m=1 kg, T=1 s, fixed)": Rod(1.0, 1.0, support="fixed"),
@@ -178,7 +182,7 @@ def _run_predict(args):
                            estimator=estimator,
                            read_options=tuple(_body_read_options(args, spec)
                                               for spec in (args.body1, args.body2)),
-                           check_passive=not args.no_passivity_check)
+                           check_passive=not args.no_passivity_check, progress=True)
         except RuntimeError as exc:
             if isinstance(exc, (NotImplementedError, RecursionError)):
                 raise

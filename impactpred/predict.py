@@ -332,11 +332,12 @@ def _bodies(specs, *, quantity, estimator, read_options, check_passive):
 
 
 def _solve_pair(model1, model2, *, velocity1, velocity2, check_passive, gap, contact, t_end,
-                dt, method):
+                dt, method, progress=False):
     """The impact of two models (``predict``'s solves)."""
     return solve_impact(_body(1, model1, velocity1, check_passive),
                         _body(2, model2, velocity2, check_passive),
-                        gap=gap, contact=contact, t_end=t_end, dt=dt, method=method)
+                        gap=gap, contact=contact, t_end=t_end, dt=dt, method=method,
+                        progress=progress)
 
 
 def _body(index, model, velocity, check_passive):
@@ -353,7 +354,7 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
             t_end, dt=None, method="auto", quantity=None, band_tolerance=0.01,
             continuation="auto", uncertainty=False, uncertainty_draws=4,
             seed=0, estimator=None, read_options=None, check_passive=True,
-            executor=None) -> Prediction:
+            executor=None, progress=False) -> Prediction:
     """Predict the impact of two bodies given as files, specs or models.
 
     Parameters
@@ -414,6 +415,9 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
         Refuse models that are not stable, passive driving points (see :class:`Body`),
         and FRF files or FRFData whose sign says they are not (see
         :func:`modalid.io.check_sign`).
+    progress : bool
+        A progress bar on stderr for the time-stepping solves of the prediction itself
+        (``solve_impact``'s ``progress``; not the band's).
 
     Returns
     -------
@@ -436,8 +440,9 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
     estimator = check_estimator(estimator)
     if not (isinstance(continuation, (bool, np.bool_)) or continuation == "auto"):
         raise ValueError(f"continuation must be True, False or 'auto', got {continuation!r}")
-    if not isinstance(uncertainty, (bool, np.bool_)):
-        raise TypeError(f"uncertainty must be True or False, got {uncertainty!r}")
+    for name, flag in (("uncertainty", uncertainty), ("progress", progress)):
+        if not isinstance(flag, (bool, np.bool_)):
+            raise TypeError(f"{name} must be True or False, got {flag!r}")
     band_tolerance = as_nonnegative_scalar("band_tolerance", band_tolerance)
     # before any identification: a wide band's fit takes seconds
     velocity1, velocity2 = as_real_scalar("velocity1", velocity1), as_real_scalar("velocity2",
@@ -460,7 +465,7 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
         # the probe without continuation: its warnings are said only if its result stays
         with warnings.catch_warnings(record=True) as probe_warnings:
             warnings.simplefilter("always")
-            result = solve(*models)
+            result = solve(*models, progress=progress)
         shares = [None if fit is None else force_energy_above(result, fit.report_["band_hz"][1])
                   for fit in fits]
         wanted = [share is not None and share > CONTINUATION_SHARE for share in shares]
@@ -478,9 +483,9 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
                     notes[i] += (f" (auto: {100 * shares[i]:.2f} % of the force's "  # type: ignore[operator]
                                  "energy lay above the band without it)")
                 _check_model(models[i], specs[i], i + 1, check_passive)
-        result = solve(*models)
+        result = solve(*models, progress=progress)
     elif result is None:
-        result = solve(*models)
+        result = solve(*models, progress=progress)
     else:
         for caught in probe_warnings:
             warnings.warn(caught.message, caught.category, stacklevel=2)

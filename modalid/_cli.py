@@ -112,10 +112,12 @@ def check_out_dir(out, *, flag: str = "--out") -> Path | None:
     Raises
     ------
     ValueError
-        ``out`` exists and is not a folder.
+        ``out`` is empty, or exists and is not a folder.
     """
     if out is None:
         return None
+    if not str(out).strip():          # Path("") is the current folder: not what was meant
+        raise ValueError(f"{flag} is empty: give a folder (created if missing)")
     path = Path(out)
     if path.exists() and not path.is_dir():
         raise ValueError(f"{flag} {out} is an existing file, not a folder: give a folder "

@@ -77,6 +77,8 @@ def test_example_data_is_found_from_any_directory(tmp_path, monkeypatch):
         example_data_path("missing.txt")
     with pytest.raises(ValueError):
         example_data_path("../README.md")
+    with pytest.raises(TypeError, match="name must be a file name \\(str\\), got NoneType"):
+        example_data_path(None)        # it looked for a file named "None"
     # no notebook opens a file by a path relative to the working directory
     for path in NOTEBOOKS:
         code = "\n".join("".join(cell.source) for cell in nbformat.read(path, as_version=4).cells

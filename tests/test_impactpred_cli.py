@@ -247,6 +247,19 @@ def test_benchmark_flags_out_of_range_are_refused(args, message, capsys):
     assert message in capsys.readouterr().err
 
 
+def test_empty_out_and_absurd_mode_counts_are_refused(tmp_path, monkeypatch, capsys):
+    """``--out ""`` wrote into the current folder; ``models --n-modes 100000000`` printed
+    for minutes."""
+    monkeypatch.chdir(tmp_path)
+    for args in (["models"], ["paper", "--no-plot"]):
+        assert main(args + ["--out", ""]) == 2
+        assert one_line_error(capsys) == "--out is empty: give a folder (created if missing)"
+    assert main(["models", "--n-modes", "100000000"]) == 2
+    assert one_line_error(capsys) == ("--n-modes must lie in [1, 1000] (frequencies printed "
+                                      "per model), got 100000000")
+    assert not any(tmp_path.iterdir())
+
+
 def test_models_command_says_nothing_is_saved(capsys):
     assert main(["models"]) == 0
     assert capsys.readouterr().out.splitlines()[-1] == "nothing saved (--out DIR writes the " \

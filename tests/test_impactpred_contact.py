@@ -26,6 +26,23 @@ def test_hertz_step_force_solves_the_power_law(G):
     assert law.step_force(1e-6, K0, 0.0, 1e-5) == 0.0
 
 
+def test_hertz_step_force_at_the_top_of_its_bracket_is_not_nan():
+    """A stiff law starts Newton at the bracket's top ``-G/K``, where ``G + K f`` can round
+    past 0: ``d**1.5`` of a negative ``d`` was NaN ("invalid value in scalar power", a
+    Hertz contact under the modal solver's zero-order hold); the compiled kernel clipped
+    it, the Python law did not. Both are now one function."""
+    from impactpred.contact import hertz_step_force
+    from impactpred.solvers._modal_kernel import hertz_force
+
+    G, K = -1.1422907808931682e-07, 0.0009195205869545325
+    assert -(G + K * (-G / K)) < 0.0                    # the top rounds past zero
+    with np.errstate(all="raise"):
+        f = Hertz(1e12).step_force(G, K, 0.0, 1e-6)
+    assert 0.0 < f <= -G / K and np.isfinite(f)
+    assert f == pytest.approx(1e12 * max(-(G + K * f), 0.0) ** 1.5, rel=1e-6, abs=1e-12 * f)
+    assert hertz_force(G, K, 1e12, 1.5) == hertz_step_force(G, K, 1e12, 1.5) == f
+
+
 def test_hertz_from_materials_steel_ball_on_steel():
     law = Hertz.from_materials(radius1=5e-3, youngs_modulus1=210e9, poisson1=0.3,
                                youngs_modulus2=210e9, poisson2=0.3)

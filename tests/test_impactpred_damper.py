@@ -208,6 +208,17 @@ def test_bad_input(kwargs, exc, match):
         ImpactDamper(SpringMass(1.0, 1e3), **base)
 
 
+def test_more_output_samples_than_the_cap_are_refused_before_any_work():
+    """``simulate(10**9)`` ran into a MemoryError (or for hours) before saying anything."""
+    d = ImpactDamper(SpringMass(1.0, 1e3), damper_mass=0.05, clearance=1e-3,
+                     excitation=HarmonicForce(1.0, 5.0))
+    with pytest.raises(ValueError, match=r"n_cycles \* samples_per_cycle = 1000000000 \* 32 "
+                                         r"output samples exceeds 4000000"):
+        d.simulate(10**9)
+    with pytest.raises(ValueError, match="1000 \\* 10000"):
+        d.simulate(1000, samples_per_cycle=10**4)
+
+
 def test_bad_primary_and_excitation():
     with pytest.raises(ValueError, match="freq_hz"):
         HarmonicForce(1.0, float("inf"))

@@ -22,6 +22,10 @@ from ._engine import Engine, EngineState
 from .excitation import BaseExcitation, HarmonicForce
 from .result import DamperResult, DamperState, build_result
 
+#: most output samples one ``simulate`` call keeps (``n_cycles * samples_per_cycle``; as
+#: ``solve_impact``'s cap on samples): a longer run is continued with ``initial=``
+MAX_OUTPUT_SAMPLES = 4_000_000
+
 __all__ = ["ImpactDamper"]
 
 #: the laws the two-sided engine runs (a ``ContactLaw`` it does not know is refused)
@@ -244,7 +248,8 @@ class ImpactDamper:
             as the primary has the same number of states. :meth:`initial_state` sets the
             damper mass going inside a primary at rest.
         samples_per_cycle : int, keyword-only
-            Output samples per forcing period (>= 4), plus every event time.
+            Output samples per forcing period (>= 4), plus every event time;
+            ``n_cycles * samples_per_cycle`` at most ``MAX_OUTPUT_SAMPLES`` (4e6).
         progress : bool, keyword-only
             Print a progress bar to stderr (redrawn at least every 20,000 phases).
 
@@ -254,6 +259,8 @@ class ImpactDamper:
 
         Raises
         ------
+        ValueError
+            More than ``MAX_OUTPUT_SAMPLES`` output samples asked for.
         RuntimeError
             Contact events repeat without time advancing (an undecidable grazing contact,
             or elastic impacts between stops that coincide to rounding), or more than
@@ -265,6 +272,10 @@ class ImpactDamper:
         """
         n_cycles = as_count("n_cycles", n_cycles, minimum=1)
         spc = as_count("samples_per_cycle", samples_per_cycle, minimum=4)
+        if n_cycles * spc > MAX_OUTPUT_SAMPLES:       # before any work, not as a MemoryError
+            raise ValueError(f"n_cycles * samples_per_cycle = {n_cycles} * {spc} output "
+                             f"samples exceeds {MAX_OUTPUT_SAMPLES}: run fewer cycles at a "
+                             "time (continue with initial=) or sample them less often")
         eng = self.engine()
         if initial is None:
             initial = self.initial_state()

@@ -15,6 +15,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from ..contact import hertz_step_force
+
 #: contact-law codes of the kernel
 RIGID, SPRING, HERTZ = 0, 1, 2
 
@@ -91,27 +93,8 @@ def velocity(z, v, p, w, D, u, sig):
     return acc + v + D * sig
 
 
-@njit(cache=True)
-def hertz_force(G, K, k, n):
-    """Root of ``f = k (-(G + K f))^n`` on ``[0, -G/K]`` (``G < 0``): safeguarded Newton."""
-    lo = 0.0
-    hi = -G / K
-    f = min(hi, k * (-G) ** n)
-    for _ in range(100):
-        dpen = max(-(G + K * f), 0.0)
-        phi = f - k * dpen ** n
-        if phi > 0.0:
-            hi = f
-        else:
-            lo = f
-        dphi = 1.0 + k * n * K * dpen ** (n - 1.0) if dpen > 0.0 else 1.0
-        f_new = f - phi / dphi
-        if not lo < f_new < hi:
-            f_new = 0.5 * (lo + hi)
-        if abs(f_new - f) <= 1e-14 * max(f_new, 1e-300) or hi - lo <= 1e-15 * hi:
-            return f_new
-        f = f_new
-    return f
+#: the Hertz law's step force, compiled from its one definition in ``impactpred.contact``
+hertz_force = njit(cache=True)(hertz_step_force)
 
 
 @njit(cache=True)

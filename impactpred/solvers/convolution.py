@@ -19,6 +19,7 @@ import dataclasses
 import numpy as np
 from scipy.signal import fftconvolve
 
+from ..parallel import progress_bar
 from ._outputs import convolution_points
 from ._step_force import StepForce, backward_gap, kernel_ratio, rounding_gap
 from ._stepping import Grid, assemble_result, free_displacements, step_kernel
@@ -28,7 +29,8 @@ __all__ = ["solve_convolution", "online_complementarity"]
 _BLOCK = 32
 
 
-def online_complementarity(kernel, free_gap, law, dt, gap_start, *, gap_tolerance=0.0):
+def online_complementarity(kernel, free_gap, law, dt, gap_start, *, gap_tolerance=0.0,
+                           bar=None):
     """Forces ``f_n`` (N), ``n = 0..N-1``, of the discrete contact problem.
 
     Parameters
@@ -50,6 +52,8 @@ def online_complementarity(kernel, free_gap, law, dt, gap_start, *, gap_toleranc
     gap_tolerance : float, keyword-only
         Rounding level of the gaps (m) of the ``StepForce`` made here (a given one keeps
         its own).
+    bar : tqdm.tqdm or None, keyword-only
+        Advanced by the steps solved (``impactpred.parallel.progress_bar``).
     """
     n_total = free_gap.size
     force = np.zeros(n_total)
@@ -75,6 +79,8 @@ def online_complementarity(kernel, free_gap, law, dt, gap_start, *, gap_toleranc
             f = step_force(g_free, g_prev, g_before)
             force[n] = f
             g_before, g_prev = g_prev, g_free + k0 * f
+        if bar is not None:
+            bar.update(hi - lo)
 
     def recurse(lo, hi):
         if hi - lo <= _BLOCK:
@@ -94,8 +100,9 @@ def online_complementarity(kernel, free_gap, law, dt, gap_start, *, gap_toleranc
     return force
 
 
-def solve_convolution(bodies, gap0, contact, t_end, dt, *, notes=()):
-    """Time-stepping solve with exact step-response kernels; see the module docstring."""
+def solve_convolution(bodies, gap0, contact, t_end, dt, *, notes=(), progress=False):
+    """Time-stepping solve with exact step-response kernels; see the module docstring
+    (``progress``: a bar on stderr over the steps)."""
     grid = Grid(t_end, dt)
     kernels = tuple(step_kernel(b, grid) for b in bodies)
     y_free = tuple(free_displacements(b, grid, k) for b, k in zip(bodies, kernels))
@@ -104,7 +111,10 @@ def solve_convolution(bodies, gap0, contact, t_end, dt, *, notes=()):
     _, small_time = kernel_ratio([b.step_response for b in bodies], dt)
     rule = StepForce(contact, kernel[0], kernel[1] if kernel.size > 1 else 0.0, dt,
                      small_time_ratio=small_time, gap_tolerance=rounding_gap(*y_free))
-    force = online_complementarity(kernel, free_gap[1:], rule, dt, float(free_gap[0]))
+    with progress_bar(free_gap.size - 1, enabled=progress, desc="convolution",
+                      unit="step") as bar:
+        force = online_complementarity(kernel, free_gap[1:], rule, dt, float(free_gap[0]),
+                                       bar=bar)
     result = assemble_result(bodies, gap0, grid, force, kernels, y_free,
                              method="convolution", notes=notes,
                              points=convolution_points(bodies, grid, force),

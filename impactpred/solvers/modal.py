@@ -60,6 +60,7 @@ import dataclasses
 import numpy as np
 
 from ..contact import Hertz, LinearSpring, Rigid
+from ..parallel import progress_bar
 from ..result import BodyEnergy, ImpactResult
 from ._outputs import ModalOutputs, _require_multi
 from ._step_force import StepForce, backward_gap, kernel_ratio, rounding_gap
@@ -69,6 +70,8 @@ from ._stepping import (Grid, assemble_result, energy_before, free_displacements
 __all__ = ["solve_modal"]
 
 HOLDS = ("auto", "linear", "constant")
+#: steps between the zero-order hold loop's progress-bar updates
+_BAR_STRIDE = 1024
 
 
 class _ModalStepper:
@@ -151,7 +154,7 @@ def _hold_ratio(steppers, contact, bodies, dt):
     return k_a / (k_b + compliance)
 
 
-def solve_modal(bodies, gap0, contact, t_end, dt, *, notes=(), hold="auto"):
+def solve_modal(bodies, gap0, contact, t_end, dt, *, notes=(), hold="auto", progress=False):
     """Modal time-stepping solve of two bodies with rational (or truncated) models.
 
     Parameters
@@ -170,6 +173,9 @@ def solve_modal(bodies, gap0, contact, t_end, dt, *, notes=(), hold="auto"):
         zero-order hold; ``"constant"``: the zero-order hold (agrees with the convolution
         solver to rounding); ``"linear"``: the first-order hold, or ``ValueError`` where it
         does not apply.
+    progress : bool
+        A bar on stderr over the zero-order hold's Python step loop (the first-order
+        hold's loop is compiled and takes none).
     """
     if hold not in HOLDS:
         raise ValueError(f"hold must be one of {HOLDS}, got {hold!r}")
@@ -196,7 +202,8 @@ def solve_modal(bodies, gap0, contact, t_end, dt, *, notes=(), hold="auto"):
         if hold == "linear":
             raise ValueError(f"the first-order hold does not apply: {why}")
         notes.append(f"modal: zero-order hold (first order in dt) because of {why}")
-    return _solve_constant_hold(bodies, gap0, contact, t_end, dt, notes=tuple(notes))
+    return _solve_constant_hold(bodies, gap0, contact, t_end, dt, notes=tuple(notes),
+                                progress=progress)
 
 
 # ------------------------------------------------------------------ first-order hold
@@ -289,7 +296,7 @@ def _contact_runs(events, force, gap, tol, grid):
 
 
 # ------------------------------------------------------------------- zero-order hold
-def _solve_constant_hold(bodies, gap0, contact, t_end, dt, *, notes=()):
+def _solve_constant_hold(bodies, gap0, contact, t_end, dt, *, notes=(), progress=False):
     """The zero-order-hold stepping (Python loop): agrees with the convolution solver."""
     grid = Grid(t_end, dt)
     models = [b.modal_model() for b in bodies]
@@ -350,30 +357,34 @@ def _solve_constant_hold(bodies, gap0, contact, t_end, dt, *, notes=()):
         free2 = free_step(state1[0], state1[1], state1[2:4], v1, loads[0][1],
                           loads[1][1])[-1]
     g_before = backward_gap(g_prev, free1, free2)
-    for n in range(grid.n_steps):
-        u1, u2 = loads[0][n], loads[1][n]
-        z1f, z2f, d1f, d2f, y1f, y2f, G = free_step(z1, z2, d, v, u1, u2)
-        f = law(G, g_prev, g_before)
-        force[n] = f
-        if f:
-            z1 = z1f - G1 * f
-            z2 = z2f + G2 * f
-            d[0], d[1] = d1f - m1 * h2 * f, d2f + m2 * h2 * f
-            v[0] += (u1 - f) * m1 * h
-            v[1] += (u2 + f) * m2 * h
-            y1[n + 1] = y1f - first[0] * f
-            y2[n + 1] = y2f + first[1] * f
-        else:
-            z1, z2 = z1f, z2f
-            d[0], d[1] = d1f, d2f
-            v[0] += u1 * m1 * h
-            v[1] += u2 * m2 * h
-            y1[n + 1], y2[n + 1] = y1f, y2f
-        g_before, g_prev = g_prev, y2[n + 1] - y1[n + 1] + gap0
-        if rec1:
-            rec1.record(n + 1, z1, d[0], v[0], u1 - f)
-        if rec2:
-            rec2.record(n + 1, z2, d[1], v[1], u2 + f)
+    with progress_bar(grid.n_steps, enabled=progress, desc="modal", unit="step") as bar:
+        for n in range(grid.n_steps):
+            if n and n % _BAR_STRIDE == 0:
+                bar.update(_BAR_STRIDE)
+            u1, u2 = loads[0][n], loads[1][n]
+            z1f, z2f, d1f, d2f, y1f, y2f, G = free_step(z1, z2, d, v, u1, u2)
+            f = law(G, g_prev, g_before)
+            force[n] = f
+            if f:
+                z1 = z1f - G1 * f
+                z2 = z2f + G2 * f
+                d[0], d[1] = d1f - m1 * h2 * f, d2f + m2 * h2 * f
+                v[0] += (u1 - f) * m1 * h
+                v[1] += (u2 + f) * m2 * h
+                y1[n + 1] = y1f - first[0] * f
+                y2[n + 1] = y2f + first[1] * f
+            else:
+                z1, z2 = z1f, z2f
+                d[0], d[1] = d1f, d2f
+                v[0] += u1 * m1 * h
+                v[1] += u2 * m2 * h
+                y1[n + 1], y2[n + 1] = y1f, y2f
+            g_before, g_prev = g_prev, y2[n + 1] - y1[n + 1] + gap0
+            if rec1:
+                rec1.record(n + 1, z1, d[0], v[0], u1 - f)
+            if rec2:
+                rec2.record(n + 1, z2, d[1], v[1], u2 + f)
+        bar.update(grid.n_steps - bar.n)
     points = tuple(r.response(b, grid.t) if r else None for r, b in zip((rec1, rec2), bodies))
     result = assemble_result(bodies, gap0, grid, force, None, None, method="modal",
                              notes=notes, y=(y1, y2), points=points,
