@@ -197,7 +197,8 @@ def _cmd_hammer(args) -> int:
         est = frf_from_hammer(records.force, records.response, records.fs,
                               response_type=args.response_type, force_window=args.force_window,
                               force_window_length=args.force_window_length,
-                              exponential_decay=args.exponential_decay, n_fft=args.n_fft)
+                              exponential_decay=args.exponential_decay, n_fft=args.n_fft,
+                              baseline=args.baseline)
     for w in caught:
         _warn(w.message)
     frf = est.frf
@@ -211,6 +212,11 @@ def _cmd_hammer(args) -> int:
     decay = est.window_decay_rate
     ends = f", ending at {np.exp(-decay * n_samples / records.fs):.3g}" if decay else ""
     print(f"windows: {window}; exponential decay {decay:.6g} 1/s{ends}")
+    removed = [f"{name} {value:.6g}" for name, value in zip(("force", "response"), est.offsets)
+               if value]
+    if removed:
+        print(f"offsets removed (each channel's pre-trigger mean, where significant): "
+              f"{', '.join(removed)}")
     coherence = ("" if frf.coherence is None
                  else f", median coherence {np.median(frf.coherence[1:]):.4f}")
     print(f"H1 {frf.quantity}: {len(frf)} lines, {frf.freq_hz[0]:g}-{frf.freq_hz[-1]:g} Hz"
@@ -293,6 +299,9 @@ def _add_hammer_parser(sub) -> None:
     hammer.add_argument("--force-window-length", type=float, default=None, metavar="S",
                         help="length (s) of the force window; default: the pulse and five "
                              "times its width")
+    hammer.add_argument("--baseline", choices=("pretrigger", "none"), default="pretrigger",
+                        help="pretrigger: remove a channel's offset, its mean before the hits "
+                             "where significant (default); none: the records as they are")
     hammer.add_argument("--n-fft", type=int, default=None, metavar="N",
                         help="FFT length, zero-padded (default: the record length)")
     hammer.add_argument("--out", metavar="FILE",
