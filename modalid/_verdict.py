@@ -21,6 +21,7 @@ import pandas as pd
 
 from ._lsfd import noise_level
 from ._segments import distinct_peaks, resonance_peaks
+from ._window import UNMODELLED_LIMIT
 from .frf import FRFData
 from .frf_set import FRFSet
 from .multi_output import MultiOutputModalModel
@@ -353,6 +354,15 @@ def judged_report(report, model, frf, *, driving_point, reason, weighting, weigh
                                        miss=miss, missed_hz=missed_hz)
     if verdict != "ok" and isinstance(frf, FRFData) and undamped_lines(frf.values):
         reasons = reasons + [UNDAMPED_REASON]
+    unmodelled = report.get("record_end_unmodelled")
+    if unmodelled is not None and unmodelled > UNMODELLED_LIMIT:
+        verdict = "suspect" if verdict == "ok" else verdict
+        reasons = reasons + [
+            f"the record's end leaves terms this fit does not model ({100 * unmodelled:.0f} "
+            "% of the data at the band's lowest lines): a mode had not died out within the "
+            "record, and a lower residual or mass line standing in for them is not the "
+            "structure's; window the records exponentially (to about 1 % at their end) and "
+            "fit with that decay rate, which the fit models"]
     # a set's report keeps its driving-point row's index under "driving_point": the
     # decision on that row goes under its own name
     decision = ({"driving_row_is_driving_point": driving_point, "driving_point_reason": reason}

@@ -235,6 +235,11 @@ def _cmd_hammer(args) -> int:
         reach = f"(and --fmax {_excited_top(est):.6g} to keep to the band the hammer excited)"
     print(f"fit it with: modalid fit {target} {_fit_flags(est)} {reach}; impactpred "
           "predict takes the same flags")
+    if not decay:
+        print(f"no exponential window: a mode that has not died out within the record leaks "
+              f"into the FRF's lowest lines, which the fit then says it does not model; "
+              f"--exponential-decay {4.6 * records.fs / n_samples:.3g} (a window ending at "
+              "1 %) removes that")
     if out is None:
         print(nothing_saved("FILE writes the FRF with its coherence (.csv, .npz, .mat, .uff)"))
     else:
