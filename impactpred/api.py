@@ -221,6 +221,8 @@ def _step_for_t_end(t_end, dt, method, notes):
     coarse = t_end / _MAX_STEPS
     ratio = coarse / dt
     longest = _MAX_STEPS * dt
+    if ratio <= 1.001:                 # the longest t_end as the message below rounds it
+        return coarse
     needs = (f"t_end={t_end:.6g} needs {t_end / dt:.3g} steps of dt={dt:.4g} s, the step that "
              f"resolves these bodies' contact duration and restitution to about 0.1 %, and a "
              f"solve takes at most {_MAX_STEPS}")
