@@ -96,7 +96,7 @@ def _with_units(frame):
 
 def _audit_line(res) -> str:
     audit = res.energy_audit
-    verdict = "ok" if audit.ok else "FLAGGED: " + "; ".join(audit.reasons)
+    verdict = "ok" if audit.ok else "FLAGGED: " + in_flags("; ".join(audit.reasons))
     return (f"{'energy_audit':>26s}: created {audit.created:.4g} J = {100 * audit.relative:.3g} "
             f"% of the {audit.scale:.4g} J the impact can redistribute (tolerance "
             f"{100 * audit.tolerance:.3g} %): {verdict}")

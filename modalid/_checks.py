@@ -169,10 +169,17 @@ def as_choice(name: str, value, choices) -> str:
     str
     """
     if not isinstance(value, str):
-        raise TypeError(f"{name} must be one of {sorted(choices)}, got {_describe(value)}")
+        raise TypeError(f"{name} must be one of {one_of(sorted(choices))}, got "
+                        f"{_describe(value)}")
     if value not in choices:
-        raise ValueError(f"{name} must be one of {sorted(choices)}, got {value!r}")
+        raise ValueError(f"{name} must be one of {one_of(sorted(choices))}, got {value!r}")
     return value
+
+
+def one_of(choices) -> str:
+    """``choices`` as words for a message: ``'a', 'b' or 'c'`` (no Python list)."""
+    words = [repr(c) for c in choices]
+    return words[0] if len(words) == 1 else f"{', '.join(words[:-1])} or {words[-1]}"
 
 
 def as_count(name: str, value, *, minimum: int = 0) -> int:

@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ._checks import as_choice
+from ._checks import as_choice, one_of
 from .frf import FRFData
 from .quantities import QUANTITIES
 
@@ -265,7 +265,7 @@ def _settle_quantity(source, stated, quantity):
                          "word, a UFF's data types, an npz/mat 'quantity')")
     if stated is None and quantity is None:
         raise ValueError(f"{source} does not say which quantity its FRF is: pass "
-                         f"quantity= one of {list(QUANTITIES)}")
+                         f"quantity= one of {one_of(QUANTITIES)}")
     return stated or quantity
 
 

@@ -35,7 +35,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ._checks import as_choice, as_count, as_real_array
+from ._checks import as_choice, as_count, as_real_array, one_of
 from ._io_records import (
     _QUANTITY_WORDS,
     ARRAY_HELP,
@@ -84,7 +84,7 @@ def _load_table(path):
             word = m.group(1).lower()
             if word not in _QUANTITY_WORDS:
                 raise ValueError(f"{path} says '# quantity: {m.group(1)}'; the quantity must "
-                                 f"be one of {list(QUANTITIES)}")
+                                 f"be one of {one_of(QUANTITIES)}")
             stated.add(_QUANTITY_WORDS[word])
     if lead == len(lines):
         raise ValueError(f"{path} holds no table: no header line after its comments")
@@ -316,8 +316,8 @@ def _format_of(path, fmt, choices):
     accepted = [e for e, f in _EXTENSIONS.items() if f in known]
     if _EXTENSIONS.get(ext) not in known:
         raise ValueError(f"cannot tell the format of {str(path)!r} from its extension "
-                         f"{ext!r}: accepted extensions are {accepted}, or pass format= one "
-                         f"of {list(choices)}")
+                         f"{ext!r}: accepted extensions are {one_of(accepted)}, or pass "
+                         f"format= one of {one_of(choices)}")
     return _EXTENSIONS[ext]
 
 
