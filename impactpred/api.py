@@ -17,6 +17,7 @@ from ._energy_terms import contact_energy, dashpot_dissipation, exchangeable_ene
 from .body import Body, SampledResponse
 from .contact import Hertz, LinearSpring, Rigid, check_contact
 from .damper.excitation import HarmonicForce
+from .parallel import one_blas_thread
 from .result import EnergyAudit, EnergyWarning, ImpactResult
 from .solvers.closed_form import applies_closed_form, solve_closed_form
 from .solvers.convolution import solve_convolution
@@ -142,11 +143,15 @@ def solve_impact(body1: Body, body2: Body, *, gap: float = 0.0, contact=Rigid(),
         "closed_form": solve_closed_form}[chosen]
     if stepping:
         solver = functools.partial(solver, progress=bool(progress))
+
+    def run(*args, **kwargs) -> ImpactResult:   # small dense algebra: one BLAS thread
+        with one_blas_thread():
+            return solver(*args, **kwargs)
     if t_end / dt > _MAX_STEPS * (1 + 1e-9):       # steps, or an exact solver's samples
         raise ValueError(f"t_end={t_end:.6g} / dt={dt:.4g} = {t_end / dt:.3g} steps or samples "
                          f"exceeds {_MAX_STEPS}: increase dt or shorten t_end (at most "
                          f"t_end={_MAX_STEPS * dt:.4g} at this step)")
-    result = solver(bodies, gap, contact, t_end, dt, notes=tuple(notes))
+    result = run(bodies, gap, contact, t_end, dt, notes=tuple(notes))
     audit = energy_audit(result, bodies, contact)
     for _ in range(_AUTO_REFINEMENTS if automatic and stepping else 0):
         # the automatic step is the best-known practice, not a guarantee: where the run
@@ -157,7 +162,7 @@ def solve_impact(body1: Body, body2: Body, *, gap: float = 0.0, contact=Rigid(),
                 f"{100 * audit.relative:.3g} % of the exchangeable energy created")
         dt /= 2
         notes.append(said)
-        result = solver(bodies, gap, contact, t_end, dt, notes=tuple(notes))
+        result = run(bodies, gap, contact, t_end, dt, notes=tuple(notes))
         audit = energy_audit(result, bodies, contact)
     finer = None
     if stepping and many_micro_contacts(result) and 2 * t_end / dt <= _MAX_STEPS:
@@ -165,7 +170,7 @@ def solve_impact(body1: Body, body2: Body, *, gap: float = 0.0, contact=Rigid(),
         # the same run at half the step tells (its figures move, or they do not)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            finer = solver(bodies, gap, contact, t_end, dt / 2, notes=())
+            finer = run(bodies, gap, contact, t_end, dt / 2, notes=())
     sentences = caveats(result, bodies, t_end=t_end, start_gap=start_gap, finer=finer,
                         time_stepping=stepping)
     for sentence in sentences:
