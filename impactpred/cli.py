@@ -392,7 +392,9 @@ def _add_predict_parser(sub) -> None:
                       help="accept models that are not stable, passive driving points "
                            "(negative modal masses, unstable poles, FRFs whose sign says "
                            "so): only for a model you can justify; the energy audit still "
-                           "flags energy from nowhere")
+                           "flags energy from nowhere. An FRF file its fit finds to be a "
+                           "transfer FRF is refused all the same (--driving-point yes fits "
+                           "it as a driving point)")
     read = pred.add_argument_group("reading the FRF files (as modalid fit)")
     add_read_options(read)
     fit = pred.add_argument_group("identifying the FRF files (as modalid fit)")
