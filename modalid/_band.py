@@ -177,6 +177,9 @@ def given_band(freq_range, automatic) -> tuple[tuple[float, float], str]:
     (auto_lo, auto_hi), why = automatic()
     ends = "both ends" if lo is None and hi is None else ("the low end" if lo is None
                                                           else "the top")
+    if (lo is None) != (hi is None):   # what the automatic band dropped at the end chosen
+        parts = [p for p in why.split("; ") if p.startswith("dropped the") == (lo is not None)]
+        why = "; ".join(parts) or "all lines"
     return ((auto_lo if lo is None else lo, auto_hi if hi is None else hi),
             f"freq_range, {ends} chosen from the data ({why})")
 
