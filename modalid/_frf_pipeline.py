@@ -532,7 +532,7 @@ class FRFPipeline(PoleChecks, LowEnd):
         if self._shift or self.record_length is not None:
             fitted_model, window = structure_model(
                 fitted_model, kinds, decay_rate=self._shift, record_length=self.record_length,
-                quantity=band.quantity, data=band)
+                quantity=band.quantity, data=band, removed=self.__dict__.get("_end_removed"))
             poles, residues = fitted_model.poles, fitted_model.residues
             if window["window_clipped"]:   # a pole moved: judged as delivered
                 own = receptance_to(band.quantity, windowed_receptance(

@@ -25,8 +25,10 @@ against the modes' periods multiplies the second term of ``c_k`` by
 ``exp(-Re(p_k - sigma) t_0)`` (``1 + 0.035`` for a hit at 1 % of a 1 %-window record:
 ``3.5e-4`` of that mode's residue). :class:`modalid.ModalFit` (``window_decay_rate``,
 ``record_length``) fits the poles, ``c_k r_k``, ``c_0 u`` and ``D``, divides the factors
-out and takes ``A_2`` out of an acceleration's mass line; it neglects the other ``A_j``
-and the displacement ramp's term.
+out and takes ``A_2`` out of an acceleration's mass line; the other ``A_j`` it computes
+from a first fit's modes, takes out of the data and fits again where they are more than
+1 % of the band's lowest lines (:mod:`modalid._record_end`); it neglects the displacement
+ramp's term.
 
 A fit's pseudo-modes (the band's lower and upper residual poles) describe the windowed
 data over the band, not free decays the record's end cut: the record-end transforms take
@@ -45,8 +47,8 @@ from ._checks import as_choice, as_nonnegative_scalar, as_positive_scalar
 from ._lsfd import evaluate
 from .model import ModalModel
 
-__all__ = ["check_record_lines", "rigid_factor", "structure_model", "truncation_factors",
-           "unmodelled_record_end", "unwindow", "windowed_receptance"]
+__all__ = ["check_record_lines", "record_end_terms", "rigid_factor", "structure_model",
+           "truncation_factors", "unmodelled_record_end", "unwindow", "windowed_receptance"]
 
 #: the share of the data at the band's lowest lines above which the record end's terms
 #: a fit does not model make it "suspect" (:func:`unmodelled_record_end`)
@@ -119,7 +121,7 @@ def rigid_factor(decay_rate, record_length, quantity):
 
 
 def unwindow(model: ModalModel, decay_rate: float, record_length=None, *,
-             quantity: str = "mobility", cut=None) -> ModalModel:
+             quantity: str = "mobility", cut=None, a2_removed=False) -> ModalModel:
     """The structure's model from ``model`` fitted to a windowed, truncated FRF.
 
     ``model`` holds the windowed poles ``p_w`` and residues (its rigid term meaning
@@ -128,7 +130,8 @@ def unwindow(model: ModalModel, decay_rate: float, record_length=None, *,
     the inverse mass by the rigid line's factor for the measured ``quantity`` (module
     docstring). ``flexibility`` is unchanged (an instantaneous term is neither shifted
     nor cut). ``cut`` (boolean, one per complex pole; default all): the poles the record's
-    end acts on; the others (pseudo-modes) are only shifted.
+    end acts on; the others (pseudo-modes) are only shifted. ``a2_removed``: an
+    acceleration's ``A_2`` was taken out of the data, so the mass line does not hold it.
     """
     decay_rate, record_length = _checked(decay_rate, record_length, quantity)
     cut = _cut_mask(model, cut)
@@ -142,7 +145,7 @@ def unwindow(model: ModalModel, decay_rate: float, record_length=None, *,
                      real_poles=model.real_poles + decay_rate, real_residues=real_residues,
                      flexibility=model.flexibility)
     if record_length is not None and inverse_mass:
-        if _POWER[quantity] == 2:            # the fit read u + A_2 (module docstring)
+        if _POWER[quantity] == 2 and not a2_removed:   # the fit read u + A_2 (docstring)
             inverse_mass -= _cut_sums(out, decay_rate, record_length, 2, cut)
         inverse_mass /= rigid_factor(decay_rate, record_length, quantity)
     return out.replace(inverse_mass=inverse_mass)
@@ -198,7 +201,7 @@ def windowed_receptance(model: ModalModel, omega, decay_rate: float, record_leng
 
 
 def structure_model(model, kinds, *, decay_rate, record_length, quantity, min_damping=1e-5,
-                    data=None):
+                    data=None, removed=None):
     """The structure's model from a fit ``model`` of windowed data, and what was done.
 
     ``kinds``: each pole's kind (``"far"`` pseudo-modes are not held); ``decay_rate``
@@ -220,7 +223,10 @@ def structure_model(model, kinds, *, decay_rate, record_length, quantity, min_da
     ``window_clipped``, ``truncation_factors`` (per pole, 1 for a pseudo-mode),
     ``rigid_factor`` and ``record_cut`` (the mask to re-window ``model`` with:
     :func:`windowed_receptance`'s ``cut``); with ``data`` (the band fitted, an ``FRFData``)
-    ``record_end_unmodelled`` (:func:`unmodelled_record_end`).
+    ``record_end_unmodelled`` (:func:`unmodelled_record_end`). ``removed``: ``(freq_hz,
+    terms, with_a2)``, the record end's terms taken out of the data before the fit
+    (:func:`modalid._record_end.refit_without_record_end`; ``with_a2``: an acceleration's
+    ``A_2`` among them, which a mass line then no longer holds).
     """
     sigma, length = decay_rate, record_length
     windowed = model.poles
@@ -232,13 +238,16 @@ def structure_model(model, kinds, *, decay_rate, record_length, quantity, min_da
     factors = (np.ones(model.poles.size) if length is None
                else np.where(cut, truncation_factors(model.poles, length), 1.0))
     try:
-        out = unwindow(model, sigma, length, quantity=quantity, cut=cut)
+        out = unwindow(model, sigma, length, quantity=quantity, cut=cut,
+                       a2_removed=bool(removed is not None and removed[2]))
     except ValueError as exc:        # a rigid line with record_length and no window
         raise ValueError(f"ModalFit(window_decay_rate={sigma!r}, record_length={length!r}) "
                          f"found a rigid body: {exc}") from None
+    gone = (None if removed is None or data is None
+            else removed[1][np.isin(removed[0], data.freq_hz)])
     unmodelled = None if data is None else unmodelled_record_end(
         out, data.omega, data.values, decay_rate=sigma, record_length=length,
-        quantity=quantity, cut=cut)
+        quantity=quantity, cut=cut, removed=gone)
     return out, {"window_decay_rate": sigma, "record_length": length,
                  "window_clipped": int(np.sum(clipped)), "truncation_factors": factors,
                  "record_cut": cut, "record_end_unmodelled": unmodelled,
@@ -246,16 +255,35 @@ def structure_model(model, kinds, *, decay_rate, record_length, quantity, min_da
                                   if model.inverse_mass else 1.0)}
 
 
-def unmodelled_record_end(model: ModalModel, omega, values, *, decay_rate, record_length,
-                          quantity, cut):
-    """How much of the data at the band's lowest lines are record-end terms a fit does
-    not model (module docstring): ``A_1 / x`` of a velocity or acceleration record and,
-    without a mass line to take it, an acceleration's ``A_2 / x^2``, in the data's own
-    quantity (``x^k`` times the receptance form) over the data ``values`` (on ``omega``,
-    rad/s), their median over the band's lines below its first physical mode (the five
-    lowest at most; the five lowest lines where none lies below).
+def record_end_terms(model: ModalModel, omega, *, decay_rate, record_length, quantity, cut):
+    """The record end's terms a fit does not model (module docstring), in the data's own
+    quantity on ``omega`` (rad/s; 0 at omega = 0): ``x^k A_1 / x`` of a velocity or
+    acceleration record and, where ``model`` has no mass line to take it, an
+    acceleration's ``A_2``; zeros for a displacement record.
 
     ``model``: the structure's (:func:`structure_model`), ``cut`` its physical poles.
+    """
+    omega = np.asarray(omega, dtype=float)
+    k = _POWER[quantity]
+    out = np.zeros(omega.shape, complex)
+    if k == 0:
+        return out
+    x = 1j * omega[omega > 0] + decay_rate
+    terms = _cut_sums(model, decay_rate, record_length, 1, cut) / x
+    if k == 2 and not model.inverse_mass:
+        terms = terms + _cut_sums(model, decay_rate, record_length, 2, cut) / x**2
+    out[omega > 0] = terms * x**k
+    return out
+
+
+def unmodelled_record_end(model: ModalModel, omega, values, *, decay_rate, record_length,
+                          quantity, cut, removed=None):
+    """How much of the data at the band's lowest lines are record-end terms a fit does
+    not model (:func:`record_end_terms`, less ``removed``: those taken out of the data
+    before the fit, on the same lines), over the data ``values`` (on ``omega``, rad/s):
+    their median over the band's lines below its first physical mode (the five lowest at
+    most; the five lowest lines where none lies below).
+
     They matter where a mode has not died out within the record: a fixed rod's 250 Hz
     mode at zeta 1e-3 in a 1 s unwindowed acceleration record puts 45-200 % of the data
     on the band's lowest lines (74 Hz and up), which a fit stands a 2.5 kg pseudo-mode at
@@ -267,16 +295,15 @@ def unmodelled_record_end(model: ModalModel, omega, values, *, decay_rate, recor
     float or None
         The share; ``None`` without ``record_length`` or for a displacement record.
     """
-    k = _POWER[quantity]
-    if record_length is None or k == 0:
+    if record_length is None or _POWER[quantity] == 0:
         return None
     omega = np.asarray(omega, dtype=float)
-    x = 1j * omega + decay_rate
-    terms = _cut_sums(model, decay_rate, record_length, 1, cut) / x
-    if k == 2 and not model.inverse_mass:
-        terms = terms + _cut_sums(model, decay_rate, record_length, 2, cut) / x**2
+    terms = record_end_terms(model, omega, decay_rate=decay_rate, record_length=record_length,
+                             quantity=quantity, cut=cut)
+    if removed is not None:
+        terms = terms - removed
     with np.errstate(divide="ignore", invalid="ignore"):
-        share = np.abs(terms * x**k) / np.abs(values)
+        share = np.abs(terms) / np.abs(values)
     physical = np.abs(model.poles[cut])
     low = np.flatnonzero(omega < physical.min())[:5] if physical.size else np.zeros(0, int)
     if not low.size:

@@ -34,6 +34,7 @@ from ._era import fit_impulse
 from ._fit_lines import FitLines
 from ._fit_one import FitOne
 from ._frf_pipeline import FRFPipeline, ModalFitWarning
+from ._record_end import refit_without_record_end
 from ._verdict import driving_point_decision, judged_report
 from ._window import windowed_receptance
 from .frf import FRFData, check_fittable
@@ -333,7 +334,7 @@ class ModalFit(FitOne, FRFPipeline, FitLines, BaseEstimator):
                 fit_impulse(self, data)
                 return self._judge(driving_point=None, reason="an impulse response: not "
                                    "decided (taken as a driving point)")
-            return self._fit_weighted(data, auto)
+            return refit_without_record_end(self, data, auto)
 
     def _fit_set(self, data: FRFSet, auto: bool):
         """Common poles (:func:`modalid._global.fit_set`). ``weighting="auto"``: the
