@@ -236,10 +236,10 @@ def _cmd_hammer(args) -> int:
     print(f"fit it with: modalid fit {target} {_fit_flags(est)} {reach}; impactpred "
           "predict takes the same flags")
     if not decay:
-        print(f"no exponential window: a mode that has not died out within the record leaks "
-              f"into the FRF's lowest lines, which the fit then says it does not model; "
-              f"--exponential-decay {4.6 * records.fs / n_samples:.3g} (a window ending at "
-              "1 %) removes that")
+        print(f"no exponential window: where a mode has not died out within the record, "
+              f"its end puts terms on the FRF's lowest lines, which --record-length lets the "
+              f"fit take out; --exponential-decay {4.6 * records.fs / n_samples:.3g} (a "
+              "window ending at 1 %) makes them small")
     if out is None:
         print(nothing_saved("FILE writes the FRF with its coherence (.csv, .npz, .mat, .uff)"))
     else:
