@@ -8,8 +8,7 @@ form, to rounding): the truth to test identification against.
 * :func:`lightly_damped` - the damped, truncated :class:`modalid.ModalModel` used as the
   truth for the (undamped) exact continua;
 * :func:`synthetic_impulse_response` - sampled ``h(t)`` plus Gaussian noise;
-* :func:`synthetic_hammer_test` - force and response records of half-sine hammer hits,
-  the response computed in closed form, mode by mode.
+* :func:`synthetic_hammer_test` - half-sine hammer hits and their exact responses.
 """
 
 from __future__ import annotations
@@ -315,10 +314,9 @@ def _pulse_response(model: ModalModel, u: np.ndarray, amplitude: float, width: f
     return out
 
 
-#: Anti-aliasing filter of :func:`synthetic_hammer_test`: analog Butterworth order and
-#: cutoff as a fraction of fs.
-#: most samples one synthetic hammer test computes (all hits' records together)
+#: most samples one synthetic hammer test computes (n_hits x duration x fs)
 MAX_RECORD_SAMPLES = 2**25
+#: Anti-aliasing filter of :func:`synthetic_hammer_test`: Butterworth order, cutoff / fs.
 ANTI_ALIAS_ORDER = 8
 ANTI_ALIAS_CUTOFF = 0.4
 
@@ -446,7 +444,7 @@ def synthetic_hammer_test(model, fs, duration, *, n_hits=1, hit_times=None, puls
     duration : float
         Record length (s); ``n_samples = round(duration * fs)``, at least 4.
     n_hits : int
-        Number of hits (records), >= 1; ``n_hits * n_samples`` at most
+        Number of hits (records), >= 1; ``n_hits * duration * fs`` at most
         ``MAX_RECORD_SAMPLES`` (2**25).
     hit_times : float or array_like, shape (n_hits,), optional
         Start of each main pulse (s, from the record start); default 20 samples
@@ -522,16 +520,18 @@ def synthetic_hammer_test(model, fs, duration, *, n_hits=1, hit_times=None, puls
                          "(residual=False) or response='displacement'/'velocity'")
     if duration * fs * n_hits > MAX_RECORD_SAMPLES:     # before any work or allocation
         raise ValueError(f"n_hits * duration * fs = {n_hits} * {duration:.6g} s * {fs:.6g} Hz "
-                         f"samples exceeds {MAX_RECORD_SAMPLES}: shorten the records, "
-                         "lower fs or test fewer hits")
+                         f"samples exceeds {MAX_RECORD_SAMPLES}: shorten the records, lower fs "
+                         "or test fewer hits")
     n_samples = int(round(duration * fs))
     if n_samples < 4:
         raise ValueError(f"duration * fs must give at least 4 samples, got "
                          f"{duration!r} s * {fs!r} Hz = {n_samples}")
-    if not (seed is None or isinstance(seed, np.random.Generator) or (isinstance(
-            seed, (int, np.integer)) and not isinstance(seed, bool) and seed >= 0)):
-        raise TypeError(f"seed must be None, a non-negative integer or a "
-                        f"numpy.random.Generator, got {seed!r}")
+    integer = isinstance(seed, (int, np.integer)) and not isinstance(seed, bool)
+    if not (seed is None or integer or isinstance(seed, np.random.Generator)):
+        raise TypeError(f"seed must be None, an integer or a numpy.random.Generator, got "
+                        f"{seed!r}")
+    if integer and seed < 0:
+        raise ValueError(f"seed must be >= 0, got {seed!r}")
     t = np.arange(n_samples) / fs
     t_end = t[-1]
     width = 10.0 / fs if pulse_width is None else as_positive_scalar("pulse_width",

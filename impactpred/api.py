@@ -220,13 +220,17 @@ def _step_within_records(bodies, t_end, dt, notes):
 def _step_for_t_end(t_end, dt, method, notes):
     """The automatic step ``dt`` (s), or a coarser one when ``t_end`` needs more than
     ``_MAX_STEPS`` of it: up to ``_COARSEST`` times coarser with a ``RuntimeWarning`` that
-    gives the numbers, never more (``ValueError``)."""
+    gives the numbers (up to 1e-3 coarser, the rounding of the longest ``t_end`` the
+    refusal prints, with a note only), never more (``ValueError``)."""
     if t_end / dt <= _MAX_STEPS:
         return dt
     coarse = t_end / _MAX_STEPS
     ratio = coarse / dt
     longest = _MAX_STEPS * dt
     if ratio <= 1.001:                 # the longest t_end as the message below rounds it
+        notes.append(f"dt coarsened to t_end/{_MAX_STEPS} = {coarse:.6g} s ({ratio:.6g} "
+                     "times the step that resolves the bodies: within the refusal's "
+                     "rounding, no warning)")
         return coarse
     needs = (f"t_end={t_end:.6g} needs {t_end / dt:.3g} steps of dt={dt:.4g} s, the step that "
              f"resolves these bodies' contact duration and restitution to about 0.1 %, and a "

@@ -216,36 +216,11 @@ class Hertz(ContactLaw):
         """
         if G >= 0.0:
             return 0.0
+        # one function with the modal kernel's, in its file: numba's cache of the kernel's
+        # callers follows that file only (an edit elsewhere left them running the old code)
+        from .solvers._modal_kernel import hertz_step_force
+
         return hertz_step_force(float(G), float(K0), self.stiffness, self.exponent)
-
-
-def hertz_step_force(G, K, k, n):
-    """Root of ``f = k (-(G + K f))^n`` on ``[0, -G/K]`` (``G < 0``, ``K > 0``): Newton
-    safeguarded by bisection, to 1e-14 relative.
-
-    The penetration is clipped at 0 where a force at the bracket's top rounds past it
-    (``d**n`` of a negative ``d`` is NaN). Plain Python: ``Hertz.step_force`` calls it, and
-    the modal solver's kernel compiles this same function
-    (``impactpred.solvers._modal_kernel.hertz_force``).
-    """
-    lo = 0.0
-    hi = -G / K
-    f = min(hi, k * (-G) ** n)          # the force with the bodies' compliance neglected
-    for _ in range(100):
-        d = max(-(G + K * f), 0.0)
-        phi = f - k * d ** n
-        if phi > 0.0:
-            hi = f
-        else:
-            lo = f
-        dphi = 1.0 + k * n * K * d ** (n - 1.0) if d > 0.0 else 1.0
-        f_new = f - phi / dphi
-        if not lo < f_new < hi:         # Newton left the bracket: bisect
-            f_new = 0.5 * (lo + hi)
-        if abs(f_new - f) <= 1e-14 * max(f_new, 1e-300) or hi - lo <= 1e-15 * hi:
-            return f_new
-        f = f_new
-    return f
 
 
 @dataclass(frozen=True)

@@ -179,7 +179,9 @@ def as_choice(name: str, value, choices) -> str:
 def one_of(choices) -> str:
     """``choices`` as words for a message: ``'a', 'b' or 'c'`` (no Python list)."""
     words = [repr(c) for c in choices]
-    return words[0] if len(words) == 1 else f"{', '.join(words[:-1])} or {words[-1]}"
+    if len(words) < 2:
+        return words[0] if words else "(none)"
+    return f"{', '.join(words[:-1])} or {words[-1]}"
 
 
 def as_count(name: str, value, *, minimum: int = 0) -> int:

@@ -42,8 +42,8 @@ class FitOne:
         keeps the weight of its surroundings). The refit stands unless it fails too or
         misses the lines by more (median relative error per line, in the data's quantity;
         up to the verdict's tolerance it may); after a stall it must be a driving point
-        with as many modes, for a missed resonance miss fewer, for a suspect fit be "ok"
-        (:func:`_refit_stands`).
+        with as many modes (or fewer resonances missed, the strong modes kept), for a
+        missed resonance miss fewer, for a suspect fit be "ok" (:func:`_refit_stands`).
         ``report_["weighting_reason"]`` says which fit stands and why, and the warnings
         said are those of the fit that stands.
 
@@ -207,8 +207,9 @@ def _refit_stands(first, refit, *, trigger: str) -> bool:
     ``trigger``: why it was refitted: the first ``"failed"``, its passive fit
     ``"stalled"``, it ``"missed"`` a resonance of the data, or it was ``"suspect"`` for
     its error. The refit must not fail; after a stall it must be a driving point with as
-    many modes as the first or fewer of the data's resonances missed (a fixed rod's
-    undamped FRF: 10 modes, exact, for the first's 15 that missed 6 of them), for a
+    many modes as the first, or fewer of the data's resonances missed and every strong
+    positive mode of the first kept (:func:`_strong_modes_kept`; a fixed rod's undamped
+    FRF: 10 modes, exact, for the first's 15 that missed 6 of them), for a
     missed resonance miss fewer, for a suspect fit be "ok"; and its median relative
     error per line may not exceed the first's or the verdict's tolerance
     (:func:`modalid._verdict.line_error_tolerance`, the error at which modes count as
@@ -232,7 +233,8 @@ def _refit_stands(first, refit, *, trigger: str) -> bool:
         return False
     if trigger == "stalled" and (not refit["driving_point"] or (
             len(refit["modes"]) < len(first["modes"])
-            and len(refit["missed_resonances_hz"]) >= len(first["missed_resonances_hz"]))):
+            and (len(refit["missed_resonances_hz"]) >= len(first["missed_resonances_hz"])
+                 or not _strong_modes_kept(first["modes"], refit["modes"])))):
         return False
     if trigger == "missed" and (len(refit["missed_resonances_hz"])
                                 >= len(first["missed_resonances_hz"])):
@@ -240,6 +242,17 @@ def _refit_stands(first, refit, *, trigger: str) -> bool:
     allowed = max(first["frf_median_relative_error"],
                   line_error_tolerance(first["noise_median_relative"]))
     return refit["frf_median_relative_error"] <= allowed
+
+
+def _strong_modes_kept(first, refit) -> bool:
+    """Whether every mode of the table ``first`` with a positive modal mass and at least
+    a tenth of its strongest mode's strength ``1/|m|`` has a mode of ``refit`` within 2 %
+    in frequency (a mode at the band's edge counts as missed by no resonance test)."""
+    strength = 1.0 / np.abs(first["modal_mass"].to_numpy(float))
+    strong = (first["modal_mass"].to_numpy(float) > 0) & (strength >= 0.1 * strength.max())
+    kept = refit["frequency_hz"].to_numpy(float)
+    return all(kept.size and np.min(np.abs(kept - f)) <= 0.02 * f
+               for f in first["frequency_hz"].to_numpy(float)[strong])
 
 
 def _say_again(caught) -> None:

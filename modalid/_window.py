@@ -225,6 +225,7 @@ def structure_model(model, kinds, *, decay_rate, record_length, quantity, min_da
     :func:`windowed_receptance`'s ``cut``); with ``data`` (the band fitted, an ``FRFData``)
     ``record_end_unmodelled`` (:func:`unmodelled_record_end`). ``removed``: ``(freq_hz,
     terms, with_a2)``, the record end's terms taken out of the data before the fit
+    (``record_end_gone``: those on the band's lines, with ``data``)
     (:func:`modalid._record_end.refit_without_record_end`; ``with_a2``: an acceleration's
     ``A_2`` among them, which a mass line then no longer holds).
     """
@@ -245,12 +246,13 @@ def structure_model(model, kinds, *, decay_rate, record_length, quantity, min_da
                          f"found a rigid body: {exc}") from None
     gone = (None if removed is None or data is None
             else removed[1][np.isin(removed[0], data.freq_hz)])
+    info = {} if data is None else {"record_end_gone": 0.0 if gone is None else gone}
     unmodelled = None if data is None else unmodelled_record_end(
         out, data.omega, data.values, decay_rate=sigma, record_length=length,
         quantity=quantity, cut=cut, removed=gone)
     return out, {"window_decay_rate": sigma, "record_length": length,
                  "window_clipped": int(np.sum(clipped)), "truncation_factors": factors,
-                 "record_cut": cut, "record_end_unmodelled": unmodelled,
+                 "record_cut": cut, "record_end_unmodelled": unmodelled, **info,
                  "rigid_factor": (rigid_factor(sigma, length, quantity)
                                   if model.inverse_mass else 1.0)}
 
@@ -302,10 +304,12 @@ def unmodelled_record_end(model: ModalModel, omega, values, *, decay_rate, recor
                              quantity=quantity, cut=cut)
     if removed is not None:
         terms = terms - removed
-    with np.errstate(divide="ignore", invalid="ignore"):
-        share = np.abs(terms) / np.abs(values)
+    values = np.asarray(values)
     physical = np.abs(model.poles[cut])
-    low = np.flatnonzero(omega < physical.min())[:5] if physical.size else np.zeros(0, int)
+    lines = np.flatnonzero((values != 0) & np.isfinite(values))  # a zero line says nothing
+    if not lines.size:
+        raise ValueError("the band's data are zero or not finite at every line")
+    low = lines[omega[lines] < physical.min()][:5] if physical.size else lines[:0]
     if not low.size:
-        low = np.arange(min(5, omega.size))
-    return float(np.median(share[low]))
+        low = lines[:5]
+    return float(np.median(np.abs(terms[low]) / np.abs(values[low])))

@@ -212,8 +212,9 @@ def _cmd_hammer(args) -> int:
     decay = est.window_decay_rate
     ends = f", ending at {np.exp(-decay * n_samples / records.fs):.3g}" if decay else ""
     print(f"windows: {window}; exponential decay {decay:.6g} 1/s{ends}")
-    removed = [f"{name} {value:.6g}" for name, value in zip(("force", "response"), est.offsets)
-               if value]
+    units = ("N", {"acceleration": "m/s^2", "velocity": "m/s"}.get(args.response_type, "m"))
+    removed = [f"{name} {value:.6g} {unit}" for name, value, unit
+               in zip(("force", "response"), est.offsets or (0.0, 0.0), units) if value]
     if removed:
         print(f"offsets removed (each channel's pre-trigger mean, where significant): "
               f"{', '.join(removed)}")

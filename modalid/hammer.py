@@ -79,10 +79,11 @@ class HammerFRF:
         maximum is the band the hammer excited.
     force_window_length : float or None
         Length (s, from the record start) of the force window applied, ``None`` without.
-    offsets : tuple of float
+    offsets : tuple of float or None
         ``(force, response)`` offsets removed from every record before the windows (N,
         and the response's unit): each channel's mean over the hits' pre-trigger samples
-        where it is significant, else 0.0 (:func:`frf_from_hammer`, ``baseline``).
+        where it is significant, else 0.0 (:func:`frf_from_hammer`, ``baseline``);
+        ``None`` where none was measured (``baseline="none"``, one hit, no pre-trigger).
     record_length : float or None
         Length ``T = n_samples / fs`` (s) of the records, when their DFT was not
         zero-padded (``n_fft == n_samples``): the lines are then ``j / T`` and the
@@ -98,7 +99,7 @@ class HammerFRF:
     force_spectrum: np.ndarray
     force_window_length: float | None
     record_length: float | None = None
-    offsets: tuple = (0.0, 0.0)
+    offsets: tuple | None = None
 
     @property
     def coherence(self):
@@ -190,18 +191,35 @@ def _main_pulse(f: np.ndarray):
 
 
 def _pretrigger_offsets(forces: np.ndarray, responses: np.ndarray):
-    """``(force, response)`` offsets: each channel's mean over the samples before every
-    hit's force first reaches ``_PRETRIGGER_LEVEL`` of its peak (less a margin), pooled
-    over the hits, where it exceeds ``_BASELINE_Z`` standard errors; else 0.0."""
-    ends = [int(np.flatnonzero(np.abs(f) >= _PRETRIGGER_LEVEL * np.max(np.abs(f)))[0])
-            - _PRETRIGGER_MARGIN for f in forces]
+    """``(force, response)`` offsets, or None where they cannot be measured.
+
+    The pre-trigger of a hit: its samples before the force, less its median (an offset of
+    its own), first reaches ``_PRETRIGGER_LEVEL`` of its peak, less a margin. A channel's
+    offset is the mean over the hits' pre-triggers where it exceeds ``_BASELINE_Z``
+    standard errors, the larger of the white-noise one (``std / sqrt(n)``) and the hits'
+    (the spread of their own means over ``sqrt(n_hits)``): a slow disturbance, such as a
+    50 Hz hum over a pre-trigger of 0.7 ms, is a constant within one hit but not from hit
+    to hit. ``None`` for a single hit (a slow disturbance cannot be told from an offset)
+    or fewer than ``_MIN_PRETRIGGER`` pre-trigger samples in all.
+    """
+    if forces.shape[0] < 2:
+        return None
+    ends = []
+    for f in forces:
+        level = np.abs(f - np.median(f))
+        ends.append(max(int(np.flatnonzero(level >= _PRETRIGGER_LEVEL * level.max())[0])
+                        - _PRETRIGGER_MARGIN, 0))
+    if sum(ends) < _MIN_PRETRIGGER:
+        return None
     offsets = []
     for records in (forces, responses):
-        pre = np.concatenate([r[:max(end, 0)] for r, end in zip(records, ends)])
-        if pre.size < _MIN_PRETRIGGER:
-            return 0.0, 0.0
-        mean, spread = float(np.mean(pre)), float(np.std(pre, ddof=1))
-        offsets.append(mean if abs(mean) > _BASELINE_Z * spread / np.sqrt(pre.size) else 0.0)
+        pre = np.concatenate([r[:end] for r, end in zip(records, ends)])
+        means = np.array([np.mean(r[:end]) for r, end in zip(records, ends) if end])
+        mean = float(np.mean(pre))
+        error = float(np.std(pre, ddof=1)) / np.sqrt(pre.size)
+        if means.size >= 2:
+            error = max(error, float(np.std(means, ddof=1)) / np.sqrt(means.size))
+        offsets.append(mean if abs(mean) > _BASELINE_Z * error else 0.0)
     return offsets[0], offsets[1]
 
 
@@ -326,18 +344,19 @@ def frf_from_hammer(force, response, fs, *, response_type="acceleration",
     baseline : {"pretrigger", "none"}
         ``"pretrigger"`` (default): the structure is at rest before the hit, so a
         channel's mean over the pre-trigger samples (before each force first reaches 5 %
-        of its peak, less 2 samples; pooled over the hits) is a sensor offset, removed
-        from every record of that channel where it exceeds 4 standard errors
-        (:attr:`HammerFRF.offsets`). An exponential window turns an offset into a false
-        low-frequency term: a real accelerometer's 0.27 m/s^2 made the lowest lines of a
-        windowed H1 several times the FRF and its fit "suspect". ``"none"``: the records
-        as they are.
+        of its peak above its median, less 2 samples; pooled over the hits) is a sensor
+        offset, removed from every record of that channel where it exceeds 4 standard
+        errors, white-noise and hit-to-hit (:attr:`HammerFRF.offsets`; two hits at least
+        and 8 pre-trigger samples in all, else none is measured). An exponential window
+        turns an offset into a false low-frequency term: a real accelerometer's 0.27
+        m/s^2 made the lowest lines of a windowed H1 several times the FRF and its fit
+        "suspect". ``"none"``: the records as they are.
 
     Returns
     -------
     HammerFRF
         The estimate (``.frf``, an :class:`FRFData`), the window decay rate, the hits
-        with double hits and the force autospectrum.
+        with double hits, the force autospectrum and the offsets removed.
 
     Warns
     -----
@@ -407,9 +426,9 @@ def frf_from_hammer(force, response, fs, *, response_type="acceleration",
                       f"after the main peak; it biases the FRF, consider rejecting hit {i}",
                       DoubleHitWarning, stacklevel=2)
 
-    offsets = (_pretrigger_offsets(forces, responses) if baseline == "pretrigger"
-               else (0.0, 0.0))
-    forces, responses = forces - offsets[0], responses - offsets[1]
+    offsets = _pretrigger_offsets(forces, responses) if baseline == "pretrigger" else None
+    if offsets is not None:
+        forces, responses = forces - offsets[0], responses - offsets[1]
     t = np.arange(n_samples) / fs
     peaks = [_main_pulse(f)[1:] for f in forces]  # (k0, peak, fwhm) of each hit
     window_length = None

@@ -30,9 +30,9 @@ def test_hertz_step_force_at_the_top_of_its_bracket_is_not_nan():
     """A stiff law starts Newton at the bracket's top ``-G/K``, where ``G + K f`` can round
     past 0: ``d**1.5`` of a negative ``d`` was NaN ("invalid value in scalar power", a
     Hertz contact under the modal solver's zero-order hold); the compiled kernel clipped
-    it, the Python law did not. Both are now one function."""
-    from impactpred.contact import hertz_step_force
-    from impactpred.solvers._modal_kernel import hertz_force
+    it, the Python law did not. Both are now one function, in the kernel's file."""
+    from impactpred.solvers import _modal_kernel
+    from impactpred.solvers._modal_kernel import hertz_force, hertz_step_force
 
     G, K = -1.1422907808931682e-07, 0.0009195205869545325
     assert -(G + K * (-G / K)) < 0.0                    # the top rounds past zero
@@ -41,6 +41,10 @@ def test_hertz_step_force_at_the_top_of_its_bracket_is_not_nan():
     assert 0.0 < f <= -G / K and np.isfinite(f)
     assert f == pytest.approx(1e12 * max(-(G + K * f), 0.0) ** 1.5, rel=1e-6, abs=1e-12 * f)
     assert hertz_force(G, K, 1e12, 1.5) == hertz_step_force(G, K, 1e12, 1.5) == f
+    # compiled from the function defined in the kernel's own file: numba keys the cache of
+    # the compiled callers (law_force) on that file alone
+    assert hertz_force.py_func is hertz_step_force
+    assert hertz_step_force.__code__.co_filename == _modal_kernel.__file__
 
 
 def test_hertz_from_materials_steel_ball_on_steel():

@@ -11,6 +11,7 @@ import warnings
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 import pytest
 from sklearn.base import clone
 
@@ -1495,10 +1496,14 @@ def test_which_refit_by_the_scatter_stands():
     up to the first's or the verdict's tolerance (3 times the scatter, at least 5 %)."""
     from modalid._fit_one import _refit_stands
 
-    def report(verdict="ok", error=0.02, noise=0.01, missed=(), driving=True, n_modes=4):
+    def report(verdict="ok", error=0.02, noise=0.01, missed=(), driving=True, n_modes=4,
+               masses=None):
+        masses = [1.0] * n_modes if masses is None else masses
+        modes = pd.DataFrame({"frequency_hz": 10.0 * np.arange(1, n_modes + 1),
+                              "modal_mass": masses})
         return {"verdict": verdict, "frf_median_relative_error": error,
                 "noise_median_relative": noise, "missed_resonances_hz": list(missed),
-                "driving_point": driving, "modes": [None] * n_modes}
+                "driving_point": driving, "modes": modes}
 
     first = report(verdict="suspect", error=0.02, missed=[1.0])
     assert not _refit_stands(first, None, trigger="missed")
@@ -1512,7 +1517,12 @@ def test_which_refit_by_the_scatter_stands():
     assert not _refit_stands(first, report(error=0.01, driving=False), trigger="stalled")
     assert not _refit_stands(first, report(error=0.01, n_modes=3, missed=[1.0]),
                              trigger="stalled")
-    assert _refit_stands(first, report(error=0.01, n_modes=3), trigger="stalled")  # 1 -> 0
+    # fewer modes, fewer missed: it stands if the first's strong positive modes are kept
+    # (here the first's fourth, at 40 Hz, is lost: a real mode at the band's edge, which
+    # no resonance test counts, was dropped this way)
+    assert not _refit_stands(first, report(error=0.01, n_modes=3), trigger="stalled")
+    weak = report(verdict="suspect", error=0.02, missed=[1.0], masses=[1.0, 1.0, 1.0, 50.0])
+    assert _refit_stands(weak, report(error=0.01, n_modes=3), trigger="stalled")  # 1 -> 0
     assert not _refit_stands(first, report(verdict="suspect", error=0.01), trigger="suspect")
     assert _refit_stands(first, report(error=0.04), trigger="suspect")
     noisy = report(verdict="failed", error=0.5, noise=0.6)                  # tolerance 180 %

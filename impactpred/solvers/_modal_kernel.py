@@ -15,7 +15,6 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ..contact import hertz_step_force
 
 #: contact-law codes of the kernel
 RIGID, SPRING, HERTZ = 0, 1, 2
@@ -93,7 +92,37 @@ def velocity(z, v, p, w, D, u, sig):
     return acc + v + D * sig
 
 
-#: the Hertz law's step force, compiled from its one definition in ``impactpred.contact``
+def hertz_step_force(G, K, k, n):
+    """Root of ``f = k (-(G + K f))^n`` on ``[0, -G/K]`` (``G < 0``, ``K > 0``): Newton
+    safeguarded by bisection, to 1e-14 relative.
+
+    The penetration is clipped at 0 where a force at the bracket's top rounds past it
+    (``d**n`` of a negative ``d`` is NaN). Plain Python: ``Hertz.step_force`` calls it, and
+    this module compiles it as :func:`hertz_force` (here, so that the cache of the compiled
+    callers, which numba keys on this file, sees an edit).
+    """
+    lo = 0.0
+    hi = -G / K
+    f = min(hi, k * (-G) ** n)          # the force with the bodies' compliance neglected
+    for _ in range(100):
+        d = max(-(G + K * f), 0.0)
+        phi = f - k * d ** n
+        if phi > 0.0:
+            hi = f
+        else:
+            lo = f
+        dphi = 1.0 + k * n * K * d ** (n - 1.0) if d > 0.0 else 1.0
+        f_new = f - phi / dphi
+        if not lo < f_new < hi:         # Newton left the bracket: bisect
+            f_new = 0.5 * (lo + hi)
+        if abs(f_new - f) <= 1e-14 * max(f_new, 1e-300) or hi - lo <= 1e-15 * hi:
+            return f_new
+        f = f_new
+    return f
+
+
+#: the Hertz law's step force, compiled (``impactpred.contact.Hertz.step_force`` calls the
+#: plain function)
 hertz_force = njit(cache=True)(hertz_step_force)
 
 
