@@ -1100,7 +1100,9 @@ def test_a_passive_fit_the_verdict_passes_is_no_stall():
     was taken for a stall (over 1.5 times the unconstrained error): the unconstrained
     fit stood, "ok" but no driving point, and impactpred refused the body as a transfer
     FRF. The passive fit is "ok" by the verdict's own standard (the data's scatter is
-    6.2 %): it stands, a driving point, every modal mass positive."""
+    6.2 %): it stands, a driving point, every modal mass positive. (Since the record
+    end's terms are taken out and the fit repeated, 4.3 % of the lowest lines here, its
+    median line error is 9.8 %.)"""
     from impactpred._benchmark_cases import benchmark_cases, measure_body
     from impactpred.benchmark import body_seed
 
@@ -1109,7 +1111,8 @@ def test_a_passive_fit_the_verdict_passes_is_no_stall():
     report = fit.report_
     assert report["driving_point"] and report["verdict"] == "ok"
     assert np.all(report["modes"]["modal_mass"].to_numpy() > 0)
-    assert 0.1 < report["frf_median_relative_error"] < 3 * report["noise_median_relative"]
+    assert report["frf_median_relative_error"] < 3 * report["noise_median_relative"]
+    assert report["record_end_removed"] > 0.01
 
 
 def test_a_fixed_rod_accelerance_with_a_mode_just_above_its_band_is_a_driving_point():
