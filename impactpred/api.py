@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import dataclasses
-import functools
 import math
 import warnings
 from collections.abc import Callable
@@ -141,12 +140,11 @@ def solve_impact(body1: Body, body2: Body, *, gap: float = 0.0, contact=Rigid(),
     solver: Callable[..., ImpactResult] = {
         "laplace": solve_laplace, "modal": solve_modal, "convolution": solve_convolution,
         "closed_form": solve_closed_form}[chosen]
-    if stepping:
-        solver = functools.partial(solver, progress=bool(progress))
+    options = {"progress": bool(progress)} if stepping else {}
 
     def run(*args, **kwargs) -> ImpactResult:   # small dense algebra: one BLAS thread
         with one_blas_thread():
-            return solver(*args, **kwargs)
+            return solver(*args, **options, **kwargs)
     if t_end / dt > _MAX_STEPS * (1 + 1e-9):       # steps, or an exact solver's samples
         raise ValueError(f"t_end={t_end:.6g} / dt={dt:.4g} = {t_end / dt:.3g} steps or samples "
                          f"exceeds {_MAX_STEPS}: increase dt or shorten t_end (at most "

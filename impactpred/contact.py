@@ -27,6 +27,10 @@ import numpy as np
 
 from modalid.validation import as_nonnegative_scalar, as_positive_scalar, as_real_scalar
 
+# one function with the modal kernel's, defined in its file: numba's cache of the kernel's
+# compiled callers follows that file only (defined here, an edit left them stale)
+from .solvers._modal_kernel import hertz_step_force
+
 __all__ = ["Rigid", "LinearSpring", "Hertz", "InstantaneousImpact", "ContactLaw"]
 
 
@@ -216,10 +220,6 @@ class Hertz(ContactLaw):
         """
         if G >= 0.0:
             return 0.0
-        # one function with the modal kernel's, in its file: numba's cache of the kernel's
-        # callers follows that file only (an edit elsewhere left them running the old code)
-        from .solvers._modal_kernel import hertz_step_force
-
         return hertz_step_force(float(G), float(K0), self.stiffness, self.exponent)
 
 

@@ -18,7 +18,7 @@ import warnings
 import numpy as np
 
 from ._fit_one import _say_again
-from ._window import _POWER, record_end_terms
+from ._window import a2_unmodelled, record_end_terms
 from .frf import FRFData
 
 __all__ = ["refit_without_record_end", "REFIT_ABOVE"]
@@ -52,7 +52,7 @@ def refit_without_record_end(est, data: FRFData, auto: bool):
     terms = record_end_terms(est.model_, data.omega, decay_rate=float(est.window_decay_rate),
                              record_length=est.record_length, quantity=data.quantity,
                              cut=est._record_cut)
-    with_a2 = _POWER[data.quantity] == 2 and not est.model_.inverse_mass
+    with_a2 = a2_unmodelled(est.model_, data.quantity)
     corrected = FRFData(data.freq_hz, data.values - terms, quantity=data.quantity,
                         coherence=data.coherence, excitation=data.excitation)
     est.__dict__["_end_removed"] = (data.freq_hz, terms, with_a2)

@@ -47,8 +47,9 @@ from ._checks import as_choice, as_nonnegative_scalar, as_positive_scalar
 from ._lsfd import evaluate
 from .model import ModalModel
 
-__all__ = ["check_record_lines", "record_end_terms", "rigid_factor", "structure_model",
-           "truncation_factors", "unmodelled_record_end", "unwindow", "windowed_receptance"]
+__all__ = ["a2_unmodelled", "check_record_lines", "record_end_terms", "rigid_factor",
+           "structure_model", "truncation_factors", "unmodelled_record_end", "unwindow",
+           "windowed_receptance"]
 
 #: the share of the data at the band's lowest lines above which the record end's terms
 #: a fit does not model make it "suspect" (:func:`unmodelled_record_end`)
@@ -257,6 +258,12 @@ def structure_model(model, kinds, *, decay_rate, record_length, quantity, min_da
                                   if model.inverse_mass else 1.0)}
 
 
+def a2_unmodelled(model: ModalModel, quantity) -> bool:
+    """Whether an acceleration record's ``A_2 / x^2`` is left to :func:`record_end_terms`:
+    ``model`` has no mass line to take it (module docstring)."""
+    return _POWER[quantity] == 2 and not model.inverse_mass
+
+
 def record_end_terms(model: ModalModel, omega, *, decay_rate, record_length, quantity, cut):
     """The record end's terms a fit does not model (module docstring), in the data's own
     quantity on ``omega`` (rad/s; 0 at omega = 0): ``x^k A_1 / x`` of a velocity or
@@ -272,7 +279,7 @@ def record_end_terms(model: ModalModel, omega, *, decay_rate, record_length, qua
         return out
     x = 1j * omega[omega > 0] + decay_rate
     terms = _cut_sums(model, decay_rate, record_length, 1, cut) / x
-    if k == 2 and not model.inverse_mass:
+    if a2_unmodelled(model, quantity):
         terms = terms + _cut_sums(model, decay_rate, record_length, 2, cut) / x**2
     out[omega > 0] = terms * x**k
     return out

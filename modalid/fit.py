@@ -149,10 +149,12 @@ class ModalFit(FitOne, FRFPipeline, FitLines, BaseEstimator):
         FRF). Needs ``window_decay_rate > 0`` for a rigid body. The rigid line's factor
         depends on what was recorded (the data's ``quantity``); for an acceleration the
         record's end also adds ``A_2/(s + sigma)^2`` to the mass line, which is taken out;
-        the smaller ``A_j`` terms are neglected (they are ``exp(-sigma T)`` of the first
-        residues: the correction assumes a window that ends well below 1, e.g. at 1 %), and
-        a displacement record of a free body adds a term the model lacks (prefer velocity
-        or acceleration there).
+        the other ``A_j`` terms (what is left of each mode at the record's end: large where
+        a mode has not died out within it) are computed from a first fit's modes, taken out
+        of the data and the fit repeated where they exceed 1 % of the band's lowest lines
+        (:mod:`modalid._record_end`, ``report_["record_end_removed"]``); a displacement
+        record of a free body adds a term the model lacks (prefer velocity or acceleration
+        there).
     missed_modes : {"strict", "dense"}
         How readily a peak of the fit's residual becomes a mode the pole estimator
         missed. ``"strict"`` (default): when the mode halves the weighted residual on the
