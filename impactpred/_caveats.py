@@ -29,6 +29,9 @@ _MIN_MICRO = 3
 #: ... and said when, at half the step, a restitution moves by more than this (of the
 #: approach speed), or the impulse by more than this share
 CHATTER_CHANGE = 2e-3
+#: a restitution this close to 0 from below is round-off (two rigid masses in rigid
+#: contact leave it at -6e-17: they move on together), not an approach
+_ROUND_OFF = 1e-12
 
 
 def caveats(result, bodies, *, t_end: float, start_gap: float, time_stepping: bool,
@@ -63,7 +66,7 @@ def caveats(result, bodies, *, t_end: float, start_gap: float, time_stepping: bo
                     f"still closed at t_end = {t_end:.6g} s: no restitution (None), and the "
                     "figures after it describe the bodies pressed together; a longer t_end "
                     "shows whether they separate")
-    elif result.restitution is not None and result.restitution < 0:
+    elif result.restitution is not None and result.restitution < -_ROUND_OFF:
         w1, w2 = result.velocities_after
         said.append(f"the bodies still approach after the last contact (ended at "
                     f"{result.contact_intervals[-1][1]:.6g} s): their rigid motion closes "

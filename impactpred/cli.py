@@ -8,7 +8,7 @@ import sys
 from pathlib import Path
 
 from modalid._cli import (add_fit_options, add_read_options, check_out_dir, fit_options,
-                          in_flags, nothing_saved, read_options, run_command)
+                          in_flags, nothing_saved, read_options, run_command, window_line)
 
 __all__ = ["main"]
 
@@ -214,6 +214,9 @@ def _print_bodies(args, pred) -> None:
               f"({report['band_hz'][0]:.4g}-{report['band_hz'][1]:.4g} Hz, "
               f"FRF NRMSE {figure(report, 'frf_nrmse', '.3g')}, verdict "
               f"{report.get('verdict', 'ok')})")
+        window = window_line(fit)
+        if window is not None:
+            print(f"  {window}")
         modes = report.get("modes")
         columns = ["frequency_hz", "damping_ratio", "modal_mass"]
         if modes is not None and set(columns) <= set(modes.columns):
@@ -241,6 +244,13 @@ def _print_summary(pred, summary) -> None:
         print(f"{key:>26s}: {value}")
     intervals = [(round(a, 9), round(b, 9)) for a, b in res.contact_intervals]
     print(f"{'contact_intervals_s':>26s}: {intervals}")
+    if res.dirac_impulses:
+        shown = ", ".join(f"{p:.6g} N s at {t:.6g} s" for t, p in res.dirac_impulses[:3])
+        more = f" and {len(res.dirac_impulses) - 3} more" if len(res.dirac_impulses) > 3 else ""
+        print(f"{'dirac_impulses':>26s}: {shown}{more} (momentum passed at once: neither "
+              "body gives at the contact, so the force there is unbounded; the peak forces "
+              "above count the rest of the force only; a contact law with stiffness, "
+              "--contact spring:stiffness=.. or hertz:stiffness=.., gives a finite peak)")
     print(_audit_line(res))
     with pd.option_context("display.width", 140, "display.float_format", "{:.6g}".format):
         print("energy (J):")

@@ -73,9 +73,9 @@ class IdentificationWarning(UserWarning):
 _FIT_REMEDIES = ("quantity=... if the file does not state its quantity or states it wrong; "
                  "missed_modes='dense' for a band with many weak or close modes; "
                  "window_decay_rate=... and record_length=... for FRFs measured with an "
-                 "exponential window; a band that holds whole resonances, or identify the "
-                 "body yourself (modalid.ModalFit) and give the saved fit "
-                 "(modalid.SavedFit.to_json, or modalid fit --out)")
+                 "exponential window whose file does not state them; a band that holds "
+                 "whole resonances, or identify the body yourself (modalid.ModalFit) and "
+                 "give the saved fit (modalid.SavedFit.to_json, or modalid fit --out)")
 
 
 def check_identification(fit, source, *, body: int) -> None:
@@ -402,8 +402,9 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
         The estimator each FRF file or FRFData is identified with, cloned for each body
         (``sklearn.base.clone``: its settings; ``estimator`` itself is not fitted), e.g.
         ``ModalFit(**HammerFRF.fit_options())`` (``window_decay_rate``,
-        ``record_length``) for FRFs measured with an exponential window, which the fit
-        then models exactly. Default ``ModalFit()``.
+        ``record_length``) for FRFs measured with an exponential window whose file does
+        not state them (``frf_from_hammer``'s FRFData and its .csv, .npz and .mat files
+        do, and ``ModalFit()`` models what they state). Default ``ModalFit()``.
     read_options : dict or pair of dicts, optional
         :func:`modalid.read_frf` options of the FRF files (:data:`READ_OPTIONS`; a pair:
         body 1's, body 2's), e.g. ``{"format": "complex-lines", "freq_hz": f}`` for bare

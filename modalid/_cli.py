@@ -131,6 +131,26 @@ def nothing_saved(what: str) -> str:
 
 
 # ------------------------------------------------------------------ identification options
+def window_line(fit) -> str | None:
+    """What a fit modelled of its data's windows and record end, and whence (the file's
+    statement or a flag); None for a fit without either (or a saved fit).
+
+    Parameters
+    ----------
+    fit : ModalFit or SavedFit
+    """
+    decay = getattr(fit, "window_decay_rate_", 0.0)
+    length = getattr(fit, "record_length_", None)
+    if not decay and length is None:
+        return None
+    parts = [f"exponential decay {decay:.6g} 1/s"] if decay else []
+    parts += [] if length is None else [f"record length {length:.6g} s"]
+    from_file = any(getattr(fit, name) is None and getattr(fit.data_, name) is not None
+                    for name in ("window_decay_rate", "record_length"))
+    return (f"window modelled: {', '.join(parts)} "
+            f"({'as the file states' if from_file else 'as given'}; the model is the structure's)")
+
+
 def add_fit_options(parser: argparse.ArgumentParser, *, method_flags=("--method",)) -> None:
     """The :class:`modalid.ModalFit` options of every command that fits FRF files.
 

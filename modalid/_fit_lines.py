@@ -64,11 +64,13 @@ class FitLines:
                                  f"line of the data), got shape {given.shape}")
             given = given[data.freq_hz > 0]
         data = data.select(data.freq_hz > 0)
-        if self.record_length is not None:
-            check_record_lines(data.freq_hz, self.record_length)
+        if self.record_length_ is not None:
+            check_record_lines(data.freq_hz, self.record_length_)
         first = data.freq_hz[0]
         def automatic():                              # the lines the data can vouch for
-            return choose_band(data, low_end=not self._windowed)
+            # an exponential window's model describes the low end (its mass line); a
+            # record end's terms alone are smooth, and rough lowest lines are noise
+            return choose_band(data, low_end=not self._shift)
 
         band, self._band_reason = (automatic() if self.freq_range is None
                                    else given_band(self.freq_range, automatic))

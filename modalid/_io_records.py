@@ -232,6 +232,8 @@ class _Raw:
     names: tuple = ("freq_hz", "values", "coherence")
     meta: dict = field(default_factory=dict)
     excitation: np.ndarray | None = None
+    #: how it was measured (``window_decay_rate``, ``record_length``), as the file states
+    measured: dict = field(default_factory=dict)
 
 
 def _finite(source, name, arr):
@@ -300,8 +302,8 @@ def _build(source, raw, quantity):
                              f"got complex values")
         excitation = np.real(excitation).astype(float)
     try:
-        return FRFData(freq, raw.values.astype(complex),
-                       quantity=quantity, coherence=coherence, excitation=excitation)
+        return FRFData(freq, raw.values.astype(complex), quantity=quantity,
+                       coherence=coherence, excitation=excitation, **raw.measured)
     except ValueError as exc:
         raise ValueError(f"{source}: {exc}") from exc
 

@@ -49,12 +49,11 @@ def refit_without_record_end(est, data: FRFData, auto: bool):
     if share is None or not share > REFIT_ABOVE:
         _say_again(said)
         return est
-    terms = record_end_terms(est.model_, data.omega, decay_rate=float(est.window_decay_rate),
-                             record_length=est.record_length, quantity=data.quantity,
+    terms = record_end_terms(est.model_, data.omega, decay_rate=est.window_decay_rate_,
+                             record_length=est.record_length_, quantity=data.quantity,
                              cut=est._record_cut)
     with_a2 = a2_unmodelled(est.model_, data.quantity)
-    corrected = FRFData(data.freq_hz, data.values - terms, quantity=data.quantity,
-                        coherence=data.coherence, excitation=data.excitation)
+    corrected = data._replaced(values=data.values - terms)
     est.__dict__["_end_removed"] = (data.freq_hz, terms, with_a2)
     try:
         with warnings.catch_warnings(record=True) as said:

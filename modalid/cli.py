@@ -10,7 +10,7 @@ import warnings
 from pathlib import Path
 
 from ._cli import (add_fit_options, add_read_options, check_out_dir, fit_options, in_flags,
-                   nothing_saved, read_options, run_command)
+                   nothing_saved, read_options, run_command, window_line)
 from ._cli_set import print_shapes, read_set
 
 __all__ = ["main", "build_parser"]
@@ -21,7 +21,7 @@ def _warn(message) -> None:
 
 
 # ------------------------------------------------------------------------------ fit
-def _print_report(args, data, report) -> None:
+def _print_report(args, data, report, window=None) -> None:
     import numpy as np
     import pandas as pd
 
@@ -39,6 +39,8 @@ def _print_report(args, data, report) -> None:
           f"{report['effective_mass']:.6g} kg")
     print(f"band {report['band_hz'][0]:g}-{report['band_hz'][1]:g} Hz: "
           f"{in_flags(report['band_reason'])}")
+    if window is not None:
+        print(window)
     # a set's decision is its driving row's (its "driving_point" is the row's index)
     decision = report.get("driving_row_is_driving_point", report.get("driving_point"))
     if decision is not None:
@@ -124,7 +126,7 @@ def _cmd_fit(args) -> int:
     for w in caught:
         _warn(w.message)
     report = fit.report_
-    _print_report(args, data, report)
+    _print_report(args, data, report, window_line(fit))
     if several:
         print_shapes(fit)
     stem = Path(paths[0]).stem + ("_set" if several else "")
@@ -226,7 +228,8 @@ def _cmd_hammer(args) -> int:
     if est.double_hits:
         print(f"double hits in hits {list(est.double_hits)} (averaged all the same)")
     target = out if out is not None else "FILE"
-    if frf.coherence is None and (out is None or out.suffix.lower() not in (".uff", ".unv")):
+    keeps = out is None or out.suffix.lower() not in (".uff", ".unv")   # the window too
+    if frf.coherence is None and keeps:
         # one hit: a CSV/NPZ/MAT file keeps the force spectrum, and the fit's band ends
         # with it
         kept = "the file keeps" if out is not None else "a .csv, .npz or .mat file keeps"
@@ -234,18 +237,28 @@ def _cmd_hammer(args) -> int:
                  f"near {_excited_top(est):.6g} Hz)")
     else:
         reach = f"(and --fmax {_excited_top(est):.6g} to keep to the band the hammer excited)"
-    print(f"fit it with: modalid fit {target} {_fit_flags(est)} {reach}; impactpred "
-          "predict takes the same flags")
+    if keeps:
+        kept = "the file" if out is not None else "a .csv, .npz or .mat file"
+        print(f"fit it with: modalid fit {target} {reach}; {kept} keeps the exponential "
+              f"window and the record length ({_fit_flags(est)}), which the fit then "
+              "models; impactpred predict takes the file as it is")
+    else:
+        print(f"fit it with: modalid fit {target} {_fit_flags(est)} {reach}: a UFF file "
+              "does not keep the exponential window and the record length; impactpred "
+              "predict takes the same flags")
     if not decay:
+        told = "as the record length" if keeps else "with --record-length"
         print(f"no exponential window: where a mode has not died out within the record, "
-              f"its end puts terms on the FRF's lowest lines, which --record-length lets the "
-              f"fit take out; --exponential-decay {4.6 * records.fs / n_samples:.3g} (a "
-              "window ending at 1 %) makes them small")
+              f"its end puts terms on the FRF's lowest lines, which the fit takes out told "
+              f"{told}; --exponential-decay {4.6 * records.fs / n_samples:.3g} (a window "
+              "ending at 1 %) makes them small")
     if out is None:
         print(nothing_saved("FILE writes the FRF with its coherence (.csv, .npz, .mat, .uff)"))
     else:
         out.parent.mkdir(parents=True, exist_ok=True)
-        write_frf(out, frf)
+        with warnings.catch_warnings():        # a UFF file loses the window: the hint said
+            warnings.simplefilter("ignore", UserWarning)
+            write_frf(out, frf)
         print(f"wrote {out}")
     return 0
 

@@ -130,14 +130,17 @@ class ModalFit(FitOne, FRFPipeline, FitLines, BaseEstimator):
         ``-(decay_rate + margin)`` for an FRF with an exponential window, so that the
         poles stay stable once :func:`correct_exponential_window` has removed it.
         ``None`` (default): only ``Re p < 0``. FRFData and "lscf" or "vf" only.
-    window_decay_rate : float
+    window_decay_rate : float, optional
         Decay rate ``sigma`` (1/s, >= 0) of an exponential window the data carry
-        (:attr:`~modalid.hammer.HammerFRF.window_decay_rate`); 0 (default): none. The fit
-        then models the windowed FRF exactly (poles moved by ``-sigma``, residues kept,
-        the rigid line ``1/(M (s + sigma)^2)``) and ``model_``, ``poles_`` and the modal
-        table of ``report_`` are the structure's, with the window removed (a pole the
-        removal would leave with damping under ``1e-5`` is held there: ``report_
-        ["window_clipped"]``). FRFData and "lscf" or "vf" only.
+        (:attr:`~modalid.hammer.HammerFRF.window_decay_rate`). ``None`` (default): the
+        data's own statement (:attr:`FRFData.window_decay_rate`, which
+        :func:`modalid.frf_from_hammer` and its files keep), else 0 (none); a value given
+        here wins, with a warning where the data state another. The fit then models the
+        windowed FRF exactly (poles moved by ``-sigma``, residues kept, the rigid line
+        ``1/(M (s + sigma)^2)``) and ``model_``, ``poles_`` and the modal table of
+        ``report_`` are the structure's, with the window removed (a pole the removal would
+        leave with damping under ``1e-5`` is held there: ``report_["window_clipped"]``).
+        FRFData and "lscf" or "vf" only.
     record_length : float, optional
         Length ``T`` (s) of the records whose DFT gave the data, when it was not
         zero-padded (:attr:`~modalid.hammer.HammerFRF.record_length`). The record's end
@@ -145,16 +148,17 @@ class ModalFit(FitOne, FRFPipeline, FitLines, BaseEstimator):
         by ``1 - exp((p_k - sigma) T)`` and the rigid line by ``1 - exp(-sigma T)`` (exact
         for a hit at the record's start, :mod:`modalid._window`); the fit divides them out
         of the physical modes (its pseudo-modes describe the band's data, not free decays:
-        they keep their fitted residues). ``None`` (default): no correction (an untruncated
-        FRF). Needs ``window_decay_rate > 0`` for a rigid body. The rigid line's factor
-        depends on what was recorded (the data's ``quantity``); for an acceleration the
-        record's end also adds ``A_2/(s + sigma)^2`` to the mass line, which is taken out;
-        the other ``A_j`` terms (what is left of each mode at the record's end: large where
-        a mode has not died out within it) are computed from a first fit's modes, taken out
-        of the data and the fit repeated where they exceed 1 % of the band's lowest lines
-        (:mod:`modalid._record_end`, ``report_["record_end_removed"]``); a displacement
-        record of a free body adds a term the model lacks (prefer velocity or acceleration
-        there).
+        they keep their fitted residues). ``None`` (default): the data's own statement
+        (:attr:`FRFData.record_length`), else no correction (an untruncated FRF);
+        ``numpy.inf``: no correction whatever the data say. Needs ``window_decay_rate > 0``
+        for a rigid body. The rigid line's factor depends on what was recorded (the data's
+        ``quantity``); for an acceleration the record's end also adds ``A_2/(s + sigma)^2``
+        to the mass line, which is taken out; the other ``A_j`` terms (what is left of each
+        mode at the record's end: large where a mode has not died out within it) are
+        computed from a first fit's modes, taken out of the data and the fit repeated where
+        they exceed 1 % of the band's lowest lines (:mod:`modalid._record_end`,
+        ``report_["record_end_removed"]``); a displacement record of a free body adds a
+        term the model lacks (prefer velocity or acceleration there).
     missed_modes : {"strict", "dense"}
         How readily a peak of the fit's residual becomes a mode the pole estimator
         missed. ``"strict"`` (default): when the mode halves the weighted residual on the
@@ -192,6 +196,9 @@ class ModalFit(FitOne, FRFPipeline, FitLines, BaseEstimator):
     weights_ : ndarray or None
         The per-line weights given, on ``data_``'s lines (what that re-fit takes as
         ``fit(data_, weights=weights_)``); None without.
+    window_decay_rate_, record_length_ : float, float or None
+        The window (1/s) and record length (s) the fit modelled: the settings, else the
+        data's statement (0 and None: none).
     report_ : FitReport
         Read-only, by key or attribute (:class:`modalid.FitReport`): ``converged``,
         ``message``, ``n_iterations``; ``n_modes`` and ``modes`` (the physical modes:
@@ -228,7 +235,7 @@ class ModalFit(FitOne, FRFPipeline, FitLines, BaseEstimator):
 
     def __init__(self, *, method="lscf", n_modes=None, max_order=None, freq_range=None,
                  rigid_body="auto", residuals=("lower", "upper"), passive="auto", refine=True,
-                 weighting="auto", weights=None, max_real=None, window_decay_rate=0.0,
+                 weighting="auto", weights=None, max_real=None, window_decay_rate=None,
                  record_length=None, missed_modes="strict", progress=False):
         self.method = method
         self.n_modes = n_modes
@@ -303,9 +310,9 @@ class ModalFit(FitOne, FRFPipeline, FitLines, BaseEstimator):
         for name in ("model_", "poles_", "stabilization_", "clusters_", "report_", "frf_",
                      "data_", "weights_", "impulse_", "mode_shapes_", "_stabilization_cache",
                      "_probe", "_zero_start", "_passive_stalled", "_weighting_forced",
-                     "_record_cut"):
+                     "_record_cut", "window_decay_rate_", "record_length_"):
             self.__dict__.pop(name, None)         # a second fit starts afresh
-        self._check_window()
+        self._resolve_window(data)
         windowed = self._windowed
         self._line_weights = self._given_weights(weights)
         weighted = self._line_weights is not None
@@ -393,10 +400,29 @@ class ModalFit(FitOne, FRFPipeline, FitLines, BaseEstimator):
             weighting_reason=self._weighting_reason,
             band_reason=getattr(self, "_band_reason", None))
 
-    def _check_window(self):
-        as_nonnegative_scalar("window_decay_rate", self.window_decay_rate)
-        if self.record_length is not None:
-            as_positive_scalar("record_length", self.record_length)
+    def _resolve_window(self, data):
+        """Set ``window_decay_rate_`` and ``record_length_``, what the fit models: the
+        estimator's settings, else what ``data`` (an FRFData) states; a setting that
+        contradicts the data's statement wins with a ``UserWarning``."""
+        decay, length = self.window_decay_rate, self.record_length
+        if decay is not None:
+            decay = as_nonnegative_scalar("window_decay_rate", decay)
+        if length is not None and not (isinstance(length, (float, np.floating))
+                                       and np.isposinf(length)):
+            length = as_positive_scalar("record_length", length)
+        for name, mine in (("window_decay_rate", decay), ("record_length", length)):
+            stated = getattr(data, name, None) if isinstance(data, FRFData) else None
+            # to the 9 digits a command line's flags print
+            if stated is not None and mine is not None and not np.isclose(
+                    mine, stated, rtol=1e-8, atol=0.0) and not self.__dict__.get("_segment_of"):
+                models = "no record end" if np.isposinf(mine) else f"{mine:g}"
+                warnings.warn(f"{name}={mine:g} given, but the data state {stated:g} (how "
+                              f"they were measured, FRFData.{name}): the fit models "
+                              f"{models}", UserWarning, stacklevel=3)
+            self.__dict__[name + "_"] = (stated if mine is None else mine)
+        self.window_decay_rate_ = float(self.window_decay_rate_ or 0.0)
+        if self.record_length_ is not None and np.isposinf(self.record_length_):
+            self.record_length_ = None                   # an endless record: no end
 
     @property
     def _passive_on(self) -> bool:
@@ -411,14 +437,16 @@ class ModalFit(FitOne, FRFPipeline, FitLines, BaseEstimator):
 
     @property
     def _windowed(self) -> bool:
-        """An exponential window or a record's end to model (``window_decay_rate``,
-        ``record_length``)."""
-        return bool(self.window_decay_rate) or self.record_length is not None
+        """An exponential window or a record's end to model (``window_decay_rate_``,
+        ``record_length_``; before a fit, the settings)."""
+        return bool(self._shift) or self.__dict__.get(
+            "record_length_", self.record_length) not in (None, np.inf)
 
     @property
     def _shift(self) -> float:
-        """The window's decay rate: the rigid line is ``1/(s + _shift)^2``."""
-        return float(self.window_decay_rate)
+        """The window's decay rate (``window_decay_rate_``; before a fit, the setting): the
+        rigid line is ``1/(s + _shift)^2``."""
+        return float(self.__dict__.get("window_decay_rate_", self.window_decay_rate) or 0.0)
 
     def _selection(self):
         if self.n_modes is None:
@@ -479,10 +507,10 @@ class ModalFit(FitOne, FRFPipeline, FitLines, BaseEstimator):
         """The model on ``data``'s lines in its quantity; windowed like the data fitted
         (what was recorded: ``data_.quantity``) when the fit had ``window_decay_rate`` or
         ``record_length``."""
-        if self.method == "era" or not (self.window_decay_rate or self.record_length):
+        if self.method == "era" or not self._windowed:
             return self.model_.frf(data.omega, quantity=data.quantity)
-        h = windowed_receptance(self.model_, data.omega, float(self.window_decay_rate),
-                                self.record_length, quantity=self.data_.quantity,
+        h = windowed_receptance(self.model_, data.omega, self.window_decay_rate_,
+                                self.record_length_, quantity=self.data_.quantity,
                                 cut=getattr(self, "_record_cut", None))
         return receptance_to(data.quantity, h, data.omega)
 

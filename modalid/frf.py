@@ -6,8 +6,8 @@ import warnings
 
 import numpy as np
 
-from ._checks import (as_choice, as_complex_array, as_line_selection, as_real_array,
-                      as_real_scalar)
+from ._checks import (as_choice, as_complex_array, as_line_selection, as_nonnegative_scalar,
+                      as_positive_scalar, as_real_array, as_real_scalar)
 from .model import _rebuild
 from .quantities import QUANTITIES, receptance_to, to_receptance
 
@@ -52,23 +52,40 @@ class FRFData:
         autospectrum in N^2), finite and non-negative, if recorded. Without coherence
         (one hit) it tells the automatic band of :class:`modalid.ModalFit` where the
         excitation stopped reaching (:func:`modalid._band.choose_band`).
+    window_decay_rate : float, optional, keyword-only
+        How the FRF was measured: the decay rate ``sigma`` (1/s, finite, >= 0) of an
+        exponential window on its records (:attr:`modalid.HammerFRF.window_decay_rate`).
+        :class:`modalid.ModalFit` models it unless given its own. ``None`` (default):
+        not stated.
+    record_length : float, optional, keyword-only
+        How the FRF was measured: the length ``T`` (s, finite, > 0) of the records whose
+        DFT, without zero padding, gave it (:attr:`modalid.HammerFRF.record_length`);
+        :class:`modalid.ModalFit` then takes the record end's effect out. ``None``
+        (default): not stated.
+
+    Both travel with the data through :meth:`convert`, :meth:`select`, :meth:`band`, and
+    :func:`modalid.write_frf` / :func:`modalid.read_frf` (CSV, NPZ and MAT files).
 
     Attributes
     ----------
     freq_hz, values, coherence, excitation : ndarray (read-only)
+    window_decay_rate, record_length : float or None
     omega : ndarray
         Angular frequency (rad/s).
     """
 
-    __slots__ = ("_freq_hz", "_values", "_quantity", "_coherence", "_excitation")
+    __slots__ = ("_freq_hz", "_values", "_quantity", "_coherence", "_excitation",
+                 "_window_decay_rate", "_record_length")
     _freq_hz: np.ndarray
     _values: np.ndarray
     _quantity: str
     _coherence: np.ndarray | None
     _excitation: np.ndarray | None
+    _window_decay_rate: float | None
+    _record_length: float | None
 
     def __init__(self, freq_hz, values, *, quantity="receptance", coherence=None,
-                 excitation=None):
+                 excitation=None, window_decay_rate=None, record_length=None):
         freq_hz = as_real_array("freq_hz", freq_hz, ndim=1)
         values = as_complex_array("values", values, ndim=1)
         as_choice("quantity", quantity, QUANTITIES)
@@ -108,15 +125,31 @@ class FRFData:
                 arr.setflags(write=False)
             object.__setattr__(self, name, arr)
         object.__setattr__(self, "_quantity", quantity)
+        if window_decay_rate is not None:
+            window_decay_rate = as_nonnegative_scalar("window_decay_rate", window_decay_rate)
+        if record_length is not None:
+            record_length = as_positive_scalar("record_length", record_length)
+        object.__setattr__(self, "_window_decay_rate", window_decay_rate)
+        object.__setattr__(self, "_record_length", record_length)
 
     def __setattr__(self, name, value):
         raise AttributeError(f"FRFData is immutable: cannot set {name!r}")
 
     def __reduce__(self):
         """Pickle through the constructor (fitted estimators keep their data)."""
-        return (_rebuild, (FRFData, dict(freq_hz=self._freq_hz, values=self._values,
-                                         quantity=self._quantity, coherence=self._coherence,
-                                         excitation=self._excitation)))
+        return (_rebuild, (FRFData, self._fields()))
+
+    def _fields(self) -> dict:
+        """The constructor's arguments that give this FRF."""
+        return dict(freq_hz=self._freq_hz, values=self._values, quantity=self._quantity,
+                    coherence=self._coherence, excitation=self._excitation,
+                    window_decay_rate=self._window_decay_rate,
+                    record_length=self._record_length)
+
+    def _replaced(self, **changes) -> FRFData:
+        """This FRF with some of the constructor's arguments changed (the lines, values or
+        quantity), the rest (coherence, excitation, how it was measured) kept."""
+        return FRFData(**{**self._fields(), **changes})
 
     freq_hz = property(lambda self: self._freq_hz, doc="Frequencies (Hz).")
     values = property(lambda self: self._values, doc="FRF values (SI units of quantity).")
@@ -124,6 +157,10 @@ class FRFData:
     coherence = property(lambda self: self._coherence, doc="Coherence, or None.")
     excitation = property(lambda self: self._excitation,
                           doc="The excitation's autospectrum on the lines, or None.")
+    window_decay_rate = property(lambda self: self._window_decay_rate,
+                                 doc="The records' exponential window (1/s), or None.")
+    record_length = property(lambda self: self._record_length,
+                             doc="The records' length (s) without zero padding, or None.")
 
     @property
     def omega(self) -> np.ndarray:
@@ -163,9 +200,8 @@ class FRFData:
                           "it does not determine the value there", UserWarning, stacklevel=2)
             data = self.select(slice(1, None))
         receptance = to_receptance(data._quantity, data._values, data.omega)
-        return FRFData(data._freq_hz, receptance_to(quantity, receptance, data.omega),
-                       quantity=quantity, coherence=data._coherence,
-                       excitation=data._excitation)
+        return data._replaced(values=receptance_to(quantity, receptance, data.omega),
+                              quantity=quantity)
 
     def to_receptance(self) -> FRFData:
         """The FRF as receptance (m/N); see :meth:`convert` for the 0 Hz line.
@@ -191,8 +227,8 @@ class FRFData:
         index = as_line_selection("index", index, self._freq_hz.size)
         coherence = None if self._coherence is None else self._coherence[index]
         excitation = None if self._excitation is None else self._excitation[index]
-        return FRFData(self._freq_hz[index], self._values[index], quantity=self._quantity,
-                       coherence=coherence, excitation=excitation)
+        return self._replaced(freq_hz=self._freq_hz[index], values=self._values[index],
+                              coherence=coherence, excitation=excitation)
 
     def band(self, freq_range) -> FRFData:
         """The lines with ``fmin <= freq_hz <= fmax`` (Hz, to a relative 1e-9: the

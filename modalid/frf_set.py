@@ -230,7 +230,9 @@ class FRFSet:
         resample them yourself if that is what you mean, this never interpolates.
         Coherence is kept when every row has it; an excitation spectrum
         (``FRFData.excitation``) is not (a set's band comes from its rows' coherence or
-        scatter).
+        scatter), nor how the rows were measured: a row with an exponential window
+        (``FRFData.window_decay_rate``) gets a ``UserWarning``, since the common-pole fit
+        does not model it (its poles' decay rates include the window's).
 
         Parameters
         ----------
@@ -265,6 +267,13 @@ class FRFSet:
                 raise ValueError(f"rows 0 and {i} are on different frequency grids: {why}. "
                                  "An FRFSet needs one grid; resample or cut the FRFs "
                                  "yourself (FRFData.band/select), nothing is interpolated")
+        windowed = sorted({frf.window_decay_rate for frf in frfs if frf.window_decay_rate})
+        if windowed:
+            warnings.warn(f"the FRFs were measured with an exponential window (decay "
+                          f"{', '.join(f'{d:.6g}' for d in windowed)} 1/s): an FRFSet does not "
+                          "keep it and its common-pole fit does not model it (every pole's "
+                          "decay rate includes the window's: correct_exponential_window "
+                          "removes it)", UserWarning, stacklevel=2)
         coherence = None
         if all(frf.coherence is not None for frf in frfs):
             coherence = np.stack([frf.coherence for frf in frfs])

@@ -477,12 +477,13 @@ def frf_from_hammer(force, response, fs, *, response_type="acceleration",
         h1 = h1 * (iw / (iw + decay)) ** k
     sff = np.array(sff)
     sff.setflags(write=False)
-    return HammerFRF(frf=FRFData(freq, h1, quantity=quantity, coherence=coherence,
-                                 excitation=sff),
-                     window_decay_rate=decay, n_hits=n_hits,
+    record_length = duration if n_fft == n_samples else None
+    # how it was measured travels with the FRF (and its files): a fit models it unasked
+    frf = FRFData(freq, h1, quantity=quantity, coherence=coherence, excitation=sff,
+                  window_decay_rate=decay, record_length=record_length)
+    return HammerFRF(frf=frf, window_decay_rate=decay, n_hits=n_hits,
                      double_hits=tuple(i for i, *_ in found), force_spectrum=sff,
-                     force_window_length=window_length,
-                     record_length=duration if n_fft == n_samples else None,
+                     force_window_length=window_length, record_length=record_length,
                      offsets=offsets)
 
 

@@ -53,6 +53,8 @@ from ._io_records import (
     header_unit,
     unit_factor,
 )
+from ._io_measured import (comment_lines, stated_in_arrays, stated_in_comment, statements,
+                           warn_uff_loses)
 from ._sign import SignCheck, check_sign
 from ._uff import _dof, _read_uff, _write_uff
 from .frf import FRFData
@@ -69,16 +71,20 @@ _EXTENSIONS = {".csv": "csv", ".tsv": "csv", ".txt": "text", ".npz": "npz", ".ma
 
 # ------------------------------------------------------------------ CSV / text
 def _load_table(path):
-    """``(table, stated)``: a table (str column names), the quantities its comments state."""
+    """``(table, stated, measured)``: a table (str column names), the quantities its
+    comments state, and how the FRF was measured (:mod:`modalid._io_measured`)."""
     import pandas as pd
 
     text, encoding = _decoded_text(path)
     lines = text.splitlines()
-    lead, stated = 0, set()
+    lead, stated, measured = 0, set(), {}
     for line in lines:
         if line.strip() and not line.lstrip().startswith("#"):
             break
         lead += 1
+        said = stated_in_comment(path, line)
+        if said is not None:
+            measured[said[0]] = said[1]
         m = re.match(r"\s*#\s*quantity\s*[:=]\s*([A-Za-z]+)", line, re.IGNORECASE)
         if m:
             word = m.group(1).lower()
@@ -105,14 +111,16 @@ def _load_table(path):
     except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
         raise ValueError(f"cannot parse {path} as a table: {exc}") from exc
     table.columns = [str(c) for c in table.columns]
-    return table, stated
+    return table, stated, measured
 
 
-def _read_table(path, columns, table=None, stated=None):
-    """The raw FRF of a table file (or of ``table``, already loaded, for ``path``)."""
+def _read_table(path, columns, table=None, stated=None, measured=None):
+    """The raw FRF of a table file (or of ``table``, already loaded, for ``path``, with
+    the quantities and measurement its comments state)."""
     import pandas as pd
 
-    table, stated = _load_table(path) if table is None else (table, set(stated))
+    table, stated, measured = (_load_table(path) if table is None
+                               else (table, set(stated), measured or {}))
     names = list(table.columns)
     found = _assign_roles(names, TABLE_ROLES, columns, str(path))
 
@@ -157,7 +165,8 @@ def _read_table(path, columns, table=None, stated=None):
     excitation = column("excitation") if "excitation" in found else None
     return [_Raw(freq, values, coherence, stated.pop() if stated else None,
                  (found[freq_role[0]][0], "/".join(found[r][0] for r in used),
-                  found.get("coherence", ("coherence",))[0]), excitation=excitation)]
+                  found.get("coherence", ("coherence",))[0]), excitation=excitation,
+                 measured=measured)]
 
 
 def _is_complex_lines(path):
@@ -236,7 +245,7 @@ def _from_arrays(source, arrays, columns):
             raise ValueError(f"{source} names two quantities: {stated} and {text}")
         stated = _QUANTITY_WORDS[text]
     return _Raw(freq, values, coherence, stated, (f_name, v_name, c_name),
-                excitation=excitation)
+                excitation=excitation, measured=stated_in_arrays(source, arrays))
 
 
 #: how an .npz (a zip archive) and an .npy file begin
@@ -457,8 +466,7 @@ def _oriented(frf: FRFData, conjugate, negate) -> FRFData:
     if not (conjugate or negate):
         return frf
     values = np.conj(frf.values) if conjugate else frf.values
-    return FRFData(frf.freq_hz, -values if negate else values, quantity=frf.quantity,
-                   coherence=frf.coherence, excitation=frf.excitation)
+    return frf._replaced(values=-values if negate else values)
 
 
 def _read_one(path, format, quantity, columns, index, freq_hz):
@@ -534,7 +542,10 @@ def write_frf(path, frf, *, format=None, binary=False, response=None, reference=
     -----
     CSV: ``# quantity: <q>`` then ``freq_hz,real,imag[,coherence][,excitation]``, shortest
     round-trip decimals (bit-exact). NPZ and MAT (v5): ``freq_hz``, ``values``,
-    ``quantity`` [, ``coherence``][, ``excitation``] (bit-exact). UFF: dataset 58, function
+    ``quantity`` [, ``coherence``][, ``excitation``] (bit-exact). How the FRF was
+    measured (:attr:`FRFData.window_decay_rate`, :attr:`FRFData.record_length`) is kept
+    by CSV (comment lines), NPZ and MAT (scalars): :mod:`modalid._io_measured`; a UFF file
+    cannot keep it (a ``UserWarning`` says so). UFF: dataset 58, function
     type 4, ordinate type 8/11/12 over 13 (force), abscissa type 18 in Hz; coherence as a
     second dataset 58 of type 6 (the excitation's spectrum is not written).
     ASCII UFF holds 12 significant digits per value (format E20.12) and frequencies as
@@ -557,8 +568,11 @@ def write_frf(path, frf, *, format=None, binary=False, response=None, reference=
         head = ",".join(["freq_hz", "real", "imag", *extra])
         rows = (",".join(repr(float(v)) for v in row) for row in zip(*cols))
         with open(path, "w", encoding="utf-8", newline="\n") as fh:
-            fh.write(f"# quantity: {frf.quantity}\n{head}\n" + "\n".join(rows) + "\n")
-    elif fmt == "npz":
+            fh.write(f"# quantity: {frf.quantity}\n{comment_lines(frf)}{head}\n"
+                     + "\n".join(rows) + "\n")
+        return
+    arrays.update({k: np.float64(v) for k, v in statements(frf).items()})
+    if fmt == "npz":
         with open(path, "wb") as fh:
             np.savez(fh, **arrays)
     elif fmt == "mat":
@@ -568,4 +582,5 @@ def write_frf(path, frf, *, format=None, binary=False, response=None, reference=
             scipy.io.savemat(fh, {k: np.asarray(v) for k, v in arrays.items()},
                              oned_as="column")
     else:
+        warn_uff_loses(path, frf)
         _write_uff(path, frf, binary, _dof("response", response), _dof("reference", reference))

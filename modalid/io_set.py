@@ -38,14 +38,15 @@ def _split_label(name):
 
 def _table_set(path, columns):
     """Raw FRFs and labels of a CSV with one frequency column and several FRF groups."""
-    table, stated = _load_table(path)
+    table, stated, measured = _load_table(path)
     groups = {}
     for name in table.columns:
         label, role = _split_label(name)
         groups.setdefault(label, []).append((name, role))
     outputs = [g for g in groups if g != ""]
     if len(outputs) <= 1:                           # one FRF: the single-FRF rules
-        return _read_table(path, columns, table, stated), [outputs[0] if outputs else path.stem]
+        return (_read_table(path, columns, table, stated, measured),
+                [outputs[0] if outputs else path.stem])
     freq = [n for n, _ in groups.get("", [])]
     if len(freq) != 1:
         raise ValueError(f"{path} holds the FRF column groups {outputs} and needs exactly one "

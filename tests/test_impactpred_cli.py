@@ -299,3 +299,20 @@ def test_the_guardrails_names_are_exported():
     assert impactpred.EnergyAudit is EnergyAudit and impactpred.EnergyWarning is EnergyWarning
     assert impactpred.IdentificationWarning is IdentificationWarning
     assert {"EnergyAudit", "EnergyWarning", "IdentificationWarning"} <= set(impactpred.__all__)
+
+
+def test_two_rigid_masses_stick_and_the_unbounded_force_is_said(capsys):
+    """1 kg at 1 m/s onto 2 kg at rest, rigid contact: the impulse passes at once (a Dirac
+    of m1 m2 / (m1 + m2) v = 2/3 N s), the masses move on together (restitution 0 to
+    round-off, which is no approach: no warning), and the printout says the peak force
+    is unbounded where peak_force counts the regular force only (0)."""
+    assert main(["predict", "mass:1", "mass:2", "--v1", "1", "--t-end", "0.01"]) == 0
+    said = capsys.readouterr()
+    assert "still approach" not in said.err and not said.err
+    figures = dict(line.strip().split(": ", 1) for line in said.out.splitlines()
+                   if ": " in line and line.startswith(" "))
+    assert abs(float(figures["restitution"])) < 1e-12
+    assert float(figures["impulse_Ns"]) == pytest.approx(2 / 3, rel=1e-12)
+    assert float(figures["peak_force_N"]) == 0.0
+    assert figures["dirac_impulses"].startswith("0.666667 N s at 0 s (momentum passed at "
+                                                "once: neither body gives at the contact")

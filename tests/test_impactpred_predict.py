@@ -447,23 +447,32 @@ def test_predict_command_with_a_saved_multi_point_model_writes_every_point(tmp_p
 
 
 def test_windowed_hammer_frf_file_with_an_estimator(windowed_free_rod_csv, tmp_path):
-    """A free rod's mobility from an exponentially windowed hammer test, as a CSV: with an
-    estimator given the window's options the identified mass is right and the mass hits
-    it as the exact rod; the estimator is cloned for the body, a non-estimator refused."""
+    """A free rod's mobility from an exponentially windowed hammer test, as a CSV that
+    states its window: with no estimator, or one given the window's options, the
+    identified mass is right and the mass hits it as the exact rod; told no window (and a
+    warning that the file states one) the mass is wrong; the estimator is cloned for the
+    body, a non-estimator refused."""
     path, options = windowed_free_rod_csv
     masses = {}
     # plain: the whole band, a passive fit without the window's model
-    plain = {"freq_range": (0.0, np.inf), "passive": True}
-    for label, kw in (("window", options), ("plain", plain)):
-        estimator = ModalFit(**kw)
-        with pytest.warns(BandWarning):
+    plain = {"freq_range": (0.0, np.inf), "passive": True, "window_decay_rate": 0.0,
+             "record_length": np.inf}
+    for label, kw in (("file", None), ("window", options), ("plain", plain)):
+        estimator = None if kw is None else ModalFit(**kw)
+        with warnings.catch_warnings(record=True) as said:
+            warnings.simplefilter("always")
             pred = predict("mass:1.0", path, velocity1=1.0, t_end=6.0, continuation=True,
                            estimator=estimator)
+        assert any(issubclass(w.category, BandWarning) for w in said)
+        stated = [w for w in said if "but the data state" in str(w.message)]
+        assert len(stated) == (2 if label == "plain" else 0)
         masses[label] = pred.fits[1].report_["rigid_mass"]
-        # cloned: the estimator given is left unfitted, the fit has its settings
-        assert not hasattr(estimator, "model_") and pred.fits[1] is not estimator
-        assert pred.fits[1].get_params() == estimator.get_params()
+        if estimator is not None:
+            # cloned: the estimator given is left unfitted, the fit has its settings
+            assert not hasattr(estimator, "model_") and pred.fits[1] is not estimator
+            assert pred.fits[1].get_params() == estimator.get_params()
     assert masses["window"] == pytest.approx(1.0, rel=3e-3)
+    assert masses["file"] == masses["window"]
     assert abs(masses["plain"] - 1.0) > 0.05       # the windowed mass line read as 1/(M s^2)
     out = tmp_path / "cli"
     assert main(["predict", "mass:1.0", str(path), "--v1", "1", "--t-end", "6",

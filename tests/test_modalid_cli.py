@@ -41,19 +41,27 @@ def test_fit_command_reports_bad_input(capsys):
 @pytest.mark.slow
 @pytest.mark.filterwarnings("ignore::UserWarning")
 def test_fit_command_models_an_exponential_window(windowed_free_rod_csv, tmp_path, capsys):
-    """A free rod's mobility from an exponentially windowed hammer test, as a CSV: with
-    --window-decay and --record-length the model written has the rod's mass (1 kg)."""
+    """A free rod's mobility from an exponentially windowed hammer test, as a CSV: the
+    file states the window and the record length, and the model written has the rod's
+    mass (1 kg), as with --window-decay and --record-length; told none (0 and inf) the
+    fit warns that the file states otherwise and misreads the mass line."""
     path, options = windowed_free_rod_csv
     masses = {}
     window = ["--window-decay", str(options["window_decay_rate"]),
               "--record-length", str(options["record_length"])]
     # plain: the whole band, a passive fit without the window's model
-    plain = ["--fmin", "0", "--driving-point", "yes"]
-    for label, extra in (("window", window), ("plain", plain)):
+    plain = ["--fmin", "0", "--driving-point", "yes", "--window-decay", "0",
+             "--record-length", "inf"]
+    for label, extra in (("file", []), ("window", window), ("plain", plain)):
         out = tmp_path / label
+        capsys.readouterr()
         assert main(["fit", str(path), "--out", str(out)] + extra) == 0
         masses[label] = 1.0 / ModalModel.from_json(out / "free_rod_model.json").inverse_mass
+        said = capsys.readouterr()
+        assert ("as the file states" in said.out) == (label == "file")
+        assert ("but the data state" in said.err) == (label == "plain")
     assert masses["window"] == pytest.approx(1.0, rel=3e-3)
+    assert masses["file"] == masses["window"]
     assert abs(masses["plain"] - 1.0) > 0.05       # the windowed mass line read as 1/(M s^2)
     out = tmp_path / "dense"
     assert main(["fit", str(path), "--missed-modes", "dense", "--out", str(out)] + window) == 0
@@ -346,19 +354,23 @@ def save_rows(folder, test):
 @pytest.mark.filterwarnings("ignore::UserWarning")
 def test_hammer_command_writes_the_h1_and_the_flags_of_a_later_fit(hammer_test, tmp_path,
                                                                    capsys):
-    """Three .npy files (rows t, force, velocity) -> the CSV holds frf_from_hammer's H1 and
-    coherence exactly; the printed flags make the fit of that file give the rod's mass."""
+    """Three .npy files (rows t, force, velocity) -> the CSV holds frf_from_hammer's H1,
+    coherence, window and record length exactly; the fit of that file with no flags gives
+    the rod's mass. A UFF file cannot keep the window: the printed advice gives its
+    flags."""
     from modalid import frf_from_hammer, read_frf
 
     test, decay = hammer_test
     out = tmp_path / "rod_frf.csv"
-    assert main(["hammer", *save_rows(tmp_path, test), "--response-type", "velocity",
+    rows = save_rows(tmp_path, test)
+    assert main(["hammer", *rows, "--response-type", "velocity",
                  "--exponential-decay", repr(decay), "--out", str(out)]) == 0
     printed = capsys.readouterr().out
     assert printed.startswith("3 hits from 3 files (hit0.npy ... hit2.npy): 1375 samples at "
                               "13.75 Hz (100 s); channels: time 0, force 1, response 2\n")
     flags = f"--window-decay {decay:.9g} --record-length 100"
-    assert f"fit it with: modalid fit {out} {flags} (and --fmax " in printed
+    assert f"fit it with: modalid fit {out} (and --fmax " in printed
+    assert f"the file keeps the exponential window and the record length ({flags})" in printed
     expected = frf_from_hammer(test.force, test.response, test.fs, response_type="velocity",
                                exponential_decay=decay).frf
     written = read_frf(out)
@@ -366,11 +378,17 @@ def test_hammer_command_writes_the_h1_and_the_flags_of_a_later_fit(hammer_test, 
     np.testing.assert_array_equal(written.freq_hz, expected.freq_hz)
     np.testing.assert_array_equal(written.values, expected.values)
     np.testing.assert_array_equal(written.coherence, expected.coherence)
+    assert (written.window_decay_rate, written.record_length) == (decay, 100.0)
     fitted = tmp_path / "fit"
-    assert main(["fit", str(out), *flags.split(), "--fmax", "2.75", "--out",
-                 str(fitted)]) == 0
+    assert main(["fit", str(out), "--fmax", "2.75", "--out", str(fitted)]) == 0
     mass = 1.0 / ModalModel.from_json(fitted / "rod_frf_model.json").inverse_mass
     assert mass == pytest.approx(1.0, rel=3e-3)
+    uff = tmp_path / "rod_frf.uff"
+    assert main(["hammer", *rows, "--response-type", "velocity",
+                 "--exponential-decay", repr(decay), "--out", str(uff)]) == 0
+    said = capsys.readouterr()
+    assert f"fit it with: modalid fit {uff} {flags} (and --fmax " in said.out
+    assert "a UFF file does not keep the exponential window" in said.out and not said.err
 
 
 @pytest.mark.filterwarnings("ignore::UserWarning")

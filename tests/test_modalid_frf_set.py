@@ -273,6 +273,34 @@ def test_auto_driving_point_refuses_a_record_measured_along_the_opposite_directi
     assert data.driving_point == 0
 
 
+def test_frf_data_states_how_it_was_measured_and_keeps_it():
+    """``FRFData(window_decay_rate=..., record_length=...)``: kept by select, band,
+    conversion and pickling; a negative, zero or non-finite value is refused, naming it;
+    an FRFSet of windowed FRFs warns that its common-pole fit does not model the
+    window."""
+    import pickle
+
+    freq = np.array([0.0, 1.0, 2.0, 3.0])
+    one = FRFData(freq, [1.0, 1 + 1j, 2j, 3.0], quantity="accelerance",
+                  window_decay_rate=4.6, record_length=1.0)
+    with pytest.warns(UserWarning, match="dropped the 0 Hz line"):
+        converted = one.to_receptance()
+    for kept in (one.band((1.0, 2.0)), one.select([0, 2]), converted,
+                 pickle.loads(pickle.dumps(one))):
+        assert (kept.window_decay_rate, kept.record_length) == (4.6, 1.0)
+    bare = FRFData(freq, np.ones(4))
+    assert (bare.window_decay_rate, bare.record_length) == (None, None)
+    for name, bad in (("window_decay_rate", -1.0), ("record_length", 0.0),
+                      ("record_length", np.inf)):
+        with pytest.raises(ValueError, match=name):
+            FRFData(freq, np.ones(4), **{name: bad})
+    with pytest.warns(UserWarning, match=r"exponential window \(decay 4.6 1/s\)"):
+        FRFSet.from_frfs([one, one])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        FRFSet.from_frfs([bare, bare])
+
+
 def test_frf_data_carries_its_excitation_spectrum_and_checks_it():
     """``FRFData(excitation=...)``: the excitation's autospectrum per line (a hammer's force
     spectrum), read-only, kept by select, band and conversion; a wrong length or a

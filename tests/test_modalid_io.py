@@ -118,6 +118,47 @@ def test_the_excitation_spectrum_round_trips(tmp_path, name):
         read_frf(text, quantity="receptance")
 
 
+@pytest.mark.parametrize("name", ["a.csv", "a.npz", "a.mat"])
+def test_how_the_frf_was_measured_round_trips(tmp_path, name):
+    """The records' exponential window and length (``FRFData.window_decay_rate``,
+    ``record_length``) are written and read back exactly by CSV (comment lines), NPZ and
+    MAT (scalars), so that a fit of the file models them unasked; an FRF that states
+    nothing writes nothing of them."""
+    frf = make_frf()
+    stated = FRFData(frf.freq_hz, frf.values, quantity=frf.quantity, coherence=frf.coherence,
+                     window_decay_rate=4.605170185988091, record_length=1.0006)
+    write_frf(tmp_path / name, stated)
+    back = read_frf(tmp_path / name)
+    assert (back.window_decay_rate, back.record_length) == (4.605170185988091, 1.0006)
+    np.testing.assert_array_equal(back.values, frf.values)
+    write_frf(tmp_path / f"bare_{name}", frf)
+    back = read_frf(tmp_path / f"bare_{name}")
+    assert (back.window_decay_rate, back.record_length) == (None, None)
+
+
+def test_a_csv_states_how_it_was_measured_in_comments_and_uff_cannot(tmp_path):
+    """A CSV's ``# record_length (s): T`` and ``# window_decay_rate: 2`` (the unit may be
+    left out) are read; a wrong unit, a word for a number or a negative value is refused
+    naming the file; a UFF file has no field for them, and writing one warns."""
+    path = tmp_path / "a.csv"
+    table = "freq_hz,real,imag\n1.0,1.0,0.0\n2.0,0.5,0.5\n"
+    path.write_text("# quantity: mobility\n# record_length (s): 2.5\n"
+                    "#window_decay_rate = 2\n" + table)
+    back = read_frf(path)
+    assert (back.window_decay_rate, back.record_length) == (2.0, 2.5)
+    for line, error in (("# record_length (1/s): 2", "record_length is in s"),
+                        ("# record_length: two", "record_length must be a number"),
+                        ("# window_decay_rate: -1", "window_decay_rate must be non-negative")):
+        path.write_text(f"# quantity: mobility\n{line}\n{table}")
+        with pytest.raises(ValueError, match=error) as raised:
+            read_frf(path)
+        assert "a.csv" in str(raised.value)
+    with pytest.warns(UserWarning, match="a UFF file has no field for how the FRF was "
+                                         "measured \\(record_length=2.5\\)"):
+        write_frf(tmp_path / "a.uff", FRFData([1.0, 2.0], [1.0, 0.5j], record_length=2.5))
+    assert read_frf(tmp_path / "a.uff").record_length is None
+
+
 @pytest.mark.parametrize("quantity", QUANTITIES)
 def test_ascii_uff_round_trip_to_the_formats_twelve_digits(tmp_path, quantity):
     frf = make_frf(quantity)

@@ -80,6 +80,34 @@ def test_modalfit_recovers_the_structure_from_exact_windowed_lines(free_body):
     assert abs(naive.inverse_mass / free_body.inverse_mass - 1) > 2e-3
 
 
+def test_the_data_say_how_they_were_measured_and_the_fit_models_it_unasked(free_body):
+    """Data that state their window and record length (as frf_from_hammer's and its files
+    do) are fitted by ``ModalFit()`` exactly as with the settings given; a setting wins
+    over the statement with a warning naming both, ``record_length=inf`` models no
+    record end, and data that state nothing are fitted unwindowed, as before."""
+    freq = np.arange(1, 140) / T
+    w = 2 * np.pi * freq
+    values = 1j * w * windowed_receptance(free_body, w, SIGMA, T)
+    stated = FRFData(freq, values, quantity="mobility", window_decay_rate=SIGMA,
+                     record_length=T)
+    bare = FRFData(freq, values, quantity="mobility")
+    given = ModalFit(window_decay_rate=SIGMA, record_length=T).fit(bare)
+    unasked = ModalFit().fit(stated)
+    assert (unasked.window_decay_rate_, unasked.record_length_) == (SIGMA, T)
+    np.testing.assert_array_equal(unasked.model_.poles, given.model_.poles)
+    assert unasked.model_.inverse_mass == given.model_.inverse_mass
+    assert unasked.get_params()["window_decay_rate"] is None          # settings untouched
+    with pytest.warns(UserWarning, match=r"record_length=inf given, but the data state 20 "
+                                         r".*the fit models no record end"):
+        endless = ModalFit(record_length=np.inf).fit(stated)
+    assert endless.record_length_ is None
+    naive = ModalFit(window_decay_rate=SIGMA).fit(bare)
+    np.testing.assert_array_equal(endless.model_.poles, naive.model_.poles)
+    plain = ModalFit().fit(bare)
+    assert (plain.window_decay_rate_, plain.record_length_) == (0.0, None)
+    assert abs(plain.model_.inverse_mass / free_body.inverse_mass - 1) > 0.05
+
+
 def test_a_windowed_pole_on_a_line_that_does_not_decay_is_held_before_the_cut(free_body):
     """A pseudo-mode above the band on its bound, at a multiple of the band top and so
     on a DFT line, with the damping at its lower bound (less than the window's): its
@@ -111,7 +139,7 @@ def test_a_windowed_pole_on_a_line_that_does_not_decay_is_held_before_the_cut(fr
 def test_free_rod_from_a_windowed_hammer_test():
     """Noise-free velocity hammer test of a free rod, window ending at 1 %: the rigid
     mass and the first modal masses within 0.3 % (about 1 % with the poles-only
-    correction: the record's end is not undone)."""
+    correction: the record's end, which the FRF states, not undone)."""
     truth = lightly_damped(Rod(1.0, 1.0, support="free"), 15, 0.001)
     top, duration = 2.75, 100.0                      # 5 elastic modes in the band
     fs = 5 * top
@@ -124,8 +152,8 @@ def test_free_rod_from_a_windowed_hammer_test():
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         exact = ModalFit(weighting="uniform", **est.fit_options()).fit(band)
-        poles_only = ModalFit(weighting="uniform",
-                              window_decay_rate=est.window_decay_rate).fit(band)
+        poles_only = ModalFit(weighting="uniform", window_decay_rate=est.window_decay_rate,
+                              record_length=np.inf).fit(band)
     masses = truth.modes["modal_mass"].to_numpy()[:3]
     for fit, tol in ((exact, 3e-3), (poles_only, None)):
         m_err = abs(fit.report_["rigid_mass"] - 1.0)
