@@ -403,7 +403,7 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
         (``sklearn.base.clone``: its settings; ``estimator`` itself is not fitted), e.g.
         ``ModalFit(**HammerFRF.fit_options())`` (``window_decay_rate``,
         ``record_length``) for FRFs measured with an exponential window whose file does
-        not state them (``frf_from_hammer``'s FRFData and its .csv, .npz and .mat files
+        not state them (``frf_from_hammer``'s FRFData and the files ``write_frf`` writes
         do, and ``ModalFit()`` models what they state). Default ``ModalFit()``.
     read_options : dict or pair of dicts, optional
         :func:`modalid.read_frf` options of the FRF files (:data:`READ_OPTIONS`; a pair:

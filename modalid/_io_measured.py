@@ -7,22 +7,37 @@ written by :func:`modalid.write_frf` keeps them so that a fit of the file needs 
 * CSV: comment lines before the table, ``# window_decay_rate (1/s): 4.6`` and
   ``# record_length (s): 1`` (the unit in parentheses may be left out);
 * NPZ and MAT: scalar variables ``window_decay_rate`` and ``record_length``;
-* UFF dataset 58 has no field for them: :func:`modalid.write_frf` warns that the file
-  loses them.
+* UFF dataset 58: its ID line 4 (80 characters of free text), the statements without
+  their units, separated by ``;``: ``window_decay_rate: 4.6; record_length: 1`` (to 12
+  significant digits where the shortest exact decimals would not fit).
 """
 
 from __future__ import annotations
 
 import re
-import warnings
 
 import numpy as np
 
 #: the statements, with the unit each is written in
 MEASUREMENT_UNITS = {"window_decay_rate": "1/s", "record_length": "s"}
 
-_COMMENT = re.compile(r"\s*#\s*(window_decay_rate|record_length)\s*(?:\(\s*(1/s|s)\s*\))?"
-                      r"\s*[:=]\s*(\S+)\s*$", re.IGNORECASE)
+_STATEMENT = re.compile(r"\s*(window_decay_rate|record_length)\s*(?:\(\s*(1/s|s)\s*\))?"
+                        r"\s*[:=]\s*(\S+)\s*$", re.IGNORECASE)
+
+
+def _stated(path, text: str) -> tuple[str, float] | None:
+    """``(name, value)`` that ``text`` states, None for other text."""
+    match = _STATEMENT.match(text)
+    if match is None:
+        return None
+    name, unit, value = match.group(1).lower(), match.group(2), match.group(3)
+    if unit is not None and unit.lower() != MEASUREMENT_UNITS[name]:
+        raise ValueError(f"{path} says '{text.strip()}': {name} is in "
+                         f"{MEASUREMENT_UNITS[name]}")
+    try:
+        return name, float(value)
+    except ValueError:
+        raise ValueError(f"{path} says '{text.strip()}': {name} must be a number") from None
 
 
 def stated_in_comment(path, line: str) -> tuple[str, float] | None:
@@ -33,17 +48,20 @@ def stated_in_comment(path, line: str) -> tuple[str, float] | None:
     ValueError
         The line names a statement with a wrong unit or a value that is not a number.
     """
-    match = _COMMENT.match(line)
-    if match is None:
-        return None
-    name, unit, text = match.group(1).lower(), match.group(2), match.group(3)
-    if unit is not None and unit.lower() != MEASUREMENT_UNITS[name]:
-        raise ValueError(f"{path} says '{line.strip()}': {name} is in "
-                         f"{MEASUREMENT_UNITS[name]}")
-    try:
-        return name, float(text)
-    except ValueError:
-        raise ValueError(f"{path} says '{line.strip()}': {name} must be a number") from None
+    text = line.lstrip()
+    return _stated(path, text[1:]) if text.startswith("#") else None
+
+
+def stated_in_id_line(path, line) -> dict:
+    """The statements of a UFF dataset's ID line (``;``-separated), by name.
+
+    Raises
+    ------
+    ValueError
+        As :func:`stated_in_comment`.
+    """
+    said = (_stated(path, part) for part in str(line or "").split(";"))
+    return dict(pair for pair in said if pair is not None)
 
 
 def stated_in_arrays(source, arrays) -> dict:
@@ -78,12 +96,15 @@ def comment_lines(frf) -> str:
                    for name, value in statements(frf).items())
 
 
-def warn_uff_loses(path, frf) -> None:
-    """Warn that the UFF file ``path`` cannot keep ``frf``'s statements (a fit of the
-    file must be given them)."""
-    kept = statements(frf)
-    if kept:
-        flags = ", ".join(f"{name}={value:.9g}" for name, value in kept.items())
-        warnings.warn(f"{path}: a UFF file has no field for how the FRF was measured "
-                      f"({flags}): fit it with those settings (ModalFit), or write a .csv, "
-                      ".npz or .mat file, which keeps them", UserWarning, stacklevel=3)
+#: the characters of a UFF ID line
+ID_LINE_LENGTH = 80
+
+
+def id_line(frf) -> str:
+    """The UFF ID line of ``frf``'s statements (at most :data:`ID_LINE_LENGTH`
+    characters), empty when it states none."""
+    said = statements(frf).items()
+    line = "; ".join(f"{name}: {value!r}" for name, value in said)
+    if len(line) > ID_LINE_LENGTH:                   # 12 digits: at most 71 characters
+        line = "; ".join(f"{name}: {value:.12g}" for name, value in said)
+    return line

@@ -13,6 +13,7 @@ import warnings
 import numpy as np
 
 from ._checks import as_count
+from ._io_measured import id_line, stated_in_id_line
 from ._io_records import _finite, _Raw
 
 # dataset 58, records 9/10 field 1 (specific data type): numerator codes of our quantities
@@ -99,7 +100,8 @@ def _uff_raw(path, dset, number, cohs):
     meta = dict(zip(("response_node", "response_dir", "reference_node", "reference_dir"),
                     _uff_dofs(dset)), name=str(dset.get("id1", "")).strip())
     return _Raw(freq, values, coherence, stated, ("the abscissa", "the ordinate",
-                                                  "the coherence dataset"), meta)
+                                                  "the coherence dataset"), meta,
+                measured=stated_in_id_line(source, dset.get("id4")))
 
 
 def _write_uff(path, frf, binary, response, reference):
@@ -120,6 +122,7 @@ def _write_uff(path, frf, binary, response, reference):
                   abscissa_spacing=spacing, abscissa_spec_data_type=18,
                   abscissa_axis_units_lab="Hz")
     dsets = [pyuff.prepare_58(func_type=4, data=frf.values.copy(), id1=frf.quantity,
+                              id4=id_line(frf) or "NONE",
                               ordinate_spec_data_type=_UFF_CODE[frf.quantity],
                               orddenom_spec_data_type=13,
                               ordinate_axis_units_lab=_UFF_UNITS[frf.quantity],

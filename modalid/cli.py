@@ -228,8 +228,7 @@ def _cmd_hammer(args) -> int:
     if est.double_hits:
         print(f"double hits in hits {list(est.double_hits)} (averaged all the same)")
     target = out if out is not None else "FILE"
-    keeps = out is None or out.suffix.lower() not in (".uff", ".unv")   # the window too
-    if frf.coherence is None and keeps:
+    if frf.coherence is None and (out is None or out.suffix.lower() not in (".uff", ".unv")):
         # one hit: a CSV/NPZ/MAT file keeps the force spectrum, and the fit's band ends
         # with it
         kept = "the file keeps" if out is not None else "a .csv, .npz or .mat file keeps"
@@ -237,28 +236,19 @@ def _cmd_hammer(args) -> int:
                  f"near {_excited_top(est):.6g} Hz)")
     else:
         reach = f"(and --fmax {_excited_top(est):.6g} to keep to the band the hammer excited)"
-    if keeps:
-        kept = "the file" if out is not None else "a .csv, .npz or .mat file"
-        print(f"fit it with: modalid fit {target} {reach}; {kept} keeps the exponential "
-              f"window and the record length ({_fit_flags(est)}), which the fit then "
-              "models; impactpred predict takes the file as it is")
-    else:
-        print(f"fit it with: modalid fit {target} {_fit_flags(est)} {reach}: a UFF file "
-              "does not keep the exponential window and the record length; impactpred "
-              "predict takes the same flags")
+    print(f"fit it with: modalid fit {target} {reach}; the file keeps the exponential "
+          f"window and the record length ({_fit_flags(est)}), which the fit then models; "
+          "impactpred predict takes the file as it is")
     if not decay:
-        told = "as the record length" if keeps else "with --record-length"
         print(f"no exponential window: where a mode has not died out within the record, "
-              f"its end puts terms on the FRF's lowest lines, which the fit takes out told "
-              f"{told}; --exponential-decay {4.6 * records.fs / n_samples:.3g} (a window "
-              "ending at 1 %) makes them small")
+              f"its end puts terms on the FRF's lowest lines, which the fit takes out (the "
+              f"file keeps the record length); --exponential-decay "
+              f"{4.6 * records.fs / n_samples:.3g} (a window ending at 1 %) makes them small")
     if out is None:
         print(nothing_saved("FILE writes the FRF with its coherence (.csv, .npz, .mat, .uff)"))
     else:
         out.parent.mkdir(parents=True, exist_ok=True)
-        with warnings.catch_warnings():        # a UFF file loses the window: the hint said
-            warnings.simplefilter("ignore", UserWarning)
-            write_frf(out, frf)
+        write_frf(out, frf)
         print(f"wrote {out}")
     return 0
 

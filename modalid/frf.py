@@ -64,7 +64,7 @@ class FRFData:
         (default): not stated.
 
     Both travel with the data through :meth:`convert`, :meth:`select`, :meth:`band`, and
-    :func:`modalid.write_frf` / :func:`modalid.read_frf` (CSV, NPZ and MAT files).
+    :func:`modalid.write_frf` / :func:`modalid.read_frf` (every format it writes).
 
     Attributes
     ----------

@@ -53,8 +53,7 @@ from ._io_records import (
     header_unit,
     unit_factor,
 )
-from ._io_measured import (comment_lines, stated_in_arrays, stated_in_comment, statements,
-                           warn_uff_loses)
+from ._io_measured import comment_lines, stated_in_arrays, stated_in_comment, statements
 from ._sign import SignCheck, check_sign
 from ._uff import _dof, _read_uff, _write_uff
 from .frf import FRFData
@@ -544,8 +543,8 @@ def write_frf(path, frf, *, format=None, binary=False, response=None, reference=
     round-trip decimals (bit-exact). NPZ and MAT (v5): ``freq_hz``, ``values``,
     ``quantity`` [, ``coherence``][, ``excitation``] (bit-exact). How the FRF was
     measured (:attr:`FRFData.window_decay_rate`, :attr:`FRFData.record_length`) is kept
-    by CSV (comment lines), NPZ and MAT (scalars): :mod:`modalid._io_measured`; a UFF file
-    cannot keep it (a ``UserWarning`` says so). UFF: dataset 58, function
+    by CSV (comment lines), NPZ and MAT (scalars) and UFF (ID line 4):
+    :mod:`modalid._io_measured`. UFF: dataset 58, function
     type 4, ordinate type 8/11/12 over 13 (force), abscissa type 18 in Hz; coherence as a
     second dataset 58 of type 6 (the excitation's spectrum is not written).
     ASCII UFF holds 12 significant digits per value (format E20.12) and frequencies as
@@ -582,5 +581,4 @@ def write_frf(path, frf, *, format=None, binary=False, response=None, reference=
             scipy.io.savemat(fh, {k: np.asarray(v) for k, v in arrays.items()},
                              oned_as="column")
     else:
-        warn_uff_loses(path, frf)
         _write_uff(path, frf, binary, _dof("response", response), _dof("reference", reference))

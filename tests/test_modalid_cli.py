@@ -355,9 +355,8 @@ def save_rows(folder, test):
 def test_hammer_command_writes_the_h1_and_the_flags_of_a_later_fit(hammer_test, tmp_path,
                                                                    capsys):
     """Three .npy files (rows t, force, velocity) -> the CSV holds frf_from_hammer's H1,
-    coherence, window and record length exactly; the fit of that file with no flags gives
-    the rod's mass. A UFF file cannot keep the window: the printed advice gives its
-    flags."""
+    coherence, window and record length exactly (a .uff keeps the window and record
+    length too); the fit of that file with no flags gives the rod's mass."""
     from modalid import frf_from_hammer, read_frf
 
     test, decay = hammer_test
@@ -387,8 +386,9 @@ def test_hammer_command_writes_the_h1_and_the_flags_of_a_later_fit(hammer_test, 
     assert main(["hammer", *rows, "--response-type", "velocity",
                  "--exponential-decay", repr(decay), "--out", str(uff)]) == 0
     said = capsys.readouterr()
-    assert f"fit it with: modalid fit {uff} {flags} (and --fmax " in said.out
-    assert "a UFF file does not keep the exponential window" in said.out and not said.err
+    assert f"fit it with: modalid fit {uff} (and --fmax " in said.out and not said.err
+    written = read_frf(uff)
+    assert (written.window_decay_rate, written.record_length) == (decay, 100.0)
 
 
 @pytest.mark.filterwarnings("ignore::UserWarning")

@@ -136,10 +136,11 @@ def test_how_the_frf_was_measured_round_trips(tmp_path, name):
     assert (back.window_decay_rate, back.record_length) == (None, None)
 
 
-def test_a_csv_states_how_it_was_measured_in_comments_and_uff_cannot(tmp_path):
+def test_a_csv_states_how_it_was_measured_in_comments_and_a_uff_in_an_id_line(tmp_path):
     """A CSV's ``# record_length (s): T`` and ``# window_decay_rate: 2`` (the unit may be
     left out) are read; a wrong unit, a word for a number or a negative value is refused
-    naming the file; a UFF file has no field for them, and writing one warns."""
+    naming the file. A UFF dataset 58 keeps them in its ID line 4 (80 characters:
+    exact where the shortest decimals fit, else to 12 digits), ASCII or binary."""
     path = tmp_path / "a.csv"
     table = "freq_hz,real,imag\n1.0,1.0,0.0\n2.0,0.5,0.5\n"
     path.write_text("# quantity: mobility\n# record_length (s): 2.5\n"
@@ -153,10 +154,17 @@ def test_a_csv_states_how_it_was_measured_in_comments_and_uff_cannot(tmp_path):
         with pytest.raises(ValueError, match=error) as raised:
             read_frf(path)
         assert "a.csv" in str(raised.value)
-    with pytest.warns(UserWarning, match="a UFF file has no field for how the FRF was "
-                                         "measured \\(record_length=2.5\\)"):
-        write_frf(tmp_path / "a.uff", FRFData([1.0, 2.0], [1.0, 0.5j], record_length=2.5))
-    assert read_frf(tmp_path / "a.uff").record_length is None
+    for decay, length, binary in ((4.605170185988091, 1.0006000000000002, False),
+                                  (4.605170185988091, 1.0006000000000002, True),
+                                  (1.2345678901234567e-100, 1.2345678901234567e+100, False)):
+        frf = FRFData([1.0, 2.0], [1.0, 0.5j], window_decay_rate=decay, record_length=length)
+        write_frf(tmp_path / "a.uff", frf, binary=binary)
+        back = read_frf(tmp_path / "a.uff")
+        exact = length < 1e3
+        assert back.window_decay_rate == (decay if exact else pytest.approx(decay, rel=1e-11))
+        assert back.record_length == (length if exact else pytest.approx(length, rel=1e-11))
+    write_frf(tmp_path / "bare.uff", FRFData([1.0, 2.0], [1.0, 0.5j]))
+    assert read_frf(tmp_path / "bare.uff").record_length is None
 
 
 @pytest.mark.parametrize("quantity", QUANTITIES)
