@@ -17,6 +17,7 @@ from .body import Body, SampledResponse
 from .contact import Hertz, LinearSpring, Rigid, check_contact
 from .damper.excitation import HarmonicForce
 from .parallel import one_blas_thread
+from .engine import MAX_SAMPLES
 from .result import EnergyAudit, EnergyWarning, ImpactResult
 from .solvers.closed_form import applies_closed_form, solve_closed_form
 from .solvers.convolution import solve_convolution
@@ -29,7 +30,7 @@ METHODS = ("auto", "laplace", "modal", "convolution", "closed_form")
 
 #: steps per fastest time scale that resolve duration and restitution to about 0.1 %
 _STEPS_PER_SCALE = 1000
-_MAX_STEPS = 4_000_000
+_MAX_STEPS = MAX_SAMPLES
 #: the automatic step is never coarsened more than this to fit ``_MAX_STEPS`` (as coarse
 #: as an explicit ``dt`` may be without a warning that errors reach several per cent)
 _COARSEST = 20

@@ -263,7 +263,9 @@ def _print_summary(pred, summary) -> None:
             print("uncertainty band (" + (f"stated level {level:.0%} for the four figures "
                                           "together: " if level is not None else "")
                   + "parameter draws, widened by the truncation error of a re-identification "
-                  "on 80 % of each band and the tail's):")
+                  "on 80 % of each band and the tail's; contact_duration and peak_force are "
+                  "the first contact's, contacts closer than the bands resolve merged, "
+                  "impulse and restitution over all contacts):")
             print(pred.uncertainty.table())
 
 

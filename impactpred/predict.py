@@ -119,11 +119,16 @@ def check_identification(fit, source, *, body: int) -> None:
                f"quantity=...{refit})" if "sign reversed" in why else "")
         failed = (f"; the fit this decision rests on failed ({reasons}), so it may be "
                   "wrong" if verdict == "failed" else "")
+        # an exponential window the file does not state shifts the poles and the mass
+        # line: a windowed driving point read as it is looks like a transfer FRF
+        window = ("; if it was measured with an exponential window that the file does not "
+                  "state, give window_decay_rate=... (and record_length=...)"
+                  if getattr(fit, "window_decay_rate_", None) == 0.0 else "")
         raise ValueError(f"body {body}: {source} is not a driving-point FRF ({why}{failed}): "
                          "a transfer FRF cannot be an impact body, a body needs its "
                          "driving-point receptance (force and response at the contact "
                          f"point); give the FRF measured there{fix}; if it is the one, "
-                         f"fit it with passive=True{refit}")
+                         f"fit it with passive=True{refit}{window}")
     if verdict == "failed":
         raise ValueError(f"body {body}: the identification of {source} failed ({reasons}); "
                          f"options that may fix it{refit}: {_FIT_REMEDIES}")

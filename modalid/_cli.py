@@ -58,8 +58,9 @@ _KEYWORDS = {
 }
 
 
-#: a name starts a word, not inside an identifier or a file path
-_START = r"(?<![\w./\\-])"
+#: a name starts a word, not inside an identifier or a file path, nor a file's own text
+#: quoted (``says '# record_length (s): abc'``)
+_START = r"(?<![\w./\\'-])(?<!# )"
 
 
 def in_flags(message) -> str:

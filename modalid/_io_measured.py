@@ -21,23 +21,44 @@ import numpy as np
 #: the statements, with the unit each is written in
 MEASUREMENT_UNITS = {"window_decay_rate": "1/s", "record_length": "s"}
 
-_STATEMENT = re.compile(r"\s*(window_decay_rate|record_length)\s*(?:\(\s*(1/s|s)\s*\))?"
-                        r"\s*[:=]\s*(\S+)\s*$", re.IGNORECASE)
+#: a statement begins with its name; the rest must read ``[(unit)] : value``
+_NAME = re.compile(r"\s*(window_decay_rate|record_length)\b", re.IGNORECASE)
+_REST = re.compile(r"\s*(?:[(\[]\s*([^)\]]*?)\s*[)\]])?\s*[:=]\s*(\S+)\s*$")
+#: the words of the messages (a name with underscores would read as a flag on the
+#: command line, :func:`modalid._cli.in_flags`)
+_WORDS = {"window_decay_rate": "the window's decay rate", "record_length": "the record length"}
 
 
-def _stated(path, text: str) -> tuple[str, float] | None:
-    """``(name, value)`` that ``text`` states, None for other text."""
-    match = _STATEMENT.match(text)
-    if match is None:
+def _stated(path, text: str, line: str) -> tuple[str, float] | None:
+    """``(name, value)`` that ``text`` (of the file's ``line``) states, None for text
+    that names no statement.
+
+    Raises
+    ------
+    ValueError
+        A statement in another unit, of a value that is not a number, or out of range
+        (a decay rate finite and >= 0, a record length finite and > 0), naming ``path``
+        and quoting ``text``.
+    """
+    named = _NAME.match(text)
+    if named is None:
         return None
-    name, unit, value = match.group(1).lower(), match.group(2), match.group(3)
-    if unit is not None and unit.lower() != MEASUREMENT_UNITS[name]:
-        raise ValueError(f"{path} says '{text.strip()}': {name} is in "
-                         f"{MEASUREMENT_UNITS[name]}")
+    name = named.group(1).lower()
+    unit, words = MEASUREMENT_UNITS[name], _WORDS[name]
+    rest = _REST.match(text[named.end():])
+    said = f"{path} says '{line.strip()}'"
+    if rest is None:
+        raise ValueError(f"{said}: write it as '{name} ({unit}): VALUE'")
+    if rest.group(1) is not None and rest.group(1).replace(" ", "").lower() != unit:
+        raise ValueError(f"{said}: {words} is stated in {unit}, not {rest.group(1)!r}")
     try:
-        return name, float(value)
+        value = float(rest.group(2))
     except ValueError:
-        raise ValueError(f"{path} says '{text.strip()}': {name} must be a number") from None
+        raise ValueError(f"{said}: {words} must be a number ({unit})") from None
+    if not np.isfinite(value) or value < 0 or (value == 0 and name == "record_length"):
+        bound = ">= 0" if name == "window_decay_rate" else "> 0"
+        raise ValueError(f"{said}: {words} must be finite and {bound} ({unit})")
+    return name, value
 
 
 def stated_in_comment(path, line: str) -> tuple[str, float] | None:
@@ -49,7 +70,7 @@ def stated_in_comment(path, line: str) -> tuple[str, float] | None:
         The line names a statement with a wrong unit or a value that is not a number.
     """
     text = line.lstrip()
-    return _stated(path, text[1:]) if text.startswith("#") else None
+    return _stated(path, text[1:], line) if text.startswith("#") else None
 
 
 def stated_in_id_line(path, line) -> dict:
@@ -60,7 +81,8 @@ def stated_in_id_line(path, line) -> dict:
     ValueError
         As :func:`stated_in_comment`.
     """
-    said = (_stated(path, part) for part in str(line or "").split(";"))
+    said = (_stated(f"{path}'s ID line 4", part, part)
+            for part in str(line or "").split(";"))
     return dict(pair for pair in said if pair is not None)
 
 

@@ -228,12 +228,14 @@ def _cmd_hammer(args) -> int:
     if est.double_hits:
         print(f"double hits in hits {list(est.double_hits)} (averaged all the same)")
     target = out if out is not None else "FILE"
-    if frf.coherence is None and (out is None or out.suffix.lower() not in (".uff", ".unv")):
-        # one hit: a CSV/NPZ/MAT file keeps the force spectrum, and the fit's band ends
-        # with it
+    if out is None or out.suffix.lower() not in (".uff", ".unv"):
+        # a CSV/NPZ/MAT file keeps the force spectrum, and the fit's band ends with it
         kept = "the file keeps" if out is not None else "a .csv, .npz or .mat file keeps"
         reach = (f"(its automatic band ends where the force spectrum {kept} falls 20 dB, "
-                 f"near {_excited_top(est):.6g} Hz)")
+                 f"near {_excited_top(est):.6g} Hz)" if frf.coherence is None else
+                 f"(its automatic band keeps the lines above where the force spectrum "
+                 f"{kept} falls 20 dB, near {_excited_top(est):.6g} Hz, while their "
+                 "coherence stays at 0.9 or more)")
     else:
         reach = f"(and --fmax {_excited_top(est):.6g} to keep to the band the hammer excited)"
     print(f"fit it with: modalid fit {target} {reach}; the file keeps the exponential "

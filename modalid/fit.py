@@ -46,6 +46,11 @@ from .stabilization import plot_fit, plot_stabilization
 __all__ = ["ModalFit", "ModalFitWarning"]
 
 
+#: the most ``sigma T`` an exponential window can have (ending at exp(-100) of the record:
+#: a rate given in the wrong unit, not a window)
+_MOST_WINDOW_DECAY = 100.0
+
+
 class ModalFit(FitOne, FRFPipeline, FitLines, BaseEstimator):
     """Identify a pole-residue driving-point receptance.
 
@@ -423,6 +428,17 @@ class ModalFit(FitOne, FRFPipeline, FitLines, BaseEstimator):
         self.window_decay_rate_ = float(self.window_decay_rate_ or 0.0)
         if self.record_length_ is not None and np.isposinf(self.record_length_):
             self.record_length_ = None                   # an endless record: no end
+        if self.window_decay_rate_ and isinstance(data, FRFData) and len(data) > 1:
+            # the record's length, or the one its line spacing implies
+            span = self.record_length_ or 1.0 / float(np.median(np.diff(data.freq_hz)))
+            if self.window_decay_rate_ * span > _MOST_WINDOW_DECAY:
+                whose = ("window_decay_rate=" if decay is not None
+                         else "the data's FRFData.window_decay_rate, ")
+                raise ValueError(
+                    f"{whose}{self.window_decay_rate_:g} 1/s, ends the window at "
+                    f"exp(-{self.window_decay_rate_ * span:.3g}) over the record ({span:.4g} "
+                    "s): nothing of the record would be left; give the decay rate in 1/s "
+                    "(for a window ending at e: -ln(e)/T)")
 
     @property
     def _passive_on(self) -> bool:

@@ -420,7 +420,11 @@ def test_transfer_frf_cannot_be_an_impact_body(two_mode_frf, verdict):
     with pytest.raises(ValueError, match=r"two_modes.csv is not a driving-point FRF \(modal "
                                          r"masses of both signs\): a transfer FRF cannot be "
                                          r"an impact body.*give the FRF measured there; if "
-                                         r"it is the one, fit it with passive=True$"):
+                                         r"it is the one, fit it with passive=True; if "
+                                         r"it was measured with an exponential window that "
+                                         r"the file does not state, give "
+                                         r"window_decay_rate=\.\.\. \(and record_length="
+                                         r"\.\.\.\)$"):
         predict("mass:1", two_mode_frf, velocity1=0.1, t_end=0.5)
 
 

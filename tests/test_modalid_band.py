@@ -112,6 +112,27 @@ def test_without_coherence_the_band_ends_where_the_hammer_stops_reaching():
     assert hi == freq[-1]
 
 
+def test_above_the_hammers_reach_only_lines_of_high_coherence_count():
+    """Averaged hits (coherence) of the same half-sine pulse, 20 dB down near line 1200:
+    where the coherence is fair (0.8: the coherence rule alone keeps such lines) the band
+    ends at the 20 dB point; where it stays at 0.999 to line 1600 and is fair above, it
+    ends near line 1600, and the reason says which rule ended it."""
+    freq, h = beam_frf()
+    force = half_sine_autospectrum(freq, 1.30 / freq[1200])
+    exact = freq[np.flatnonzero(force < 1e-2 * force.max())[0]]
+    line = freq[1] - freq[0]
+    fair = np.where(freq < exact, 0.999, 0.8)
+    (_, hi), reason = choose_band(FRFData(freq, h, coherence=fair))
+    assert hi == freq[-1]                            # the coherence rule alone keeps them
+    (_, hi), reason = choose_band(FRFData(freq, h, coherence=fair, excitation=force))
+    assert abs(hi - exact) <= 10 * line
+    assert "above the excitation's reach (20 dB below its peak) the smoothed coherence " \
+           "falls below 0.9" in reason
+    high = np.where(freq < freq[1600], 0.999, 0.8)
+    (_, hi), _ = choose_band(FRFData(freq, h, coherence=high, excitation=force))
+    assert abs(hi - freq[1600]) <= 10 * line
+
+
 def test_a_band_limited_excitation_ends_the_band_above_its_peak_only():
     """A shaker driven over the middle of the band only: its autospectrum is 40 dB down
     over the lowest 500 lines, flat over lines 500-1499 and falls away above. The band

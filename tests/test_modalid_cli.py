@@ -368,7 +368,8 @@ def test_hammer_command_writes_the_h1_and_the_flags_of_a_later_fit(hammer_test, 
     assert printed.startswith("3 hits from 3 files (hit0.npy ... hit2.npy): 1375 samples at "
                               "13.75 Hz (100 s); channels: time 0, force 1, response 2\n")
     flags = f"--window-decay {decay:.9g} --record-length 100"
-    assert f"fit it with: modalid fit {out} (and --fmax " in printed
+    assert (f"fit it with: modalid fit {out} (its automatic band keeps the lines above "
+            "where the force spectrum the file keeps falls 20 dB, near ") in printed
     assert f"the file keeps the exponential window and the record length ({flags})" in printed
     expected = frf_from_hammer(test.force, test.response, test.fs, response_type="velocity",
                                exponential_decay=decay).frf

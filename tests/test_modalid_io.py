@@ -147,13 +147,19 @@ def test_a_csv_states_how_it_was_measured_in_comments_and_a_uff_in_an_id_line(tm
                     "#window_decay_rate = 2\n" + table)
     back = read_frf(path)
     assert (back.window_decay_rate, back.record_length) == (2.0, 2.5)
-    for line, error in (("# record_length (1/s): 2", "record_length is in s"),
-                        ("# record_length: two", "record_length must be a number"),
-                        ("# window_decay_rate: -1", "window_decay_rate must be non-negative")):
+    for line, error in (("# record_length (1/s): 2", "the record length is stated in s, "
+                                                     "not '1/s'"),
+                        ("# window_decay_rate (1/ms): 0.0092", "the window's decay rate is "
+                                                              "stated in 1/s, not '1/ms'"),
+                        ("# record_length [ms]: 1000", "stated in s, not 'ms'"),
+                        ("# record_length: two", "the record length must be a number"),
+                        ("# record_length (s): inf", "must be finite and > 0"),
+                        ("# window_decay_rate: -1", "must be finite and >= 0 \\(1/s\\)"),
+                        ("# window_decay_rate 4.6", "write it as 'window_decay_rate \\(1/s\\)")):
         path.write_text(f"# quantity: mobility\n{line}\n{table}")
         with pytest.raises(ValueError, match=error) as raised:
             read_frf(path)
-        assert "a.csv" in str(raised.value)
+        assert str(raised.value).startswith(f"{path} says '{line}': ")
     for decay, length, binary in ((4.605170185988091, 1.0006000000000002, False),
                                   (4.605170185988091, 1.0006000000000002, True),
                                   (1.2345678901234567e-100, 1.2345678901234567e+100, False)):

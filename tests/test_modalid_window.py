@@ -179,11 +179,18 @@ def test_record_length_is_none_when_zero_padded():
     ({"window_decay_rate": float("nan")}, "window_decay_rate"),
     ({"record_length": 0.0}, "record_length"),
     ({"window_decay_rate": "0.1"}, "window_decay_rate"),
+    # lines 0.1 Hz apart: a 10 s record, ending at exp(-1e4): 1e3 1/s read as 1/ms?
+    ({"window_decay_rate": 1e3}, r"window_decay_rate=1000 1/s, ends the window at "
+                                 r"exp\(-1e\+04\) over the record \(10 s\): nothing"),
 ])
 def test_bad_window_options_are_named(kwargs, match):
     data = FRFData(np.linspace(0.1, 5, 50), np.ones(50) * (1 + 0j))
     with pytest.raises((ValueError, TypeError), match=match):
         ModalFit(**kwargs).fit(data)
+    stated = FRFData(data.freq_hz, data.values, window_decay_rate=1e3, record_length=0.5)
+    with pytest.raises(ValueError, match=r"the data's FRFData.window_decay_rate, 1000 1/s, "
+                                         r"ends the window at exp\(-500\) over the record"):
+        ModalFit().fit(stated)
 
 
 def test_window_options_need_an_frf(free_body):

@@ -17,6 +17,7 @@ from modalid.validation import (as_count, as_nonnegative_scalar, as_positive_sca
 
 from ..body import check_driving_point
 from ..contact import Hertz, InstantaneousImpact, LinearSpring, Rigid
+from ..engine import MAX_SAMPLES
 from ..engine.cycle_run import run
 from ._engine import Engine, EngineState
 from .excitation import BaseExcitation, HarmonicForce
@@ -24,7 +25,7 @@ from .result import DamperResult, DamperState, build_result
 
 #: most output samples one ``simulate`` call keeps (``n_cycles * samples_per_cycle``; as
 #: ``solve_impact``'s cap on samples): a longer run is continued with ``initial=``
-MAX_OUTPUT_SAMPLES = 4_000_000
+MAX_OUTPUT_SAMPLES = MAX_SAMPLES
 
 __all__ = ["ImpactDamper"]
 

@@ -32,3 +32,8 @@ Modules, bottom up (no module imports one above it):
 Contact laws themselves are :mod:`impactpred.contact` (``is_linear``, ``is_impulsive``
 say how the engine treats them). See ``docs/architecture.md``.
 """
+
+#: most time samples one run holds, the front ends' common cap (before any work, not as a
+#: MemoryError): a stepping solver's steps or an exact solver's output samples
+#: (``solve_impact``), a damper run's ``n_cycles * samples_per_cycle``
+MAX_SAMPLES = 4_000_000
