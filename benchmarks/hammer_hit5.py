@@ -197,14 +197,6 @@ def vf_output_error_fit(est, n_pairs, *, vf_iterations=15, vp_iterations=40):
 
 
 # ------------------------------------------------------------------------- main
-def as_measured_unstated(frf):
-    """``frf`` without its statement of the window and record length: the manual routes
-    below fit it as it is (then undo the window with ``HammerFRF.correct``), as a file
-    that does not say how it was measured is fitted."""
-    return modalid.FRFData(frf.freq_hz, frf.values, quantity=frf.quantity,
-                           coherence=frf.coherence, excitation=frf.excitation)
-
-
 def main():
     times = {}
     t0 = time.perf_counter()
@@ -252,7 +244,7 @@ def main():
     times["repeatability"] = time.perf_counter() - t0
 
     # peaks of H1 in the band: start values / mode list
-    frf = as_measured_unstated(est.frf)
+    frf = est.frf.with_measurement()
     inband = (frf.freq_hz >= BAND[0]) & (frf.freq_hz <= BAND[1])
     pk, _ = find_peaks(np.log10(np.abs(frf.values[inband])), prominence=0.5)
     peaks_hz = frf.freq_hz[inband][pk]
@@ -310,7 +302,7 @@ def main():
             warnings.simplefilter("always")
             fit = modalid.ModalFit(passive=False, freq_range=BAND, weights=weights,
                                    max_real=-(e.window_decay_rate + 1.0),
-                                   **kwargs).fit(as_measured_unstated(e.frf))
+                                   **kwargs).fit(e.frf.with_measurement())
         times[label] = time.perf_counter() - t0
         r = fit.report_
         note = (f"{r['n_modes']} modes + {r['upper_residual_modes']} upper + flexibility; "

@@ -121,9 +121,11 @@ def check_identification(fit, source, *, body: int) -> None:
                   "wrong" if verdict == "failed" else "")
         # an exponential window the file does not state shifts the poles and the mass
         # line: a windowed driving point read as it is looks like a transfer FRF
+        unstated = (getattr(fit, "window_decay_rate", 0.0) is None and getattr(
+            getattr(fit, "data_", None), "window_decay_rate", 0.0) is None)
         window = ("; if it was measured with an exponential window that the file does not "
                   "state, give window_decay_rate=... (and record_length=...)"
-                  if getattr(fit, "window_decay_rate_", None) == 0.0 else "")
+                  if unstated else "")
         raise ValueError(f"body {body}: {source} is not a driving-point FRF ({why}{failed}): "
                          "a transfer FRF cannot be an impact body, a body needs its "
                          "driving-point receptance (force and response at the contact "

@@ -16,7 +16,7 @@ import sys
 from pathlib import Path
 
 __all__ = ["run_command", "add_fit_options", "fit_options", "add_read_options", "read_options",
-           "in_flags", "check_out_dir", "nothing_saved"]
+           "in_flags", "check_out_dir", "nothing_saved", "window_line"]
 
 #: phrases whose value picks the flag (matched first, as written)
 _PHRASES = (("check_passive=False", "--no-passivity-check"),
@@ -144,12 +144,14 @@ def window_line(fit) -> str | None:
     length = getattr(fit, "record_length_", None)
     if not decay and length is None:
         return None
-    parts = [f"exponential decay {decay:.6g} 1/s"] if decay else []
-    parts += [] if length is None else [f"record length {length:.6g} s"]
-    from_file = any(getattr(fit, name) is None and getattr(fit.data_, name) is not None
-                    for name in ("window_decay_rate", "record_length"))
-    return (f"window modelled: {', '.join(parts)} "
-            f"({'as the file states' if from_file else 'as given'}; the model is the structure's)")
+    def whence(name):
+        return "as the file states" if getattr(fit, name) is None else "as given"
+
+    parts = [f"exponential decay {decay:.6g} 1/s ({whence('window_decay_rate')})"] if decay \
+        else []
+    parts += [] if length is None else [f"record length {length:.6g} s "
+                                        f"({whence('record_length')})"]
+    return f"window modelled: {', '.join(parts)}; the model is the structure's"
 
 
 def add_fit_options(parser: argparse.ArgumentParser, *, method_flags=("--method",)) -> None:

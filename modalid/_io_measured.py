@@ -10,28 +10,38 @@ written by :func:`modalid.write_frf` keeps them so that a fit of the file needs 
 * UFF dataset 58: its ID line 4 (80 characters of free text), the statements without
   their units, separated by ``;``: ``window_decay_rate: 4.6; record_length: 1`` (to 12
   significant digits where the shortest exact decimals would not fit).
+
+Read back, a statement is its name, an optional unit in brackets, ``:`` or ``=`` (or
+nothing), the value and an optional unit (``# record_length = 2.0 [s]``, ``# record_length:
+2 s # remark``). In a CSV a statement in another unit, not a number or out of range is
+refused; in a UFF ID line, another program's free text as often as ours, it is left out
+with a warning.
 """
 
 from __future__ import annotations
 
 import re
+import warnings
 
 import numpy as np
 
 #: the statements, with the unit each is written in
 MEASUREMENT_UNITS = {"window_decay_rate": "1/s", "record_length": "s"}
 
-#: a statement begins with its name; the rest must read ``[(unit)] : value``
+#: a statement begins with its name; the rest must read ``[(unit)] [:|=] value [unit]``
+#: (a trailing ``# remark`` allowed)
 _NAME = re.compile(r"\s*(window_decay_rate|record_length)\b", re.IGNORECASE)
-_REST = re.compile(r"\s*(?:[(\[]\s*([^)\]]*?)\s*[)\]])?\s*[:=]\s*(\S+)\s*$")
+_REST = re.compile(r"\s*(?:[(\[]\s*([^)\]]*?)\s*[)\]])?\s*[:=]?\s*([^\s#;]+)"
+                   r"(?:\s*[(\[]?\s*([^\s#;)\]]+)\s*[)\]]?)?\s*(?:#.*)?$")
 #: the words of the messages (a name with underscores would read as a flag on the
 #: command line, :func:`modalid._cli.in_flags`)
 _WORDS = {"window_decay_rate": "the window's decay rate", "record_length": "the record length"}
 
 
-def _stated(path, text: str, line: str) -> tuple[str, float] | None:
+def _stated(path, text: str, line: str, form: str) -> tuple[str, float] | None:
     """``(name, value)`` that ``text`` (of the file's ``line``) states, None for text
-    that names no statement.
+    that names no statement; ``form`` the format's way of writing it (``"{name}
+    ({unit}): VALUE"``), for the message.
 
     Raises
     ------
@@ -48,13 +58,14 @@ def _stated(path, text: str, line: str) -> tuple[str, float] | None:
     rest = _REST.match(text[named.end():])
     said = f"{path} says '{line.strip()}'"
     if rest is None:
-        raise ValueError(f"{said}: write it as '{name} ({unit}): VALUE'")
-    if rest.group(1) is not None and rest.group(1).replace(" ", "").lower() != unit:
-        raise ValueError(f"{said}: {words} is stated in {unit}, not {rest.group(1)!r}")
+        raise ValueError(f"{said}: write it as '{form.format(name=name, unit=unit)}'")
     try:
         value = float(rest.group(2))
     except ValueError:
         raise ValueError(f"{said}: {words} must be a number ({unit})") from None
+    for stated in (rest.group(1), rest.group(3)):
+        if stated is not None and stated.replace(" ", "").lower() != unit:
+            raise ValueError(f"{said}: {words} is stated in {unit}, not {stated!r}")
     if not np.isfinite(value) or value < 0 or (value == 0 and name == "record_length"):
         bound = ">= 0" if name == "window_decay_rate" else "> 0"
         raise ValueError(f"{said}: {words} must be finite and {bound} ({unit})")
@@ -70,20 +81,27 @@ def stated_in_comment(path, line: str) -> tuple[str, float] | None:
         The line names a statement with a wrong unit or a value that is not a number.
     """
     text = line.lstrip()
-    return _stated(path, text[1:], line) if text.startswith("#") else None
+    return (_stated(path, text[1:], line, "# {name} ({unit}): VALUE") if text.startswith("#")
+            else None)
 
 
 def stated_in_id_line(path, line) -> dict:
     """The statements of a UFF dataset's ID line (``;``-separated), by name.
 
-    Raises
-    ------
-    ValueError
-        As :func:`stated_in_comment`.
+    The line is another program's free text as often as ours: a part that names a
+    statement but does not read as one is left out with a ``UserWarning`` saying so (a
+    fit of the file then models what its settings say).
     """
-    said = (_stated(f"{path}'s ID line 4", part, part)
-            for part in str(line or "").split(";"))
-    return dict(pair for pair in said if pair is not None)
+    stated = {}
+    for part in str(line or "").split(";"):
+        try:
+            said = _stated(f"{path}'s ID line 4", part, part, "{name}: VALUE")
+        except ValueError as exc:
+            warnings.warn(f"{exc}; left out", UserWarning, stacklevel=6)
+            continue
+        if said is not None:
+            stated[said[0]] = said[1]
+    return stated
 
 
 def stated_in_arrays(source, arrays) -> dict:
@@ -127,6 +145,6 @@ def id_line(frf) -> str:
     characters), empty when it states none."""
     said = statements(frf).items()
     line = "; ".join(f"{name}: {value!r}" for name, value in said)
-    if len(line) > ID_LINE_LENGTH:                   # 12 digits: at most 71 characters
+    if len(line) > ID_LINE_LENGTH:                   # 12 digits: at most 72 characters
         line = "; ".join(f"{name}: {value:.12g}" for name, value in said)
     return line

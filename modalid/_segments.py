@@ -158,7 +158,7 @@ def segment_poles(estimator, band, n_peaks=0, n_distinct=None):
         The segment fits (their stabilization diagrams and reports).
     """
     f = band.freq_hz
-    shift = estimator.window_decay_rate_
+    shift = estimator._shift
     poles, stds, fits = [], [], []
     n_distinct = n_peaks if n_distinct is None else n_distinct
     edges = segment_edges(f.size, *segment_length(f.size, n_distinct))

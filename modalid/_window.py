@@ -51,6 +51,11 @@ __all__ = ["a2_unmodelled", "check_record_lines", "record_end_terms", "rigid_fac
            "structure_model", "truncation_factors", "unmodelled_record_end", "unwindow",
            "windowed_receptance"]
 
+#: the most ``sigma T`` an exponential window can have: ``exp(-700)`` is near the end of
+#: double precision (``exp(-745)`` is 0), nothing of the record is left; a rate in the
+#: wrong unit (1/ms for 1/s: a thousand times), not a window
+MOST_WINDOW_DECAY = 700.0
+
 #: the share of the data at the band's lowest lines above which the record end's terms
 #: a fit does not model make it "suspect" (:func:`unmodelled_record_end`)
 UNMODELLED_LIMIT = 0.2

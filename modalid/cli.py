@@ -177,7 +177,8 @@ def _excited_top(est) -> float:
 def _fit_flags(est) -> str:
     """The ``modalid fit`` / ``impactpred predict`` flags of the estimate's windows."""
     options = est.fit_options()
-    flags = [f"--window-decay {options['window_decay_rate']:.9g}"]
+    flags = ([f"--window-decay {options['window_decay_rate']:.9g}"]
+             if options["window_decay_rate"] else [])
     if options["record_length"] is not None:
         flags.append(f"--record-length {options['record_length']:.9g}")
     return " ".join(flags)
@@ -238,13 +239,19 @@ def _cmd_hammer(args) -> int:
                  "coherence stays at 0.9 or more)")
     else:
         reach = f"(and --fmax {_excited_top(est):.6g} to keep to the band the hammer excited)"
-    print(f"fit it with: modalid fit {target} {reach}; the file keeps the exponential "
-          f"window and the record length ({_fit_flags(est)}), which the fit then models; "
-          "impactpred predict takes the file as it is")
+    stated = [what for what, there in (("the exponential window", decay),
+                                       ("the record length", est.record_length is not None))
+              if there]
+    told = (f"; the file keeps {' and '.join(stated)} ({_fit_flags(est)}), which the fit "
+            "then models" if stated else "")
+    print(f"fit it with: modalid fit {target} {reach}{told}; impactpred predict takes the "
+          "file as it is")
     if not decay:
+        end = ("which the fit takes out (the file keeps the record length)"
+               if est.record_length is not None else
+               "which no fit can take out of a zero-padded FFT's lines")
         print(f"no exponential window: where a mode has not died out within the record, "
-              f"its end puts terms on the FRF's lowest lines, which the fit takes out (the "
-              f"file keeps the record length); --exponential-decay "
+              f"its end puts terms on the FRF's lowest lines, {end}; --exponential-decay "
               f"{4.6 * records.fs / n_samples:.3g} (a window ending at 1 %) makes them small")
     if out is None:
         print(nothing_saved("FILE writes the FRF with its coherence (.csv, .npz, .mat, .uff)"))

@@ -36,7 +36,7 @@ from ._fit_one import FitOne
 from ._frf_pipeline import FRFPipeline, ModalFitWarning
 from ._record_end import refit_without_record_end
 from ._verdict import driving_point_decision, judged_report
-from ._window import windowed_receptance
+from ._window import MOST_WINDOW_DECAY, windowed_receptance
 from .frf import FRFData, check_fittable
 from .frf_set import FRFSet
 from .model import ModalModel
@@ -44,11 +44,6 @@ from .quantities import receptance_to
 from .stabilization import plot_fit, plot_stabilization
 
 __all__ = ["ModalFit", "ModalFitWarning"]
-
-
-#: the most ``sigma T`` an exponential window can have (ending at exp(-100) of the record:
-#: a rate given in the wrong unit, not a window)
-_MOST_WINDOW_DECAY = 100.0
 
 
 class ModalFit(FitOne, FRFPipeline, FitLines, BaseEstimator):
@@ -318,7 +313,9 @@ class ModalFit(FitOne, FRFPipeline, FitLines, BaseEstimator):
                      "_record_cut", "window_decay_rate_", "record_length_"):
             self.__dict__.pop(name, None)         # a second fit starts afresh
         self._resolve_window(data)
-        windowed = self._windowed
+        # asked for by the settings (an FRFSet or ERA fit cannot model them; what an
+        # FRFData states is its own business)
+        windowed = bool(self.window_decay_rate) or self.record_length not in (None, np.inf)
         self._line_weights = self._given_weights(weights)
         weighted = self._line_weights is not None
         if isinstance(data, FRFSet) and (weighted or self.max_real is not None or windowed):
@@ -420,25 +417,24 @@ class ModalFit(FitOne, FRFPipeline, FitLines, BaseEstimator):
             # to the 9 digits a command line's flags print
             if stated is not None and mine is not None and not np.isclose(
                     mine, stated, rtol=1e-8, atol=0.0) and not self.__dict__.get("_segment_of"):
-                models = "no record end" if np.isposinf(mine) else f"{mine:g}"
-                warnings.warn(f"{name}={mine:g} given, but the data state {stated:g} (how "
+                models = "no record end" if np.isposinf(mine) else f"{mine:.9g}"
+                warnings.warn(f"{name}={mine:.9g} given, but the data state {stated:.9g} (how "
                               f"they were measured, FRFData.{name}): the fit models "
                               f"{models}", UserWarning, stacklevel=3)
             self.__dict__[name + "_"] = (stated if mine is None else mine)
         self.window_decay_rate_ = float(self.window_decay_rate_ or 0.0)
         if self.record_length_ is not None and np.isposinf(self.record_length_):
             self.record_length_ = None                   # an endless record: no end
-        if self.window_decay_rate_ and isinstance(data, FRFData) and len(data) > 1:
-            # the record's length, or the one its line spacing implies
-            span = self.record_length_ or 1.0 / float(np.median(np.diff(data.freq_hz)))
-            if self.window_decay_rate_ * span > _MOST_WINDOW_DECAY:
-                whose = ("window_decay_rate=" if decay is not None
-                         else "the data's FRFData.window_decay_rate, ")
-                raise ValueError(
-                    f"{whose}{self.window_decay_rate_:g} 1/s, ends the window at "
-                    f"exp(-{self.window_decay_rate_ * span:.3g}) over the record ({span:.4g} "
-                    "s): nothing of the record would be left; give the decay rate in 1/s "
-                    "(for a window ending at e: -ln(e)/T)")
+        # (the record's length only: the line spacing of a zero-padded FFT is not it)
+        span = self.record_length_
+        if span is not None and self.window_decay_rate_ * span > MOST_WINDOW_DECAY:
+            whose = ("window_decay_rate=" if decay is not None
+                     else "the data's FRFData.window_decay_rate, ")
+            raise ValueError(
+                f"{whose}{self.window_decay_rate_:g} 1/s, ends the window at "
+                f"exp(-{self.window_decay_rate_ * span:.3g}) over the record ({span:.4g} s): "
+                "nothing of the record would be left; give the decay rate in 1/s (for a "
+                "window ending at a fraction r of its start: -ln(r)/T)")
 
     @property
     def _passive_on(self) -> bool:
@@ -455,8 +451,14 @@ class ModalFit(FitOne, FRFPipeline, FitLines, BaseEstimator):
     def _windowed(self) -> bool:
         """An exponential window or a record's end to model (``window_decay_rate_``,
         ``record_length_``; before a fit, the settings)."""
-        return bool(self._shift) or self.__dict__.get(
-            "record_length_", self.record_length) not in (None, np.inf)
+        return bool(self._shift) or self._record is not None
+
+    @property
+    def _record(self):
+        """The record length modelled (``record_length_``; before a fit, or for a fit
+        pickled before it existed, the setting), None for none."""
+        length = self.__dict__.get("record_length_", self.record_length)
+        return None if length is None or np.isposinf(length) else float(length)
 
     @property
     def _shift(self) -> float:
@@ -525,8 +527,8 @@ class ModalFit(FitOne, FRFPipeline, FitLines, BaseEstimator):
         ``record_length``."""
         if self.method == "era" or not self._windowed:
             return self.model_.frf(data.omega, quantity=data.quantity)
-        h = windowed_receptance(self.model_, data.omega, self.window_decay_rate_,
-                                self.record_length_, quantity=self.data_.quantity,
+        h = windowed_receptance(self.model_, data.omega, self._shift,
+                                self._record, quantity=self.data_.quantity,
                                 cut=getattr(self, "_record_cut", None))
         return receptance_to(data.quantity, h, data.omega)
 

@@ -212,6 +212,26 @@ class FRFData:
         """
         return self.convert("receptance")
 
+    def with_measurement(self, *, window_decay_rate=None, record_length=None) -> FRFData:
+        """The same FRF stating how it was measured as given (``None``: not stated).
+
+        For an FRF from a file that does not say (another program's export), or to fit
+        one as it is: ``frf.with_measurement()`` states nothing.
+
+        Parameters
+        ----------
+        window_decay_rate : float, optional, keyword-only
+            The exponential window's decay rate (1/s, >= 0).
+        record_length : float, optional, keyword-only
+            The records' length (s, > 0), their DFT not zero-padded.
+
+        Returns
+        -------
+        FRFData
+        """
+        return self._replaced(window_decay_rate=window_decay_rate,
+                              record_length=record_length)
+
     def select(self, index) -> FRFData:
         """A subset of the lines (slice, boolean mask or indices).
 

@@ -4,9 +4,13 @@ The workflow of a roving- or fixed-hammer test, one excitation/response pair::
 
     est = frf_from_hammer(force, acceleration, fs, response_type="acceleration",
                           exponential_decay=4.6)      # records: (n_hits, n_samples)
-    est.frf                      # FRFData (accelerance), with coherence for >= 2 hits
-    fitted = ...                 # a ModalModel identified from est.frf
-    true_model = est.correct(fitted)   # undo the damping added by the exponential window
+    est.frf                      # FRFData (accelerance), with coherence for >= 2 hits,
+                                 # stating its window and record length
+    fit = ModalFit().fit(est.frf)      # models what est.frf states: fit.model_ is the
+                                       # structure's, the window's damping undone
+    # est.correct(model) is for a model fitted to the windowed FRF as it is (another
+    # tool's, or ModalFit(window_decay_rate=0, record_length=numpy.inf)): never for
+    # fit.model_ above, whose window is already undone
 
 Conventions: time records start at ``t = 0`` (the first sample), sampled at ``fs`` Hz;
 force in N, response in m, m/s or m/s^2 (``response_type``); spectra are one-sided
@@ -25,6 +29,7 @@ import scipy.signal
 
 from ._checks import (as_choice, as_complex_array, as_count, as_nonnegative_scalar,
                       as_positive_scalar, as_real_array, as_real_scalar)
+from ._window import MOST_WINDOW_DECAY
 from .frf import FRFData
 from .model import ModalModel
 
@@ -111,10 +116,16 @@ class HammerFRF:
         with ``decay_rate = window_decay_rate`` (poles only: for a model fitted with the
         rigid line ``1/(M s^2)`` and no truncation correction).
 
+        Not for ``ModalFit().fit(est.frf).model_``: :attr:`frf` states its window, which
+        that fit models, so its model is the structure's already (correcting it again
+        moves every pole by twice the window's decay).
+
         Parameters
         ----------
         model_or_poles : ModalModel or array_like of complex
-            A model fitted to :attr:`frf`, or its poles (rad/s).
+            A model fitted to :attr:`frf` as it is, without the window modelled (another
+            tool's, or ``ModalFit(window_decay_rate=0, record_length=numpy.inf)``'s), or
+            its poles (rad/s).
 
         Returns
         -------
@@ -385,7 +396,8 @@ def frf_from_hammer(force, response, fs, *, response_type="acceleration",
     ``1 - exp((p_k - sigma_w) T)`` (up to 1 % with a window ending at 1 %) and a free
     body's rigid line by ``1 - exp(-sigma_w T)``, whose windowed form is
     ``1/(M (s + sigma_w)^2)``. ``ModalFit(**est.fit_options())`` models all of this
-    exactly (:mod:`modalid._window`).
+    exactly (:mod:`modalid._window`), and ``ModalFit()`` does it unasked: ``frf`` states
+    ``window_decay_rate`` and ``record_length``.
 
     Raises
     ------
@@ -408,6 +420,11 @@ def frf_from_hammer(force, response, fs, *, response_type="acceleration",
                          f"and {responses.shape}")
     n_hits, n_samples = forces.shape
     duration = n_samples / fs
+    if decay * duration > MOST_WINDOW_DECAY:      # nothing left: a rate in the wrong unit
+        raise ValueError(f"exponential_decay={decay:g} 1/s ends the window at "
+                         f"exp(-{decay * duration:.3g}) over the {duration:.4g} s records: "
+                         "nothing of them would be left; give it in 1/s (a window ending at "
+                         "a fraction r of its start: -ln(r)/T)")
     if n_fft is None:
         n_fft = n_samples
     n_fft = as_count("n_fft", n_fft, minimum=1)
@@ -528,9 +545,12 @@ def correct_exponential_window(model_or_poles, decay_rate):
             bad = windowed[moved.real >= 0][0]
             bad = f"{float(bad)!r}" if np.isrealobj(windowed) else f"{complex(bad):.6g}"
             raise ValueError(f"decay_rate {decay_rate!r} moves the {kind} {bad} to Re p >= "
-                             f"0: it was not damped by the window alone (fit the windowed "
-                             f"FRF with ModalFit(**est.fit_options()), or max_real="
-                             f"-(decay_rate + margin))")
+                             f"0: it was not damped by the window alone (a model whose "
+                             "window a fit undid already, as ModalFit() does for an FRF "
+                             "that states its window, is the structure's: do not correct "
+                             "it; else fit the windowed FRF with ModalFit(), which models "
+                             "the window, or bound its poles: max_real=-(decay_rate + "
+                             "margin))")
         return moved
 
     if isinstance(model_or_poles, ModalModel):

@@ -587,18 +587,20 @@ def test_a_rod_fitted_from_between_its_modes_keeps_a_passive_lower_pseudo_mode(t
 
 
 def test_a_transfer_frf_refusal_names_an_unstated_window():
-    """A body whose fit says "not a driving point" is refused; when the fit modelled no
-    exponential window the message says that one the file does not state reads so too
-    (a windowed driving point's shifted mass line and poles); a fit that modelled one
-    is not told so."""
+    """A body whose fit says "not a driving point" is refused; when neither the file nor
+    the settings said anything of a window the message says that one the file does not
+    state reads so too (a windowed driving point's shifted mass line and poles); a file
+    that states one (or none: 0) or a setting given is not told so."""
     from types import SimpleNamespace
 
     from impactpred.predict import check_identification
 
     report = {"driving_point": False, "driving_point_reason": "modal masses of both signs",
               "verdict": "ok"}
-    for decay, said in ((0.0, True), (4.6, False)):
-        fit = SimpleNamespace(report_=report, window_decay_rate_=decay)
+    for setting, stated, said in ((None, None, True), (None, 0.0, False), (None, 4.6, False),
+                                  (0.0, None, False)):
+        fit = SimpleNamespace(report_=report, window_decay_rate=setting,
+                              data_=SimpleNamespace(window_decay_rate=stated))
         with pytest.raises(ValueError, match="is not a driving-point FRF") as raised:
             check_identification(fit, "h.csv", body=2)
         assert ("an exponential window that the file does not state, give "

@@ -290,6 +290,11 @@ def test_frf_data_states_how_it_was_measured_and_keeps_it():
         assert (kept.window_decay_rate, kept.record_length) == (4.6, 1.0)
     bare = FRFData(freq, np.ones(4))
     assert (bare.window_decay_rate, bare.record_length) == (None, None)
+    dropped = one.with_measurement()                # the same lines, stating nothing
+    assert (dropped.window_decay_rate, dropped.record_length) == (None, None)
+    np.testing.assert_array_equal(dropped.values, one.values)
+    assert dropped.excitation is one.excitation and dropped.quantity == "accelerance"
+    assert bare.with_measurement(record_length=2.0).record_length == 2.0
     for name, bad in (("window_decay_rate", -1.0), ("record_length", 0.0),
                       ("record_length", np.inf)):
         with pytest.raises(ValueError, match=name):

@@ -147,6 +147,10 @@ def test_a_csv_states_how_it_was_measured_in_comments_and_a_uff_in_an_id_line(tm
                     "#window_decay_rate = 2\n" + table)
     back = read_frf(path)
     assert (back.window_decay_rate, back.record_length) == (2.0, 2.5)
+    for line in ("# record_length: 2.5 s", "# Record_length = 2.5 [s]", "# RECORD_LENGTH 2.5",
+                 "# record_length: 2.5 # measured"):   # other programs' ways of writing it
+        path.write_text(f"# quantity: mobility\n{line}\n{table}")
+        assert read_frf(path).record_length == 2.5
     for line, error in (("# record_length (1/s): 2", "the record length is stated in s, "
                                                      "not '1/s'"),
                         ("# window_decay_rate (1/ms): 0.0092", "the window's decay rate is "
@@ -155,7 +159,9 @@ def test_a_csv_states_how_it_was_measured_in_comments_and_a_uff_in_an_id_line(tm
                         ("# record_length: two", "the record length must be a number"),
                         ("# record_length (s): inf", "must be finite and > 0"),
                         ("# window_decay_rate: -1", "must be finite and >= 0 \\(1/s\\)"),
-                        ("# window_decay_rate 4.6", "write it as 'window_decay_rate \\(1/s\\)")):
+                        ("# record_length: 2 ms", "stated in s, not 'ms'"),
+                        ("# window_decay_rate (1/s) 4.6 and more",
+                         "write it as '# window_decay_rate \\(1/s\\)")):
         path.write_text(f"# quantity: mobility\n{line}\n{table}")
         with pytest.raises(ValueError, match=error) as raised:
             read_frf(path)
@@ -171,6 +177,18 @@ def test_a_csv_states_how_it_was_measured_in_comments_and_a_uff_in_an_id_line(tm
         assert back.record_length == (length if exact else pytest.approx(length, rel=1e-11))
     write_frf(tmp_path / "bare.uff", FRFData([1.0, 2.0], [1.0, 0.5j]))
     assert read_frf(tmp_path / "bare.uff").record_length is None
+    # another program's ID line 4: what does not read as a statement is left out, said
+    import pyuff
+
+    uff = pyuff.UFF(str(tmp_path / "bare.uff"))
+    sets = uff.read_sets()
+    sets = [sets] if isinstance(sets, dict) else sets
+    sets[0]["id4"] = "record_length measured twice; window_decay_rate: 2"
+    pyuff.UFF(str(tmp_path / "vendor.uff")).write_sets(sets, mode="add")
+    with pytest.warns(UserWarning, match="ID line 4 says 'record_length measured twice': "
+                                         "the record length must be a number"):
+        back = read_frf(tmp_path / "vendor.uff")
+    assert (back.window_decay_rate, back.record_length) == (2.0, None)
 
 
 @pytest.mark.parametrize("quantity", QUANTITIES)

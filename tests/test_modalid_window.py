@@ -179,17 +179,39 @@ def test_record_length_is_none_when_zero_padded():
     ({"window_decay_rate": float("nan")}, "window_decay_rate"),
     ({"record_length": 0.0}, "record_length"),
     ({"window_decay_rate": "0.1"}, "window_decay_rate"),
-    # lines 0.1 Hz apart: a 10 s record, ending at exp(-1e4): 1e3 1/s read as 1/ms?
-    ({"window_decay_rate": 1e3}, r"window_decay_rate=1000 1/s, ends the window at "
-                                 r"exp\(-1e\+04\) over the record \(10 s\): nothing"),
+    # a 10 s record ending at exp(-1e4): 1e3 1/s read as 1/ms?
+    ({"window_decay_rate": 1e3, "record_length": 10.0},
+     r"window_decay_rate=1000 1/s, ends the window at exp\(-1e\+04\) over the record "
+     r"\(10 s\): nothing"),
 ])
 def test_bad_window_options_are_named(kwargs, match):
     data = FRFData(np.linspace(0.1, 5, 50), np.ones(50) * (1 + 0j))
     with pytest.raises((ValueError, TypeError), match=match):
         ModalFit(**kwargs).fit(data)
-    stated = FRFData(data.freq_hz, data.values, window_decay_rate=1e3, record_length=0.5)
-    with pytest.raises(ValueError, match=r"the data's FRFData.window_decay_rate, 1000 1/s, "
-                                         r"ends the window at exp\(-500\) over the record"):
+
+
+def test_a_window_that_leaves_nothing_is_refused_but_zero_padding_is_no_record():
+    """A stated decay rate that ends the window at exp(-2000) of the record is refused
+    before the fit, naming where it came from, as is the same rate in frf_from_hammer; a
+    zero-padded FFT (32 times: lines 1/32 Hz apart, a 1 s record) with a window ending at
+    exp(-5) is fitted: its line spacing is not the record's length."""
+    truth = ModalModel.from_modes(2 * np.pi * np.array([3.0, 7.0]), [0.01, 0.01], [1.0, 2.0])
+    test = synthetic_hammer_test(truth, 100.0, 1.0, pulse_width=0.03, response="velocity",
+                                 anti_alias=True)
+    with pytest.raises(ValueError, match=r"exponential_decay=1000 1/s ends the window at "
+                                         r"exp\(-1e\+03\) over the 1 s records"):
+        frf_from_hammer(test.force, test.response, 100.0, response_type="velocity",
+                        exponential_decay=1e3)
+    padded = frf_from_hammer(test.force, test.response, 100.0, response_type="velocity",
+                             exponential_decay=5.0, n_fft=3200)
+    assert padded.frf.record_length is None and padded.frf.window_decay_rate == 5.0
+    fit = ModalFit(freq_range=(1.0, 12.0)).fit(padded.frf)
+    assert fit.window_decay_rate_ == 5.0 and fit.record_length_ is None
+    np.testing.assert_allclose(np.sort(np.abs(fit.poles_)), np.abs(truth.poles), rtol=1e-2)
+    stated = padded.frf.with_measurement(window_decay_rate=2e3, record_length=1.0)
+    with pytest.raises(ValueError, match=r"the data's FRFData.window_decay_rate, 2000 1/s, "
+                                         r"ends the window at exp\(-2e\+03\) over the "
+                                         r"record"):
         ModalFit().fit(stated)
 
 
