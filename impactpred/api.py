@@ -16,8 +16,8 @@ from ._energy_terms import contact_energy, dashpot_dissipation, exchangeable_ene
 from .body import Body, SampledResponse
 from .contact import Hertz, LinearSpring, Rigid, check_contact
 from .damper.excitation import HarmonicForce
-from .parallel import one_blas_thread
 from .engine import MAX_SAMPLES
+from .parallel import one_blas_thread
 from .result import EnergyAudit, EnergyWarning, ImpactResult
 from .solvers.closed_form import applies_closed_form, solve_closed_form
 from .solvers.convolution import solve_convolution

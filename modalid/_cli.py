@@ -144,6 +144,7 @@ def window_line(fit) -> str | None:
     length = getattr(fit, "record_length_", None)
     if not decay and length is None:
         return None
+
     def whence(name):
         return "as the file states" if getattr(fit, name) is None else "as given"
 

@@ -64,8 +64,8 @@ class FitLines:
                                  f"line of the data), got shape {given.shape}")
             given = given[data.freq_hz > 0]
         data = data.select(data.freq_hz > 0)
-        if self.record_length_ is not None:
-            check_record_lines(data.freq_hz, self.record_length_)
+        if self._record is not None:
+            check_record_lines(data.freq_hz, self._record)
         first = data.freq_hz[0]
         def automatic():                              # the lines the data can vouch for
             # an exponential window's model describes the low end (its mass line); a

@@ -530,12 +530,12 @@ class FRFPipeline(PoleChecks, LowEnd):
         fit_poles = poles                    # where the residual's lines are (windowed)
         if self._windowed:
             fitted_model, window = structure_model(
-                fitted_model, kinds, decay_rate=self._shift, record_length=self.record_length_,
+                fitted_model, kinds, decay_rate=self._shift, record_length=self._record,
                 quantity=band.quantity, data=band, removed=self.__dict__.get("_end_removed"))
             poles, residues = fitted_model.poles, fitted_model.residues
             if window["window_clipped"]:   # a pole moved: judged as delivered
                 own = receptance_to(band.quantity, windowed_receptance(
-                    fitted_model, band.omega, self._shift, self.record_length_,
+                    fitted_model, band.omega, self._shift, self._record,
                     quantity=band.quantity, cut=window["record_cut"]),
                     band.omega) - band.values - window["record_end_gone"]
         self.model_, self._record_cut = fitted_model, window.get("record_cut")

@@ -49,8 +49,8 @@ def refit_without_record_end(est, data: FRFData, auto: bool):
     if share is None or not share > REFIT_ABOVE:
         _say_again(said)
         return est
-    terms = record_end_terms(est.model_, data.omega, decay_rate=est.window_decay_rate_,
-                             record_length=est.record_length_, quantity=data.quantity,
+    terms = record_end_terms(est.model_, data.omega, decay_rate=est._shift,
+                             record_length=est._record, quantity=data.quantity,
                              cut=est._record_cut)
     with_a2 = a2_unmodelled(est.model_, data.quantity)
     corrected = data._replaced(values=data.values - terms)

@@ -46,6 +46,11 @@ from .stabilization import plot_fit, plot_stabilization
 __all__ = ["ModalFit", "ModalFitWarning"]
 
 
+def _finite_record(length):
+    """A record length (s) as modelled: None for none, or for an endless record (inf)."""
+    return None if length is None or np.isposinf(length) else float(length)
+
+
 class ModalFit(FitOne, FRFPipeline, FitLines, BaseEstimator):
     """Identify a pole-residue driving-point receptance.
 
@@ -313,9 +318,8 @@ class ModalFit(FitOne, FRFPipeline, FitLines, BaseEstimator):
                      "_record_cut", "window_decay_rate_", "record_length_"):
             self.__dict__.pop(name, None)         # a second fit starts afresh
         self._resolve_window(data)
-        # asked for by the settings (an FRFSet or ERA fit cannot model them; what an
-        # FRFData states is its own business)
-        windowed = bool(self.window_decay_rate) or self.record_length not in (None, np.inf)
+        # asked for by the settings (an FRFSet or ERA fit cannot model them)
+        windowed = bool(self.window_decay_rate) or _finite_record(self.record_length) is not None
         self._line_weights = self._given_weights(weights)
         weighted = self._line_weights is not None
         if isinstance(data, FRFSet) and (weighted or self.max_real is not None or windowed):
@@ -412,6 +416,7 @@ class ModalFit(FitOne, FRFPipeline, FitLines, BaseEstimator):
         if length is not None and not (isinstance(length, (float, np.floating))
                                        and np.isposinf(length)):
             length = as_positive_scalar("record_length", length)
+        modelled = {}
         for name, mine in (("window_decay_rate", decay), ("record_length", length)):
             stated = getattr(data, name, None) if isinstance(data, FRFData) else None
             # to the 9 digits a command line's flags print
@@ -421,10 +426,9 @@ class ModalFit(FitOne, FRFPipeline, FitLines, BaseEstimator):
                 warnings.warn(f"{name}={mine:.9g} given, but the data state {stated:.9g} (how "
                               f"they were measured, FRFData.{name}): the fit models "
                               f"{models}", UserWarning, stacklevel=3)
-            self.__dict__[name + "_"] = (stated if mine is None else mine)
-        self.window_decay_rate_ = float(self.window_decay_rate_ or 0.0)
-        if self.record_length_ is not None and np.isposinf(self.record_length_):
-            self.record_length_ = None                   # an endless record: no end
+            modelled[name] = stated if mine is None else mine
+        self.window_decay_rate_ = float(modelled["window_decay_rate"] or 0.0)
+        self.record_length_ = _finite_record(modelled["record_length"])
         # (the record's length only: the line spacing of a zero-padded FFT is not it)
         span = self.record_length_
         if span is not None and self.window_decay_rate_ * span > MOST_WINDOW_DECAY:
@@ -457,8 +461,7 @@ class ModalFit(FitOne, FRFPipeline, FitLines, BaseEstimator):
     def _record(self):
         """The record length modelled (``record_length_``; before a fit, or for a fit
         pickled before it existed, the setting), None for none."""
-        length = self.__dict__.get("record_length_", self.record_length)
-        return None if length is None or np.isposinf(length) else float(length)
+        return _finite_record(self.__dict__.get("record_length_", self.record_length))
 
     @property
     def _shift(self) -> float:
