@@ -112,7 +112,12 @@ def _checked_frf(path, options, *, label="", check_passive=True):
     """The FRF of ``path``, refused when stored with the other sign convention or, as a
     driving point (``check_passive``), with its sign reversed (see
     :func:`modalid.io.check_sign`)."""
-    data = read_frf(path, **options)
+    try:
+        data = read_frf(path, **options)
+    except (ValueError, TypeError) as exc:     # which body's file, for two of them
+        if not label:
+            raise
+        raise type(exc)(label + str(exc)) from exc
     _check_frf_sign(data, path, label=label, check_passive=check_passive)
     return data
 

@@ -10,6 +10,9 @@ from pathlib import Path
 from modalid._cli import (add_fit_options, add_read_options, check_out_dir, fit_options,
                           in_flags, nothing_saved, read_options, run_command, window_line)
 
+from ._cli_bodies import (BODY_FLAGS_HELP, add_body_flags, body_args, for_body,
+                          identification_flags)
+
 __all__ = ["main"]
 
 #: ``impactpred models`` prints at most this many frequencies per model
@@ -102,23 +105,13 @@ def _audit_line(res) -> str:
             f"{100 * audit.tolerance:.3g} %): {verdict}")
 
 
-def _body_read_options(args, spec) -> dict:
-    """The ``read_frf`` options of body ``spec`` when it is an FRF file, else ``{}``."""
-    path = Path(spec)
+def _body_read_options(args, body: int) -> dict:
+    """The ``read_frf`` options of body ``body`` (1 or 2) when it is an FRF file, else
+    ``{}``: its own flags (``--conjugate2``) over the common ones."""
+    path = Path(getattr(args, f"body{body}"))
     if not path.is_file() or path.suffix.lower() == ".json":
         return {}
-    return read_options(args, path)
-
-
-def _identification_flags() -> dict:
-    """Destination -> flag of every option that says how an FRF file is read and
-    identified: the ones :func:`add_fit_options` and :func:`add_read_options` add."""
-    import argparse
-
-    parser = argparse.ArgumentParser(add_help=False)
-    add_fit_options(parser, method_flags=("--fit-method",))
-    add_read_options(parser)
-    return {action.dest: action.option_strings[0] for action in parser._actions}
+    return read_options(body_args(args, body), path)
 
 
 def _check_identification_flags(args) -> str | None:
@@ -127,26 +120,37 @@ def _check_identification_flags(args) -> str | None:
     The flags apply to the bodies given as FRF files. With none, they would change
     nothing: a ``ValueError`` says why (a saved fit or model is identified already, a spec
     is exact). With one, a saved ``.json`` beside it keeps its own identification: the
-    returned sentence says so (None when there is nothing to say).
+    returned sentence says so (None when there is nothing to say). A body's own flags
+    (``--conjugate2``) given for a body that is no file are refused.
     """
-    options = _identification_flags()
-    given = [flag if value is True else f"{flag} {value}" for dest, flag in options.items()
-             if (value := getattr(args, dest, None)) is not None and value is not False]
-    if not given:
-        return None
     from ._specs import is_spec
+
+    def given(options):
+        return [flag if value is True else f"{flag} {value}" for dest, flag in options.items()
+                if (value := getattr(args, dest, None)) is not None and value is not False]
 
     specs = (args.body1, args.body2)
     saved = [not is_spec(s) and Path(s).suffix.lower() == ".json" for s in specs]
     files = [not is_spec(s) and not is_saved for s, is_saved in zip(specs, saved)]
-    flags = " ".join(given)
+    common = identification_flags(per_body=False)
+    for i, (spec, is_file, is_saved) in enumerate(zip(specs, files, saved), start=1):
+        own = given({f"{dest}_{i}": f"{flag}{i}" for dest, flag in common.items()})
+        if own and not is_file:
+            what = ("a saved fit or model, identified already: fit its FRF file again with "
+                    "them and save it" if is_saved else "an exact model")
+            raise ValueError(f"{' '.join(own)}: how body {i}'s FRF file is read and "
+                             f"identified, and body {i} ({spec}) is {what}")
+    common_given = given(common)
+    if not common_given:
+        return None
+    flags = " ".join(common_given)
     if not any(files):
         what = "; ".join(
             f"body {i} ({s}) is a saved fit or model, identified already: fit its FRF file "
             f"again with them and save it (modalid fit FILE {flags} --out DIR)" if is_saved
             else f"body {i} ({s}) is an exact model"
             for i, (s, is_saved) in enumerate(zip(specs, saved), start=1))
-        say = "these options say" if len(given) > 1 else "this option says"
+        say = "these options say" if len(common_given) > 1 else "this option says"
         raise ValueError(f"{flags}: {say} how an FRF file is read and identified, and "
                          f"neither body is one: {what}")
     ignored = [f"body {i} ({s})" for i, (s, is_saved) in enumerate(zip(specs, saved), start=1)
@@ -167,8 +171,10 @@ def _run_predict(args):
 
     from .predict import predict
 
-    # the same estimator as ``modalid fit`` builds: one line a segment of a wide band
-    estimator = ModalFit(progress=True, **fit_options(args))
+    # the same estimator as ``modalid fit`` builds (one line a segment of a wide band),
+    # each body's own flags over the common ones
+    estimator = tuple(ModalFit(progress=True, **fit_options(body_args(args, body)))
+                      for body in (1, 2))
     ignored = _check_identification_flags(args)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
@@ -180,8 +186,8 @@ def _run_predict(args):
                            method=args.method, continuation=args.continuation,
                            uncertainty=args.uncertainty,
                            estimator=estimator,
-                           read_options=tuple(_body_read_options(args, spec)
-                                              for spec in (args.body1, args.body2)),
+                           read_options=tuple(_body_read_options(args, body)
+                                              for body in (1, 2)),
                            check_passive=not args.no_passivity_check, progress=True)
         except RuntimeError as exc:
             if isinstance(exc, (NotImplementedError, RecursionError)):
@@ -223,8 +229,11 @@ def _print_bodies(args, pred) -> None:
             with pd.option_context("display.width", 140,
                                    "display.float_format", "{:.6g}".format):
                 print(modes[columns].to_string())
-        print(f"  rigid body: {report.get('rigid_body', 'n/a')}, effective mass "
-              f"{figure(report, 'effective_mass', '.6g')} kg, residual flexibility "
+        inverse_mass = report.get("inverse_mass")
+        mass = (f" (mass {1 / inverse_mass:.6g} kg)" if report.get("rigid_body")
+                and inverse_mass else "")
+        print(f"  rigid body: {report.get('rigid_body', 'n/a')}{mass}, effective mass over "
+              f"the band {figure(report, 'effective_mass', '.6g')} kg, residual flexibility "
               f"{figure(report, 'residual_flexibility', '.6g')} m/N; force energy above the "
               f"band: {100 * pred.band_reach[i - 1]:.2f} %, below it: "
               f"{100 * pred.band_reach_below[i - 1]:.2f} %")
@@ -297,10 +306,13 @@ def _save_predict(pred, summary, out: Path) -> None:
 
 def _cmd_predict(args) -> int:
     out = check_out_dir(args.out)                 # before any work
-    pred, caught = _run_predict(args)
+    try:
+        pred, caught = _run_predict(args)
+    except ValueError as exc:                     # a body's remedy in that body's flags
+        raise ValueError(for_body(in_flags(exc), args)) from None
     _print_bodies(args, pred)
     for w in caught:
-        print(f"warning: {in_flags(w.message)}", file=sys.stderr)
+        print(f"warning: {for_body(in_flags(w.message), args)}", file=sys.stderr)
     summary = pred.result.headline()
     if any(note is not None for note in pred.continuation):
         summary["continuation"] = _continuation_line(pred).split(": ", 1)[1]
@@ -407,10 +419,12 @@ def _add_predict_parser(sub) -> None:
                            "flags energy from nowhere. An FRF file its fit finds to be a "
                            "transfer FRF is refused all the same (--driving-point yes fits "
                            "it as a driving point)")
-    read = pred.add_argument_group("reading the FRF files (as modalid fit)")
+    read = pred.add_argument_group("reading the FRF files (as modalid fit)",
+                                   description=BODY_FLAGS_HELP)
     add_read_options(read)
     fit = pred.add_argument_group("identifying the FRF files (as modalid fit)")
     add_fit_options(fit, method_flags=("--fit-method",))
+    add_body_flags(pred)
     pred.add_argument("--out", metavar="DIR", help="folder for the CSV files (units in "
                       "their headers) and the plot (default: nothing saved)")
     pred.set_defaults(func=_cmd_predict)

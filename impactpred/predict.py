@@ -116,7 +116,10 @@ def check_identification(fit, source, *, body: int) -> None:
         why = report.get("driving_point_reason") or reasons
         fix = (" (or, if it is the driving point with its sign reversed, read it with "
                "read_options={'negate': True}; with its quantity stated wrong, with "
-               f"quantity=...{refit})" if "sign reversed" in why else "")
+               f"quantity=...{refit})" if "sign reversed" in why else
+               f" (or, if its quantity is given or stated wrong, read it with the right "
+               f"quantity=...{refit}: an accelerance read as a mobility has modal masses of "
+               "both signs too)")
         failed = (f"; the fit this decision rests on failed ({reasons}), so it may be "
                   "wrong" if verdict == "failed" else "")
         # an exponential window the file does not state shifts the poles and the mass
@@ -321,12 +324,12 @@ def _check_model(model, spec, body: int, check_passive: bool) -> None:
 
 def _bodies(specs, *, quantity, estimator, read_options, check_passive):
     """``(models, fits)`` of the two bodies, checked: an identified body's model as
-    identified (no continuation), its fit (a clone of ``estimator``) judged by
+    identified (no continuation), its fit (a clone of its ``estimator``, a pair) judged by
     :func:`check_identification`."""
     models, fits = [], []
     for i, (spec, options) in enumerate(zip(specs, read_options_pair(read_options, specs)),
                                         start=1):
-        model, fit = identify(spec, quantity=quantity, estimator=estimator,
+        model, fit = identify(spec, quantity=quantity, estimator=estimator[i - 1],
                                read_options=options, check_passive=check_passive,
                                label=f"body {i}: ")
         if fit is not None:
@@ -405,9 +408,10 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
     executor : None, concurrent.futures.Executor or dask.distributed.Client
         Where the uncertainty band's re-identifications and solves run (``None``: here,
         one after the other); the band does not depend on it.
-    estimator : modalid.ModalFit, optional
+    estimator : modalid.ModalFit or pair of them, optional
         The estimator each FRF file or FRFData is identified with, cloned for each body
-        (``sklearn.base.clone``: its settings; ``estimator`` itself is not fitted), e.g.
+        (``sklearn.base.clone``: its settings; ``estimator`` itself is not fitted; a pair:
+        body 1's, body 2's, either None for the default), e.g.
         ``ModalFit(**HammerFRF.fit_options())`` (``window_decay_rate``,
         ``record_length``) for FRFs measured with an exponential window whose file does
         not state them (``frf_from_hammer``'s FRFData and the files ``write_frf`` writes
@@ -445,7 +449,13 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
         The solver cannot go on (e.g. a grazing contact the exact solver cannot decide;
         the message names the method to use instead).
     """
-    estimator = check_estimator(estimator)
+    if isinstance(estimator, (list, tuple)):
+        if len(estimator) != 2:
+            raise ValueError(f"estimator must be a ModalFit or a pair of them (body 1, body "
+                             f"2), got {len(estimator)} items")
+        estimator = tuple(check_estimator(e) for e in estimator)
+    else:
+        estimator = (check_estimator(estimator),) * 2
     if not (isinstance(continuation, (bool, np.bool_)) or continuation == "auto"):
         raise ValueError(f"continuation must be True, False or 'auto', got {continuation!r}")
     for name, flag in (("uncertainty", uncertainty), ("progress", progress)):

@@ -88,6 +88,24 @@ def in_flags(message) -> str:
     return " ".join(message.split())
 
 
+#: a negative number with an exponent, which argparse takes for an option
+_NEGATIVE_EXPONENT = re.compile(r"^-(\d+\.?\d*|\.\d+)[eE][-+]?\d+$")
+
+
+def _attached_negative_numbers(argv):
+    """``argv`` with a negative number in exponent form after a long option attached to it
+    (``--gap -1e-3`` -> ``--gap=-1e-3``): argparse reads ``-1e-3`` as an option and
+    refused ``--gap -1e-3`` with "expected one argument" (``-0.001`` it reads)."""
+    out = []
+    for token in map(str, argv):
+        if (out and _NEGATIVE_EXPONENT.match(token) and out[-1].startswith("--")
+                and "=" not in out[-1]):
+            out[-1] = f"{out[-1]}={token}"
+        else:
+            out.append(token)
+    return out
+
+
 def run_command(parser: argparse.ArgumentParser, argv=None, *,
                 errors=(ValueError, TypeError, FileNotFoundError)) -> int:
     """Parse ``argv``, run the chosen sub-command's ``func``; bad input exits 2 with a message.
@@ -95,7 +113,7 @@ def run_command(parser: argparse.ArgumentParser, argv=None, *,
     Expected errors (bad values, missing files) are reported on one line, in flags
     (:func:`in_flags`), without a traceback; anything else propagates, since it is a bug.
     """
-    args = parser.parse_args(argv)
+    args = parser.parse_args(_attached_negative_numbers(sys.argv[1:] if argv is None else argv))
     if not getattr(args, "func", None):
         parser.print_help()
         return 0

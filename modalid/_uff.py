@@ -114,8 +114,9 @@ def _write_uff(path, frf, binary, response, reference):
         if not np.allclose(f0 + np.arange(f.size) * df, f, rtol=0, atol=16 * np.spacing(f[-1])):
             raise ValueError("ASCII UFF dataset 58 stores frequencies as f0 + k*df with f0 and df "
                              "in 6 significant digits, which cannot hold this frequency grid "
-                             f"({f[0]!r}, {f[1]!r}, ... {f[-1]!r} Hz): pass binary=True "
-                             "(frequencies stored as float64) or use .npz/.csv/.mat")
+                             f"({float(f[0])!r}, {float(f[1])!r}, ... {float(f[-1])!r} Hz): "
+                             "pass binary=True (frequencies stored as float64) or use "
+                             ".npz/.csv/.mat")
         spacing = 1
     common = dict(binary=int(binary), rsp_node=response[0], rsp_dir=response[1],
                   ref_node=reference[0], ref_dir=reference[1], x=f.copy(),

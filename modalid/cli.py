@@ -35,7 +35,8 @@ def _print_report(args, data, report, window=None) -> None:
     with pd.option_context("display.width", 140, "display.float_format", "{:.6g}".format):
         print(report["modes"][columns].to_string())
     print(f"rigid body: {report['rigid_body']} (inverse mass {report['inverse_mass']:.6g} 1/kg), "
-          f"residual flexibility {report['residual_flexibility']:.6g} m/N, effective mass "
+          f"residual flexibility {report['residual_flexibility']:.6g} m/N, effective mass over "
+          "the band "
           f"{report['effective_mass']:.6g} kg")
     print(f"band {report['band_hz'][0]:g}-{report['band_hz'][1]:g} Hz: "
           f"{in_flags(report['band_reason'])}")

@@ -316,3 +316,59 @@ def test_two_rigid_masses_stick_and_the_unbounded_force_is_said(capsys):
     assert float(figures["peak_force_N"]) == 0.0
     assert figures["dirac_impulses"].startswith("0.666667 N s at 0 s (momentum passed at "
                                                 "once: neither body gives at the contact")
+
+
+def test_negative_numbers_in_exponent_form_are_read(capsys):
+    """argparse reads ``-1e-1`` as an option ("expected one argument"); the command line
+    attaches it to its flag. 1 kg at 1 m/s onto 2 kg at -0.1 m/s: impulse 2/3 * 1.1."""
+    assert main(["predict", "mass:1", "mass:2", "--v1", "1", "--v2", "-1e-1",
+                 "--t-end", "0.01"]) == 0
+    figures = dict(line.strip().split(": ", 1) for line in capsys.readouterr().out.splitlines()
+                   if ": " in line and line.startswith(" "))
+    assert float(figures["impulse_Ns"]) == pytest.approx(2 / 3 * 1.1, rel=1e-12)
+    assert main(["predict", "mass:1", "mass:2", "--v1", "1", "--gap", "-1e-3",
+                 "--t-end", "0.01"]) == 2
+    assert "--gap must be >= 0" in capsys.readouterr().err
+
+
+def _two_files(tmp_path):
+    """A free rod's accelerance stored conjugated (another sign convention), headerless
+    as to its quantity, and a cantilever's mobility in a UFF file, 1 % noise."""
+    import numpy as np
+    from data_synth import CantileverBeam, Rod, lightly_damped, synthetic_frf
+    from modalid import FRFData, write_frf
+
+    f = np.arange(2.0, 1201.0, 2.0)
+    rod = synthetic_frf(lightly_damped(Rod(0.5, 5e-3, support="free"), 40, 0.01), f,
+                        quantity="accelerance", noise=0.01, seed=1)
+    beam = synthetic_frf(lightly_damped(CantileverBeam(2.0, 0.02), 12, 0.01), f,
+                         quantity="mobility", noise=0.01, seed=2)
+    conj = tmp_path / "rod.csv"
+    pd.DataFrame({"freq_hz": f, "real": rod.values.real, "imag": -rod.values.imag}).to_csv(
+        conj, index=False)
+    write_frf(tmp_path / "beam.uff", beam)
+    return conj, tmp_path / "beam.uff", FRFData(f, rod.values, quantity="accelerance")
+
+
+def test_reading_flags_for_one_body(tmp_path, capsys):
+    """Two files from different sources: a flag for both (--conjugate, --quantity) cannot
+    read them; the message says so, and --conjugate1 --quantity1 accelerance reads body 1
+    alone so: the restitution of the two files read right in Python."""
+    from impactpred import predict
+
+    rod, beam, rod_data = _two_files(tmp_path)
+    args = ["predict", str(rod), str(beam), "--v1", "1", "--t-end", "0.05"]
+    assert main(args + ["--quantity", "accelerance"]) == 2
+    err = capsys.readouterr().err
+    assert "body 1" in err and "add 1 or 2 for one alone (--conjugate1)" in err
+    assert main(args + ["--conjugate1", "--quantity", "accelerance"]) == 2
+    err = capsys.readouterr().err
+    assert "body 2" in err and "add 1 or 2 for one alone (--quantity2)" in err
+    assert main(args + ["--conjugate1", "--quantity1", "accelerance"]) == 0
+    figures = dict(line.strip().split(": ", 1) for line in capsys.readouterr().out.splitlines()
+                   if ": " in line and line.startswith(" "))
+    expected = predict(rod_data, beam, velocity1=1.0, t_end=0.05).figures["restitution"]
+    assert float(figures["restitution"]) == pytest.approx(expected, rel=1e-9)
+    assert main(["predict", "mass:1", str(beam), "--v1", "1", "--t-end", "0.05",
+                 "--conjugate1"]) == 2
+    assert "body 1 (mass:1) is an exact model" in capsys.readouterr().err

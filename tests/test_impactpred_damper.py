@@ -3,6 +3,7 @@
 import math
 
 import numpy as np
+import pandas as pd
 import pytest
 import scipy.linalg
 
@@ -252,7 +253,28 @@ def test_result_is_immutable_and_continues():
     assert b.primary[-1] == pytest.approx(whole.primary[-1], rel=1e-9, abs=1e-12)
     with pytest.raises(ValueError):
         whole.primary[0] = 1.0
+    table = whole.impacts
+    table.loc[0, "impulse"] = 99.0              # a copy: the result stays as it was run
+    assert whole.impacts["impulse"].iloc[0] != 99.0
     assert len(whole.poincare()) == 21
+
+
+@pytest.mark.parametrize("contact, split", [(Rigid(), 50), (LinearSpring(2e4, damping=5.0), 50)])
+def test_a_split_run_lists_each_impact_once(contact, split):
+    # split while stuck (rigid) or inside a spring contact: the impact in progress is
+    # listed by the run that ends it, so the tables concatenate to the unsplit run's
+    d = ImpactDamper(SpringMass(2.0, 2.0 * (2 * np.pi * 10) ** 2, damping_ratio=0.01),
+                     damper_mass=0.2, clearance=3e-4, contact=contact,
+                     excitation=HarmonicForce(2.0, 11.0))
+    whole = d.simulate(100)
+    a = d.simulate(split)
+    assert a.final_state.open_impact is not None     # the cut falls inside an impact
+    b = d.simulate(100 - split, initial=a)
+    joined = pd.concat([a.impacts, b.impacts], ignore_index=True)
+    assert b.impacts["time"].iloc[0] == a.final_state.open_impact["time"]
+    assert len(joined) == len(whole.impacts)
+    np.testing.assert_allclose(joined.to_numpy(), whole.impacts.to_numpy(), rtol=1e-9,
+                               atol=1e-12)
     assert d.replace(clearance=3e-3).clearance == 3e-3
 
 

@@ -113,7 +113,9 @@ def test_a_run_cut_inside_a_contact_continues_it():
     a = d.simulate(1, samples_per_cycle=40)
     assert a.final_state.mode == "hertz"           # the first cycle ends inside a contact
     b = d.simulate(2, initial=a, samples_per_cycle=40)
-    assert b.impacts.iloc[0]["time"] == a.impacts.iloc[-1]["time"]
+    # the contact in progress is listed by the run that ends it, whole
+    assert b.impacts.iloc[0]["time"] == a.final_state.open_impact["time"]
+    assert len(a.impacts) == 0 or a.impacts.iloc[-1]["time"] < b.impacts.iloc[0]["time"]
     on = whole.grid_index >= 40
     # the contact's step grid restarts at the cut: agreement to the discretisation
     scale = np.max(np.abs(whole.primary))

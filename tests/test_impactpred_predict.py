@@ -491,6 +491,12 @@ def test_windowed_hammer_frf_file_with_an_estimator(windowed_free_rod_csv, tmp_p
         predict("mass:1.0", path, velocity1=1.0, t_end=1.0, estimator=ModalFit)
     with pytest.raises(TypeError, match="estimator must be a modalid.ModalFit"):
         parse_body(path, estimator=[1.0])
+    # a pair: each body's own (body 1 is exact: its entry is not used)
+    pred = predict("mass:1.0", path, velocity1=1.0, t_end=6.0, continuation=True,
+                   estimator=(None, ModalFit(**options)))
+    assert pred.fits[1].report_["rigid_mass"] == masses["window"]
+    with pytest.raises(ValueError, match="a pair of them .* got 3 items"):
+        predict("mass:1.0", path, velocity1=1.0, t_end=1.0, estimator=(None,) * 3)
     with pytest.raises(ValueError, match="continuation must be True or False for one body"):
         parse_body(path, continuation="auto")
 

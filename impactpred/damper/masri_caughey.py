@@ -102,6 +102,8 @@ import numpy as np
 import pandas as pd
 from scipy.optimize import brentq
 
+from modalid.validation import as_nonnegative_scalar, as_positive_scalar
+
 __all__ = ["MasriCaugheySolution", "masri_caughey", "masri_caughey_curve"]
 
 
@@ -334,16 +336,10 @@ class MasriCaugheySolution:
         return sign * x * xs, sign * y * xs
 
 
-def _check(name, value, *, lower=0.0, strict=True, upper=None):
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a real number, got {value!r}") from None
-    if not math.isfinite(v):
-        raise ValueError(f"{name} must be finite, got {value!r}")
-    if (strict and v <= lower) or (not strict and v < lower):
-        rel = ">" if strict else ">="
-        raise ValueError(f"{name} must be {rel} {lower:g}, got {value!r}")
+def _check(name, value, *, strict=True, upper=None):
+    """``value`` as a finite float, > 0 (``strict``) or >= 0, at most ``upper``; a bool or a
+    non-number is refused (``TypeError``), a value out of range too (``ValueError``)."""
+    v = as_positive_scalar(name, value) if strict else as_nonnegative_scalar(name, value)
     if upper is not None and v > upper:
         raise ValueError(f"{name} must be <= {upper:g}, got {value!r}")
     return v

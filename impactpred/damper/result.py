@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -76,7 +76,11 @@ class DamperResult:
         One row per impact: ``time`` (s), ``side`` (+1 upper, -1 lower), ``impulse``
         (N s, Dirac part included), ``duration`` (s, 0 for instantaneous),
         ``relative_velocity`` (m/s, approach speed before it), ``phase`` (rad of the
-        forcing at impact, in [0, 2 pi)).
+        forcing at impact, in [0, 2 pi)). A fresh copy on each access (the result stays
+        as it was run). An impact is listed by the run in which it ends: one still in
+        progress at the run's end is not listed (``final_state.open_impact`` holds it so
+        far) and the run that continues this one lists it whole, so the tables of a run
+        split anywhere concatenate to the unsplit run's.
     steady_state_cycle : int or None
         First cycle from which the Poincare points repeat (period ``steady_period``)
         to ``STEADY_RTOL``; None if they do not.
@@ -125,7 +129,7 @@ class DamperResult:
     t_start: float
     n_cycles: int
     samples_per_cycle: int
-    impacts: pd.DataFrame
+    _impacts: pd.DataFrame = field(repr=False)
     steady_state_cycle: int | None
     is_steady: bool
     steady_period: int | None
@@ -138,6 +142,17 @@ class DamperResult:
     final_state: DamperState
     damper_config: Any
     points: PointResponse | None = None
+
+    @property
+    def impacts(self) -> pd.DataFrame:
+        """The impacts table (class docstring), a fresh copy on each access."""
+        return self._impacts.copy()
+
+    def __setstate__(self, state):
+        # a result pickled before the table became a property kept it as ``impacts``
+        if "impacts" in state:
+            state = {("_impacts" if k == "impacts" else k): v for k, v in state.items()}
+        self.__dict__.update(state)
 
     def poincare(self) -> pd.DataFrame:
         """States once per forcing period, at the run's starting phase.
@@ -297,6 +312,13 @@ def build_result(damper, raw, *, n_cycles, samples_per_cycle):
     imp["side"] = imp["side"].astype(int)
     n_imp = int(np.count_nonzero((imp["time"] >= t_a - 1e-12 * T)
                                  & (imp["time"] < t_b - 1e-12 * T)))
+    fs = raw["final"]
+    if fs.open_impact is not None:
+        # listed by the run that ends it (the continuation lists it whole); counted
+        # above among this run's impacts per cycle, which count by start time
+        if not (len(imp) and imp["time"].iloc[-1] == fs.open_impact["time"]):
+            raise AssertionError("the open impact is not the last row of the table")
+        imp = imp.iloc[:-1]
     a0 = damper.amplitude_without_damper()
     w_in = work[0]
     if eng.base_damping:
@@ -305,7 +327,6 @@ def build_result(damper, raw, *, n_cycles, samples_per_cycle):
             / (4 * om)
         w_in = work[0] - 2 * eng.base_damping * work[1] \
             + eng.base_damping * eng.base_velocity_amplitude ** 2 * sin2
-    fs = raw["final"]
     final = DamperState(fs.time, fs.state, fs.mode, fs.side, fs.open_impact)
     n_points = eng.n_points
     points = None
@@ -321,7 +342,7 @@ def build_result(damper, raw, *, n_cycles, samples_per_cycle):
         damper=_frozen(vals[2]), damper_velocity=_frozen(vals[3]), force=_frozen(vals[4]),
         excitation=_frozen(vals[5]), input_work=_frozen(w_in), grid_index=_frozen(grid, int),
         freq_hz=1.0 / T, period=T, t_start=t0, n_cycles=n_cycles, samples_per_cycle=spc,
-        impacts=imp, steady_state_cycle=first, is_steady=first is not None,
+        _impacts=imp, steady_state_cycle=first, is_steady=first is not None,
         steady_period=period, primary_amplitude=amp,
         impacts_per_cycle=n_imp / (n_cycles - c_a), power_dissipated=float(power),
         reduction=amp / a0 if a0 > 0 else math.nan, amplitude_without_damper=a0,
