@@ -190,6 +190,13 @@ class Engine:
         return self._spring[s]
 
     # ---------------------------------------------------------------- helpers
+    def resonance_error(self) -> float:
+        """The largest relative rounding error near a resonance over the phase kinds built
+        (:attr:`PhaseKind.resonance_error`)."""
+        kinds = [self.free, *self._stuck.values(), *self._spring.values(),
+                 *self._pen.values()]
+        return max(kind.resonance_error for kind in kinds)
+
     def point_rows(self, lam_row):
         """The output points' displacement rows on the augmented state (shape
         ``(n_points, n + 2)``): ``C_j x_p + d_j (F_eq + lam)``, ``lam = lam_row @ xa`` the

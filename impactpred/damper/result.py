@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -20,6 +21,8 @@ __all__ = ["DamperResult", "DamperState", "build_result"]
 STEADY_RTOL = 1e-6
 #: periods tried for a periodic steady state (period-1 .. period-4 motion)
 MAX_PERIOD = 4
+#: a rounding error near a resonance (relative to the response) worth a note and a warning
+RESONANCE_ERROR_NOTE = 1e-8
 _IMPACT_COLUMNS = ["time", "side", "impulse", "duration", "relative_velocity", "phase"]
 
 
@@ -282,6 +285,13 @@ def build_result(damper, raw, *, n_cycles, samples_per_cycle):
     T = eng.period
     t0 = raw["t_start"]
     notes = []
+    loss = eng.resonance_error()
+    if loss > RESONANCE_ERROR_NOTE:
+        note = (f"the excitation frequency lies {np.finfo(float).eps / loss:.2g} (relative) "
+                "from an undamped mode of a phase: the closed form's free and forced parts "
+                f"cancel there, leaving a rounding error of about {loss:.1g} of the response")
+        notes.append(note)
+        warnings.warn(note, UserWarning, stacklevel=3)
     pidx = _poincare_index(grid, spc)
     points = vals[:4, pidx].T
     first, period = _steady(points, STEADY_RTOL)
