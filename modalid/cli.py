@@ -211,8 +211,11 @@ def _cmd_hammer(args) -> int:
     print(f"{n_hits} hit{'s' * (n_hits > 1)} from {len(files)} file"
           f"{'s' * (len(files) > 1)} ({named}): {n_samples} samples at {records.fs:.9g} Hz "
           f"({n_samples / records.fs:.6g} s); channels: {records.channels}")
+    starts = est.force_window_starts
     window = ("none" if est.force_window_length is None
-              else f"force window to {est.force_window_length:.6g} s")
+              else f"force window to {est.force_window_length:.6g} s" if starts is None
+              else f"force window from {min(starts):.6g}-{max(starts):.6g} s (the hits' "
+                   f"starts, less five widths) to {est.force_window_length:.6g} s")
     decay = est.window_decay_rate
     ends = f", ending at {np.exp(-decay * n_samples / records.fs):.3g}" if decay else ""
     print(f"windows: {window}; exponential decay {decay:.6g} 1/s{ends}")
@@ -314,10 +317,12 @@ def _add_hammer_parser(sub) -> None:
                         help="exponential window exp(-RATE t) on both channels (1/s; for a "
                              "window ending at e: -ln(e)/T); default none")
     hammer.add_argument("--force-window", choices=("force", "none"), default="force",
-                        help="force: zero the force record after the pulse (default)")
+                        help="force: zero the force record before and after the pulse "
+                             "(default)")
     hammer.add_argument("--force-window-length", type=float, default=None, metavar="S",
-                        help="length (s) of the force window; default: the pulse and five "
-                             "times its width")
+                        help="length (s) of the force window from the record start; default: "
+                             "from five pulse widths before each hit to five after the last "
+                             "peak")
     hammer.add_argument("--baseline", choices=("pretrigger", "none"), default="pretrigger",
                         help="pretrigger: remove a channel's offset, its mean before the hits "
                              "where significant (default); none: the records as they are")
