@@ -116,10 +116,11 @@ def check_identification(fit, source, *, body: int) -> None:
         why = report.get("driving_point_reason") or reasons
         fix = (" (or, if it is the driving point with its sign reversed, read it with "
                "read_options={'negate': True}; with its quantity stated wrong, with "
-               f"quantity=...{refit})" if "sign reversed" in why else
-               f" (or, if its quantity is given or stated wrong, read it with the right "
-               f"quantity=...{refit}: an accelerance read as a mobility has modal masses of "
-               "both signs too)")
+               "quantity=...)" if "sign reversed" in why else
+               " (or, if its quantity is given or stated wrong, read it with the right "
+               "quantity=...)")
+        again = (f"; a saved fit keeps how it was made: fit {fit.source or 'its FRF file'} "
+                 "again with these options and save it" if saved else "")
         failed = (f"; the fit this decision rests on failed ({reasons}), so it may be "
                   "wrong" if verdict == "failed" else "")
         # an exponential window the file does not state shifts the poles and the mass
@@ -133,7 +134,7 @@ def check_identification(fit, source, *, body: int) -> None:
                          "a transfer FRF cannot be an impact body, a body needs its "
                          "driving-point receptance (force and response at the contact "
                          f"point); give the FRF measured there{fix}; if it is the one, "
-                         f"fit it with passive=True{refit}{window}")
+                         f"fit it with passive=True{window}{again}")
     if verdict == "failed":
         raise ValueError(f"body {body}: the identification of {source} failed ({reasons}); "
                          f"options that may fix it{refit}: {_FIT_REMEDIES}")

@@ -184,7 +184,10 @@ def _channels_of(path, channels, named, *, time, force, response):
 
 
 def _rate(path, t, n_samples):
-    """The sample rate (Hz) of a uniform time column."""
+    """The sample rate (Hz) of a uniform time column, to 10 significant digits: a time
+    column carries the rounding of its own text (pyFRF's step 3.90625000080e-5 s gave
+    25600.0000000002 Hz, lines 1 - 2e-14 Hz apart that an ASCII UFF file could not hold
+    and a CSV file wrote as 0.9999999999999796)."""
     t = np.ravel(t)
     if t.size != n_samples:
         raise ValueError(f"{path}: its time channel has {t.size} samples, the records "
@@ -195,7 +198,7 @@ def _rate(path, t, n_samples):
         raise ValueError(f"{path}: its time channel is not uniformly increasing (steps "
                          f"{steps.min():.6g} to {steps.max():.6g} s): give the sample rate "
                          "with --fs and no time channel")
-    return 1.0 / step
+    return float(f"{1.0 / step:.10g}")
 
 
 def _unit_note(unit) -> str:

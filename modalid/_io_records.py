@@ -243,8 +243,8 @@ def _finite(source, name, arr):
     bad = ~np.isfinite(arr)
     if np.any(bad):
         i = int(np.argmax(bad))
-        raise ValueError(f"{name} of {source} holds {arr[i]!r} at index {i} (missing or "
-                         "not finite)")
+        raise ValueError(f"{name} of {source} holds {arr.ravel()[i].item()!r} at index {i} "
+                         "(missing or not finite)")
     return arr
 
 

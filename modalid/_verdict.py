@@ -71,7 +71,16 @@ def driving_point_decision(modes: pd.DataFrame, inverse_mass: float):
     if share <= 1 - _DOMINANT and inverse_mass <= 0:
         return False, (f"{mass.size - int(positive.sum())} of {mass.size} modes have a "
                        "negative modal mass: a driving point with its sign reversed or its "
-                       "quantity stated wrong (a mobility read as a receptance), or a "
+                       "quantity stated wrong (an accelerance read as a receptance, or the "
+                       "reverse), or a transfer FRF")
+    negative = mass.size - int(positive.sum())
+    if share <= 1 - _DOMINANT:          # the mass line is positive here
+        return False, (f"{negative} of {mass.size} modes have a negative modal mass and the "
+                       "mass line a positive one: a transfer FRF, or a driving point read in "
+                       "the wrong quantity (an accelerance read as a mobility)")
+    if share >= _DOMINANT:              # the mass line is negative here
+        return False, (f"{counts} have a positive modal mass, carrying {100 * share:.0f} % "
+                       "of the modes' strength, and the mass line a negative one: a "
                        "transfer FRF")
     why = f"modal masses of both signs ({counts} positive, {100 * share:.0f} % of the strength)"
     if inverse_mass < 0:

@@ -214,8 +214,8 @@ def _cmd_hammer(args) -> int:
     starts = est.force_window_starts
     window = ("none" if est.force_window_length is None
               else f"force window to {est.force_window_length:.6g} s" if starts is None
-              else f"force window from {min(starts):.6g}-{max(starts):.6g} s (the hits' "
-                   f"starts, less five widths) to {est.force_window_length:.6g} s")
+              else f"force window from {_span(starts)} s (the hits' starts, less five "
+                   f"widths) to {est.force_window_length:.6g} s")
     decay = est.window_decay_rate
     ends = f", ending at {np.exp(-decay * n_samples / records.fs):.3g}" if decay else ""
     print(f"windows: {window}; exponential decay {decay:.6g} 1/s{ends}")
@@ -235,12 +235,12 @@ def _cmd_hammer(args) -> int:
     target = out if out is not None else "FILE"
     if out is None or out.suffix.lower() not in (".uff", ".unv"):
         # a CSV/NPZ/MAT file keeps the force spectrum, and the fit's band ends with it
-        kept = "the file keeps" if out is not None else "a .csv, .npz or .mat file keeps"
-        reach = (f"(its automatic band ends where the force spectrum {kept} falls 20 dB, "
+        kept = ("the force spectrum the file keeps" if out is not None
+                else "the force spectrum (kept by a .csv, .npz or .mat file)")
+        reach = (f"(its automatic band ends where {kept} falls 20 dB, "
                  f"near {_excited_top(est):.6g} Hz)" if frf.coherence is None else
-                 f"(its automatic band keeps the lines above where the force spectrum "
-                 f"{kept} falls 20 dB, near {_excited_top(est):.6g} Hz, while their "
-                 "coherence stays at 0.9 or more)")
+                 f"(its automatic band keeps the lines above where {kept} falls 20 dB, near "
+                 f"{_excited_top(est):.6g} Hz, while their coherence stays at 0.9 or more)")
     else:
         reach = f"(and --fmax {_excited_top(est):.6g} to keep to the band the hammer excited)"
     stated = [what for what, there in (("the exponential window", decay),
@@ -348,6 +348,12 @@ def build_parser() -> argparse.ArgumentParser:
     _add_fit_parser(sub)
     _add_hammer_parser(sub)
     return parser
+
+
+def _span(values) -> str:
+    """``a-b`` of the smallest and largest of ``values``, or ``a`` when they are one."""
+    low, high = min(values), max(values)
+    return f"{low:.6g}" if low == high else f"{low:.6g}-{high:.6g}"
 
 
 def main(argv=None) -> int:

@@ -95,12 +95,12 @@ class FRFData:
         if freq_hz.size < 2:
             raise ValueError(f"an FRF needs at least 2 frequency lines, got {freq_hz.size}")
         if freq_hz[0] < 0:
-            raise ValueError(f"freq_hz must be non-negative, got {freq_hz[0]!r}")
+            raise ValueError(f"freq_hz must be non-negative, got {float(freq_hz[0])!r}")
         steps = np.diff(freq_hz)
         if np.any(steps <= 0):
             i = int(np.argmax(steps <= 0))
-            raise ValueError(f"freq_hz must be strictly increasing, got {freq_hz[i]!r} then "
-                             f"{freq_hz[i + 1]!r} at index {i}")
+            raise ValueError(f"freq_hz must be strictly increasing, got {float(freq_hz[i])!r} "
+                             f"then {float(freq_hz[i + 1])!r} at index {i}")
         if coherence is not None:
             coherence = as_real_array("coherence", coherence, ndim=1)
             if coherence.shape != freq_hz.shape:

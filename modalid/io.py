@@ -129,8 +129,14 @@ def _read_table(path, columns, table=None, stated=None, measured=None):
         bad = ~np.isfinite(values)
         if np.any(bad):
             i = int(np.argmax(bad))
+            value = table[name].iloc[i]
+            value = value.item() if isinstance(value, np.generic) else value
+            comma = (": a decimal comma? this reader takes decimal points (pandas.read_csv("
+                     "..., sep=';', decimal=',') reads it; give FRFData its columns)"
+                     if isinstance(value, str) and re.fullmatch(r"[-+]?\d*,\d+", value.strip())
+                     else "")
             raise ValueError(f"column {name!r} of {path} has a missing, non-numeric or "
-                             f"non-finite value at data row {i + 1}: {table[name].iloc[i]!r}")
+                             f"non-finite value at data row {i + 1}: {value!r}{comma}")
         unit = header_unit(name)
         if unit is None:
             return values

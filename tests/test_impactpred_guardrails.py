@@ -419,7 +419,9 @@ def test_transfer_frf_cannot_be_an_impact_body(two_mode_frf, verdict):
                    driving_point_reason="modal masses of both signs")
     with pytest.raises(ValueError, match=r"two_modes.csv is not a driving-point FRF \(modal "
                                          r"masses of both signs\): a transfer FRF cannot be "
-                                         r"an impact body.*give the FRF measured there; if "
+                                         r"an impact body.*give the FRF measured there \(or, "
+                                         r"if its quantity is given or stated wrong, read it "
+                                         r"with the right quantity=\.\.\.\); if "
                                          r"it is the one, fit it with passive=True; if "
                                          r"it was measured with an exponential window that "
                                          r"the file does not state, give "

@@ -506,3 +506,23 @@ def test_hammer_command_refuses_bad_records_on_one_line(hammer_test, tmp_path, c
         err = capsys.readouterr().err
         assert err.startswith("modalid: error: ") and err.count("\n") == 1
         assert message in err
+
+
+@pytest.mark.filterwarnings("ignore::UserWarning")
+def test_a_time_column_with_a_rounded_step_gives_the_round_rate(hammer_test, tmp_path,
+                                                                capsys):
+    """pyFRF's time rows step 3.90625000080e-5 s for 25600 Hz: the rate read is 25600 Hz
+    (10 significant digits), so the lines are whole multiples of their spacing and an
+    ASCII UFF file holds them (the rate 25600.0000000002 made lines 1 - 2e-14 Hz apart,
+    which it refused)."""
+    from modalid import read_frf
+
+    test, _ = hammer_test
+    step = float(f"{1 / test.fs:.11e}") * (1 + 2e-11)         # the text's own rounding
+    rows = type(test)(**{**vars(test), "t": np.arange(test.t.size) * step})
+    paths = save_rows(tmp_path, rows)
+    out = tmp_path / "h.uff"
+    assert main(["hammer", *paths, "--response-type", "velocity", "--out", str(out)]) == 0
+    assert f"samples at {test.fs:.9g} Hz" in capsys.readouterr().out
+    f = read_frf(out).freq_hz
+    np.testing.assert_allclose(f, np.arange(f.size) * (f[1] - f[0]), rtol=0, atol=1e-9)
