@@ -173,8 +173,9 @@ def _run_predict(args):
 
     # the same estimator as ``modalid fit`` builds (one line a segment of a wide band),
     # each body's own flags over the common ones
-    estimator = tuple(ModalFit(progress=True, **fit_options(body_args(args, body)))
-                      for body in (1, 2))
+    options = [fit_options(body_args(args, body)) for body in (1, 2)]
+    estimator = (ModalFit(progress=True, **options[0]) if options[0] == options[1]
+                 else tuple(ModalFit(progress=True, **o) for o in options))
     ignored = _check_identification_flags(args)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
@@ -188,7 +189,8 @@ def _run_predict(args):
                            estimator=estimator,
                            read_options=tuple(_body_read_options(args, body)
                                               for body in (1, 2)),
-                           check_passive=not args.no_passivity_check, progress=True)
+                           check_passive=not args.no_passivity_check, progress=True,
+                           band_check=not args.no_band_check)
         except RuntimeError as exc:
             if isinstance(exc, (NotImplementedError, RecursionError)):
                 raise
@@ -412,6 +414,11 @@ def _add_predict_parser(sub) -> None:
                            const=False, help="the identified models as they are")
     pred.add_argument("--uncertainty", action="store_true",
                       help="report the spread over cut-band re-identifications")
+    pred.add_argument("--no-band-check", action="store_true",
+                      help="skip the check that the answer does not move when each "
+                           "identified body is re-identified on 80 %% of its band (one "
+                           "re-identification and two or three solves; without "
+                           "--uncertainty, which holds it)")
     pred.add_argument("--no-passivity-check", action="store_true",
                       help="accept models that are not stable, passive driving points "
                            "(negative modal masses, unstable poles, FRFs whose sign says "

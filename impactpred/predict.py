@@ -35,7 +35,8 @@ import numpy as np
 from modalid import ModalModel, MultiOutputModalModel, SavedFit
 from modalid.validation import as_nonnegative_scalar, as_real_scalar
 
-from ._band_checks import BandWarning, band_reach, force_energy_above, force_energy_below
+from ._band_checks import (BandWarning, band_reach, force_energy_above, force_energy_below,
+                           warn_unsettled)
 from ._figures import band_resolution, impact_figures
 from ._specs import (READ_OPTIONS, body_label, check_estimator, identify, parse_contact,
                      read_options_pair)
@@ -43,7 +44,7 @@ from .api import solve_impact
 from .body import Body, check_driving_point
 from .result import ImpactResult
 from .truncation import NoComplianceAbove, identified_model
-from .uncertainty import check_band_bodies, uncertainty_band
+from .uncertainty import check_band_bodies, check_refittable, uncertainty_band
 
 __all__ = ["predict", "Prediction", "parse_body", "parse_contact", "BandWarning",
            "ContinuationWarning", "IdentificationWarning", "check_identification",
@@ -141,6 +142,15 @@ def check_identification(fit, source, *, body: int) -> None:
     if verdict == "suspect":
         warnings.warn(f"body {body}: the identification of {source} is suspect ({reasons}); "
                       "the prediction relies on it", IdentificationWarning, stacklevel=4)
+
+
+def _refittable(fit) -> bool:
+    """Whether ``fit`` can be identified again on a part of its band (it keeps its data)."""
+    try:
+        check_refittable(fit)
+    except (TypeError, ValueError):
+        return False
+    return True
 
 
 def _continued(fit, *, label=""):
@@ -365,7 +375,7 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
             t_end, dt=None, method="auto", quantity=None, band_tolerance=0.01,
             continuation="auto", uncertainty=False, uncertainty_draws=4,
             seed=0, estimator=None, read_options=None, check_passive=True,
-            executor=None, progress=False) -> Prediction:
+            executor=None, progress=False, band_check=True) -> Prediction:
     """Predict the impact of two bodies given as files, specs or models.
 
     Parameters
@@ -409,6 +419,13 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
     executor : None, concurrent.futures.Executor or dask.distributed.Client
         Where the uncertainty band's re-identifications and solves run (``None``: here,
         one after the other); the band does not depend on it.
+    band_check : bool
+        Without ``uncertainty``: re-identify each identified body on 80 % of its band
+        and solve with the continuation's tail half as long (the band's cheap half, no
+        draws), and warn (:class:`BandWarning`) where the restitution, impulse or
+        duration move further than :data:`impactpred._band_checks.UNSETTLED`: the bands
+        do not settle the answer. Costs a re-identification per body and two or three
+        solves; fits that hold no data (saved fits, common-pole sets) are not checked.
     estimator : modalid.ModalFit or pair of them, optional
         The estimator each FRF file or FRFData is identified with, cloned for each body
         (``sklearn.base.clone``: its settings; ``estimator`` itself is not fitted; a pair:
@@ -459,7 +476,8 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
         estimator = (check_estimator(estimator),) * 2
     if not (isinstance(continuation, (bool, np.bool_)) or continuation == "auto"):
         raise ValueError(f"continuation must be True, False or 'auto', got {continuation!r}")
-    for name, flag in (("uncertainty", uncertainty), ("progress", progress)):
+    for name, flag in (("uncertainty", uncertainty), ("progress", progress),
+                       ("band_check", band_check)):
         if not isinstance(flag, (bool, np.bool_)):
             raise TypeError(f"{name} must be True or False, got {flag!r}")
     band_tolerance = as_nonnegative_scalar("band_tolerance", band_tolerance)
@@ -512,11 +530,16 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
     figures = (impact_figures(result, resolution=band_resolution(fits)) if identified
                else None)
     band = None
+    continued = any(n is not None and n.startswith("on") for n in notes)
     if uncertainty and identified:
-        continued = any(n is not None and n.startswith("on") for n in notes)
         band = uncertainty_band(models, fits, solve, n_draws=uncertainty_draws, seed=seed,
                                 continuation=continued, nominal=result, executor=executor,
                                 contact=law)
+    elif band_check and identified and all(_refittable(f) for f in fits if f is not None):
+        # the band's cheap half (no draws): does the answer move with the band?
+        check = uncertainty_band(models, fits, solve, n_draws=0, continuation=continued,
+                                 nominal=result, executor=executor, contact=law)
+        warn_unsettled(check, figures)
     reach, reach_below = band_reach(result, fits, notes, band_tolerance,
                                     [_lower_terms(fit, band_tolerance) if fit is not None
                                      else (None, np.inf, True) for fit in fits])

@@ -21,6 +21,7 @@ __all__ = ["run_command", "add_fit_options", "fit_options", "add_read_options", 
 #: phrases whose value picks the flag (matched first, as written)
 _PHRASES = (("check_passive=False", "--no-passivity-check"),
             ("continuation=False", "--no-continuation"),
+            ("uncertainty=True", "--uncertainty"),
             ("passive=False", "--driving-point no"), ("passive=True", "--driving-point yes"),
             ("passive='auto'", "--driving-point auto"),
             ("read_options={'conjugate': True}", "--conjugate"),
