@@ -91,13 +91,15 @@ def band_problem(band):
 
 
 def one_prediction(body, mass, velocity, contact, t_end, *, uncertainty=False):
-    """``(outcome, restitution, continuation, warned_below)`` of the impact of ``mass:M``
+    """``(outcome, restitution, continuation, warned_below, unsettled)`` of the impact of
+    ``mass:M``
     at ``velocity`` (m/s) on ``body`` (an FRF file or a model): ``"predicted"``,
     ``"refused"`` (the documented step-count limit) or what went wrong (with
     ``uncertainty``, also the band's :func:`band_problem`); the restitution (NaN unless
     predicted), what ``predict`` said of the body's continuation, and whether it warned
     that the prediction relies on the model below the body's band, where it stands in for
-    it (a ``BandWarning``: the force's energy there, or the run's length)."""
+    it (a ``BandWarning``: the force's energy there, or the run's length), and whether its
+    band check said the bands do not settle the answer."""
     from impactpred import BandWarning, predict
 
     try:
@@ -108,23 +110,41 @@ def one_prediction(body, mass, velocity, contact, t_end, *, uncertainty=False):
     except ValueError as exc:
         outcome = ("refused" if any(d in str(exc) for d in DOCUMENTED)
                    else f"ValueError: {exc}")
-        return outcome, np.nan, None, False
+        return outcome, np.nan, None, False, False
     except Exception as exc:                      # noqa: BLE001 - every other is a failure
-        return f"{type(exc).__name__}: {exc}", np.nan, None, False
+        return f"{type(exc).__name__}: {exc}", np.nan, None, False, False
     below = any(issubclass(w.category, BandWarning) and any(
         words in str(w.message) for words in ("below its measured band",
                                               "bottom of its measured band"))
         for w in caught)
+    unsettled = any(issubclass(w.category, BandWarning) and "do not settle" in str(w.message)
+                    for w in caught)
     e, audit = pred.result.restitution, pred.result.energy_audit
     if not audit.ok:
-        return f"energy audit: {'; '.join(audit.reasons)}", np.nan, None, below
+        return f"energy audit: {'; '.join(audit.reasons)}", np.nan, None, below, unsettled
     if pred.uncertainty is not None and band_problem(pred.uncertainty):
-        return band_problem(pred.uncertainty), np.nan, None, below
+        return band_problem(pred.uncertainty), np.nan, None, below, unsettled
     if e is None:                                 # still in contact at t_end
-        return "predicted", np.nan, pred.continuation[1], below
+        return "predicted", np.nan, pred.continuation[1], below, unsettled
     # e < 0: the bodies parted while the struck point recoiled, to strike again later
     outcome = "predicted" if -1.0 <= e <= 1.0 + 1e-9 else f"restitution {e!r}"
-    return outcome, e, pred.continuation[1], below
+    return outcome, e, pred.continuation[1], below, unsettled
+
+
+def band_check_summary(rows):
+    """Lines on the band check (``predict(band_check=True)``): the errors of the
+    predictions it warned of and of the others (``rows``: dicts with ``error``,
+    ``unsettled``, ``case``, ``what``)."""
+    lines = []
+    for label, on in (("warned (the bands do not settle it)", True), ("not warned", False)):
+        err = np.array([r["error"] for r in rows if r["unsettled"] == on])
+        if err.size:
+            lines.append(f"  {label}: {err.size} pairs, median |de| {np.median(err):.3g}, "
+                         f"worst {err.max():.3g}, {int(np.sum(err > 0.05))} above 0.05")
+    for r in sorted(rows, key=lambda r: -r["error"])[:3]:
+        if not r["unsettled"] and r["error"] > 0.05:
+            lines.append(f"  not warned, case {r['case']}: |de| {r['error']:.3g} ({r['what']})")
+    return lines
 
 
 def below_band_summary(rows):
@@ -189,13 +209,14 @@ def main(argv=None):
         contact = str(rng.choice(["rigid", "rigid", "spring:1e6", "hertz:1e9"]))
         t_end = float(rng.uniform(2, 20)) * 2 * np.pi / w1
         # every tenth case with the uncertainty band too
-        outcome, e, continued, warned = one_prediction(str(path), mass, velocity, contact,
-                                                       t_end, uncertainty=case % 10 == 0)
+        outcome, e, continued, warned, unsettled = one_prediction(
+            str(path), mass, velocity, contact, t_end, uncertainty=case % 10 == 0)
         warned_main += warned
-        exact, e_exact, _, _ = one_prediction(model, mass, velocity, contact, t_end)
+        exact, e_exact, *_ = one_prediction(model, mass, velocity, contact, t_end)
         if outcome == "predicted":
             if exact == "predicted" and np.isfinite(e) and np.isfinite(e_exact):
                 rows.append({"error": abs(e - e_exact), "case": case,
+                             "unsettled": unsettled,
                              "continued": bool(continued and continued.startswith("on")),
                              "what": f"{kind}, {quantity}, noise {noise}, {contact}: e "
                                      f"{e:.4g} for {e_exact:.4g}, continuation {continued}"})
@@ -209,7 +230,7 @@ def main(argv=None):
                 above = folder / f"case{case}_from_{low:.4g}Hz.csv"
                 write_frf(above, synthetic_frf(model, np.linspace(low, top, 2000),
                                                quantity=quantity, noise=noise, seed=case))
-                outcome_above, e_above, _, warned = one_prediction(
+                outcome_above, e_above, _, warned, _ = one_prediction(
                     str(above), mass, velocity, contact, t_end)
                 if outcome_above not in ("predicted", "refused"):
                     print(f"FAILED case {case} from {low:.6g} Hz (mass:{mass:.6g} at "
@@ -232,6 +253,8 @@ def main(argv=None):
           f"{outcomes['refused']} refused (step-count limit), {outcomes['failed']} failures, "
           f"{time.perf_counter() - t0:.0f} s")
     print("\n".join(accuracy_summary(rows)))
+    print("the band check (not run with the uncertainty band, every tenth case):")
+    print("\n".join(band_check_summary(rows)))
     print(f"warned of the model below the band (bands from 1/2000 of the top): "
           f"{warned_main} of {args.cases}; bands from above the first mode: "
           f"{failed_above} failures")

@@ -29,6 +29,7 @@ import scipy.signal
 
 from ._checks import (as_choice, as_complex_array, as_count, as_nonnegative_scalar,
                       as_positive_scalar, as_real_array, as_real_scalar)
+from ._pulses import main_pulse, swapped_channels
 from ._window import MOST_WINDOW_DECAY
 from .frf import FRFData
 from .model import ModalModel
@@ -190,22 +191,6 @@ def _as_records(name: str, value) -> np.ndarray:
     return arr
 
 
-def _main_pulse(f: np.ndarray):
-    """Sign-normalised record, main peak index, its value and its width at half maximum."""
-    k0 = int(np.argmax(np.abs(f)))
-    if f[k0] < 0:
-        f = -f
-    peak = float(f[k0])
-    above = f >= 0.5 * peak
-    left = k0
-    while left > 0 and above[left - 1]:
-        left -= 1
-    right = k0
-    while right < f.size - 1 and above[right + 1]:
-        right += 1
-    return f, k0, peak, right - left + 1
-
-
 def _hit_start(f: np.ndarray) -> int:
     """Index of the first sample of the force record ``f`` that departs from its median
     by ``_PRETRIGGER_LEVEL`` of its largest departure: where the hit starts."""
@@ -256,7 +241,7 @@ def _double_hits_in(forces: np.ndarray, fs: float, threshold: float):
     """
     found = []
     for i, record in enumerate(forces):
-        f, k0, peak, fwhm = _main_pulse(record)
+        f, k0, peak, fwhm = main_pulse(record)
         if peak == 0.0:
             raise ValueError(f"force of hit {i} is identically zero: no hammer pulse")
         avg = scipy.ndimage.uniform_filter1d(f, size=fwhm, mode="constant")
@@ -386,6 +371,9 @@ def frf_from_hammer(force, response, fs, *, response_type="acceleration",
     -----
     DoubleHitWarning
         For each hit whose force holds a second pulse, naming the hit index and time.
+    UserWarning
+        The response holds four times more of its energy around its peak than the force
+        (a hammer's force lies in its pulse, a response rings on): channels swapped?
 
     Notes
     -----
@@ -449,6 +437,12 @@ def frf_from_hammer(force, response, fs, *, response_type="acceleration",
                          f"times the record length {n_samples}, or 2**24; zero padding "
                          f"only interpolates the FRF), got {n_fft}")
 
+    swapped = swapped_channels(forces, responses)
+    if swapped is not None:
+        warnings.warn(f"the force record does not look like a hammer's: {swapped[0]:.0%} of "
+                      "its energy lies within five half-widths of its peak, and "
+                      f"{swapped[1]:.0%} of the response's: are the force and response "
+                      "channels swapped?", UserWarning, stacklevel=2)
     found = _double_hits_in(forces, fs, threshold)
     for i, t_second, ratio, t_main in found:
         warnings.warn(f"double hit in hit {i}: a second force pulse of {ratio:.0%} of the "
@@ -460,7 +454,7 @@ def frf_from_hammer(force, response, fs, *, response_type="acceleration",
     if offsets is not None:
         forces, responses = forces - offsets[0], responses - offsets[1]
     t = np.arange(n_samples) / fs
-    peaks = [_main_pulse(f)[1:] for f in forces]  # (k0, peak, fwhm) of each hit
+    peaks = [main_pulse(f)[1:] for f in forces]  # (k0, peak, fwhm) of each hit
     window_length, starts = None, None
     if force_window == "force":
         if force_window_length is None:

@@ -492,3 +492,30 @@ def test_the_pretrigger_force_is_windowed_out():
     assert len(fit.model_.modes) <= 16
     given = frf_from_hammer(test.force, test.response, fs, force_window_length=0.06)
     assert given.force_window_starts is None       # a given length starts at t = 0
+
+
+def test_swapped_channels_are_said():
+    """Force and response given the other way round: the force lies within five
+    half-widths of its peak (pyFRF's real hits: 99.9 % of its energy, the response 2.4 %;
+    a synthetic rod's at 1 % noise: 51 % and 6 %), so a warning says the channels look
+    swapped, before the double hits the ringing response shows as a force; in order, no
+    word."""
+    from data_synth import Rod, lightly_damped
+
+    truth = lightly_damped(Rod(1.0, 1e-3, support="fixed"), 20, 0.001, residual=True)
+    test = synthetic_hammer_test(truth, 25600.0, 1.0, n_hits=3, pulse_width=2e-4,
+                                 noise=0.01, seed=1, anti_alias=True)
+    pairs = [(test.force, test.response)]
+    paths = [REAL_DATA / f"measurements_{i}.npy" for i in range(1, 6)]
+    if all(p.is_file() for p in paths):
+        records = np.array([np.load(p, allow_pickle=False) for p in paths])
+        pairs.append((records[:, 1], records[:, 2]))
+    for force, response in pairs:
+        with warnings.catch_warnings(record=True) as said:
+            warnings.simplefilter("always")
+            frf_from_hammer(force, response, 25600.0)
+        assert not [w for w in said if "swapped" in str(w.message)]
+        with warnings.catch_warnings(record=True) as said:
+            warnings.simplefilter("always")
+            frf_from_hammer(response, force, 25600.0)
+        assert "channels swapped?" in str(said[0].message)

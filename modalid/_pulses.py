@@ -1,0 +1,56 @@
+"""The hammer's pulse in a force record, and whether the channels look swapped.
+
+:func:`main_pulse` finds a record's main pulse (:func:`modalid.frf_from_hammer`'s force
+window and double-hit search use it); :func:`swapped_channels` compares how much of each
+channel's energy lies around its own main peak: a hammer's force lies almost whole in
+its pulse, a structure's response rings on after it.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["main_pulse", "pulse_share", "swapped_channels"]
+
+#: how many times more of its energy the response may hold around its peak than the force
+#: before the channels are said to be swapped (measured: pyFRF's real records, force
+#: 99.9 % and response 2.4 %; a synthetic rod at zeta 0.3 and 3 % noise, 10 % and 12 %)
+SWAP_RATIO = 4.0
+
+
+def main_pulse(f: np.ndarray):
+    """Sign-normalised record, main peak index, its value and its width at half maximum
+    (samples)."""
+    k0 = int(np.argmax(np.abs(f)))
+    if f[k0] < 0:
+        f = -f
+    peak = float(f[k0])
+    above = f >= 0.5 * peak
+    left = k0
+    while left > 0 and above[left - 1]:
+        left -= 1
+    right = k0
+    while right < f.size - 1 and above[right + 1]:
+        right += 1
+    return f, k0, peak, right - left + 1
+
+
+def pulse_share(records: np.ndarray) -> float:
+    """The median over the records (rows) of the share of each one's energy (about its
+    median) within five half-widths of its main peak."""
+    shares = []
+    for record in records:
+        centred = record - np.median(record)
+        _, k0, _, width = main_pulse(centred)
+        total = float(np.sum(centred ** 2))
+        near = float(np.sum(centred[max(k0 - 5 * width, 0):k0 + 5 * width + 1] ** 2))
+        shares.append(near / total if total > 0 else 1.0)
+    return float(np.median(shares))
+
+
+def swapped_channels(forces: np.ndarray, responses: np.ndarray):
+    """``(force_share, response_share)`` when the response holds :data:`SWAP_RATIO` times
+    more of its energy around its peak than the force does (the channels look swapped),
+    else None."""
+    force, response = pulse_share(forces), pulse_share(responses)
+    return (force, response) if response > SWAP_RATIO * force else None
