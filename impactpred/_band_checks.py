@@ -94,17 +94,17 @@ def force_energy_below(result: ImpactResult, freq_hz: float) -> float:
                            np.concatenate(([0.0], cumulative))) / total)
 
 
-#: how far a figure's interval may reach, re-identified on 80 % of each band and with the
-#: continuation's tail half as long (:func:`warn_unsettled`), before the band is said not
-#: to settle the prediction: the restitution's (absolute), the impulse's and the
-#: duration's (relative). The peak force's holds the wave front's allowance: not checked.
+#: how far a figure's interval may reach, re-identified on 80 % of each band
+#: (:func:`warn_unsettled`), before the band is said not to settle the prediction: the
+#: restitution's (absolute), the impulse's and the duration's (relative). The peak
+#: force's holds the wave front's allowance: not checked.
 UNSETTLED = {"restitution": 0.05, "impulse": 0.05, "contact_duration": 0.10}
 
 
 def warn_unsettled(check, figures) -> list:
     """A :class:`BandWarning` naming the figures whose interval in ``check`` (an
-    :class:`~impactpred.uncertainty.UncertaintyBand` without draws: the cut band's and
-    the tail's changes only) is wider than :data:`UNSETTLED`; returns their names.
+    :class:`~impactpred.uncertainty.UncertaintyBand` without draws nor tail: the cut
+    band's change only) is wider than :data:`UNSETTLED`; returns their names.
 
     A fixed rod's hammer test at 1 % noise predicted a restitution of 0.511 for the
     truth's 0.690 ("ok", a band warning of 2.3 % of the force's energy above the band

@@ -417,7 +417,7 @@ def _add_predict_parser(sub) -> None:
     pred.add_argument("--no-band-check", action="store_true",
                       help="skip the check that the answer does not move when each "
                            "identified body is re-identified on 80 %% of its band (one "
-                           "re-identification and two or three solves; without "
+                           "re-identification and one solve per body; without "
                            "--uncertainty, which holds it)")
     pred.add_argument("--no-passivity-check", action="store_true",
                       help="accept models that are not stable, passive driving points "

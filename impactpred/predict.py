@@ -421,11 +421,12 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
         one after the other); the band does not depend on it.
     band_check : bool
         Without ``uncertainty``: re-identify each identified body on 80 % of its band
-        and solve with the continuation's tail half as long (the band's cheap half, no
-        draws), and warn (:class:`BandWarning`) where the restitution, impulse or
-        duration move further than :data:`impactpred._band_checks.UNSETTLED`: the bands
-        do not settle the answer. Costs a re-identification per body and two or three
-        solves; fits that hold no data (saved fits, common-pole sets) are not checked.
+        and solve with it (the uncertainty band's truncation part alone), and warn
+        (:class:`BandWarning`) where the restitution, impulse or duration move further
+        than :data:`impactpred._band_checks.UNSETTLED`: the bands do not settle the
+        answer. Costs a re-identification and a solve per identified body (a prediction
+        takes about 1.5 times as long); fits that hold no data (saved fits, common-pole
+        sets) are not checked.
     estimator : modalid.ModalFit or pair of them, optional
         The estimator each FRF file or FRFData is identified with, cloned for each body
         (``sklearn.base.clone``: its settings; ``estimator`` itself is not fitted; a pair:
@@ -538,7 +539,7 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
     elif band_check and identified and all(_refittable(f) for f in fits if f is not None):
         # the band's cheap half (no draws): does the answer move with the band?
         check = uncertainty_band(models, fits, solve, n_draws=0, continuation=continued,
-                                 nominal=result, executor=executor, contact=law)
+                                 nominal=result, executor=executor, contact=law, tail=False)
         warn_unsettled(check, figures)
     reach, reach_below = band_reach(result, fits, notes, band_tolerance,
                                     [_lower_terms(fit, band_tolerance) if fit is not None
