@@ -539,7 +539,8 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
     elif band_check and identified and all(_refittable(f) for f in fits if f is not None):
         # the band's cheap half (no draws): does the answer move with the band?
         check = uncertainty_band(models, fits, solve, n_draws=0, continuation=continued,
-                                 nominal=result, executor=executor, contact=law, tail=False)
+                                 nominal=result, executor=executor, contact=law,
+                                 tail_variant=False)
         warn_unsettled(check, figures)
     reach, reach_below = band_reach(result, fits, notes, band_tolerance,
                                     [_lower_terms(fit, band_tolerance) if fit is not None

@@ -279,7 +279,8 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
                      extend: float | None = None, nominal=None, level: float = 0.9,
                      cheap_variants: bool | None = None,
                      refits: dict | None = None, executor=None,
-                     contact: ContactLaw = Rigid(), tail: bool = True) -> UncertaintyBand:
+                     contact: ContactLaw = Rigid(),
+                     tail_variant: bool = True) -> UncertaintyBand:
     """An interval for each of duration, peak, impulse and restitution, meant to hold all
     four exact figures together with probability ``level``.
 
@@ -349,7 +350,7 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
         Under :class:`~impactpred.contact.Rigid` the force may jump at a wave front, and
         with ``continuation`` the peak's interval reaches :func:`front_allowance` lower;
         a compliant law's force is continuous.
-    tail : bool
+    tail_variant : bool
         Solve the tail's variant (the continuation's synthesized modes half as far);
         False leaves its part at 0 (``predict``'s band check: a solve saved).
 
@@ -426,9 +427,9 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
         # the tail's own extent: synthesized modes to half as far; the change, taken as the
         # error left (as for an error ~ 1/extend), is a heuristic that errs wide: a peak's
         # change from 8x to 16x exceeded its change from 16x to 32x by 2x on a rod
-        with_tail, tail = tail, {k: 0.0 for k in FIGURES}
+        tail = {k: 0.0 for k in FIGURES}
         half = None
-        if (with_tail and continuation and measured
+        if (tail_variant and continuation and measured
                 and all(f is None or extent(f) > 1.0 for f in fits)):
             try:
                 half = pool.submit(solve, *[m if f is None else continued(f, 0.5)
