@@ -12,7 +12,7 @@ from impactpred import BandWarning, Body, Hertz, LinearSpring, Rigid, predict, s
 from impactpred.cli import main
 from impactpred.predict import force_energy_above, parse_body, parse_contact
 from impactpred.truncation import identified_model
-from modalid import FRFData, ModalFit, write_frf
+from modalid import FRFData, ModalFit, ModalModel, write_frf
 
 
 def test_spec_bodies_reproduce_solve_impact():
@@ -668,3 +668,18 @@ def test_a_prediction_the_band_does_not_settle_is_said(seed, settled):
         warnings.simplefilter("always")
         predict("mass:1", fit, velocity1=1.0, t_end=0.01, band_check=False)
     assert not [w for w in said if "do not settle" in str(w.message)]
+
+
+def test_a_band_too_narrow_to_cut_is_not_checked():
+    """A zoom band (101-125 Hz: 80 % of its top lies below its bottom) cannot be cut for
+    the band check: the prediction is made, as with band_check=False, not refused (the
+    check's re-identification raised "freq_range must have fmin < fmax")."""
+    m = ModalModel.from_modes(2 * np.pi * np.array([110.0]), [0.02], [1.0],
+                              inverse_mass=1 / 5.0)
+    f = np.linspace(101.0, 125.0, 40)
+    data = FRFData(f, m.frf(2 * np.pi * f), quantity="receptance")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        checked = predict("mass:1", data, velocity1=1.0, t_end=0.05)
+        unchecked = predict("mass:1", data, velocity1=1.0, t_end=0.05, band_check=False)
+    assert checked.figures == unchecked.figures
