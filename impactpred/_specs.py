@@ -117,7 +117,9 @@ def _checked_frf(path, options, *, label="", check_passive=True):
     except (ValueError, TypeError) as exc:     # which body's file, for two of them
         if not label:
             raise
-        raise type(exc)(label + str(exc)) from exc
+        # a plain error of the same kind: a subclass may need other arguments
+        raise (TypeError if isinstance(exc, TypeError) else ValueError)(
+            label + str(exc)) from exc
     _check_frf_sign(data, path, label=label, check_passive=check_passive)
     return data
 

@@ -100,7 +100,7 @@ def _attached_negative_numbers(argv):
     out = []
     for token in map(str, argv):
         if (out and _NEGATIVE_EXPONENT.match(token) and out[-1].startswith("--")
-                and "=" not in out[-1]):
+                and out[-1] != "--" and "=" not in out[-1]):
             out[-1] = f"{out[-1]}={token}"
         else:
             out.append(token)

@@ -526,3 +526,13 @@ def test_a_time_column_with_a_rounded_step_gives_the_round_rate(hammer_test, tmp
     assert f"samples at {test.fs:.9g} Hz" in capsys.readouterr().out
     f = read_frf(out).freq_hz
     np.testing.assert_allclose(f, np.arange(f.size) * (f[1] - f[0]), rtol=0, atol=1e-9)
+
+
+def test_a_negative_exponent_number_is_attached_to_its_option_only():
+    """``--gap -1e-3`` reads as ``--gap=-1e-3``; after ``--`` (the end of the options)
+    the number stays a word of its own."""
+    from modalid._cli import _attached_negative_numbers
+
+    assert _attached_negative_numbers(["--gap", "-1e-3", "x"]) == ["--gap=-1e-3", "x"]
+    assert _attached_negative_numbers(["--", "-1e-3"]) == ["--", "-1e-3"]
+    assert _attached_negative_numbers(["--gap=1", "-2e3"]) == ["--gap=1", "-2e3"]

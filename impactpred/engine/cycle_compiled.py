@@ -160,9 +160,9 @@ def run_compiled(eng, *, start, n_cycles, samples_per_cycle, bar, decide_rtol):
     mode_name = "free" if mode == 0 else "stuck"
     open_rec = None
     if mode_name == "stuck" and cur >= 0:
+        impacts["duration"][cur] = t - impacts["time"][cur]
         open_rec = {k: (int(v[cur]) if k == "side" else float(v[cur]))
                     for k, v in impacts.items() if k != "continued"}
-        impacts["duration"][cur] = t - impacts["time"][cur]
     bar.update(t_end)
     return dict(
         t=np.concatenate(chunks_t), values=np.concatenate(chunks_v, axis=1),

@@ -409,12 +409,12 @@ def run(eng, *, start: EngineState, n_cycles, samples_per_cycle, progress):
             x, mode, open_row, zero_open = spring_boundary(side, x, t, True)
         else:  # pen: row 0 is -q, row 1 the penetration
             x, mode, open_row, zero_open = spring_boundary(side, x, t, row == 0)
-    if mode == "free" or cur is None or mode == "pen":
-        open_rec = None
-    else:
-        open_rec = {k: v for k, v in cur.items() if k != "continued"}
     if cur is not None and mode in ("stuck", "spring", "hertz"):
         cur["duration"] = t - cur["time"]
+    if mode == "free" or cur is None or mode == "pen":
+        open_rec = None
+    else:                            # the open impact so far, its duration to t included
+        open_rec = {k: v for k, v in cur.items() if k != "continued"}
     bar.update(t_end)
     return dict(
         t=np.concatenate(chunks_t), values=np.concatenate(chunks_v, axis=1),
