@@ -71,8 +71,8 @@ def driving_point_decision(modes: pd.DataFrame, inverse_mass: float):
     if share <= 1 - _DOMINANT and inverse_mass <= 0:
         return False, (f"{mass.size - int(positive.sum())} of {mass.size} modes have a "
                        "negative modal mass: a driving point with its sign reversed or its "
-                       "quantity stated wrong (an accelerance read as a receptance, or the "
-                       "reverse), or a transfer FRF")
+                       "quantity stated wrong (a mobility or an accelerance read as a "
+                       "receptance, an accelerance read as a mobility), or a transfer FRF")
     negative = mass.size - int(positive.sum())
     if share <= 1 - _DOMINANT:          # the mass line is positive here
         return False, (f"{negative} of {mass.size} modes have a negative modal mass and the "

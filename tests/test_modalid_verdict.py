@@ -183,3 +183,25 @@ def test_a_resonance_the_model_misses_is_named_and_makes_the_fit_suspect():
                                        rigid_body=False, finite=True, missed_hz=missed)
     assert verdict == "suspect" and len(reasons) == 1
     assert reasons[0].startswith(f"the data's resonance at {missed[0]:.6g} Hz is missed")
+
+
+def test_a_wrong_quantity_is_named_as_the_decision_reads_it():
+    """A three-mode receptance given as a mobility or an accelerance read as a
+    receptance, and as an accelerance read as a mobility: every modal mass negative, and
+    the reason names those readings (a mobility read as a receptance flips them too)."""
+    import warnings
+
+    from modalid import FRFData, ModalFit
+
+    m = ModalModel.from_modes(2 * np.pi * np.array([100.0, 250.0, 600.0]),
+                              [0.02, 0.01, 0.01], [1.0, 2.0, 0.5])
+    f = np.linspace(10.0, 1000.0, 2000)
+    w = 2 * np.pi * f
+    for factor, read in ((1j * w, "receptance"), (-w ** 2, "receptance"),
+                         (-w ** 2, "mobility")):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            fit = ModalFit().fit(FRFData(f, m.frf(w) * factor, quantity=read))
+        assert fit.report_["driving_point"] is False
+        assert ("a mobility or an accelerance read as a receptance, an accelerance read as "
+                "a mobility" in fit.report_["driving_point_reason"])
