@@ -17,7 +17,8 @@ from pathlib import Path
 
 from modalid._cli import add_fit_options, add_read_options
 
-__all__ = ["BODY_FLAGS_HELP", "add_body_flags", "body_args", "for_body", "identification_flags"]
+__all__ = ["BODY_FLAGS_HELP", "add_body_flags", "body_args", "for_body", "identification_flags",
+           "is_file_body"]
 
 #: the help line that says the per-body flags exist (they are not listed one by one)
 BODY_FLAGS_HELP = ("these flags and the identification flags below apply to every body read "
@@ -73,7 +74,9 @@ def body_args(args, body: int) -> argparse.Namespace:
     return argparse.Namespace(**values)
 
 
-def _is_file(spec) -> bool:
+def is_file_body(spec) -> bool:
+    """Whether the body ``spec`` is an FRF file to read and identify (not a spec string,
+    not a saved ``.json`` fit or model)."""
     from ._specs import is_spec
 
     return not is_spec(spec) and Path(spec).suffix.lower() != ".json"
@@ -84,7 +87,7 @@ def for_body(message: str, args) -> str:
     where both bodies are files and it names reading or identification flags: it says that
     those apply to both files and how to give one to that body alone (``--conjugate2``)."""
     match = re.match(r"body ([12])\b", message)
-    if match is None or not all(_is_file(s) for s in (args.body1, args.body2)):
+    if match is None or not all(is_file_body(s) for s in (args.body1, args.body2)):
         return message
     named = [flag for flag in identification_flags(per_body=False).values()
              if re.search(rf"(?<![\w-]){re.escape(flag)}(?![\w-])", message)]

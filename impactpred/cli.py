@@ -11,7 +11,7 @@ from modalid._cli import (add_fit_options, add_read_options, check_out_dir, fit_
                           in_flags, nothing_saved, read_options, run_command, window_line)
 
 from ._cli_bodies import (BODY_FLAGS_HELP, add_body_flags, body_args, for_body,
-                          identification_flags)
+                          identification_flags, is_file_body)
 
 __all__ = ["main"]
 
@@ -131,7 +131,7 @@ def _check_identification_flags(args) -> str | None:
 
     specs = (args.body1, args.body2)
     saved = [not is_spec(s) and Path(s).suffix.lower() == ".json" for s in specs]
-    files = [not is_spec(s) and not is_saved for s, is_saved in zip(specs, saved)]
+    files = [is_file_body(s) for s in specs]
     common = identification_flags(per_body=False)
     for i, (spec, is_file, is_saved) in enumerate(zip(specs, files, saved), start=1):
         own = given({f"{dest}_{i}": f"{flag}{i}" for dest, flag in common.items()})
