@@ -18,13 +18,14 @@ from pathlib import Path
 from modalid._cli import add_fit_options, add_read_options
 
 __all__ = ["BODY_FLAGS_HELP", "add_body_flags", "body_args", "for_body", "identification_flags",
-           "is_file_body"]
+           "in_body_flags", "is_file_body"]
 
 #: the help line that says the per-body flags exist (they are not listed one by one)
 BODY_FLAGS_HELP = ("these flags and the identification flags below apply to every body read "
                    "from a file; append 1 or 2 to one to apply it to that body only, over "
                    "the common one (--conjugate2, --quantity1 accelerance, --index2 1, "
-                   "--window-decay2 5.2, --fmin1 20)")
+                   "--window-decay2 5.2, --fmin1 20; --no-conjugate2, --no-negate1 turn a "
+                   "common switch off for one body)")
 
 _BODIES = (1, 2)
 
@@ -57,6 +58,9 @@ def add_body_flags(parser) -> None:
             if action.nargs == 0:                       # a switch (--conjugate)
                 parser.add_argument(flag, dest=dest, action="store_true", default=None,
                                     help=argparse.SUPPRESS)
+                if not flag.startswith("--not-"):       # off for one body: --no-conjugate2
+                    parser.add_argument(f"--no-{flag[2:]}", dest=dest, action="store_false",
+                                        default=None, help=argparse.SUPPRESS)
             else:
                 parser.add_argument(flag, dest=dest, type=action.type, choices=action.choices,
                                     metavar=action.metavar, default=None,
@@ -71,7 +75,25 @@ def body_args(args, body: int) -> argparse.Namespace:
         own = values.get(f"{dest}_{body}")
         if own is not None:
             values[dest] = own
+    if values.get(f"driving_point_{body}") is not None and not values.get(
+            f"not_driving_point_{body}"):
+        values["not_driving_point"] = False     # --driving-point2 yes over --not-driving-point
     return argparse.Namespace(**values)
+
+
+def in_body_flags(message: str, args, body: int) -> str:
+    """``message``, raised while building body ``body``'s reading or identification
+    options, in the flags given for that body: where any was given for it alone, each
+    such flag the message names in its per-body form (``--freq-start2``) and the message
+    led by ``body N:`` (so that :func:`for_body` adds how to give a missing one to it)."""
+    flags = identification_flags(per_body=False)
+    own = [flag for dest, flag in flags.items()
+           if getattr(args, f"{dest}_{body}", None) is not None]
+    if not own:
+        return message
+    for flag in own:
+        message = re.sub(rf"(?<![\w-]){re.escape(flag)}(?![\w-])", f"{flag}{body}", message)
+    return message if re.match(r"body [12]\b", message) else f"body {body}: {message}"
 
 
 def is_file_body(spec) -> bool:

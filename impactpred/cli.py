@@ -10,7 +10,7 @@ from pathlib import Path
 from modalid._cli import (add_fit_options, add_read_options, check_out_dir, fit_options,
                           in_flags, nothing_saved, read_options, run_command, window_line)
 
-from ._cli_bodies import (BODY_FLAGS_HELP, add_body_flags, body_args, for_body,
+from ._cli_bodies import (BODY_FLAGS_HELP, add_body_flags, body_args, for_body, in_body_flags,
                           identification_flags, is_file_body)
 
 __all__ = ["main"]
@@ -105,13 +105,23 @@ def _audit_line(res) -> str:
             f"{100 * audit.tolerance:.3g} %): {verdict}")
 
 
+def _body_options(build, args, body: int, *extra):
+    """``build(body_args(args, body), *extra)`` (``read_options``, ``fit_options``): body
+    ``body``'s own flags (``--conjugate2``) over the common ones; an error names the flags
+    as given for that body (``body 2: --freq-start2 ...``)."""
+    try:
+        return build(body_args(args, body), *extra)
+    except (ValueError, TypeError) as exc:
+        raise type(exc)(in_body_flags(str(exc), args, body)) from None
+
+
 def _body_read_options(args, body: int) -> dict:
     """The ``read_frf`` options of body ``body`` (1 or 2) when it is an FRF file, else
-    ``{}``: its own flags (``--conjugate2``) over the common ones."""
+    ``{}`` (see :func:`_body_options`)."""
     path = Path(getattr(args, f"body{body}"))
     if not path.is_file() or path.suffix.lower() == ".json":
         return {}
-    return read_options(body_args(args, body), path)
+    return _body_options(read_options, args, body, path)
 
 
 def _check_identification_flags(args) -> str | None:
@@ -173,7 +183,7 @@ def _run_predict(args):
 
     # the same estimator as ``modalid fit`` builds (one line a segment of a wide band),
     # each body's own flags over the common ones
-    options = [fit_options(body_args(args, body)) for body in (1, 2)]
+    options = [_body_options(fit_options, args, body) for body in (1, 2)]
     estimator = (ModalFit(progress=True, **options[0]) if options[0] == options[1]
                  else tuple(ModalFit(progress=True, **o) for o in options))
     ignored = _check_identification_flags(args)

@@ -550,17 +550,20 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
     elif band_check and any(_cuttable(f) for f in fits):
         # the band's cheap half (no draws): does the answer move with the band? A body
         # whose band cannot be cut enters as identified, as an exact one does
+        checked = [i + 1 for i, f in enumerate(fits) if _cuttable(f)]
         try:
-            check = uncertainty_band(models, [f if _cuttable(f) else None for f in fits],
-                                     solve, n_draws=0, continuation=continued,
-                                     nominal=result, executor=executor, contact=law,
-                                     fractions=(BAND_CHECK_FRACTION,), tail_variant=False)
+            with warnings.catch_warnings():   # its outcome changes: in warn_unsettled's words
+                warnings.filterwarnings("ignore", message=".*left out of the band's spread")
+                check = uncertainty_band(models, [f if _cuttable(f) else None for f in fits],
+                                         solve, n_draws=0, continuation=continued,
+                                         nominal=result, executor=executor, contact=law,
+                                         fractions=(BAND_CHECK_FRACTION,), tail_variant=False)
         except ValueError as exc:        # a re-identification the cut band refuses
             warnings.warn(f"the band check could not re-identify on {BAND_CHECK_FRACTION:.0%}"
                           f" of the band ({exc}): this prediction is not checked",
                           BandWarning, stacklevel=2)
         else:
-            warn_unsettled(check, figures)
+            warn_unsettled(check, figures, checked)
     reach, reach_below = band_reach(result, fits, notes, band_tolerance,
                                     [_lower_terms(fit, band_tolerance) if fit is not None
                                      else (None, np.inf, True) for fit in fits])

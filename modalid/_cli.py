@@ -307,7 +307,9 @@ def read_options(args, path) -> dict:
                "conjugate": args.conjugate or None, "negate": args.negate or None}
     if args.df is not None or args.freq_start is not None:
         if args.df is None or not args.df > 0:
-            raise ValueError(f"--df must be a positive line spacing (Hz), got {args.df!r}")
+            given = "" if args.freq_start is None else f" with --freq-start {args.freq_start!r}"
+            raise ValueError(f"--df must be a positive line spacing (Hz){given}, got "
+                             f"{args.df!r}")
         if not Path(path).is_file():
             raise FileNotFoundError(f"no such file: {str(path)!r}")
         with open(path, encoding="utf-8-sig", errors="replace") as stream:

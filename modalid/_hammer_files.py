@@ -187,7 +187,10 @@ def _rate(path, t, n_samples):
     """The sample rate (Hz) of a uniform time column, to 10 significant digits: a time
     column carries the rounding of its own text (pyFRF's step 3.90625000080e-5 s gave
     25600.0000000002 Hz, lines 1 - 2e-14 Hz apart that an ASCII UFF file could not hold
-    and a CSV file wrote as 0.9999999999999796)."""
+    and a CSV file wrote as 0.9999999999999796). A column uniform with a step rounded in
+    its text is exactly uniform with that step, so it cannot be told from an exact rate
+    of more digits (51200/31 Hz): that one is rounded too, by at most 5e-10 of itself,
+    10^3 times below a sampling clock's accuracy (a crystal's ~1e-6)."""
     t = np.ravel(t)
     if t.size != n_samples:
         raise ValueError(f"{path}: its time channel has {t.size} samples, the records "

@@ -19,8 +19,14 @@ SWAP_RATIO = 4.0
 
 
 def main_pulse(f: np.ndarray):
-    """Sign-normalised record, main peak index, its value and its width at half maximum
-    (samples)."""
+    """The record less its median, sign-normalised; its main peak's index, value and
+    width at half maximum (samples).
+
+    A hammer pulse is short: the record's median is its baseline. Measured from it, an
+    offset does not widen the pulse (an offset of 60 % of the peak had every sample above
+    half maximum: the force window took the whole record).
+    """
+    f = f - np.median(f)
     k0 = int(np.argmax(np.abs(f)))
     if f[k0] < 0:
         f = -f
@@ -40,8 +46,7 @@ def pulse_share(records: np.ndarray) -> float:
     median) within five half-widths of its main peak."""
     shares = []
     for record in records:
-        centred = record - np.median(record)
-        _, k0, _, width = main_pulse(centred)
+        centred, k0, _, width = main_pulse(record)
         total = float(np.sum(centred ** 2))
         near = float(np.sum(centred[max(k0 - 5 * width, 0):k0 + 5 * width + 1] ** 2))
         shares.append(near / total if total > 0 else 1.0)

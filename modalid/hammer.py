@@ -243,7 +243,8 @@ def _double_hits_in(forces: np.ndarray, fs: float, threshold: float):
     for i, record in enumerate(forces):
         f, k0, peak, fwhm = main_pulse(record)
         if peak == 0.0:
-            raise ValueError(f"force of hit {i} is identically zero: no hammer pulse")
+            what = "constant" if record.any() else "identically zero"
+            raise ValueError(f"force of hit {i} is {what}: no hammer pulse")
         avg = scipy.ndimage.uniform_filter1d(f, size=fwhm, mode="constant")
         a0 = int(np.argmax(avg[max(k0 - fwhm, 0):k0 + fwhm + 1])) + max(k0 - fwhm, 0)
         level = threshold * float(avg[a0])
@@ -338,7 +339,8 @@ def frf_from_hammer(force, response, fs, *, response_type="acceleration",
         sample 5 % of its peak away from its median): the pre-trigger's force is noise
         (the structure is at rest), which held the force spectrum up past the hammer's
         reach (a 5 % pre-trigger at 1 % noise: the automatic band went on to the Nyquist
-        line, with 43 modes for 20). ``HammerFRF.force_window_starts`` says where.
+        line, with 43 modes for the rod's 13 there). ``HammerFRF.force_window_starts``
+        says where.
     exponential_decay : float
         Decay rate ``sigma_w = 1/tau`` (1/s) of the exponential window
         ``w(t) = exp(-sigma_w t)`` applied to both channels; 0 (default) for none. For a

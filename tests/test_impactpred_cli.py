@@ -372,3 +372,28 @@ def test_reading_flags_for_one_body(tmp_path, capsys):
     assert main(["predict", "mass:1", str(beam), "--v1", "1", "--t-end", "0.05",
                  "--conjugate1"]) == 2
     assert "body 1 (mass:1) is an exact model" in capsys.readouterr().err
+
+
+def test_a_switch_off_for_one_body_and_errors_in_its_flags(tmp_path, capsys):
+    """--conjugate --no-conjugate2 reads body 1 conjugated and body 2 as stored (the same
+    restitution as --conjugate1); --driving-point2 yes stands over a common
+    --not-driving-point for body 2 (it had raised "contradicts"); an error in a body's own
+    flags names them as given and the body (--freq-start2 without --df: it had named
+    --freq-start and no body)."""
+    rod, beam, _ = _two_files(tmp_path)
+    args = ["predict", str(rod), str(beam), "--v1", "1", "--t-end", "0.05",
+            "--quantity1", "accelerance"]
+
+    def restitution(extra):
+        assert main(args + extra) == 0, capsys.readouterr().err
+        out = capsys.readouterr().out
+        return next(line.split(": ", 1)[1] for line in out.splitlines()
+                    if line.strip().startswith("restitution:"))
+
+    assert restitution(["--conjugate", "--no-conjugate2"]) == restitution(["--conjugate1"])
+    assert main(args + ["--conjugate1", "--not-driving-point", "--driving-point2", "yes"]) != 0
+    err = capsys.readouterr().err
+    assert "contradicts" not in err and "body 1" in err
+    assert main(args + ["--conjugate1", "--freq-start2", "10"]) == 2
+    err = capsys.readouterr().err
+    assert "body 2: --df" in err and "--freq-start2" in err and "(--df2)" in err, err

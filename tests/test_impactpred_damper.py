@@ -562,6 +562,23 @@ def test_initial_state_refuses_a_damper_mass_past_the_stops():
         d.initial_state(damper_velocity=float("nan"))
 
 
+def test_a_stuck_phase_never_entered_says_no_rounding_error():
+    """Forced 1e-10 off the mode of the primary and damper mass stuck together, with a
+    clearance too large for impacts: the run never sticks, so its motion holds no such
+    rounding and no note says it has (the compiled loop builds both stuck phases, and the
+    note had been taken over every phase built)."""
+    M, m, K = 1.0, 0.1, (2 * np.pi) ** 2
+    f = np.sqrt(K / (M + m)) / (2 * np.pi) * (1 + 1e-10)
+    d = ImpactDamper(SpringMass(M, K), damper_mass=m, clearance=1e3, contact=Rigid(),
+                     excitation=HarmonicForce(1.0, f))
+    with warnings.catch_warnings(record=True) as said:
+        warnings.simplefilter("always")
+        r = d.simulate(5)
+    assert len(r.impacts) == 0
+    assert not [n for n in r.notes if "rounding error" in n]
+    assert not [w for w in said if "rounding error" in str(w.message)]
+
+
 @pytest.mark.parametrize("offset", [1e-4, 1e-10])
 def test_near_resonance_the_rounding_error_is_said(offset):
     """An undamped primary forced ``offset`` (relative) off its mode, clearance too large

@@ -1,5 +1,6 @@
 """predict: bodies from specs, saved models and measured FRF files, end to end."""
 
+import re
 import warnings
 
 import numpy as np
@@ -683,3 +684,41 @@ def test_a_band_too_narrow_to_cut_is_not_checked():
         checked = predict("mass:1", data, velocity1=1.0, t_end=0.05)
         unchecked = predict("mass:1", data, velocity1=1.0, t_end=0.05, band_check=False)
     assert checked.figures == unchecked.figures
+
+
+def _check_band(low, high, *, changes=(), labels=("body1 band 80%",)):
+    """A band check's result with the given intervals (restitution, impulse, duration)."""
+    from impactpred.uncertainty import UncertaintyBand
+
+    names = ("restitution", "impulse", "contact_duration")
+    figs = {"restitution": 0.5, "impulse": 1.0, "contact_duration": 1e-3}
+    return UncertaintyBand(nominal=figs, low=dict(zip(names, low)),
+                           high=dict(zip(names, high)),
+                           variants=tuple((label, figs) for label in labels),
+                           outcome_changes=tuple(changes))
+
+
+def test_the_band_check_says_what_the_cut_band_changes():
+    """warn_unsettled: a figure's interval wider than UNSETTLED or not finite, an outcome
+    that changes in kind on the cut band (outside any interval: it had no word), and a
+    cuttable body without a cut-band run (its model or solve failed: not checked) are each
+    said; intervals within the limits and every body run give no word."""
+    from impactpred._band_checks import warn_unsettled
+
+    figs = {"restitution": 0.5, "impulse": 1.0, "contact_duration": 1e-3}
+    tight = ((0.49, 0.99, 0.99e-3), (0.51, 1.01, 1.01e-3))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert warn_unsettled(_check_band(*tight), figs, [1]) == []
+    cases = [
+        (_check_band((0.40, 0.99, 0.99e-3), (0.51, 1.01, 1.01e-3)), ["restitution"],
+         "restitution 0.5 (from 0.4 to 0.51)"),
+        (_check_band((0.49, np.nan, 0.99e-3), (0.51, 1.01, 1.01e-3)), ["impulse"],
+         "not finite"),
+        (_check_band(*tight, changes=("body1 band 80%: 2 contacts instead of 1",)),
+         ["outcome"], "outcome changes in kind on the cut band (body1 band 80%: 2 contacts"),
+        (_check_band(*tight, labels=()), ["unchecked"], "could not solve body 1"),
+    ]
+    for check, names, words in cases:
+        with pytest.warns(BandWarning, match=re.escape(words)):
+            assert warn_unsettled(check, figs, [1]) == names

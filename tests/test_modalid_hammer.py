@@ -494,6 +494,22 @@ def test_the_pretrigger_force_is_windowed_out():
     assert given.force_window_starts is None       # a given length starts at t = 0
 
 
+def test_a_force_offset_does_not_widen_the_force_window():
+    """One hit (its offset cannot be measured: no pre-trigger) on a force channel offset
+    by 1.5 times the pulse's height: the pulse's width is measured from the record's
+    median, so the automatic force window is the one without the offset (it took the
+    whole record: every sample lay above half the offset peak)."""
+    from data_synth import Rod, lightly_damped
+
+    truth = lightly_damped(Rod(1.0, 1e-3, support="fixed"), 20, 0.001, residual=True)
+    test = synthetic_hammer_test(truth, 25600.0, 1.0, n_hits=1, pulse_width=2e-4,
+                                 hit_times=0.0, noise=1e-2, seed=4, anti_alias=True)
+    clean = frf_from_hammer(test.force, test.response, 25600.0)
+    offset = test.force + 1.5 * np.max(np.abs(test.force))
+    shifted = frf_from_hammer(offset, test.response, 25600.0)
+    assert shifted.force_window_length == clean.force_window_length < 2e-3
+
+
 def test_swapped_channels_are_said():
     """Force and response given the other way round: the force lies within five
     half-widths of its peak (pyFRF's real hits: 99.9 % of its energy, the response 2.4 %;

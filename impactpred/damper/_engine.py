@@ -190,11 +190,15 @@ class Engine:
         return self._spring[s]
 
     # ---------------------------------------------------------------- helpers
-    def resonance_error(self) -> float:
+    def resonance_error(self, *, stuck_sides=None) -> float:
         """The largest relative rounding error near a resonance over the phase kinds built
-        (:attr:`PhaseKind.resonance_error`)."""
-        kinds = [self.free, *self._stuck.values(), *self._spring.values(),
-                 *self._pen.values()]
+        (:attr:`PhaseKind.resonance_error`); of the stuck kinds, those of ``stuck_sides``
+        only (the sides, +1 or -1, a run stuck on; None: every one built; the compiled
+        loop builds both whether a run sticks or not)."""
+        keys = (None if stuck_sides is None
+                else {s if self.rho == 0 else 1 for s in stuck_sides})
+        stuck = [k for key, k in self._stuck.items() if keys is None or key in keys]
+        kinds = [self.free, *stuck, *self._spring.values(), *self._pen.values()]
         return max(kind.resonance_error for kind in kinds)
 
     def point_rows(self, lam_row):

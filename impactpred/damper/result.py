@@ -101,7 +101,9 @@ class DamperResult:
         the steady window's own tolerance ``STEADY_RTOL`` is the limit), while the
         histories are exact to rounding.
     impacts_per_cycle : float
-        Impacts per forcing period over the same cycles.
+        Impacts per forcing period over the same cycles, counted by start time: an
+        impact still open at the run's end counts here (it is listed in ``impacts`` by
+        the run that ends it).
     power_dissipated : float
         Mean input power (W) over the same cycles: in a steady state it equals the power
         dissipated by impacts, contact damping and the primary's damping.
@@ -291,7 +293,19 @@ def build_result(damper, raw, *, n_cycles, samples_per_cycle):
     T = eng.period
     t0 = raw["t_start"]
     notes = []
-    loss = eng.resonance_error()
+    rows = raw["impacts"]
+    if isinstance(rows, dict):      # the compiled loop's columns
+        imp = pd.DataFrame({k: rows[k] for k in _IMPACT_COLUMNS}, columns=_IMPACT_COLUMNS)
+    else:
+        imp = pd.DataFrame([{k: r[k] for k in _IMPACT_COLUMNS} for r in rows],
+                           columns=_IMPACT_COLUMNS)
+    imp["side"] = imp["side"].astype(int)
+    # the phases the run entered: free flight, and the stuck ones of the sides it held on
+    # (an impact that lasted; the open impact is in the table)
+    held = set(imp.loc[imp["duration"] > 0, "side"])
+    if raw["final"].mode == "stuck":
+        held.add(raw["final"].side)
+    loss = eng.resonance_error(stuck_sides=held)
     if loss > RESONANCE_ERROR_NOTE:
         note = (f"the excitation frequency lies {np.finfo(float).eps / loss:.2g} (relative) "
                 "from an undamped mode of a phase: the closed form's free and forced parts "
@@ -319,13 +333,6 @@ def build_result(damper, raw, *, n_cycles, samples_per_cycle):
     if eng.base_damping:
         cb, vb = eng.base_damping, eng.base_velocity_amplitude
         power = (dw[0] - 2 * cb * dw[1]) / dt + 0.5 * cb * vb ** 2
-    rows = raw["impacts"]
-    if isinstance(rows, dict):      # the compiled loop's columns
-        imp = pd.DataFrame({k: rows[k] for k in _IMPACT_COLUMNS}, columns=_IMPACT_COLUMNS)
-    else:
-        imp = pd.DataFrame([{k: r[k] for k in _IMPACT_COLUMNS} for r in rows],
-                           columns=_IMPACT_COLUMNS)
-    imp["side"] = imp["side"].astype(int)
     n_imp = int(np.count_nonzero((imp["time"] >= t_a - 1e-12 * T)
                                  & (imp["time"] < t_b - 1e-12 * T)))
     fs = raw["final"]
