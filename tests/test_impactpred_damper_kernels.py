@@ -74,11 +74,18 @@ def test_beam_matches_the_python_loop_until_the_chatter_amplifies_rounding(monke
     a, b = fast.impacts["time"].to_numpy(), slow.impacts["time"].to_numpy()
     k = 40
     assert np.max(np.abs(a[:k] - b[:k])) < 1e-9 * d.engine().period
-    # afterwards the same physics, not the same rounding: statistics within the Python
-    # loop's own sensitivity to a 1-ulp change (2 % of the amplitude, 2 % of the contacts)
-    assert abs(len(a) / len(b) - 1) < 0.05
-    assert fast.primary_amplitude == pytest.approx(slow.primary_amplitude, rel=0.05)
-    assert fast.impacts_per_cycle == pytest.approx(slow.impacts_per_cycle, rel=0.1)
+    # afterwards the same physics, not the same rounding. One run's statistics are one
+    # draw of the chatter's: under 1-ulp changes of the force amplitude the impacts per
+    # cycle at 100 cycles range over 14.9-16.7 (sd 0.6) in either loop, so single runs
+    # differed by 11 % between loops and by 18 % between splits of the stuck phase.
+    # Compared: the means over six such changes (their difference's sd ~2 %)
+    ex = d.excitation
+    runs = [_both(d.replace(excitation=HarmonicForce(ex.amplitude * (1 + 2.2e-16 * k_ulp),
+                                                     ex.freq_hz)), 100, monkeypatch)
+            for k_ulp in range(6)]
+    fast_stats, slow_stats = (np.array([[r.impacts_per_cycle, r.primary_amplitude]
+                                        for r in loop]) for loop in zip(*runs))
+    np.testing.assert_allclose(fast_stats.mean(axis=0), slow_stats.mean(axis=0), rtol=0.08)
 
 
 @pytest.mark.parametrize("contact, n_cycles", [(InstantaneousImpact(0.5), 100), (Rigid(), 60)])

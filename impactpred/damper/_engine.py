@@ -36,23 +36,22 @@ __all__ = ["Engine", "EngineState"]
 class Engine:
     """Matrices and phase kinds of one damper, built once (see the module docstring).
 
-    ``rank_one=True`` splits the stuck phases (``Rigid``, ``InstantaneousImpact``) as the
-    free flight plus the rank-one force feedback (:mod:`impactpred.engine.rank_one`, as
-    ``solve_impact``'s exact method does; ~7x faster on a 20-mode primary, as accurate or
-    more against ``expm``); ``False`` (default): the general eigendecomposition. The two
-    round differently, and chattering runs amplify rounding into different (equally valid)
-    contact histories: compare them by statistics, not sample by sample. Not the default
-    yet: with it, the 20-mode beam's 100-cycle chatter statistics (impacts per cycle)
-    differ by 18 % between the compiled loop loaded from a numba cache written in a fresh
-    checkout's test session and the Python loop (14.9 against 14.6 when freshly compiled),
-    beyond the 10 % ``tests/test_impactpred_damper_kernels.py`` allows. Spring-dashpot
-    phases always take the general route: split by rank one, a dashpot's phase lost two
-    orders of accuracy in ``tests/test_impactpred_damper.py``'s grazing check (5e-8
-    against 2e-10 of the motion).
+    ``rank_one=True`` (default) splits the stuck phases (``Rigid``,
+    ``InstantaneousImpact``) as the free flight plus the rank-one force feedback
+    (:mod:`impactpred.engine.rank_one`, as ``solve_impact``'s exact method does; 1.8 ms
+    instead of 12 ms on a 20-mode primary, as accurate or more against ``expm``);
+    ``False``: the general eigendecomposition. The two round differently, and chattering
+    runs amplify rounding into different (equally valid) contact histories: compare them
+    by statistics, not sample by sample (one 100-cycle run's impacts per cycle on the
+    20-mode beam ranges over 14.9-16.7 under 1-ulp changes of the force; means over six
+    such changes: ``tests/test_impactpred_damper_kernels.py``). Spring-dashpot phases
+    always take the general route: split by rank one, a dashpot's phase lost two orders
+    of accuracy in ``tests/test_impactpred_damper.py``'s grazing check (5e-8 against
+    2e-10 of the motion).
     """
 
     def __init__(self, model, *, damper_mass, clearance, contact, excitation, base_spring,
-                 rank_one=False, outputs=None):
+                 rank_one=True, outputs=None):
         a_p, b_p, c_p, d_p = pole_residue_to_statespace(
             model.poles, model.residues, model.real_poles, model.real_residues, 0.0,
             model.flexibility)
