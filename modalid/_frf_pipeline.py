@@ -29,7 +29,7 @@ from ._lsfd import (Terms, design_matrix, evaluate, noise_level, place_upper_mod
 from ._vf import vector_fit_poles
 from ._zero_start import hold_single
 from ._unresolved_damping import lift_single
-from ._window import structure_model, windowed_receptance
+from ._window import nonnegative_mass_line, structure_model, windowed_receptance
 from .frf import FRFData
 from .model import ModalModel
 from .quantities import receptance_to
@@ -515,14 +515,12 @@ class FRFPipeline(PoleChecks, LowEnd):
     def _store(self, frf, poles, kinds, residues, u, d, info, notes, max_order,
                vf_iterations, terms):
         omega, h = frf.omega, frf.values
-        # the model of the data fitted (the windowed FRF when there is a window), then the
-        # structure's (the window and the record's end undone: modalid._window)
+        # the model of the data fitted (windowed), then the structure's (modalid._window);
+        # a transfer FRF (unconstrained fit) keeps a negative mass line (a rigid rotation,
+        # or the modes below the band, measured away from the hit point)
         self._raw_inverse_mass = float(u)     # its sign speaks of driving point or not
-        # a transfer FRF (the unconstrained fit) keeps a negative mass line: a free body's
-        # rigid rotation, or the modes below the band, measured away from the hit point
         u = float(u) if not self._passive_on else max(float(u), 0.0)
-        fitted_model = ModalModel(poles=poles, residues=residues, inverse_mass=u,
-                                  flexibility=d)
+        fitted_model = ModalModel(poles=poles, residues=residues, inverse_mass=u, flexibility=d)
         fitted = evaluate(omega, poles, residues, (), (), u, d, self._shift)
         band = self._data_band
         own = receptance_to(band.quantity, fitted, band.omega) - band.values
@@ -533,6 +531,9 @@ class FRFPipeline(PoleChecks, LowEnd):
                 fitted_model, kinds, decay_rate=self._shift, record_length=self._record,
                 quantity=band.quantity, data=band, removed=self.__dict__.get("_end_removed"))
             poles, residues = fitted_model.poles, fitted_model.residues
+            if self._passive_on:           # the record end's A_2 taken out of it
+                fitted_model, said = nonnegative_mass_line(fitted_model)
+                notes = notes + said
             if window["window_clipped"]:   # a pole moved: judged as delivered
                 own = receptance_to(band.quantity, windowed_receptance(
                     fitted_model, band.omega, self._shift, self._record,
@@ -595,6 +596,5 @@ class FRFPipeline(PoleChecks, LowEnd):
             band_hz=(float(frf.freq_hz[0]), float(frf.freq_hz[-1])), segments=self._segment_count,
             vf_iterations=vf_iterations, modes=modes, inverse_mass_std=inverse_mass_std,
             flexibility_std=flexibility_std, std_inflation=inflation,
-            **{k: v for k, v in window.items()
-               if k not in ("truncation_factors", "rigid_factor", "record_cut",
-                            "record_end_gone")})
+            **{k: v for k, v in window.items() if k not in ("truncation_factors", "rigid_factor",
+                                                             "record_cut", "record_end_gone")})

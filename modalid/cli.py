@@ -196,13 +196,15 @@ def _cmd_hammer(args) -> int:
     records = read_hammer_records(args.files, fs=args.fs, time=args.time, force=args.force,
                                   response=args.response)
     n_hits, n_samples = records.force.shape
+    uff = out is not None and out.suffix.lower() in (".uff", ".unv")
+    pretrigger = "keep" if uff and args.pretrigger == "auto" else args.pretrigger
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         est = frf_from_hammer(records.force, records.response, records.fs,
                               response_type=args.response_type, force_window=args.force_window,
                               force_window_length=args.force_window_length,
                               exponential_decay=args.exponential_decay, n_fft=args.n_fft,
-                              baseline=args.baseline)
+                              baseline=args.baseline, pretrigger=pretrigger)
     for w in caught:
         _warn(w.message)
     frf = est.frf
@@ -214,10 +216,21 @@ def _cmd_hammer(args) -> int:
     starts = est.force_window_starts
     window = ("none" if est.force_window_length is None
               else f"force window to {est.force_window_length:.6g} s" if starts is None
+              else f"force window to {est.force_window_length:.6g} s after each hit's start"
+              if est.record_starts is not None
               else f"force window from {_span(starts)} s (the hits' starts, less five "
                    f"widths) to {est.force_window_length:.6g} s")
+    if est.record_starts is not None:           # cut: never zero-padded, so a length
+        print(f"pre-trigger cut: each hit's records from {_span(est.record_starts)} s (its "
+              f"force window's start), {est.record_length:.6g} s kept (--pretrigger keep: "
+              "whole)")
+    elif pretrigger != args.pretrigger and not est.window_decay_rate and any(
+            est.force_window_starts or ()):
+        print("pre-trigger kept (--pretrigger auto with a .uff file: it holds a round line "
+              "spacing only; a .csv, .npz or .mat file keeps the cut records' lines)")
     decay = est.window_decay_rate
-    ends = f", ending at {np.exp(-decay * n_samples / records.fs):.3g}" if decay else ""
+    duration = est.record_length if est.record_length is not None else n_samples / records.fs
+    ends = f", ending at {np.exp(-decay * duration):.3g}" if decay else ""
     print(f"windows: {window}; exponential decay {decay:.6g} 1/s{ends}")
     units = ("N", {"acceleration": "m/s^2", "velocity": "m/s"}.get(args.response_type, "m"))
     removed = [f"{name} {value:.6g} {unit}" for name, value, unit
@@ -256,12 +269,20 @@ def _cmd_hammer(args) -> int:
                "which no fit can take out of a zero-padded FFT's lines")
         print(f"no exponential window: where a mode has not died out within the record, "
               f"its end puts terms on the FRF's lowest lines, {end}; --exponential-decay "
-              f"{4.6 * records.fs / n_samples:.3g} (a window ending at 1 %) makes them small")
+              f"{4.6 / duration:.3g} (a window ending at 1 %) makes them small")
     if out is None:
         print(nothing_saved("FILE writes the FRF with its coherence (.csv, .npz, .mat, .uff)"))
     else:
         out.parent.mkdir(parents=True, exist_ok=True)
-        write_frf(out, frf)
+        try:
+            write_frf(out, frf)
+        except ValueError as exc:           # an ASCII UFF's 6-digit line spacing
+            if "ASCII UFF" not in str(exc):
+                raise
+            raise ValueError(f"{out}: an ASCII UFF file holds lines on a spacing of 6 "
+                             f"significant digits, and these are {frf.freq_hz[1]:.10g} Hz "
+                             "apart (the records cut at the hits): give --pretrigger keep, "
+                             "or write a .csv, .npz or .mat file") from None
         print(f"wrote {out}")
     return 0
 
@@ -321,11 +342,18 @@ def _add_hammer_parser(sub) -> None:
                              "(default)")
     hammer.add_argument("--force-window-length", type=float, default=None, metavar="S",
                         help="length (s) of the force window from the record start; default: "
-                             "from five pulse widths before each hit to five after the last "
-                             "peak")
+                             "from each hit's start (with --pretrigger keep, five pulse widths "
+                             "before it) to five widths after the last peak")
     hammer.add_argument("--baseline", choices=("pretrigger", "none"), default="pretrigger",
                         help="pretrigger: remove a channel's offset, its mean before the hits "
                              "where significant (default); none: the records as they are")
+    hammer.add_argument("--pretrigger", choices=("auto", "cut", "keep"), default="auto",
+                        help="cut: each hit's records from its force window's start, the "
+                             "samples before it dropped, so that the record's end is modelled "
+                             "for a hit at its start (with the automatic force window and no "
+                             "--n-fft); keep: the records whole, on the lines of their full "
+                             "length; auto (default): cut without --exponential-decay (and "
+                             "not for a .uff file: it holds a round line spacing only)")
     hammer.add_argument("--n-fft", type=int, default=None, metavar="N",
                         help="FFT length, zero-padded (default: the record length)")
     hammer.add_argument("--out", metavar="FILE",

@@ -404,16 +404,18 @@ def test_one_hit_writes_its_force_spectrum_and_the_fit_ends_its_band_there(hamme
     out = tmp_path / "one.csv"
     (path,) = save_rows(tmp_path, type(test)(**{**vars(test), "force": test.force[:1],
                                                 "response": test.response[:1]}))
-    assert main(["hammer", path, "--response-type", "velocity", "--out", str(out)]) == 0
+    assert main(["hammer", path, "--response-type", "velocity", "--pretrigger", "keep",
+                 "--out", str(out)]) == 0
     assert "its automatic band ends where the force spectrum the file keeps falls 20 dB" in (
         capsys.readouterr().out)
     written = out.read_bytes()        # a second run does not overwrite it without a word
-    assert main(["hammer", path, "--response-type", "velocity", "--out", str(out)]) == 2
+    assert main(["hammer", path, "--response-type", "velocity", "--pretrigger", "keep",
+                 "--out", str(out)]) == 2
     assert capsys.readouterr().err == (f"modalid: error: --out {out} exists: remove it "
                                        "first, or give another name\n")
     assert out.read_bytes() == written
     expected = frf_from_hammer(test.force[:1], test.response[:1], test.fs,
-                               response_type="velocity")
+                               response_type="velocity", pretrigger="keep")
     np.testing.assert_array_equal(read_frf(out).excitation, expected.force_spectrum)
     assert main(["fit", str(out), "--not-driving-point"]) == 0
     assert "the excitation's spectrum is 20 dB or more below its peak" in capsys.readouterr().out
@@ -536,3 +538,26 @@ def test_a_negative_exponent_number_is_attached_to_its_option_only():
     assert _attached_negative_numbers(["--gap", "-1e-3", "x"]) == ["--gap=-1e-3", "x"]
     assert _attached_negative_numbers(["--", "-1e-3"]) == ["--", "-1e-3"]
     assert _attached_negative_numbers(["--gap=1", "-2e3"]) == ["--gap=1", "-2e3"]
+
+
+def test_hammer_command_cuts_the_pretrigger_where_the_file_can_hold_it(hammer_test, tmp_path,
+                                                                     capsys):
+    """Unwindowed records with the hits 0.87 s in: a CSV gets the cut records (the file's
+    record length what is left, its lines on that length); an ASCII UFF file holds a round
+    line spacing only, so --pretrigger auto keeps them whole there and says so; --pretrigger
+    cut with a UFF file is refused in the interface's words."""
+    from modalid import read_frf
+
+    test, _ = hammer_test
+    rows = save_rows(tmp_path, test)
+    args = ["hammer", *rows, "--response-type", "velocity"]
+    assert main(args + ["--out", str(tmp_path / "h.csv")]) == 0
+    assert "pre-trigger cut: each hit's records from 0.8" in capsys.readouterr().out
+    written = read_frf(tmp_path / "h.csv")
+    assert 99 < written.record_length < 100
+    assert main(args + ["--out", str(tmp_path / "h.uff")]) == 0
+    assert "pre-trigger kept (--pretrigger auto with a .uff file" in capsys.readouterr().out
+    assert read_frf(tmp_path / "h.uff").record_length == 100.0
+    assert main(args + ["--pretrigger", "cut", "--out", str(tmp_path / "c.uff")]) == 2
+    err = capsys.readouterr().err
+    assert "--pretrigger keep" in err and "binary=True" not in err, err

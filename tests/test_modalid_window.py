@@ -396,3 +396,23 @@ def test_a_record_whose_modes_ring_past_its_end_is_fitted_without_its_end_terms(
             assert report["verdict"] == "suspect" and report["record_end_unmodelled"] > 1.0
         else:
             assert report["record_end_unmodelled"] < 0.05            # measured: 0.027
+
+
+def test_a_driving_point_mass_line_less_the_record_end_is_not_negative():
+    """A fixed rod's unwindowed hits at 1e-3 noise, kept whole: the acceleration's mass
+    line less the record end's A_2 computed from the modes left -0.048 +- 0.015 1/kg, and
+    predict refused the driving point as a transfer FRF. A driving point's mass line is
+    not negative: set to 0, with a note; the impact is predicted."""
+    from impactpred import predict
+
+    truth = lightly_damped(Rod(1.0, 1e-3, support="fixed"), 20, 0.001, residual=True)
+    test = synthetic_hammer_test(truth, 25600.0, 1.0, n_hits=5, pulse_width=2e-4,
+                                 hit_times=0.0, noise=1e-3, seed=4, anti_alias=True)
+    est = frf_from_hammer(test.force, test.response, 25600.0, pretrigger="keep")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        fit = ModalFit().fit(est.frf)
+        pred = predict("mass:1", fit, velocity1=1.0, t_end=0.01, band_check=False)
+    assert fit.model_.inverse_mass == 0.0
+    assert any("A_2 (-0.04" in note and "set to 0" in note for note in fit.report_["notes"])
+    assert abs(pred.figures["restitution"] - 0.690) < 0.01
