@@ -253,11 +253,11 @@ class Prediction:
     band_reach : tuple
         Per identified body: the share of the contact force's energy above the top of
         the band its model was identified on (None for the others).
-    figures : dict or None
+    figures : dict
         ``contact_duration``, ``peak_force``, ``impulse``, ``restitution`` (and contact
         counts) from :func:`impactpred.truncation.impact_figures`, with contacts closer
-        than the narrowest band's resolution ``1/(2 f_top)`` merged; None without an
-        identified body (use ``result``'s own figures then).
+        than the narrowest band's resolution ``1/(2 f_top)`` merged (none merged without
+        an identified body: it was None then, and ``pred.figures["restitution"]`` raised).
     uncertainty : UncertaintyBand or None
         With ``predict(..., uncertainty=True)``: an interval for each of those figures,
         meant to hold the four together with probability 0.9 (``uncertainty.level``):
@@ -539,8 +539,7 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
         for caught in probe_warnings:
             warnings.warn(caught.message, caught.category, stacklevel=2)
     identified = any(f is not None for f in fits)
-    figures = (impact_figures(result, resolution=band_resolution(fits)) if identified
-               else None)
+    figures = impact_figures(result, resolution=band_resolution(fits) if identified else 0.0)
     band = None
     continued = any(n is not None and n.startswith("on") for n in notes)
     if uncertainty and identified:

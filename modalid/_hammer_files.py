@@ -8,6 +8,8 @@ then given), the hammer force and the response. Formats:
 * ``.npz``: named arrays, each a channel (1-D) or several hits of it (2-D, hits x
   samples);
 * CSV/text: a column per channel, with a header line (names) or without (positions);
+  a name's unit in brackets at its end is scaled to SI (``Time (ms)``, ``Force [kN]``,
+  ``Acceleration (g)``; a unit not known is kept and said);
 * ``.lvm`` (or gzipped, ``.lvm.gz``): a LabVIEW measurement file (:mod:`modalid._lvm`),
   its channels by name, a channel in g scaled to m/s^2, the time from its ``Delta_X``.
 
@@ -92,7 +94,7 @@ def _load(path: Path, fs=None):
                 return {k: loaded[k] for k in loaded.files}, True, {}
         return _positional(path, loaded), False, {}
     if suffix in (".csv", ".tsv", ".txt"):
-        return (*_load_text(path), {})
+        return _load_text(path)
     raise ValueError(f"cannot tell the format of {str(path)!r} from its extension "
                      f"{suffix!r}: accepted are .npy, .npz, .csv, .tsv, .txt, .lvm, .lvm.gz")
 
@@ -109,6 +111,9 @@ def _positional(path, array):
 
 
 def _load_text(path):
+    """``(channels, names, units)`` of a CSV/TSV/TXT file (see :func:`_load`): a header's
+    units (``Acceleration (g)``, ``Time [ms]``) scaled to SI (a CSV in g had been read as
+    m/s^2, a time in ms as s: 25.6 Hz for 25.6 kHz)."""
     import pandas as pd
 
     from ._io_records import _decoded_text
@@ -138,8 +143,36 @@ def _load_text(path):
                          f"non-numeric value at data row {row + 1}: "
                          f"{table.iloc[row, col]!r}")
     if header is None:
-        return {str(i): values[:, i] for i in range(values.shape[1])}, False
-    return {str(name).strip(): values[:, i] for i, name in enumerate(table.columns)}, True
+        return {str(i): values[:, i] for i in range(values.shape[1])}, False, {}
+    channels, units = {}, {}
+    for i, name in enumerate(table.columns):
+        name = str(name).strip()
+        label, factor = _header_unit(name)
+        channels[name] = values[:, i] * (factor or 1.0)
+        if label is not None and factor != 1.0:
+            units[name] = (label, factor)
+    return channels, True, units
+
+
+#: a column name's unit, in brackets at its end: ``Acceleration (g)``, ``Time [ms]``
+_UNIT = re.compile(r"[\[(]\s*([^\])]*?)\s*[\])]\s*$")
+#: time units of a column (the others as LabVIEW's labels: :mod:`modalid._lvm`)
+_TIME_UNITS = {"s": 1.0, "sec": 1.0, "ms": 1e-3, "us": 1e-6, "µs": 1e-6}
+
+
+def _header_unit(name: str):
+    """``(label, factor to SI)`` of a column name's unit (``(None, 1.0)`` without one;
+    factor None for a unit not known: the values are kept, and said to be)."""
+    from ._lvm import _SI, _TO_SI
+
+    match = _UNIT.search(name)
+    if match is None:
+        return None, 1.0
+    label = match.group(1)
+    key = label.lower().replace(" ", "")
+    if key in _TIME_UNITS:
+        return label, _TIME_UNITS[key]
+    return label, _TO_SI.get(key, 1.0 if key in _SI else None)
 
 
 def _pick(path, channels, named, role, given, words):
@@ -205,7 +238,8 @@ def _rate(path, t, n_samples):
 
 
 def _unit_note(unit) -> str:
-    """What a LabVIEW channel's unit label said: scaled to SI, or kept not knowing it."""
+    """What a channel's unit label said (a LabVIEW file's, a CSV header's): scaled to SI,
+    or kept not knowing it."""
     if unit is None:
         return ""
     label, factor = unit

@@ -36,7 +36,7 @@ STANDARD_GRAVITY = 9.80665           # m/s^2 per g
 #: unit labels scaled to SI (N, m/s^2, m/s, m), and labels taken as SI already
 _TO_SI = {"g": STANDARD_GRAVITY, "mg": 1e-3 * STANDARD_GRAVITY, "kn": 1000.0,
           "lbf": 4.4482216152605, "in/s^2": 0.0254, "in/s": 0.0254, "mm/s": 1e-3,
-          "mm/s^2": 1e-3}
+          "mm/s^2": 1e-3, "mm": 1e-3, "um": 1e-6, "µm": 1e-6, "in": 0.0254}
 _SI = {"", "n", "newton", "newtons", "m/s^2", "m/s2", "m/s²", "m/s", "m"}
 _END = "***End_of_Header***"
 

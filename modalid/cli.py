@@ -269,7 +269,8 @@ def _cmd_hammer(args) -> int:
                "which no fit can take out of a zero-padded FFT's lines")
         print(f"no exponential window: where a mode has not died out within the record, "
               f"its end puts terms on the FRF's lowest lines, {end}; --exponential-decay "
-              f"{4.6 / duration:.3g} (a window ending at 1 %) makes them small")
+              f"{4.6 * records.fs / n_samples:.3g} (a window ending at 1 % of the whole records, "
+              "which it keeps) makes them small")
     if out is None:
         print(nothing_saved("FILE writes the FRF with its coherence (.csv, .npz, .mat, .uff)"))
     else:

@@ -298,7 +298,8 @@ def frf_from_hammer(force, response, fs, *, response_type="acceleration",
     force_window_length : float or None
         Length (s) of the force window, at most the record length ``n_samples / fs``.
         ``None``: the latest main peak of all hits plus five times its width at half
-        maximum (the whole half-sine and a margin), and each hit's force is set to zero
+        maximum (the whole half-sine and a margin; the second pulse of a double hit
+        likewise: it is force the response holds), and each hit's force is set to zero
         before its hit too, from five such widths before the hit's start (its first
         sample 5 % of its peak away from its median): the pre-trigger's force is noise
         (the structure is at rest), which held the force spectrum up past the hammer's
@@ -453,8 +454,11 @@ def frf_from_hammer(force, response, fs, *, response_type="acceleration",
                                      for records in (forces, responses))
                 peaks = [(k0 - k, peak, fwhm) for (k0, peak, fwhm), k in zip(peaks, starts)]
                 starts = np.zeros_like(starts)
-            last = max(k0 + 5 * fwhm for k0, _, fwhm in peaks)
-            window_length = min(last, n_samples - 1) / fs
+            ends = [k0 + 5 * fwhm for k0, _, fwhm in peaks]
+            shift = np.zeros(n_hits, int) if record_starts is None else record_starts
+            for i, t_second, _, _ in found:   # a double hit's second pulse is force too
+                ends[i] = max(ends[i], round(t_second * fs) - shift[i] + 5 * peaks[i][2])
+            window_length = min(max(ends), n_samples - 1) / fs
         else:
             window_length = as_positive_scalar("force_window_length", force_window_length)
             if window_length > duration:

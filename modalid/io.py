@@ -17,12 +17,11 @@ disagree are an error, never silently resolved. Values are taken in SI units of 
 quantity unless a table's column header states another (``real [mm/N]``, ``f [kHz]``:
 converted; a unit not known is refused); frequencies are converted to Hz.
 
-Nothing read is ever executed: ``.npz`` is opened with ``allow_pickle=False``, complex
-text lines are parsed by :class:`complex`, never ``eval``.
+Nothing read is executed: ``.npz`` is opened with ``allow_pickle=False``, complex text
+lines are parsed by :class:`complex`, never ``eval``.
 
-This module holds the public functions and the CSV, NPZ and MAT readers; the readers'
-common ground (column and variable names to roles, raw records to :class:`FRFData`) is
-:mod:`modalid._io_records`, UFF dataset 58 is :mod:`modalid._uff`.
+Here: the public functions, the CSV, NPZ and MAT readers; their common ground (names to
+roles, records to :class:`FRFData`) in :mod:`modalid._io_records`, UFF in :mod:`._uff`.
 """
 
 from __future__ import annotations
@@ -126,7 +125,8 @@ def _read_table(path, columns, table=None, stated=None, measured=None):
     def column(role):
         name = found[role][0]
         values = pd.to_numeric(table[name], errors="coerce").to_numpy(dtype=float)
-        bad = ~np.isfinite(values)
+        # -inf dB is a zero magnitude (an analyzer's 0 Hz line)
+        bad = ~np.isfinite(values) & ((values != -np.inf) | (role != "magnitude_db"))
         if np.any(bad):
             i = int(np.argmax(bad))
             value = table[name].iloc[i]
@@ -490,13 +490,23 @@ def _read_one(path, format, quantity, columns, index, freq_hz):
     frfs = _read_all(path, fmt, quantity, columns)
     if index is None:
         if len(frfs) > 1:
-            raise ValueError(f"{path} holds {len(frfs)} FRFs: pass index= (0 to "
-                             f"{len(frfs) - 1}; see describe_frfs) or use read_frfs")
+            raise ValueError(f"{path} holds {len(frfs)} FRFs{_listing(path, fmt, columns)}: "
+                             f"pass index= (0 to {len(frfs) - 1}) or use read_frfs")
         index = 0
     if index >= len(frfs):
         raise ValueError(f"index must be below {len(frfs)}, the number of FRFs in {path}, "
                          f"got {index}")
     return frfs[index]
+
+
+def _listing(path, fmt, columns, shown=6) -> str:
+    """`` (0: response 1+3, reference 1+3; 1: ...)`` of a UFF file's records, else ``""``."""
+    metas = [r.meta for r in _read_raw(path, fmt, columns)]
+    if not all("response_node" in m for m in metas):
+        return ""
+    items = [f"{i}: response {m['response_node']}{int(m['response_dir']):+d}, reference "
+             f"{m['reference_node']}{int(m['reference_dir']):+d}" for i, m in enumerate(metas)]
+    return " (" + "; ".join(items[:shown]) + ("; ..." if len(items) > shown else "") + ")"
 
 
 def describe_frfs(path, *, format=None, columns=None):

@@ -722,3 +722,12 @@ def test_the_band_check_says_what_the_cut_band_changes():
     for check, names, words in cases:
         with pytest.warns(BandWarning, match=re.escape(words)):
             assert warn_unsettled(check, figs, [1]) == names
+
+
+def test_the_figures_of_exact_bodies():
+    """No identified body (two specs): the figures are the result's, none merged (they
+    were None, and the README's pred.figures["restitution"] raised a TypeError)."""
+    pred = predict("mass:1", "rod:mass=1,transit_time=1e-3,support=fixed", velocity1=1.0,
+                   t_end=0.01)
+    assert pred.figures["restitution"] == pytest.approx(pred.result.restitution, rel=1e-12)
+    assert pred.figures["impulse"] == pytest.approx(pred.result.impulse, rel=1e-12)

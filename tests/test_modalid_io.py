@@ -354,7 +354,9 @@ def test_uff_abscissa_in_rad_per_s(tmp_path):
 def test_uff_with_several_frfs(tmp_path):
     path = write_uff_sets(tmp_path / "a.uff", header151(),
                           dset58(ref_node=1), dset58(ref_node=2, values=np.ones(10) * 1j))
-    with pytest.raises(ValueError, match="holds 2 FRFs"):
+    # the message names each record's points (the CLI had said "see describe_frfs")
+    with pytest.raises(ValueError, match=r"holds 2 FRFs \(0: response 1\+3, reference 1\+3; "
+                                         r"1: response 1\+3, reference 2\+3\): pass index="):
         read_frf(path)
     frfs = read_frfs(path)
     assert len(frfs) == 2
@@ -495,6 +497,13 @@ def test_csv_units_of_a_db_magnitude_and_of_a_set_are_read(tmp_path):
     frf = read_frf(db)
     assert frf.quantity == "receptance"
     np.testing.assert_allclose(frf.values, [1e-3, 1e-2j], atol=1e-18)
+    # an analyzer's 0 Hz line at -inf dB is a zero magnitude (it refused the whole file);
+    # +inf or nan still are not
+    zero = write_text(tmp_path / "z.csv", "f [Hz],mag dB [mm/N],phase [deg]\n0,-inf,0\n10,0,0\n")
+    np.testing.assert_array_equal(read_frf(zero).values, [0.0, 1e-3])
+    bad = write_text(tmp_path / "b.csv", "f [Hz],mag dB [mm/N],phase [deg]\n0,inf,0\n10,0,0\n")
+    with pytest.raises(ValueError, match="non-finite value at data row 1: inf"):
+        read_frf(bad)
     from modalid.io_set import read_frf_set
 
     table = write_text(tmp_path / "set.csv", "f,p1 real [(m/s)/N],p1 imag [m/(N s)],p2 real "

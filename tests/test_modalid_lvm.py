@@ -146,3 +146,31 @@ def test_bare_rows_of_several_hits_rounded_intervals_and_unknown_units(tmp_path)
     with pytest.warns(UserWarning, match="Delta_X '0,000977' has 3 significant digits"):
         records = read_hammer_records([path], fs=1024.0)
     assert records.fs == 1024.0
+
+
+def test_a_csv_headers_units_are_scaled_to_si(tmp_path):
+    """A CSV whose header gives units: time in ms, force in kN, acceleration in g are
+    scaled to s, N and m/s^2 and said (the g had been read as m/s^2, the ms as s: a
+    restitution of 0.81 for 0.62, a rate of 25.6 Hz); a unit not known is kept and said;
+    SI units and none change nothing."""
+    from modalid._hammer_files import read_hammer_records
+
+    n, fs = 64, 1000.0
+    t = np.arange(n) / fs
+    force = np.exp(-((np.arange(n) - 5) / 1.5) ** 2)
+    acc = np.sin(np.arange(n) / 3.0)
+    path = tmp_path / "hit.csv"
+    path.write_text("Time (ms),Force [kN],Acceleration (g)\n"
+                    + "".join(f"{1e3 * a:.17g},{b:.17g},{c:.17g}\n"
+                              for a, b, c in zip(t, force, acc)))
+    records = read_hammer_records([path])
+    assert records.fs == pytest.approx(fs)
+    np.testing.assert_allclose(records.force[0], 1000.0 * force)
+    np.testing.assert_allclose(records.response[0], 9.80665 * acc)
+    assert "(x 9.80665: g to SI)" in records.channels and "(x 1000: kN to SI)" in records.channels
+    path.write_text("t (s),force (mV),acceleration (m/s^2)\n"
+                    + "".join(f"{a:.17g},{b:.17g},{c:.17g}\n" for a, b, c in zip(t, force, acc)))
+    records = read_hammer_records([path])
+    np.testing.assert_allclose(records.force[0], force)
+    np.testing.assert_allclose(records.response[0], acc)
+    assert "(in mV, not scaled: a unit not known)" in records.channels
