@@ -47,6 +47,8 @@ _S_POWER = {"receptance": 0, "mobility": 1, "accelerance": 2}
 FORCE_WINDOWS = ("force", "none")
 BASELINES = ("pretrigger", "none")
 PRETRIGGERS = ("auto", "cut", "keep")
+#: the longest pulse (s, width at half height) a hammer gives before ``fs`` is doubted
+_LONGEST_PULSE = 0.05
 
 
 class DoubleHitWarning(UserWarning):
@@ -356,6 +358,8 @@ def frf_from_hammer(force, response, fs, *, response_type="acceleration",
     UserWarning
         The response holds four times more of its energy around its peak than the force
         (a hammer's force lies in its pulse, a response rings on): channels swapped?
+        The force pulse lasts more than 50 ms at half its height (a hammer's: 0.05-20
+        ms): ``fs`` in kHz?
 
     Notes
     -----
@@ -440,6 +444,11 @@ def frf_from_hammer(force, response, fs, *, response_type="acceleration",
         forces, responses = forces - offsets[0], responses - offsets[1]
     t = np.arange(n_samples) / fs
     peaks = [main_pulse(f)[1:] for f in forces]  # (k0, peak, fwhm) of each hit
+    width = float(np.median([fwhm for _, _, fwhm in peaks])) / fs
+    if width > _LONGEST_PULSE:                    # 25.6 for 25.6 kHz: a 500 s record
+        warnings.warn(f"the force pulse lasts {1e3 * width:.3g} ms at half its height, a "
+                      f"hammer's 0.05-20 ms: is fs={fs!r} in Hz (not kHz)?", UserWarning,
+                      stacklevel=2)
     window_length, starts, record_starts = None, None, None
     if force_window == "force":
         if force_window_length is None:

@@ -603,3 +603,19 @@ def test_the_force_window_keeps_a_double_hits_second_pulse():
         pred = predict("mass:1", fit, velocity1=1.0, t_end=0.01, band_check=False)
     assert fit.report_["verdict"] == "ok"
     assert abs(pred.figures["restitution"] - exact) < 0.01
+
+
+def test_a_sample_rate_in_khz_is_doubted():
+    """25600 Hz given as 25.6 (kHz typed): the 0.2 ms pulse would last 0.2 s, no hammer's
+    (0.05-20 ms): a warning asks whether fs is in Hz; the right rate gives no such word."""
+    from data_synth import Rod, lightly_damped
+
+    truth = lightly_damped(Rod(1.0, 1e-3, support="fixed"), 20, 0.001, residual=True)
+    test = synthetic_hammer_test(truth, 25600.0, 0.5, n_hits=2, pulse_width=2e-4,
+                                 noise=1e-3, seed=1, anti_alias=True)
+    with pytest.warns(UserWarning, match=r"lasts \d+ ms at half its height.*is fs=25.6 in Hz"):
+        frf_from_hammer(test.force, test.response, 25.6)
+    with warnings.catch_warnings(record=True) as said:
+        warnings.simplefilter("always")
+        frf_from_hammer(test.force, test.response, 25600.0)
+    assert not [w for w in said if "half its height" in str(w.message)]
