@@ -75,9 +75,12 @@ def body_args(args, body: int) -> argparse.Namespace:
         own = values.get(f"{dest}_{body}")
         if own is not None:
             values[dest] = own
-    if values.get(f"driving_point_{body}") is not None and not values.get(
-            f"not_driving_point_{body}"):
+    own_point, own_not = values.get(f"driving_point_{body}"), values.get(
+        f"not_driving_point_{body}")
+    if own_point is not None and not own_not:
         values["not_driving_point"] = False     # --driving-point2 yes over --not-driving-point
+    if own_not and own_point is None:
+        values["driving_point"] = None          # --not-driving-point2 over --driving-point yes
     return argparse.Namespace(**values)
 
 

@@ -190,13 +190,13 @@ def _cmd_hammer(args) -> int:
 
     from ._hammer_files import read_hammer_records
     from .hammer import frf_from_hammer
-    from .io import write_frf
+    from .io import _EXTENSIONS, write_frf
 
     out = _check_frf_out(args.out)                # before any work
     records = read_hammer_records(args.files, fs=args.fs, time=args.time, force=args.force,
                                   response=args.response)
     n_hits, n_samples = records.force.shape
-    uff = out is not None and out.suffix.lower() in (".uff", ".unv")
+    uff = out is not None and _EXTENSIONS.get(out.suffix.lower()) == "uff"
     pretrigger = "keep" if uff and args.pretrigger == "auto" else args.pretrigger
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
@@ -216,7 +216,7 @@ def _cmd_hammer(args) -> int:
     starts = est.force_window_starts
     window = ("none" if est.force_window_length is None
               else f"force window to {est.force_window_length:.6g} s" if starts is None
-              else f"force window to {est.force_window_length:.6g} s after each hit's start"
+              else f"force window to {est.force_window_length:.6g} s after the cut"
               if est.record_starts is not None
               else f"force window from {_span(starts)} s (the hits' starts, less five "
                    f"widths) to {est.force_window_length:.6g} s")
@@ -224,8 +224,8 @@ def _cmd_hammer(args) -> int:
         print(f"pre-trigger cut: each hit's records from {_span(est.record_starts)} s (its "
               f"force window's start), {est.record_length:.6g} s kept (--pretrigger keep: "
               "whole)")
-    elif pretrigger != args.pretrigger and not est.window_decay_rate and any(
-            est.force_window_starts or ()):
+    elif pretrigger != args.pretrigger and not est.window_decay_rate and args.n_fft is None \
+            and any(est.force_window_starts or ()):
         print("pre-trigger kept (--pretrigger auto with a .uff file: it holds a round line "
               "spacing only; a .csv, .npz or .mat file keeps the cut records' lines)")
     decay = est.window_decay_rate
@@ -246,7 +246,7 @@ def _cmd_hammer(args) -> int:
     if est.double_hits:
         print(f"double hits in hits {list(est.double_hits)} (averaged all the same)")
     target = out if out is not None else "FILE"
-    if out is None or out.suffix.lower() not in (".uff", ".unv"):
+    if out is None or not uff:
         # a CSV/NPZ/MAT file keeps the force spectrum, and the fit's band ends with it
         kept = ("the force spectrum the file keeps" if out is not None
                 else "the force spectrum (kept by a .csv, .npz or .mat file)")
@@ -280,10 +280,11 @@ def _cmd_hammer(args) -> int:
         except ValueError as exc:           # an ASCII UFF's 6-digit line spacing
             if "ASCII UFF" not in str(exc):
                 raise
+            cut = (" (the records cut at the hits): give --pretrigger keep, or"
+                   if est.record_starts is not None else ":")
             raise ValueError(f"{out}: an ASCII UFF file holds lines on a spacing of 6 "
                              f"significant digits, and these are {frf.freq_hz[1]:.10g} Hz "
-                             "apart (the records cut at the hits): give --pretrigger keep, "
-                             "or write a .csv, .npz or .mat file") from None
+                             f"apart{cut} write a .csv, .npz or .mat file") from None
         print(f"wrote {out}")
     return 0
 
@@ -343,8 +344,8 @@ def _add_hammer_parser(sub) -> None:
                              "(default)")
     hammer.add_argument("--force-window-length", type=float, default=None, metavar="S",
                         help="length (s) of the force window from the record start; default: "
-                             "from each hit's start (with --pretrigger keep, five pulse widths "
-                             "before it) to five widths after the last peak")
+                             "from five pulse widths before each hit to five widths after "
+                             "its last pulse (a double hit's second one included)")
     hammer.add_argument("--baseline", choices=("pretrigger", "none"), default="pretrigger",
                         help="pretrigger: remove a channel's offset, its mean before the hits "
                              "where significant (default); none: the records as they are")

@@ -49,6 +49,8 @@ BASELINES = ("pretrigger", "none")
 PRETRIGGERS = ("auto", "cut", "keep")
 #: the longest pulse (s, width at half height) a hammer gives before ``fs`` is doubted
 _LONGEST_PULSE = 0.05
+#: the share of the records a pre-trigger cut may drop before it is said
+_MOST_CUT = 0.2
 
 
 class DoubleHitWarning(UserWarning):
@@ -343,7 +345,9 @@ def frf_from_hammer(force, response, fs, *, response_type="acceleration",
         with a window to 1 %, 0.003-0.012 kept and 0.003-0.010 cut (one -0.028, which
         the band check warns of). ``"auto"`` (default): cut without an exponential
         window, keep with one. ``"keep"``: the records as given, on the lines of their
-        full length (an ASCII UFF file holds lines on a round spacing only).
+        full length (an ASCII UFF file holds lines on a round spacing only). A given
+        ``n_fft`` (even ``n_samples``) or force window keeps them; ``"cut"`` with one is
+        refused. A cut of more than 20 % of the records (a late hit) is warned of.
 
     Returns
     -------
@@ -415,6 +419,11 @@ def frf_from_hammer(force, response, fs, *, response_type="acceleration",
                          "a fraction r of its start: -ln(r)/T)")
     cut = (pretrigger == "cut" or pretrigger == "auto" and not decay) and n_fft is None \
         and force_window == "force" and force_window_length is None
+    if pretrigger == "cut" and not cut:           # asked for, and not possible: said
+        raise ValueError("pretrigger='cut' needs the automatic force window "
+                         "(force_window='force', no force_window_length) and no n_fft, got "
+                         f"force_window={force_window!r}, force_window_length="
+                         f"{force_window_length!r}, n_fft={n_fft!r}")
     if n_fft is None:
         n_fft = n_samples
     n_fft = as_count("n_fft", n_fft, minimum=1)
@@ -456,6 +465,12 @@ def frf_from_hammer(force, response, fs, *, response_type="acceleration",
                                for f, (_, _, fwhm) in zip(forces, peaks)])
             if cut and starts.any():      # each hit from its window's start: t_0 ~ 0
                 record_starts = starts
+                if starts.max() > _MOST_CUT * n_samples:
+                    warnings.warn(f"the pre-trigger cut keeps {n_samples - starts.max()} of "
+                                  f"{n_samples} samples of every record (the latest hit "
+                                  f"starts at {starts.max() / fs:.6g} s): the lines are "
+                                  "that much coarser; pretrigger='keep' keeps them whole",
+                                  UserWarning, stacklevel=2)
                 n_samples = n_fft = n_samples - int(starts.max())
                 duration, t = n_samples / fs, t[:n_samples]
                 forces, responses = (np.array([r[k:k + n_samples] for r, k in

@@ -394,6 +394,8 @@ def test_a_switch_off_for_one_body_and_errors_in_its_flags(tmp_path, capsys):
     assert main(args + ["--conjugate1", "--not-driving-point", "--driving-point2", "yes"]) != 0
     err = capsys.readouterr().err
     assert "contradicts" not in err and "body 1" in err
+    assert main(args + ["--conjugate1", "--driving-point", "yes", "--not-driving-point2"]) != 0
+    assert "contradicts" not in capsys.readouterr().err
     assert main(args + ["--conjugate1", "--freq-start2", "10"]) == 2
     err = capsys.readouterr().err
     assert "body 2: --df" in err and "--freq-start2" in err and "(--df2)" in err, err

@@ -579,6 +579,24 @@ def test_a_stuck_phase_never_entered_says_no_rounding_error():
     assert not [w for w in said if "rounding error" in str(w.message)]
 
 
+def test_a_spring_contact_never_entered_says_no_rounding_error():
+    """A spring contact (50 N/m) whose phase has a mode 3e-9 (relative) off the forcing,
+    and a clearance too large for impacts: the spring phases are built but never entered,
+    so no note says the run holds their rounding (the review's case)."""
+    M, m, K = 1.0, 0.1, (2 * np.pi) ** 2
+    d = ImpactDamper(SpringMass(M, K), damper_mass=m, clearance=10.0,
+                     contact=LinearSpring(50.0), excitation=HarmonicForce(1.0, 0.5))
+    lam = d.engine().spring(1).spectral.lam
+    wk = max(x.imag for x in lam if 0 < x.imag < 2 * np.pi * 1.5)
+    d = d.replace(excitation=HarmonicForce(1.0, wk / (2 * np.pi) * (1 + 3e-9)))
+    with warnings.catch_warnings(record=True) as said:
+        warnings.simplefilter("always")
+        r = d.simulate(5)
+    assert len(r.impacts) == 0
+    assert not [n for n in r.notes if "rounding error" in n]
+    assert not [w for w in said if "rounding error" in str(w.message)]
+
+
 @pytest.mark.parametrize("offset", [1e-4, 1e-10])
 def test_near_resonance_the_rounding_error_is_said(offset):
     """An undamped primary forced ``offset`` (relative) off its mode, clearance too large

@@ -731,3 +731,32 @@ def test_the_figures_of_exact_bodies():
                    t_end=0.01)
     assert pred.figures["restitution"] == pytest.approx(pred.result.restitution, rel=1e-12)
     assert pred.figures["impulse"] == pytest.approx(pred.result.impulse, rel=1e-12)
+
+
+def test_the_band_checks_own_band_warning_does_not_leak(monkeypatch):
+    """The uncertainty band's "left out of the band's spread" UserWarning, which the band
+    check says in its own words (warn_unsettled), is not passed on; its other warnings
+    are."""
+    import sys
+
+    predict_module = sys.modules["impactpred.predict"]    # the name is the function's too
+
+    m = ModalModel.from_modes(2 * np.pi * np.array([110.0, 400.0]), [0.02, 0.02], [1.0, 2.0])
+    f = np.linspace(20.0, 800.0, 400)
+    data = FRFData(f, m.frf(2 * np.pi * f), quantity="receptance")
+    real = predict_module.uncertainty_band
+
+    def band(*args, **kwargs):
+        warnings.warn("the outcome changes in kind in 1 of 1 variants: x (a figure defined "
+                      "in the variant or its reference only is left out of the band's "
+                      "spread)", UserWarning, stacklevel=2)
+        warnings.warn("another word", UserWarning, stacklevel=2)
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(predict_module, "uncertainty_band", band)
+    with warnings.catch_warnings(record=True) as said:
+        warnings.simplefilter("always")
+        predict("mass:1", data, velocity1=1.0, t_end=0.02)
+    words = [str(w.message) for w in said]
+    assert any("another word" in w for w in words)
+    assert not any("left out of the band's spread" in w for w in words)

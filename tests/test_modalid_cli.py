@@ -564,3 +564,5 @@ def test_hammer_command_cuts_the_pretrigger_where_the_file_can_hold_it(hammer_te
     assert main(args + ["--pretrigger", "cut", "--out", str(tmp_path / "c.uff")]) == 2
     err = capsys.readouterr().err
     assert "--pretrigger keep" in err and "binary=True" not in err, err
+    assert main(args + ["--out", str(tmp_path / "h.uf")]) == 0       # .uf is UFF too
+    assert "pre-trigger kept" in capsys.readouterr().out

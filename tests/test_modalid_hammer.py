@@ -619,3 +619,20 @@ def test_a_sample_rate_in_khz_is_doubted():
         warnings.simplefilter("always")
         frf_from_hammer(test.force, test.response, 25600.0)
     assert not [w for w in said if "half its height" in str(w.message)]
+
+
+def test_a_cut_that_cannot_be_made_is_refused_and_a_large_one_said():
+    """pretrigger='cut' with a given n_fft or force window length cannot cut: refused
+    (it was ignored); a late hit that leaves under 80 % of every record is warned of."""
+    from data_synth import Rod, lightly_damped
+
+    truth = lightly_damped(Rod(1.0, 1e-3, support="fixed"), 20, 0.001, residual=True)
+    test = synthetic_hammer_test(truth, 25600.0, 0.5, n_hits=2, pulse_width=2e-4,
+                                 hit_times=[0.05, 0.3], noise=1e-3, seed=1, anti_alias=True)
+    n = test.force.shape[1]
+    for given in ({"n_fft": n}, {"force_window_length": 0.4}, {"force_window": "none"}):
+        with pytest.raises(ValueError, match="pretrigger='cut' needs the automatic force"):
+            frf_from_hammer(test.force, test.response, 25600.0, pretrigger="cut", **given)
+    with pytest.warns(UserWarning, match=r"the pre-trigger cut keeps \d+ of 12800 samples"):
+        est = frf_from_hammer(test.force, test.response, 25600.0)
+    assert est.record_length < 0.21

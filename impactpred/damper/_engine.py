@@ -189,15 +189,18 @@ class Engine:
         return self._spring[s]
 
     # ---------------------------------------------------------------- helpers
-    def resonance_error(self, *, stuck_sides=None) -> float:
+    def resonance_error(self, *, stuck_sides=None, contact_sides=None) -> float:
         """The largest relative rounding error near a resonance over the phase kinds built
         (:attr:`PhaseKind.resonance_error`); of the stuck kinds, those of ``stuck_sides``
-        only (the sides, +1 or -1, a run stuck on; None: every one built; the compiled
-        loop builds both whether a run sticks or not)."""
+        only (the sides, +1 or -1, a run stuck on), of the spring-contact and penetrating
+        ones those of ``contact_sides`` (the sides it touched); None: every one built (the
+        loops build some whether a run enters them or not)."""
         keys = (None if stuck_sides is None
                 else {s if self.rho == 0 else 1 for s in stuck_sides})
         stuck = [k for key, k in self._stuck.items() if keys is None or key in keys]
-        kinds = [self.free, *stuck, *self._spring.values(), *self._pen.values()]
+        touched = [k for phases in (self._spring, self._pen) for side, k in phases.items()
+                   if contact_sides is None or side in contact_sides]
+        kinds = [self.free, *stuck, *touched]
         return max(kind.resonance_error for kind in kinds)
 
     def point_rows(self, lam_row):

@@ -303,9 +303,11 @@ def build_result(damper, raw, *, n_cycles, samples_per_cycle):
     # the phases the run entered: free flight, and the stuck ones of the sides it held on
     # (an impact that lasted; the open impact is in the table)
     held = set(imp.loc[imp["duration"] > 0, "side"])
-    if raw["final"].mode == "stuck":
+    touched = set(imp["side"])
+    if raw["final"].mode != "free":
         held.add(raw["final"].side)
-    loss = eng.resonance_error(stuck_sides=held)
+        touched.add(raw["final"].side)
+    loss = eng.resonance_error(stuck_sides=held, contact_sides=touched)
     if loss > RESONANCE_ERROR_NOTE:
         note = (f"the excitation frequency lies {np.finfo(float).eps / loss:.2g} (relative) "
                 "from an undamped mode of a phase: the closed form's free and forced parts "
