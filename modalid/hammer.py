@@ -113,8 +113,8 @@ class HammerFRF:
     force_window_length: float | None
     record_length: float | None = None
     offsets: tuple | None = None
-    record_starts: tuple | None = None
     force_window_starts: tuple | None = None
+    record_starts: tuple | None = None
 
     @property
     def coherence(self):
@@ -463,8 +463,9 @@ def frf_from_hammer(force, response, fs, *, response_type="acceleration",
         if force_window_length is None:
             starts = np.array([max(hit_start(f) - 5 * fwhm, 0)
                                for f, (_, _, fwhm) in zip(forces, peaks)])
+            shift = np.zeros_like(starts)     # where each record now starts
             if cut and starts.any():      # each hit from its window's start: t_0 ~ 0
-                record_starts = starts
+                record_starts = shift = starts
                 if starts.max() > _MOST_CUT * n_samples:
                     warnings.warn(f"the pre-trigger cut keeps {n_samples - starts.max()} of "
                                   f"{n_samples} samples of every record (the latest hit "
@@ -477,9 +478,7 @@ def frf_from_hammer(force, response, fs, *, response_type="acceleration",
                                                zip(records, starts)])
                                      for records in (forces, responses))
                 peaks = [(k0 - k, peak, fwhm) for (k0, peak, fwhm), k in zip(peaks, starts)]
-                starts = np.zeros_like(starts)
             ends = [k0 + 5 * fwhm for k0, _, fwhm in peaks]
-            shift = np.zeros(n_hits, int) if record_starts is None else record_starts
             for i, t_second, _, _ in found:   # a double hit's second pulse is force too
                 ends[i] = max(ends[i], round(t_second * fs) - shift[i] + 5 * peaks[i][2])
             window_length = min(max(ends), n_samples - 1) / fs
@@ -495,7 +494,7 @@ def frf_from_hammer(force, response, fs, *, response_type="acceleration",
                                      f"the force peak of hit {i} at t = {t[k0]:.6g} s")
         keep = t <= window_length * (1 + 1e-12)
         if starts is not None:
-            keep = keep & (np.arange(n_samples) >= starts[:, None])
+            keep = keep & (np.arange(n_samples) >= (starts - shift)[:, None])
         forces = np.where(keep, forces, 0.0)
     elif force_window_length is not None:
         raise ValueError(f"force_window_length is used only with force_window='force', got "
@@ -534,9 +533,8 @@ def frf_from_hammer(force, response, fs, *, response_type="acceleration",
     return HammerFRF(frf=frf, window_decay_rate=decay, n_hits=n_hits,
                      double_hits=tuple(i for i, *_ in found), force_spectrum=sff,
                      force_window_length=window_length, record_length=record_length,
-                     force_window_starts=(None if starts is None else tuple(
-                         float(k / fs) for k in (starts if record_starts is None
-                                                 else record_starts))),
+                     force_window_starts=(None if starts is None
+                                          else tuple(float(k / fs) for k in starts)),
                      record_starts=(None if record_starts is None
                                     else tuple(float(k / fs) for k in record_starts)),
                      offsets=offsets)

@@ -300,8 +300,8 @@ def build_result(damper, raw, *, n_cycles, samples_per_cycle):
         imp = pd.DataFrame([{k: r[k] for k in _IMPACT_COLUMNS} for r in rows],
                            columns=_IMPACT_COLUMNS)
     imp["side"] = imp["side"].astype(int)
-    # the phases the run entered: free flight, and the stuck ones of the sides it held on
-    # (an impact that lasted; the open impact is in the table)
+    # the phases the run entered: free flight, the stuck ones of the sides it held on (an
+    # impact that lasted; the open impact is in the table), the contact ones it touched
     held = set(imp.loc[imp["duration"] > 0, "side"])
     touched = set(imp["side"])
     if raw["final"].mode != "free":
