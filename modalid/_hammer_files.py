@@ -154,25 +154,22 @@ def _load_text(path):
     return channels, True, units
 
 
-#: a column name's unit, in brackets at its end: ``Acceleration (g)``, ``Time [ms]``
-_UNIT = re.compile(r"[\[(]\s*([^\])]*?)\s*[\])]\s*$")
-#: time units of a column (the others as LabVIEW's labels: :mod:`modalid._lvm`)
+#: time units of a column (the others as LabVIEW's labels: :func:`modalid._lvm.si_factor`)
 _TIME_UNITS = {"s": 1.0, "sec": 1.0, "ms": 1e-3, "us": 1e-6, "µs": 1e-6}
 
 
 def _header_unit(name: str):
-    """``(label, factor to SI)`` of a column name's unit (``(None, 1.0)`` without one;
-    factor None for a unit not known: the values are kept, and said to be)."""
-    from ._lvm import _SI, _TO_SI
+    """``(label, factor to SI)`` of a column name's trailing ``(unit)`` or ``[unit]``
+    (``(None, 1.0)`` without one; factor None for a unit not known: the values are kept,
+    and said to be)."""
+    from ._io_records import split_unit
+    from ._lvm import si_factor
 
-    match = _UNIT.search(name)
-    if match is None:
+    label = split_unit(name)[1]
+    if label is None:
         return None, 1.0
-    label = match.group(1)
-    key = label.lower().replace(" ", "")
-    if key in _TIME_UNITS:
-        return label, _TIME_UNITS[key]
-    return label, _TO_SI.get(key, 1.0 if key in _SI else None)
+    key = label.replace(" ", "")
+    return label, _TIME_UNITS.get(key.lower(), si_factor(key))
 
 
 def _pick(path, channels, named, role, given, words):

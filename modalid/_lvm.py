@@ -30,7 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["read_lvm", "STANDARD_GRAVITY"]
+__all__ = ["read_lvm", "si_factor", "STANDARD_GRAVITY"]
 
 STANDARD_GRAVITY = 9.80665           # m/s^2 per g
 #: unit labels scaled to SI (N, m/s^2, m/s, m), and labels taken as SI already
@@ -39,6 +39,13 @@ _TO_SI = {"g": STANDARD_GRAVITY, "mg": 1e-3 * STANDARD_GRAVITY, "kn": 1000.0,
           "mm/s^2": 1e-3, "mm": 1e-3, "um": 1e-6, "µm": 1e-6, "in": 0.0254}
 _SI = {"", "n", "newton", "newtons", "m/s^2", "m/s2", "m/s²", "m/s", "m"}
 _END = "***End_of_Header***"
+
+
+def si_factor(label: str):
+    """The factor that takes a channel in unit ``label`` (``g``, ``kN``, ``mm/s``, ...) to
+    SI (N, m/s^2, m/s, m): 1.0 for an SI unit or none, None for a unit not known."""
+    key = label.lower()
+    return _TO_SI.get(key, 1.0 if key in _SI else None)
 
 
 def _text(path: Path) -> str:
@@ -144,7 +151,7 @@ def read_lvm(path) -> tuple[dict, dict]:
     channels, units = {}, {}
     for j, name in enumerate(cols):
         label = labels[j] if j < len(labels) else ""
-        factor = _TO_SI.get(label.lower(), 1.0 if label.lower() in _SI else None)
+        factor = si_factor(label)
         stack = np.array([d[:, j] for _, d, _ in segments]) * (factor or 1.0)
         channels[name] = stack[0] if len(segments) == 1 else stack
         units[name] = (label, factor)
