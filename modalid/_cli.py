@@ -284,7 +284,8 @@ def add_read_options(parser: argparse.ArgumentParser) -> None:
                              "exp(+i w t)): take the complex conjugate of its values")
     parser.add_argument("--negate", action="store_true",
                         help="the response was recorded in the opposite direction to the "
-                             "force: reverse the sign of the values")
+                             "force: reverse the sign of the values (a UFF record's own "
+                             "directions are applied when it is read)")
 
 
 def read_options(args, path) -> dict:

@@ -46,20 +46,83 @@ def _read_uff(path, columns):
     try:
         uff = pyuff.UFF(str(path))
         types = [int(t) for t in uff.get_set_types()]
-        picks = [i for i, t in enumerate(types) if t == 58]
+        picks = [i for i, t in enumerate(types) if t in (58, 164)]
         sets = uff.read_sets(picks) if picks else []
     except Exception as exc:  # pyuff raises bare Exception for every failure
         raise ValueError(f"cannot read UFF file {path} (truncated or corrupt?): {exc}") from exc
-    if not picks:
+    if 58 not in types:
         raise ValueError(f"{path} holds no dataset 58 (function at nodal DOF), so no FRF; "
                          f"its datasets are of types {types}")
     sets = [sets] if isinstance(sets, dict) else list(sets)
+    units = _SI_UNITS                # a dataset 164 holds for the datasets after it
+    for s in sets:
+        if s.get("type") == 164:
+            units = _units(path, s)
+        else:
+            s["_units"] = units
+    sets = [s for s in sets if s.get("type") != 164]
     frfs = [s for s in sets if s.get("func_type") == 4]
     if not frfs:
         raise ValueError(f"{path} has no FRF: its datasets 58 hold function types "
                          f"{sorted({s.get('func_type') for s in sets})}, an FRF is type 4")
     cohs = [s for s in sets if s.get("func_type") == 6]
     return [_uff_raw(path, s, number, cohs) for number, s in enumerate(frfs)]
+
+
+#: a file without a dataset 164 is in SI: (description, length factor, force factor)
+_SI_UNITS = ("SI", 1.0, 1.0)
+
+
+def _units(path, dset):
+    """``(description, length, force)`` of a dataset 164: the factors that divide a length
+    and a force in the file's units to give them in m and N (the dataset's record 2)."""
+    length, force = dset.get("length"), dset.get("force")
+    description = str(dset.get("units_description") or "").strip() or \
+        f"units code {dset.get('units_code')}"
+    for name, value in (("length", length), ("force", force)):
+        if value is None or not np.isfinite(value) or value <= 0:
+            raise ValueError(f"{path}: its units dataset 164 ({description}) has the {name} "
+                             f"factor {value!r}; a unit factor must be positive and finite")
+    return description, float(length), float(force)
+
+
+def _to_si(source, dset):
+    """The factor that takes the FRF values of dataset 58 ``dset`` to SI (m, N), from the
+    units dataset 164 before it and the length and force exponents of its ordinate's
+    numerator and denominator (records 9 and 10; all zero, as many writers leave them:
+    a length over a force, as every FRF quantity read here is)."""
+    description, length, force = dset["_units"]
+    num = [int(dset.get(f"ordinate_{k}_unit_exp", 0) or 0) for k in ("len", "force")]
+    den = [int(dset.get(f"orddenom_{k}_unit_exp", 0) or 0) for k in ("len", "force")]
+    num = num if any(num) else [1, 0]
+    den = den if any(den) else [0, 1]
+    factor = length ** (den[0] - num[0]) * force ** (den[1] - num[1])
+    labels = [str(dset.get(k, "") or "").strip() for k in ("ordinate_axis_units_lab",
+                                                           "orddenom_axis_units_lab")]
+    stated = _label_factor(*labels)
+    if stated is not None and not np.isclose(stated, factor, rtol=1e-3):
+        warnings.warn(f"{source}: its axis labels say {labels[0]!r} over {labels[1]!r} "
+                      f"(x{stated:.6g} to SI), its units ({description}) x{factor:.6g}; "
+                      "read by its units, as the UFF standard says: if the values are in "
+                      "the labels' units, scale them", UserWarning, stacklevel=5)
+    return factor
+
+
+def _label_factor(numerator, denominator):
+    """The SI factor the axis labels name (``g`` over ``N``, ``m/s^2/N`` over ``""``), or
+    None when they name no unit read here."""
+    from ._io_records import VALUE_UNITS, _normalised_unit
+
+    text = _normalised_unit(numerator)
+    if text in ("", "none"):
+        return None
+    den = _normalised_unit(denominator)
+    if den not in ("", "none"):
+        text = f"{text}/{den}" if "/" not in text else f"({text})/{den}"
+    for units in VALUE_UNITS.values():
+        if text in units:
+            return units[text]
+    return None
 
 
 def _uff_dofs(dset):
@@ -97,8 +160,17 @@ def _uff_raw(path, dset, number, cohs):
     coh = next((c for c in cohs if _uff_dofs(c) == _uff_dofs(dset)
                 and np.size(c["x"]) == freq.size), None)
     coherence = None if coh is None else _finite(source, "the coherence", np.real(coh["data"]))
+    dofs = _uff_dofs(dset)
+    # an FRF along a negative direction is minus the one along the positive direction:
+    # read every record for positive directions (a driving point measured as response +Z,
+    # reference -Z, the hammer's direction, is the driving-point FRF negated)
+    sign = -1.0 if (dofs[1] or 0) * (dofs[3] or 0) < 0 else 1.0
+    factor = _to_si(source, dset)
+    if sign * factor != 1.0:
+        values = values * (sign * factor)
     meta = dict(zip(("response_node", "response_dir", "reference_node", "reference_dir"),
-                    _uff_dofs(dset)), name=str(dset.get("id1", "")).strip())
+                    dofs), name=str(dset.get("id1", "")).strip(), negated=sign < 0,
+                to_si=factor)
     return _Raw(freq, values, coherence, stated, ("the abscissa", "the ordinate",
                                                   "the coherence dataset"), meta,
                 measured=stated_in_id_line(source, dset.get("id4")))
@@ -127,6 +199,7 @@ def _write_uff(path, frf, binary, response, reference):
                               ordinate_spec_data_type=_UFF_CODE[frf.quantity],
                               orddenom_spec_data_type=13,
                               ordinate_axis_units_lab=_UFF_UNITS[frf.quantity],
+                              ordinate_len_unit_exp=1, orddenom_force_unit_exp=1,
                               orddenom_axis_units_lab="N", **common)]
     if frf.coherence is not None:
         dsets.append(pyuff.prepare_58(func_type=6, data=frf.coherence.copy(), id1="coherence",
@@ -142,6 +215,17 @@ def _write_uff(path, frf, binary, response, reference):
     finally:
         if os.path.exists(tmp):
             os.remove(tmp)
+
+
+def records_listing(metas, shown) -> str:
+    """`` (0: response 1+3, reference 1+3; 1: ...)`` of UFF records' metadata (the first
+    ``shown``), else ``""``."""
+    if not all("response_node" in m for m in metas):
+        return ""
+    items = [f"{i}: response {m['response_node']}{int(m['response_dir']):+d}, reference "
+             f"{m['reference_node']}{int(m['reference_dir']):+d}"
+             + (" (read negated)" if m.get("negated") else "") for i, m in enumerate(metas)]
+    return " (" + "; ".join(items[:shown]) + ("; ..." if len(items) > shown else "") + ")"
 
 
 def _dof(name, value):

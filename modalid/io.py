@@ -54,7 +54,7 @@ from ._io_records import (
 )
 from ._io_measured import comment_lines, stated_in_arrays, stated_in_comment, statements
 from ._sign import SignCheck, check_sign
-from ._uff import _dof, _read_uff, _write_uff
+from ._uff import _dof, _read_uff, _write_uff, records_listing
 from .frf import FRFData
 from .quantities import QUANTITIES
 
@@ -389,10 +389,9 @@ def read_frfs(path, *, format=None, quantity=None, columns=None) -> list[FRFData
     -----
     *CSV*: leading ``#`` lines may say ``# quantity: accelerance``; the header is the
     first other line, or the last ``#`` line when numbers follow it (``np.savetxt``'s
-    ``header=``). Header names are
-    matched case-insensitively, words split on any punctuation, a trailing ``[unit]`` or
-    ``(unit)`` read as below: frequency ``f``, ``freq``,
-    ``frequency`` (Hz unless rad/s is said), ``omega``/``w`` (rad/s); ``re``/``real`` and
+    ``header=``). Header names are matched case-insensitively, words split on any
+    punctuation, a trailing ``[unit]`` or ``(unit)`` read as below: frequency ``f``,
+    ``freq``, ``frequency`` (Hz unless rad/s is said), ``omega``/``w`` (rad/s); ``re``/``real`` and
     ``im``/``imag``; ``mag``/``magnitude``/``abs``/``amplitude`` (linear, or dB =
     ``20 log10 |H|`` when the name says dB) with ``phase``/``arg``/``angle`` + ``deg`` or
     ``rad`` (a phase without unit is refused); ``coh``/``coherence``;
@@ -419,7 +418,11 @@ def read_frfs(path, *, format=None, quantity=None, columns=None) -> list[FRFData
     Quantity from the ordinate specific data types (records 9/10): numerator 8
     displacement -> receptance, 11 velocity -> mobility, 12 acceleration -> accelerance,
     over 13 excitation force, 9 reaction force or 0; numerator 0/1 (unknown/general)
-    states nothing; other pairs (e.g. force over acceleration) are refused.
+    states nothing; other pairs (e.g. force over acceleration) are refused. Values go to
+    SI by the units dataset 164 before the record (none: SI) and the exponents of records
+    9/10 (all zero: length over force); axis labels naming other units (``g`` over ``N``
+    in an SI file) are warned about. A record whose directions differ in sign (response
+    +3, reference -3) is read negated: every FRF is along positive directions.
 
     Coherence outside [0, 1] is clipped to it with a ``UserWarning`` saying where.
     """
@@ -501,12 +504,7 @@ def _read_one(path, format, quantity, columns, index, freq_hz):
 
 def _listing(path, fmt, columns, shown=6) -> str:
     """`` (0: response 1+3, reference 1+3; 1: ...)`` of a UFF file's records, else ``""``."""
-    metas = [r.meta for r in _read_raw(path, fmt, columns)]
-    if not all("response_node" in m for m in metas):
-        return ""
-    items = [f"{i}: response {m['response_node']}{int(m['response_dir']):+d}, reference "
-             f"{m['reference_node']}{int(m['reference_dir']):+d}" for i, m in enumerate(metas)]
-    return " (" + "; ".join(items[:shown]) + ("; ..." if len(items) > shown else "") + ")"
+    return records_listing([r.meta for r in _read_raw(path, fmt, columns)], shown)
 
 
 def describe_frfs(path, *, format=None, columns=None):
@@ -514,7 +512,8 @@ def describe_frfs(path, *, format=None, columns=None):
 
     Columns: ``quantity`` (as the file states it, else None), ``n_lines``, ``fmin_hz``,
     ``fmax_hz``, ``coherence`` (bool), and for UFF ``response_node``, ``response_dir``,
-    ``reference_node``, ``reference_dir``, ``name`` (ID line 1).
+    ``reference_node``, ``reference_dir`` (as stored), ``name`` (ID line 1), ``negated``
+    (read negated: directions of opposite sign) and ``to_si`` (the units' factor).
 
     Parameters
     ----------

@@ -183,16 +183,11 @@ def _auto_driving_point(metas, uff, sources):
                          "records do, by their DOFs): pass driving_point= the row index or "
                          "output label of the FRF measured at the excitation point, or "
                          "driving_point=None if there is none")
+    # the reader took every record to positive directions (a response along -Z at the
+    # reference node +Z, negated, is the driving point)
     same = [i for i, m in enumerate(metas)
-            if (m["response_node"], m["response_dir"])
-            == (m["reference_node"], m["reference_dir"])]
-    mirrored = [i for i, m in enumerate(metas) if i not in same
-                and (m["response_node"], abs(m["response_dir"]))
-                == (m["reference_node"], abs(m["reference_dir"]))]
-    if mirrored and not same:   # its values are -H: taking it silently would flip every mode
-        raise ValueError(f"record {mirrored[0]} of {sources} is measured at the reference node "
-                         "but along the opposite direction (its FRF is minus the driving-point "
-                         "FRF): negate it and pass driving_point= its row explicitly")
+            if (m["response_node"], abs(m["response_dir"]))
+            == (m["reference_node"], abs(m["reference_dir"]))]
     if len(same) != 1:
         dofs = [f"{_dof_label(m['response_node'], m['response_dir'])}/"
                 f"{_dof_label(m['reference_node'], m['reference_dir'])}" for m in metas]

@@ -261,16 +261,17 @@ def test_frf_data_and_sets_pickle_through_their_constructors():
     assert np.array_equal(again.values, data.values)
 
 
-def test_auto_driving_point_refuses_a_record_measured_along_the_opposite_direction(tmp_path):
-    """Response -Z at the reference node +Z holds -H: it must not pass as the driving point."""
+def test_auto_driving_point_takes_a_record_along_the_opposite_direction_negated(tmp_path):
+    """Response -Z at the reference node +Z holds -H: read negated, it is the driving point
+    (its values the +Z/+Z FRF), the other record read as stored."""
     freq = np.arange(1.0, 101.0, 2.0)
     frf = FRFData(freq, 1.0 / (1.0 - (freq / 40.0) ** 2 + 0.02j * freq / 40.0))
     write_frf(tmp_path / "a.uff", frf, response=(1, -3), reference=(1, 3))
     write_frf(tmp_path / "b.uff", frf, response=(2, 3), reference=(1, 3))
-    with pytest.raises(ValueError, match="opposite direction"):
-        read_frf_set([tmp_path / "a.uff", tmp_path / "b.uff"])
-    data = read_frf_set([tmp_path / "a.uff", tmp_path / "b.uff"], driving_point=0)
+    data = read_frf_set([tmp_path / "a.uff", tmp_path / "b.uff"])
     assert data.driving_point == 0
+    np.testing.assert_allclose(data.values[0], -frf.values, rtol=1e-11)  # ASCII: 12 digits
+    np.testing.assert_allclose(data.values[1], frf.values, rtol=1e-11)
 
 
 def test_frf_data_states_how_it_was_measured_and_keeps_it():

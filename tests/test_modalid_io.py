@@ -366,6 +366,60 @@ def test_uff_with_several_frfs(tmp_path):
         read_frf(path, index=2)
 
 
+def units164(code, description, length, force):
+    return pyuff.prepare_164(units_code=code, units_description=description, temp_mode=1,
+                             length=length, force=force, temp=1.0, temp_offset=273.15)
+
+
+def test_uff_values_taken_to_si_by_the_units_dataset_before_each_record(tmp_path):
+    """Dataset 164 divides lengths and forces in file units by its factors: an inch-pound
+    file's accelerance in in/s^2/lbf is x lbf/in in SI; a dataset 164 holds for the
+    records after it (the first record here is before it: SI); stated exponents of the
+    ordinate's records 9/10 are used, all-zero ones are taken as a length over a force."""
+    inch, lbf = 1 / 0.0254, 1 / 4.4482216152605      # file units per m, per N
+    values = np.arange(1, 11) * (1 + 0.5j)
+    path = write_uff_sets(tmp_path / "a.uff", header151(), dset58(ref_node=9),
+                          units164(7, "IN", inch, lbf), dset58(),
+                          dset58(ref_node=2, ordinate_len_unit_exp=1,
+                                 orddenom_force_unit_exp=1),
+                          units164(5, "MM", 1000.0, 1000.0), dset58(ref_node=3))
+    frfs = read_frfs(path)
+    to_si = 0.0254 / 4.4482216152605
+    np.testing.assert_array_equal(frfs[0].values, values)
+    np.testing.assert_allclose(frfs[1].values, values * to_si, rtol=1e-12)
+    np.testing.assert_allclose(frfs[2].values, values * to_si, rtol=1e-12)
+    np.testing.assert_allclose(frfs[3].values, values, rtol=1e-12)   # mm / mN = m / N
+    np.testing.assert_allclose(describe_frfs(path).to_si, [1.0, to_si, to_si, 1.0],
+                               rtol=1e-12)
+    bad = write_uff_sets(tmp_path / "b.uff", units164(9, "user", 0.0, 1.0), dset58())
+    with pytest.raises(ValueError, match="length factor 0.0"):
+        read_frf(bad)
+
+
+def test_uff_axis_labels_that_contradict_its_units_are_warned_about(tmp_path):
+    path = write_uff_sets(tmp_path / "a.uff", dset58(ordinate_axis_units_lab="g",
+                                                     orddenom_axis_units_lab="N"))
+    with pytest.warns(UserWarning, match=r"labels say 'g' over 'N' \(x9.80665 to SI\), "
+                                         r"its units \(SI\) x1"):
+        frf = read_frf(path)
+    np.testing.assert_array_equal(frf.values, np.arange(1, 11) * (1 + 0.5j))
+    agreeing = write_uff_sets(tmp_path / "b.uff", dset58(ordinate_axis_units_lab="m/s^2",
+                                                         orddenom_axis_units_lab="N"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        read_frf(agreeing)
+
+
+@pytest.mark.parametrize("rsp_dir, ref_dir, sign", [(3, -3, -1), (-3, 3, -1), (-3, -3, 1),
+                                                    (2, 2, 1)])
+def test_uff_records_are_read_along_positive_directions(tmp_path, rsp_dir, ref_dir, sign):
+    """A hammer hitting along -Z with the response along +Z stores minus the +Z/+Z FRF."""
+    path = write_uff_sets(tmp_path / "a.uff", dset58(rsp_dir=rsp_dir, ref_dir=ref_dir))
+    np.testing.assert_array_equal(read_frf(path).values, sign * np.arange(1, 11) * (1 + 0.5j))
+    row = describe_frfs(path).iloc[0]
+    assert (row.response_dir, row.reference_dir, row.negated) == (rsp_dir, ref_dir, sign < 0)
+
+
 def test_uff_without_dataset_58(tmp_path):
     header = write_uff_sets(tmp_path / "h.uff", header151())
     with pytest.raises(ValueError, match=r"no dataset 58 .*types \[151\]"):
