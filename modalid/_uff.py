@@ -135,6 +135,10 @@ def _uff_raw(path, dset, number, cohs):
         raise ValueError(f"{source} is truncated or corrupt: no data values were read")
     freq = _finite(source, "the abscissa", np.asarray(dset["x"], dtype=float))
     values = _finite(source, "the ordinate", np.asarray(dset["data"]))
+    if not np.iscomplexobj(values):
+        raise ValueError(f"{source} holds real values (ordinate data type "
+                         f"{dset.get('ord_data_type')}), not complex ones (5 or 6): a "
+                         "magnitude alone has no phase to fit; export the FRF as complex")
     if not dset.get("num_pts") == values.size == freq.size:
         raise ValueError(f"{source} is truncated or corrupt: its header says "
                          f"{dset.get('num_pts')} values, the file holds {values.size}")

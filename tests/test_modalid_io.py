@@ -344,6 +344,13 @@ def test_uff_refuses_other_functions_of_frequency(tmp_path):
         read_frf(response)
 
 
+def test_uff_refuses_an_frf_of_real_values(tmp_path):
+    """A magnitude stored as real data is no FRF (it was read with a zero phase)."""
+    path = write_uff_sets(tmp_path / "a.uff", dset58(values=np.arange(1.0, 11.0)))
+    with pytest.raises(ValueError, match=r"holds real values \(ordinate data type 4\)"):
+        read_frf(path)
+
+
 def test_uff_abscissa_in_rad_per_s(tmp_path):
     path = write_uff_sets(tmp_path / "a.uff", dset58(freq=np.arange(10.0) * 2 * np.pi,
                                                      abscissa_spacing=0, binary=1,
