@@ -90,12 +90,14 @@ def _to_si(source, dset):
     """The factor that takes the FRF values of dataset 58 ``dset`` to SI (m, N), from the
     units dataset 164 before it and the length and force exponents of its ordinate's
     numerator and denominator (records 9 and 10; all zero, as many writers leave them:
-    a length over a force, as every FRF quantity read here is)."""
+    a length over a force, as every FRF quantity read here is; a numerator of length 1 and
+    force -1 over nothing: the ratio in record 9)."""
     description, length, force = dset["_units"]
     num = [int(dset.get(f"ordinate_{k}_unit_exp", 0) or 0) for k in ("len", "force")]
     den = [int(dset.get(f"orddenom_{k}_unit_exp", 0) or 0) for k in ("len", "force")]
     num = num if any(num) else [1, 0]
-    den = den if any(den) else [0, 1]
+    if not any(den):             # a numerator stating a force (length 1, force -1) is the ratio
+        den = [0, 0] if num[1] else [0, 1]
     factor = length ** (den[0] - num[0]) * force ** (den[1] - num[1])
     labels = [str(dset.get(k, "") or "").strip() for k in ("ordinate_axis_units_lab",
                                                            "orddenom_axis_units_lab")]

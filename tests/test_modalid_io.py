@@ -389,14 +389,18 @@ def test_uff_values_taken_to_si_by_the_units_dataset_before_each_record(tmp_path
                           units164(7, "IN", inch, lbf), dset58(),
                           dset58(ref_node=2, ordinate_len_unit_exp=1,
                                  orddenom_force_unit_exp=1),
-                          units164(5, "MM", 1000.0, 1000.0), dset58(ref_node=3))
+                          units164(5, "MM", 1000.0, 1000.0), dset58(ref_node=3),
+                          units164(7, "IN", inch, lbf),
+                          dset58(ref_node=4, ordinate_len_unit_exp=1,
+                                 ordinate_force_unit_exp=-1))
     frfs = read_frfs(path)
+    np.testing.assert_allclose(frfs[4].values, values * 0.0254 / 4.4482216152605, rtol=1e-12)
     to_si = 0.0254 / 4.4482216152605
     np.testing.assert_array_equal(frfs[0].values, values)
     np.testing.assert_allclose(frfs[1].values, values * to_si, rtol=1e-12)
     np.testing.assert_allclose(frfs[2].values, values * to_si, rtol=1e-12)
     np.testing.assert_allclose(frfs[3].values, values, rtol=1e-12)   # mm / mN = m / N
-    np.testing.assert_allclose(describe_frfs(path).to_si, [1.0, to_si, to_si, 1.0],
+    np.testing.assert_allclose(describe_frfs(path).to_si, [1.0, to_si, to_si, 1.0, to_si],
                                rtol=1e-12)
     bad = write_uff_sets(tmp_path / "b.uff", units164(9, "user", 0.0, 1.0), dset58())
     with pytest.raises(ValueError, match="length factor 0.0"):
