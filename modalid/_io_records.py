@@ -281,6 +281,10 @@ def _build(source, raw, quantity):
     for name, arr in ((f_name, raw.freq_hz), (c_name, raw.coherence)):
         if arr is not None and np.iscomplexobj(arr) and np.any(np.imag(arr) != 0):
             raise ValueError(f"{name} of {source} must be real, got complex values")
+    if not np.iscomplexobj(raw.values):
+        raise ValueError(f"{v_name} of {source} is real, not complex: a measured FRF has a "
+                         "phase (a magnitude alone cannot be fitted); store it as complex, "
+                         "even where its imaginary part is zero")
     freq = np.real(raw.freq_hz).astype(float)
     coherence = raw.coherence
     if coherence is not None:

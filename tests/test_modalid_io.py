@@ -653,6 +653,9 @@ def test_npz_and_mat_bad_data(tmp_path):
     np.savez(tmp_path / "cf.npz", freq_hz=f + 1j, values=h, quantity="receptance")
     with pytest.raises(ValueError, match="freq_hz of .*cf.npz must be real, got complex"):
         read_frf(tmp_path / "cf.npz")               # its imaginary part was dropped
+    np.savez(tmp_path / "mag.npz", freq_hz=f, values=np.abs(h), quantity="receptance")
+    with pytest.raises(ValueError, match="values of .*mag.npz is real, not complex"):
+        read_frf(tmp_path / "mag.npz")              # a magnitude read with a zero phase
     np.savez(tmp_path / "other.npz", t=f, y=h)
     with pytest.raises(ValueError, match=r"one frequency and one values .*\['t', 'y'\]"):
         read_frf(tmp_path / "other.npz", quantity="receptance")
