@@ -389,6 +389,8 @@ def release_gain(omega, values, weights, poles, terms: Terms, hold, *, passive=F
         except np.linalg.LinAlgError:
             return 0.0
 
+    if not proj.cost > 0.0:      # the fit is exact (noise-free data): nothing to gain
+        return 0.0
     sigma2 = proj.cost / max(y.size - proj.mat.shape[1] - 2 * poles.size, 1)
     return (gain(np.ones(free.size, bool)) - gain(free)) / sigma2
 

@@ -13,9 +13,10 @@ or one called ``time``, and an X column per channel (``X_Columns`` Multi) are re
 naming the file and the row.
 
 Units: a channel labelled ``g`` or ``mg`` is scaled to m/s^2 by the standard gravity
-9.80665, ``kN``/``lbf`` to N, ``in/s^2``, ``in/s``, ``mm/s``, ``mm/s^2`` to SI; N, m/s^2,
-m/s and m are kept; any other label (``V``: an unscaled sensor) is kept as it is and
-reported (``units``, factor None). The time channel is ``k Delta_X`` from 0 (``X0``, an
+9.80665, ``kN``/``mN``/``lbf``/``kgf`` to N, ``in/s^2``, ``in/s``, ``mm/s``, ``mm/s^2``,
+``mm``, ``um``, ``in`` to SI; N, m/s^2, m/s and m are kept; any other label (``V``: an
+unscaled sensor) is kept as it is and reported (``units``, factor None), for the caller
+to refuse. The time channel is ``k Delta_X`` from 0 (``X0``, an
 absolute clock, is not used); a ``Delta_X`` written with fewer than six significant
 digits is warned about (its sample rate may be off: give it instead). Nothing read is
 executed: numbers are parsed with ``float``; a file not in UTF-8 is read as cp1252.
@@ -30,22 +31,41 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["read_lvm", "si_factor", "STANDARD_GRAVITY"]
+__all__ = ["read_lvm", "si_factor", "unit_kind", "STANDARD_GRAVITY"]
 
 STANDARD_GRAVITY = 9.80665           # m/s^2 per g
-#: unit labels scaled to SI (N, m/s^2, m/s, m), and labels taken as SI already
-_TO_SI = {"g": STANDARD_GRAVITY, "mg": 1e-3 * STANDARD_GRAVITY, "kn": 1000.0,
-          "lbf": 4.4482216152605, "in/s^2": 0.0254, "in/s": 0.0254, "mm/s": 1e-3,
-          "mm/s^2": 1e-3, "mm": 1e-3, "um": 1e-6, "µm": 1e-6, "in": 0.0254}
-_SI = {"", "n", "newton", "newtons", "m/s^2", "m/s2", "m/s²", "m/s", "m"}
+_LBF = 4.4482216152605               # N per lbf
+
+
+def _table(kind, units):
+    return {label: (factor, kind) for label, factor in units.items()}
+
+
+#: a channel's unit labels (lower case): the factor to SI (N, m/s^2, m/s, m) and the kind
+#: of quantity they measure
+_UNITS = {**_table("force", {"n": 1.0, "newton": 1.0, "newtons": 1.0, "kn": 1e3, "mn": 1e-3,
+                             "lbf": _LBF, "kgf": STANDARD_GRAVITY}),
+          **_table("acceleration", {"m/s^2": 1.0, "m/s2": 1.0, "m/s²": 1.0,
+                                    "g": STANDARD_GRAVITY, "mg": 1e-3 * STANDARD_GRAVITY,
+                                    "mm/s^2": 1e-3, "mm/s2": 1e-3, "in/s^2": 0.0254,
+                                    "in/s2": 0.0254}),
+          **_table("velocity", {"m/s": 1.0, "mm/s": 1e-3, "in/s": 0.0254}),
+          **_table("displacement", {"m": 1.0, "mm": 1e-3, "um": 1e-6, "µm": 1e-6,
+                                    "in": 0.0254})}
 _END = "***End_of_Header***"
 
 
 def si_factor(label: str):
     """The factor that takes a channel in unit ``label`` (``g``, ``kN``, ``mm/s``, ...) to
     SI (N, m/s^2, m/s, m): 1.0 for an SI unit or none, None for a unit not known."""
-    key = label.lower()
-    return _TO_SI.get(key, 1.0 if key in _SI else None)
+    key = label.lower().replace(" ", "")
+    return 1.0 if not key else _UNITS.get(key, (None, None))[0]
+
+
+def unit_kind(label: str):
+    """What a channel in unit ``label`` measures: ``"force"``, ``"acceleration"``,
+    ``"velocity"``, ``"displacement"``, or None (no unit, or one not known)."""
+    return _UNITS.get(label.lower().replace(" ", ""), (None, None))[1]
 
 
 def _text(path: Path) -> str:

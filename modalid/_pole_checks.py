@@ -141,7 +141,12 @@ class PoleChecks:
         resid = h - evaluate(omega, poles, r, (), (), u, d, terms.rigid_shift)
         wm = self._model_weights(omega, poles, x, terms, w)
         e2 = np.convolve(np.abs(resid * wm) ** 2, np.ones(3) / 3, mode="same")
-        e2 /= np.median(e2)
+        # against the residual's median, or its rounding level (noise-free data: 0 / 0)
+        scale = max(np.median(e2), (1e3 * np.finfo(float).eps) ** 2
+                    * float(np.median(np.abs(h * wm) ** 2)))
+        if not scale > 0.0:
+            return poles, kinds, x, info, None
+        e2 /= scale
         e2[_edge_lines(h, resid)] = 0.0
         for wt, radius in tried:
             e2[np.abs(omega - wt) < radius] = 0.0

@@ -194,14 +194,20 @@ def _cmd_hammer(args) -> int:
 
     out = _check_frf_out(args.out)                # before any work
     records = read_hammer_records(args.files, fs=args.fs, time=args.time, force=args.force,
-                                  response=args.response)
+                                  response=args.response, force_scale=args.force_scale,
+                                  response_scale=args.response_scale)
+    response_type = args.response_type or records.response_type or "acceleration"
+    if records.response_type not in (None, response_type):
+        raise ValueError(f"--response-type {response_type}, but the response channel's unit "
+                         f"or name says {records.response_type}: drop the flag, or name the "
+                         "channel you mean with --response")
     n_hits, n_samples = records.force.shape
     uff = out is not None and _EXTENSIONS.get(out.suffix.lower()) == "uff"
     pretrigger = "keep" if uff and args.pretrigger == "auto" else args.pretrigger
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         est = frf_from_hammer(records.force, records.response, records.fs,
-                              response_type=args.response_type, force_window=args.force_window,
+                              response_type=response_type, force_window=args.force_window,
                               force_window_length=args.force_window_length,
                               exponential_decay=args.exponential_decay, n_fft=args.n_fft,
                               baseline=args.baseline, pretrigger=pretrigger)
@@ -232,7 +238,7 @@ def _cmd_hammer(args) -> int:
     duration = est.record_length if est.record_length is not None else n_samples / records.fs
     ends = f", ending at {np.exp(-decay * duration):.3g}" if decay else ""
     print(f"windows: {window}; exponential decay {decay:.6g} 1/s{ends}")
-    units = ("N", {"acceleration": "m/s^2", "velocity": "m/s"}.get(args.response_type, "m"))
+    units = ("N", {"acceleration": "m/s^2", "velocity": "m/s"}.get(response_type, "m"))
     removed = [f"{name} {value:.6g} {unit}" for name, value, unit
                in zip(("force", "response"), est.offsets or (0.0, 0.0), units) if value]
     if removed:
@@ -322,7 +328,8 @@ def _add_hammer_parser(sub) -> None:
                              "CSV or LabVIEW .lvm (.lvm.gz) records; several files (or .lvm "
                              "segments) are several hits, averaged")
     hammer.add_argument("--fs", type=float, default=None, metavar="HZ",
-                        help="sample rate (Hz) when the files have no time channel")
+                        help="sample rate (Hz) when the files have no time channel (one "
+                             "rounded in its text is checked against it)")
     hammer.add_argument("--time", type=_channel, default=None, metavar="NAME|INDEX",
                         help="the time channel (s); default: by name (t, time), else the "
                              "first of three channels")
@@ -332,10 +339,16 @@ def _add_hammer_parser(sub) -> None:
     hammer.add_argument("--response", type=_channel, default=None, metavar="NAME|INDEX",
                         help="the response channel; default: by name (response, "
                              "acceleration, velocity, displacement), else the last")
-    hammer.add_argument("--response-type", default="acceleration",
+    hammer.add_argument("--response-type", default=None,
                         choices=("acceleration", "velocity", "displacement"),
                         help="the response's kind (m/s^2, m/s or m): the FRF is "
-                             "accelerance, mobility or receptance")
+                             "accelerance, mobility or receptance; default: as the "
+                             "channel's unit or name says, else acceleration")
+    for role, unit in (("force", "N"), ("response", "m/s^2, m/s or m")):
+        hammer.add_argument(f"--{role}-scale", type=float, default=None, metavar="SI_PER_UNIT",
+                            help=f"multiply the {role} channel by this ({unit} per unit of "
+                                 "the file: a sensor's sensitivity for volts); its stated "
+                                 "unit is then not read")
     hammer.add_argument("--exponential-decay", type=float, default=0.0, metavar="RATE",
                         help="exponential window exp(-RATE t) on both channels (1/s; for a "
                              "window ending at e: -ln(e)/T); default none")

@@ -477,6 +477,36 @@ def test_hammer_command_reads_csv_and_npz_records(hammer_test, tmp_path, capsys)
                                         "coherence (.csv, .npz, .mat, .uff))")
 
 
+def test_hammer_command_reads_what_the_channels_say(hammer_test, tmp_path, capsys):
+    """A response channel in m/s is a velocity (it was written as an accelerance unless
+    --response-type said otherwise), a flag that contradicts it is refused; a force in mV
+    needs --force-scale; a time column rounded to 4 decimals (steps 0.0727 and 0.0728 s)
+    is read with --fs, checked against it."""
+    from modalid import read_frf
+
+    test, _ = hammer_test
+    paths = []
+    for i in range(3):
+        paths.append(tmp_path / f"hit{i}.csv")
+        np.savetxt(paths[-1], np.column_stack([np.round(test.t, 4), test.force[i] / 0.02,
+                                               test.response[i]]),
+                   delimiter=",", header="Time [s],Force [mV],Response [m/s]", comments="")
+    args = ["hammer", *map(str, paths)]
+    assert main(args) == 2
+    assert "'Force [mV]' is in 'mV', a unit not known here" in capsys.readouterr().err
+    assert main(args + ["--force-scale", "0.02"]) == 2
+    assert "give the sample rate with --fs" in capsys.readouterr().err
+    assert main(args + ["--force-scale", "0.02", "--fs", "13.8"]) == 2
+    assert "--fs says 13.8 Hz" in capsys.readouterr().err
+    out = tmp_path / "frf.csv"
+    assert main(args + ["--force-scale", "0.02", "--fs", "13.75", "--out", str(out)]) == 0
+    assert "H1 mobility" in capsys.readouterr().out
+    assert read_frf(out).quantity == "mobility"
+    assert main(args + ["--force-scale", "0.02", "--fs", "13.75",
+                        "--response-type", "acceleration"]) == 2
+    assert "but the response channel's unit or name says velocity" in capsys.readouterr().err
+
+
 def test_hammer_command_refuses_bad_records_on_one_line(hammer_test, tmp_path, capsys):
     test, _ = hammer_test
     pickled = tmp_path / "pickled.npy"

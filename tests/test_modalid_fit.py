@@ -291,6 +291,25 @@ def test_band_without_resonance_warns_and_reports_it():
     np.testing.assert_allclose(fit.predict(data.omega[band]), exact[band], rtol=0.01)
 
 
+def test_noise_free_data_without_resonance_fit_exactly():
+    """A lumped mass's exact accelerance (a flat 1/m) and a constant receptance: the fit
+    is exact (zero residual), which divided the residual's median by itself (0 / 0) and
+    the far pseudo-mode's gain by a zero variance (a ZeroDivisionError)."""
+    from data_synth import LumpedMass
+    from data_synth.measure import synthetic_frf
+
+    mass = synthetic_frf(LumpedMass(2.0), np.linspace(1.0, 100.0, 200), quantity="accelerance")
+    flat = FRFData(np.arange(1.0, 11.0), np.full(10, 1e-6 + 0j))
+    for data, inverse_mass, flexibility in ((mass, 0.5, 0.0), (flat, 0.0, 1e-6)):
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", RuntimeWarning)
+            with pytest.warns(ModalFitWarning, match="no resonance"):
+                fit = ModalFit().fit(data)
+        assert fit.report_["verdict"] == "ok" and fit.report_["n_modes"] == 0
+        assert fit.model_.inverse_mass == pytest.approx(inverse_mass, rel=1e-12, abs=1e-15)
+        assert fit.model_.flexibility == pytest.approx(flexibility, rel=1e-12, abs=1e-15)
+
+
 def test_non_convergence_warns_and_reports_it(monkeypatch):
     import modalid._frf_pipeline as fit_module
 

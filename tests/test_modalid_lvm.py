@@ -130,7 +130,8 @@ def test_a_windows_1252_hammer_table_is_read(tmp_path):
 def test_bare_rows_of_several_hits_rounded_intervals_and_unknown_units(tmp_path):
     """Multi_Headings No: the second hit follows as bare rows, ``Samples`` of them, and is
     a hit of its own; a Delta_X written with three digits is warned about and ``--fs``
-    replaces the time it gives; a channel in volts is kept unscaled and said so."""
+    replaces the time it gives; a channel in volts is refused (it was kept unscaled: an
+    FRF in V/N written as m/s^2/N) unless its scale to SI is given."""
     rng = np.random.default_rng(1)
     hits = [rng.normal(size=(20, 2)) for _ in range(2)]
     path = write_lvm(tmp_path / "bare.lvm", [np.vstack(hits)])
@@ -139,20 +140,25 @@ def test_bare_rows_of_several_hits_rounded_intervals_and_unknown_units(tmp_path)
     channels, units = read_lvm(path)
     np.testing.assert_array_equal(channels["Force"], [h[:, 0] for h in hits])
     assert units["Acc"] == ("V", None) and channels["time"].size == 20
-    records = read_hammer_records([path])
+    with pytest.raises(ValueError, match=r"response channel 'Acc' is in 'V', a unit not "
+                                         r"known here .*--response-scale"):
+        read_hammer_records([path])
+    records = read_hammer_records([path], response_scale=2.0)
     assert records.force.shape == (2, 20)
-    assert "response Acc (in V, not scaled: a unit not known)" in records.channels
+    np.testing.assert_array_equal(records.response, 2.0 * np.array([h[:, 1] for h in hits]))
+    assert "response Acc (x 2 given: V to SI)" in records.channels
     path.write_text(path.read_text().replace("1,000000E-3", "0,000977"))
     with pytest.warns(UserWarning, match="Delta_X '0,000977' has 3 significant digits"):
-        records = read_hammer_records([path], fs=1024.0)
+        records = read_hammer_records([path], fs=1024.0, response_scale=2.0)
     assert records.fs == 1024.0
 
 
 def test_a_csv_headers_units_are_scaled_to_si(tmp_path):
     """A CSV whose header gives units: time in ms, force in kN, acceleration in g are
     scaled to s, N and m/s^2 and said (the g had been read as m/s^2, the ms as s: a
-    restitution of 0.81 for 0.62, a rate of 25.6 Hz); a unit not known is kept and said;
-    SI units and none change nothing."""
+    restitution of 0.81 for 0.62, a rate of 25.6 Hz); a unit not known is refused, a unit
+    of another quantity too; SI units and none change nothing; the response's unit says
+    what it is."""
     from modalid._hammer_files import read_hammer_records
 
     n, fs = 64, 1000.0
@@ -170,7 +176,26 @@ def test_a_csv_headers_units_are_scaled_to_si(tmp_path):
     assert "(x 9.80665: g to SI)" in records.channels and "(x 1000: kN to SI)" in records.channels
     path.write_text("t (s),force (mV),acceleration (m/s^2)\n"
                     + "".join(f"{a:.17g},{b:.17g},{c:.17g}\n" for a, b, c in zip(t, force, acc)))
-    records = read_hammer_records([path])
-    np.testing.assert_allclose(records.force[0], force)
+    with pytest.raises(ValueError, match=r"force channel 'force \(mV\)' is in 'mV', a unit "
+                                         r"not known here"):
+        read_hammer_records([path])
+    records = read_hammer_records([path], force_scale=0.5)
+    np.testing.assert_allclose(records.force[0], 0.5 * force)
     np.testing.assert_allclose(records.response[0], acc)
-    assert "(in mV, not scaled: a unit not known)" in records.channels
+    assert records.response_type == "acceleration"
+    for header, error in (("t (s),force (g),acceleration (m/s^2)",
+                           r"force channel 'force \(g\)' is in 'g', a unit of acceleration"),
+                          ("t (s),force (N),acceleration (m/s)",
+                           r"'acceleration \(m/s\)' says acceleration by its name, "
+                           r"velocity by its unit"),
+                          ("t (Hz),force (N),response (mm)",
+                           r"time channel 't \(Hz\)' is in 'Hz'")):
+        path.write_text(header + "\n" + "".join(f"{a:.17g},{b:.17g},{c:.17g}\n"
+                                                for a, b, c in zip(t, force, acc)))
+        with pytest.raises(ValueError, match=error):
+            read_hammer_records([path])
+    path.write_text("t (s),force (N),response (mm)\n"
+                    + "".join(f"{a:.17g},{b:.17g},{c:.17g}\n" for a, b, c in zip(t, force, acc)))
+    records = read_hammer_records([path])
+    assert records.response_type == "displacement"
+    np.testing.assert_allclose(records.response[0], 1e-3 * acc)
