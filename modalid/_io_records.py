@@ -177,6 +177,36 @@ def header_unit(name):
     return unit if (known or "/" in unit or unit in _BARE_UNITS) else None
 
 
+def same_unit(source, *names) -> None:
+    """Refuse value columns (a real and an imaginary part) whose units differ in scale: a
+    unit stated on one scales that column only (``real [mm/N]`` with ``imag`` read the
+    real part in m/N, the imaginary part 1000 times too large)."""
+    units = [header_unit(name) for name in names]
+    factors = {1.0 if unit is None else unit_factor(source, name, "real", unit)[0]
+               for name, unit in zip(names, units)}
+    if len(factors) > 1:
+        said = ", ".join(f"{name!r}: {unit or 'none'}" for name, unit in zip(names, units))
+        raise ValueError(f"the columns of {source} state different units ({said}): state "
+                         "the same unit on each")
+
+
+def quantity_in_comment(source, line) -> set:
+    """The quantity a table's comment line states (``# quantity: accelerance``), as a set
+    of none or one; a ``# unit: ...`` comment is refused (it is not read: the columns'
+    headers state units, ``real [mm/N]``)."""
+    m = re.match(r"\s*#\s*(quantity|units?)\s*[:=]\s*(\S*)", line, re.IGNORECASE)
+    if not m:
+        return set()
+    if m.group(1).lower() != "quantity":
+        raise ValueError(f"{source} says '{line.strip()}': a unit comment is not read; state "
+                         "the unit in the value columns' headers (real [mm/N], imag [mm/N])")
+    word = re.match(r"[A-Za-z]*", m.group(2)).group(0).lower()
+    if word not in _QUANTITY_WORDS:
+        raise ValueError(f"{source} says '# quantity: {m.group(2)}'; the quantity must be "
+                         f"one of {one_of(QUANTITIES)}")
+    return {_QUANTITY_WORDS[word]}
+
+
 def unit_factor(source, name, role, unit):
     """``(factor, quantity)``: what a column's stated ``unit`` multiplies its values by to
     reach SI (Hz for a frequency), and the quantity it states (None for a frequency).
@@ -293,6 +323,10 @@ def _build(source, raw, quantity):
             raise ValueError(f"{c_name} of {source} has {coherence.size} lines, "
                              f"{f_name} has {raw.freq_hz.size}")
         out = (coherence < 0) | (coherence > 1)
+        if np.mean(coherence > 1.5) > 0.5:     # not rounding: a percentage
+            raise ValueError(f"{c_name} of {source} exceeds 1 at {np.count_nonzero(out)} of "
+                             f"{coherence.size} lines (median {np.median(coherence):.4g}): "
+                             "a coherence in %? say so in its header (coherence [%])")
         if np.any(out):
             i = int(np.argmax(np.abs(coherence - np.clip(coherence, 0, 1))))
             warnings.warn(f"{c_name} of {source} lies outside [0, 1] at {np.count_nonzero(out)} "

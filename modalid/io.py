@@ -50,6 +50,8 @@ from ._io_records import (
     _text_head,
     _vector,
     header_unit,
+    quantity_in_comment,
+    same_unit,
     unit_factor,
 )
 from ._io_measured import comment_lines, stated_in_arrays, stated_in_comment, statements
@@ -83,13 +85,7 @@ def _load_table(path):
         said = stated_in_comment(path, line)
         if said is not None:
             measured[said[0]] = said[1]
-        m = re.match(r"\s*#\s*quantity\s*[:=]\s*([A-Za-z]+)", line, re.IGNORECASE)
-        if m:
-            word = m.group(1).lower()
-            if word not in _QUANTITY_WORDS:
-                raise ValueError(f"{path} says '# quantity: {m.group(1)}'; the quantity must "
-                                 f"be one of {one_of(QUANTITIES)}")
-            stated.add(_QUANTITY_WORDS[word])
+        stated |= quantity_in_comment(path, line)
     if lead == len(lines):
         raise ValueError(f"{path} holds no table: no header line after its comments")
     sep = next((s for s in (",", ";", "\t") if s in lines[lead]), r"\s+")
@@ -153,6 +149,7 @@ def _read_table(path, columns, table=None, stated=None, measured=None):
     mags = [r for r in ("magnitude", "magnitude_db") if r in found]
     phases = [r for r in ("phase_deg", "phase_rad") if r in found]
     if "real" in found and "imag" in found:
+        same_unit(path, found["real"][0], found["imag"][0])
         used, values = ["real", "imag"], column("real") + 1j * column("imag")
     elif len(mags) == 1 and len(phases) == 1:
         used, (mag, phase) = mags + phases, (column(mags[0]), column(phases[0]))

@@ -546,6 +546,28 @@ def test_csv_header_units_are_converted_and_state_the_quantity(tmp_path, header,
     np.testing.assert_allclose(frf.values, np.array([20 - 30j, 40 - 60j]) * scale, rtol=1e-15)
 
 
+def test_csv_units_stated_on_one_value_column_or_in_a_comment_are_refused(tmp_path):
+    """``real [mm/N],imag``: the unit scaled the real part only (the FRF read as a transfer
+    FRF); a ``# units:`` comment was ignored; a coherence in % without its unit was clipped
+    to 1 at every line (the automatic band then trusted every line)."""
+    rows = "10,1,2,99\n20,3,4,98\n"
+    one = write_text(tmp_path / "one.csv", "f [Hz],real [mm/N],imag,coherence\n" + rows)
+    with pytest.raises(ValueError, match=r"state different units \('real \[mm/N\]': mm/n, "
+                                         r"'imag': none\)"):
+        read_frf(one)
+    same = write_text(tmp_path / "same.csv", "f,real [(m/s)/N],imag [m/(N s)]\n10,1,2\n20,3,4\n")
+    np.testing.assert_array_equal(read_frf(same).values, [1 + 2j, 3 + 4j])
+    comment = write_text(tmp_path / "c.csv", "# units: mm/N\nf [Hz],real,imag\n10,1,2\n")
+    with pytest.raises(ValueError, match="'# units: mm/N': a unit comment is not read"):
+        read_frf(comment, quantity="receptance")
+    percent = write_text(tmp_path / "p.csv", "f [Hz],real [m/N],imag [m/N],coherence\n" + rows)
+    with pytest.raises(ValueError, match=r"exceeds 1 at 2 of 2 lines .*coherence \[%\]"):
+        read_frf(percent)
+    stated = write_text(tmp_path / "s.csv", "f [Hz],real [m/N],imag [m/N],coherence [%]\n"
+                        + rows)
+    np.testing.assert_allclose(read_frf(stated).coherence, [0.99, 0.98])
+
+
 @pytest.mark.parametrize("header", ["f,Re(H),Im(H)", "f,Real(FRF),Imag(FRF)",
                                     "f,real [-],imag [-]", "f,re,im,coherence (gamma^2)"])
 def test_csv_brackets_that_name_no_unit_are_read_as_before(tmp_path, header):
