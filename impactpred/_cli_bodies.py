@@ -108,11 +108,15 @@ def is_file_body(spec) -> bool:
 
 
 def for_body(message: str, args) -> str:
-    """``message`` (in flags already) about the body it starts with (``body 2: ...``),
-    where both bodies are files and it names reading or identification flags: it says that
-    those apply to both files and how to give one to that body alone (``--conjugate2``)."""
+    """``message`` (in flags already) about the body it starts with (``body 2: ...``): the
+    flags given for that body alone in their per-body form (``--quantity2``); where both
+    bodies are files and it names common reading or identification flags, that those
+    apply to both files and how to give one to that body alone (``--conjugate2``)."""
     match = re.match(r"body ([12])\b", message)
-    if match is None or not all(is_file_body(s) for s in (args.body1, args.body2)):
+    if match is None:
+        return message
+    message = in_body_flags(message, args, int(match.group(1)))   # --quantity2, if given
+    if not all(is_file_body(s) for s in (args.body1, args.body2)):
         return message
     named = [flag for flag in identification_flags(per_body=False).values()
              if re.search(rf"(?<![\w-]){re.escape(flag)}(?![\w-])", message)]

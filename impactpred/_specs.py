@@ -201,9 +201,35 @@ def identify(spec, *, quantity=None, estimator=None, read_options=None, check_pa
     if path.suffix.lower() == ".json":
         saved = _saved_model(path)
         return (None, saved) if isinstance(saved, SavedFit) else (saved, None)
-    data = _checked_frf(path, _read_options(read_options, quantity), label=label,
-                        check_passive=check_passive)
+    options = _read_options(read_options, quantity)
+    data = _checked_frf(path, options, label=label, check_passive=check_passive)
+    if getattr(estimator, "passive", "auto") is not True:
+        _refuse_transfer_record(path, options, label)
     return None, _fitted(data, estimator, path, label)
+
+
+def _refuse_transfer_record(path, options, label) -> None:
+    """Refuse a UFF record whose DOFs say it is a transfer FRF (response and force at
+    other nodes or along other axes): the data of a transfer FRF between points that move
+    alike can look passive (a record at node 2 for a force at node 1 predicted a
+    restitution of 0.24 with no word). A record along opposite directions of one axis is
+    the driving point, read negated (:func:`modalid.read_frfs`)."""
+    from modalid.io import describe_frfs
+
+    rows = describe_frfs(path, format=options.get("format"), columns=options.get("columns"))
+    if "response_node" not in rows:
+        return
+    index = options.get("index") or 0
+    row = rows.iloc[index]
+    if (row.response_node, abs(row.response_dir)) == (row.reference_node,
+                                                       abs(row.reference_dir)):
+        return
+    raise ValueError(f"{label}{path}: record {index} is the response at "
+                     f"{row.response_node}{int(row.response_dir):+d} to a force at "
+                     f"{row.reference_node}{int(row.reference_dir):+d}, a transfer FRF by its "
+                     "DOFs: a body needs its driving-point FRF (force and response at the "
+                     "contact point); give the record measured there (index=N), or, if its "
+                     "DOFs are written wrong, fit it as a driving point (passive=True)")
 
 
 def _in_memory_fit(spec, *, quantity, estimator, read_options, check_passive, label):

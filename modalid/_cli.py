@@ -31,9 +31,7 @@ _PHRASES = (("check_passive=False", "--no-passivity-check"),
              "--out DIR) and give the _set_model.json it writes"),
             ("pass driving_point= a row index or label, or None",
              "pass --driving-row (an output label, or a row index from 0)"),
-            ("negate it and pass driving_point= its row explicitly",
-             "reverse that record's sign (in Python: its row of read_frf_set, then FRFSet; "
-             "--negate reverses every row) and name its row"),
+            ("was passed: drop the argument", "was passed: drop the flag"),
             ("pass driving_point=", "pass --driving-row"),
             # a set read from the command line needs a driving row to be fitted
             ("or driving_point=None if there is none",

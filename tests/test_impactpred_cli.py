@@ -364,6 +364,11 @@ def test_reading_flags_for_one_body(tmp_path, capsys):
     assert main(args + ["--conjugate1", "--quantity", "accelerance"]) == 2
     err = capsys.readouterr().err
     assert "body 2" in err and "add 1 or 2 for one alone (--quantity2)" in err
+    # a flag given for one body is named so (it had said --quantity for --quantity2)
+    assert main(args + ["--conjugate1", "--quantity1", "accelerance", "--quantity2",
+                        "accelerance"]) == 2
+    err = capsys.readouterr().err
+    assert "body 2: " in err and "but --quantity2 accelerance was passed: drop the flag" in err
     assert main(args + ["--conjugate1", "--quantity1", "accelerance"]) == 0
     figures = dict(line.strip().split(": ", 1) for line in capsys.readouterr().out.splitlines()
                    if ": " in line and line.startswith(" "))

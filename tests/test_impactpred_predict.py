@@ -760,3 +760,31 @@ def test_the_band_checks_own_band_warning_does_not_leak(monkeypatch):
     words = [str(w.message) for w in said]
     assert any("another word" in w for w in words)
     assert not any("left out of the band's spread" in w for w in words)
+
+
+def test_a_uff_record_whose_dofs_say_transfer_is_refused(tmp_path):
+    """A free rod's accelerance as three UFF records: at the force's node (1+3/1+3), at
+    another node (2+3/1+3, its values half: they look passive) and along the opposite
+    direction (1-3/1+3, negated). The second predicted a restitution of 0.24 with no word;
+    it is refused by its DOFs unless the fit is told it is a driving point; the third is
+    the driving point read negated, the same prediction as the first."""
+    f = np.arange(1, 601) * 0.01
+    frf = synthetic_frf(lightly_damped(Rod(1.0, 1.0, support="free"), 30, 0.005), f,
+                        quantity="accelerance")
+    paths = []
+    for name, value, response in (("a", frf.values, (1, 3)), ("b", 0.5 * frf.values, (2, 3)),
+                                  ("c", -frf.values, (1, -3))):
+        paths.append(tmp_path / f"{name}.uff")
+        write_frf(paths[-1], FRFData(f, value, quantity="accelerance"), binary=True,
+                  response=response, reference=(1, 3))
+    runs = dict(velocity1=1.0, t_end=4.0, band_check=False)
+    with pytest.raises(ValueError, match=r"record 0 is the response at 2\+3 to a force at "
+                                         r"1\+3, a transfer FRF by its DOFs"):
+        predict("mass:0.5", paths[1], **runs)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        told = predict("mass:0.5", paths[1], estimator=ModalFit(passive=True), **runs)
+        first, negated = (predict("mass:0.5", p, **runs) for p in (paths[0], paths[2]))
+    assert told.figures["restitution"] < 0.3
+    assert negated.figures["restitution"] == pytest.approx(first.figures["restitution"],
+                                                           rel=1e-9)
