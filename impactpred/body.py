@@ -8,8 +8,10 @@ from typing import Any
 import numpy as np
 
 from modalid import ModalModel, MultiOutputModalModel
-from modalid.receptance import Receptance, TimeScale
+from modalid.receptance import Receptance
 from modalid.validation import as_real_array, as_real_scalar
+
+from .sampled import SampledResponse
 
 __all__ = ["Body", "SampledResponse", "check_driving_point", "driving_point_problems"]
 
@@ -32,110 +34,6 @@ _WHAT_TO_DO = ("What to do: a transfer FRF is not a driving point: a body needs 
                "driving-point receptance (force and response at the contact point, same "
                "direction); check the FRF's sign and quantity; refit the band (a passive fit "
                "keeps modal masses positive, e.g. modalid.ModalFit(passive=True))")
-
-
-@dataclass(frozen=True, eq=False)
-class SampledResponse:
-    """A driving-point impulse response known only by samples (e.g. measured).
-
-    Parameters
-    ----------
-    t : array_like, shape (n,)
-        Sample times (s), strictly increasing, starting at 0.
-    impulse_response : array_like, shape (n,)
-        ``h(t)`` in m/(N s): the complete response, rigid-body drift included.
-    inverse_mass : float, optional
-        ``1/M`` (1/kg) of the rigid-body part already contained in ``h`` (0 for a
-        grounded body); used for restitution and energy bookkeeping only.
-
-    Notes
-    -----
-    The step response is the trapezoidal integral of the samples, linear between them;
-    it is exact for a piecewise-linear ``h``. The record must cover the whole solve:
-    nothing is extrapolated beyond ``t[-1]``.
-    """
-
-    t: Any
-    impulse_response: Any
-    inverse_mass: float = 0.0
-
-    def __post_init__(self):
-        t = as_real_array("t", self.t, ndim=1)
-        h = as_real_array("impulse_response", self.impulse_response, ndim=1)
-        if t.shape != h.shape:
-            raise ValueError(f"t and impulse_response must have the same shape, got "
-                             f"{t.shape} and {h.shape}")
-        if t.size < 2 or t[0] != 0.0:
-            raise ValueError(f"t must start at 0 and hold at least 2 samples, got "
-                             f"{t.size} samples starting at {t[0] if t.size else None!r}")
-        if np.any(np.diff(t) <= 0):
-            raise ValueError("t must be strictly increasing")
-        step = np.concatenate([[0.0], np.cumsum(0.5 * np.diff(t) * (h[1:] + h[:-1]))])
-        for name, value in (("t", t), ("impulse_response", h), ("_step", step)):
-            value = np.array(value)
-            value.setflags(write=False)
-            object.__setattr__(self, name, value)
-        object.__setattr__(self, "inverse_mass", as_real_scalar("inverse_mass", self.inverse_mass))
-        if self.inverse_mass < 0:
-            raise ValueError(f"inverse_mass must be non-negative, got {self.inverse_mass!r}")
-
-    @property
-    def duration(self) -> float:
-        """Length of the record (s)."""
-        return float(self.t[-1])
-
-    # ----------------------------------------- receptance interface (modalid.receptance)
-    is_rational = property(lambda self: False, doc="Always False: no poles are known.")
-
-    def elastic_flexibility(self) -> float:
-        """Not known from a finite record: raises ``ValueError``."""
-        raise ValueError("a SampledResponse has no static flexibility: the record does not "
-                         "reach s = 0")
-
-    def time_scales(self) -> tuple:
-        """``(TimeScale(smallest sample step, "sample"),)`` (s).
-
-        Returns
-        -------
-        tuple of modalid.receptance.TimeScale
-        """
-        return (TimeScale(float(np.min(np.diff(self.t))), "sample"),)
-
-    def modal_form(self, n_modes=None):
-        """Raises ``ValueError``: a sampled response has no pole-residue form.
-
-        Parameters
-        ----------
-        n_modes : int, optional
-            Ignored.
-        """
-        raise ValueError("a SampledResponse has no modal model: identify one with modalid")
-
-    def step_response(self, t) -> np.ndarray:
-        """Trapezoidal step response (m/N) at ``t`` (s); 0 before 0, error past the record.
-
-        Parameters
-        ----------
-        t : array_like of float
-            Times (s), any shape.
-
-        Returns
-        -------
-        numpy.ndarray of float
-            Same shape as ``t``.
-        """
-        t = as_real_array("t", t)
-        if np.any(t > self.t[-1] * (1 + 1e-12)):
-            raise ValueError(f"the sampled response covers 0 to {self.t[-1]:.6g} s, asked for "
-                             f"t = {float(np.max(t)):.6g} s: give a longer record or a shorter "
-                             "t_end")
-        tc = np.clip(t, 0.0, self.t[-1])
-        i = np.clip(np.searchsorted(self.t, tc, side="right") - 1, 0, self.t.size - 2)
-        tau = tc - self.t[i]
-        dt = self.t[i + 1] - self.t[i]
-        slope = (self.impulse_response[i + 1] - self.impulse_response[i]) / dt
-        out = self._step[i] + tau * (self.impulse_response[i] + 0.5 * slope * tau)  # type: ignore[attr-defined]
-        return np.where(t > 0, out, 0.0)
 
 
 #: m/s: no velocity of a body reaches it (a linear elastic model fails far below)

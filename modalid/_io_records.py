@@ -200,7 +200,7 @@ def quantity_in_comment(source, line) -> set:
     if m.group(1).lower() != "quantity":
         raise ValueError(f"{source} says '{line.strip()}': a unit comment is not read; state "
                          "the unit in the value columns' headers (real [mm/N], imag [mm/N])")
-    word = re.match(r"[A-Za-z]*", m.group(2)).group(0).lower()
+    word = re.sub(r"[^A-Za-z].*", "", m.group(2)).lower()
     if word not in _QUANTITY_WORDS:
         raise ValueError(f"{source} says '# quantity: {m.group(2)}'; the quantity must be "
                          f"one of {one_of(QUANTITIES)}")

@@ -1,0 +1,42 @@
+"""SampledResponse: a measured impulse response, and the drift of a free body's."""
+
+import warnings
+
+import numpy as np
+import pytest
+
+from data_synth import LumpedMass
+from impactpred import Body, LinearSpring, SampledResponse, solve_impact
+
+
+def test_a_free_bodys_drift_without_its_inverse_mass_is_warned_about():
+    """A 2 kg free mass's impulse response ``t / 2``: without ``inverse_mass`` the restitution
+    of a 1 kg mass striking it through a spring was booked as 0.33 (exact 1.0) with no
+    word; the warning gives the slope, and with it the restitution is 1.0."""
+    t = np.arange(0.0, 0.2, 1e-5)
+    with pytest.warns(UserWarning, match=r"drifts at the record's end at 0.5 m/\(N s\^2\) .*"
+                                         r"give inverse_mass=0.5"):
+        bare = SampledResponse(t, t / 2.0)
+    runs = dict(contact=LinearSpring(1e4), t_end=0.1)
+    assert solve_impact(Body(LumpedMass(1.0), velocity=1.0), Body(bare),
+                        **runs).restitution == pytest.approx(1 / 3, abs=0.01)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        given = SampledResponse(t, t / 2.0, inverse_mass=0.5)
+    assert solve_impact(Body(LumpedMass(1.0), velocity=1.0), Body(given),
+                        **runs).restitution == pytest.approx(1.0, abs=2e-3)
+
+
+def test_a_grounded_bodys_decaying_response_is_not_a_drift():
+    """A grounded spring-mass (10 Hz, zeta 2 %) over 20 periods, and a free one's
+    vibration on its drift with the drift's inverse mass given: no warning."""
+    t = np.arange(0.0, 2.0, 1e-4)
+    wn, zeta = 2 * np.pi * 10.0, 0.02
+    wd = wn * np.sqrt(1 - zeta ** 2)
+    ringing = np.exp(-zeta * wn * t) * np.sin(wd * t) / wd
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        SampledResponse(t, ringing)                       # 1 kg: h = e^(-zeta wn t) sin / wd
+        SampledResponse(t, t / 4.0 + ringing, inverse_mass=0.25)
+    with pytest.warns(UserWarning, match="drifts"):       # the same vibration, free, bare
+        SampledResponse(t, t / 4.0 + ringing)
