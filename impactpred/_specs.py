@@ -216,7 +216,11 @@ def _refuse_transfer_record(path, options, label) -> None:
     the driving point, read negated (:func:`modalid.read_frfs`)."""
     from modalid.io import describe_frfs
 
-    rows = describe_frfs(path, format=options.get("format"), columns=options.get("columns"))
+    try:
+        rows = describe_frfs(path, format=options.get("format"),
+                             columns=options.get("columns"))
+    except ValueError:           # bare complex lines: no records to describe, no DOFs
+        return
     if "response_node" not in rows:
         return
     index = options.get("index") or 0
