@@ -124,6 +124,32 @@ def _body_read_options(args, body: int) -> dict:
     return _body_options(read_options, args, body, path)
 
 
+def _uff_reading(args, body: int) -> str | None:
+    """How body ``body``'s UFF record was read (its DOFs; negated, scaled to SI), or None
+    for another kind of body or file."""
+    from modalid.io import describe_frfs
+
+    if not is_file_body(getattr(args, f"body{body}")):
+        return None
+    options = _body_read_options(args, body)
+    try:
+        rows = describe_frfs(getattr(args, f"body{body}"), format=options.get("format"),
+                             columns=options.get("columns"))
+    except (ValueError, OSError):       # bare complex lines: no records to describe
+        return None
+    if "response_node" not in rows:
+        return None
+    index = options.get("index") or 0
+    row = rows.iloc[index]
+    said = [f"UFF record {index}: response {row.response_node}{int(row.response_dir):+d}, "
+            f"force {row.reference_node}{int(row.reference_dir):+d}"]
+    if row.negated:
+        said.append("read negated (its directions differ in sign)")
+    if row.to_si != 1.0:
+        said.append(f"values x {row.to_si:.6g} to SI (its units dataset)")
+    return ", ".join(said)
+
+
 def _check_identification_flags(args) -> str | None:
     """Refuse identification flags that no body uses; say which bodies ignore them.
 
@@ -232,9 +258,9 @@ def _print_bodies(args, pred) -> None:
               f"({report['band_hz'][0]:.4g}-{report['band_hz'][1]:.4g} Hz, "
               f"FRF NRMSE {figure(report, 'frf_nrmse', '.3g')}, verdict "
               f"{report.get('verdict', 'ok')})")
-        window = window_line(fit)
-        if window is not None:
-            print(f"  {window}")
+        for line in (_uff_reading(args, i), window_line(fit)):
+            if line is not None:
+                print(f"  {line}")
         modes = report.get("modes")
         columns = ["frequency_hz", "damping_ratio", "modal_mass"]
         if modes is not None and set(columns) <= set(modes.columns):

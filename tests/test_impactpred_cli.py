@@ -136,6 +136,27 @@ def test_predict_refuses_a_conjugated_or_reversed_frf_naming_the_flag(
 
 
 @pytest.mark.filterwarnings("ignore::UserWarning")
+def test_predict_says_how_a_uff_record_was_read(two_mode_accelerance, tmp_path, capsys):
+    """A driving point stored as response 1-3 for a force at 1+3 (minus the FRF) predicts
+    the same impact as the FRF in a CSV file, and says it was read negated."""
+    frf = two_mode_accelerance
+    write_frf(tmp_path / "a.csv", frf)
+    write_frf(tmp_path / "a.uff", FRFData(frf.freq_hz, -frf.values, quantity="accelerance"),
+              binary=True, response=(1, -3), reference=(1, 3))
+    figures = {}
+    for name in ("a.csv", "a.uff"):
+        assert main(["predict", "mass:1", str(tmp_path / name), "--v1", "0.1", "--t-end",
+                     "0.3", *SPRING]) == 0
+        out = capsys.readouterr().out
+        figures[name] = [line for line in out.splitlines()
+                         if line.strip().startswith(("peak_force_N", "restitution:"))]
+        said = ("  UFF record 0: response 1-3, force 1+3, read negated (its directions "
+                "differ in sign)")
+        assert (said in out.splitlines()) == (name == "a.uff")
+    assert figures["a.csv"] == figures["a.uff"] and len(figures["a.csv"]) == 2
+
+
+@pytest.mark.filterwarnings("ignore::UserWarning")
 def test_predict_reads_bare_complex_lines_and_takes_the_fit_flags(two_mode_accelerance,
                                                                   tmp_path, capsys):
     """A complex-lines file (no frequencies) needs --freq-start/--df, as for modalid fit;
