@@ -8,6 +8,7 @@ import sys
 from pathlib import Path
 
 from modalid._cli import (add_fit_options, add_read_options, check_out_dir, fit_options,
+                          uff_reading,
                           in_flags, nothing_saved, read_options, run_command, window_line)
 
 from ._cli_bodies import (BODY_FLAGS_HELP, add_body_flags, body_args, for_body, in_body_flags,
@@ -125,29 +126,10 @@ def _body_read_options(args, body: int) -> dict:
 
 
 def _uff_reading(args, body: int) -> str | None:
-    """How body ``body``'s UFF record was read (its DOFs; negated, scaled to SI), or None
-    for another kind of body or file."""
-    from modalid.io import describe_frfs
-
-    if not is_file_body(getattr(args, f"body{body}")):
-        return None
-    options = _body_read_options(args, body)
-    try:
-        rows = describe_frfs(getattr(args, f"body{body}"), format=options.get("format"),
-                             columns=options.get("columns"))
-    except (ValueError, OSError):       # bare complex lines: no records to describe
-        return None
-    if "response_node" not in rows:
-        return None
-    index = options.get("index") or 0
-    row = rows.iloc[index]
-    said = [f"UFF record {index}: response {row.response_node}{int(row.response_dir):+d}, "
-            f"force {row.reference_node}{int(row.reference_dir):+d}"]
-    if row.negated:
-        said.append("read negated (its directions differ in sign)")
-    if row.to_si != 1.0:
-        said.append(f"values x {row.to_si:.6g} to SI (its units dataset)")
-    return ", ".join(said)
+    """How body ``body``'s UFF record was read (:func:`modalid._cli.uff_reading`), or
+    None for another kind of body or file."""
+    spec = getattr(args, f"body{body}")
+    return uff_reading(spec, _body_read_options(args, body)) if is_file_body(spec) else None
 
 
 def _check_identification_flags(args) -> str | None:

@@ -16,7 +16,7 @@ import sys
 from pathlib import Path
 
 __all__ = ["run_command", "add_fit_options", "fit_options", "add_read_options", "read_options",
-           "in_flags", "check_out_dir", "nothing_saved", "window_line"]
+           "in_flags", "check_out_dir", "nothing_saved", "window_line", "uff_reading"]
 
 #: phrases whose value picks the flag (matched first, as written)
 _PHRASES = (("check_passive=False", "--no-passivity-check"),
@@ -318,3 +318,26 @@ def read_options(args, path) -> dict:
         options["freq_hz"] = start + args.df * np.arange(n_lines)
         options["format"] = "complex-lines"
     return {k: v for k, v in options.items() if v is not None}
+
+
+def uff_reading(path, options) -> str | None:
+    """How the UFF record of ``path`` read with ``options`` (``read_frf``'s) was read: its
+    DOFs, negated (directions of opposite sign), scaled to SI by its units dataset; None
+    for another kind of file."""
+    from .io import describe_frfs
+
+    try:
+        rows = describe_frfs(path, format=options.get("format"), columns=options.get("columns"))
+    except (ValueError, OSError):       # bare complex lines: no records to describe
+        return None
+    if "response_node" not in rows:
+        return None
+    index = options.get("index") or 0
+    row = rows.iloc[index]
+    said = [f"UFF record {index}: response {row.response_node}{int(row.response_dir):+d}, "
+            f"force {row.reference_node}{int(row.reference_dir):+d}"]
+    if row.negated:
+        said.append("read negated (its directions differ in sign)")
+    if row.to_si != 1.0:
+        said.append(f"values x {row.to_si:.6g} to SI (its units dataset)")
+    return ", ".join(said)

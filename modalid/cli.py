@@ -10,7 +10,7 @@ import warnings
 from pathlib import Path
 
 from ._cli import (add_fit_options, add_read_options, check_out_dir, fit_options, in_flags,
-                   nothing_saved, read_options, run_command, window_line)
+                   nothing_saved, read_options, run_command, uff_reading, window_line)
 from ._cli_set import print_shapes, read_set
 
 __all__ = ["main", "build_parser"]
@@ -115,6 +115,9 @@ def _cmd_fit(args) -> int:
     else:
         judged = data
         args.file = named = paths[0]
+        reading = uff_reading(paths[0], read_options(args, paths[0]))
+        if reading is not None:
+            print(f"{paths[0]}: {reading}")
     sign = check_sign(judged)
     if sign.verdict != "ok":
         _warn(sign.problem(named))

@@ -5,6 +5,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from data_synth import synthetic_frf
 from modalid import ModalModel, SavedFit
 from modalid.cli import main
 
@@ -30,6 +31,31 @@ def test_fit_command_prints_the_modes_and_writes_the_model(tmp_path, capsys):
     assert saved.source == "case1.mat" and saved.report_["driving_point"] is False
     assert saved.report_["band_hz"] == (20.0, 400.0) and saved.report_["verdict"] == "ok"
     assert (tmp_path / "case1_fit.png").stat().st_size > 1000
+
+
+def test_fit_command_says_how_a_uff_record_was_read(tmp_path, capsys):
+    """An inch-pound UFF record along -Z for a force along +Z: converted and negated, and
+    said so before the fit's report (the fit is a driving point's)."""
+    import pyuff
+
+    f = np.linspace(1.0, 100.0, 400)
+    frf = synthetic_frf(ModalModel.from_modes(2 * np.pi * np.array([20.0, 60.0]), [0.01, 0.01],
+                                              [1.0, 2.0]), f, quantity="accelerance")
+    inch, lbf = 1 / 0.0254, 1 / 4.4482216152605
+    path = tmp_path / "in.uff"
+    uff = pyuff.UFF(str(path))
+    uff.write_sets(pyuff.prepare_164(units_code=7, units_description="IN", temp_mode=1,
+                                     length=inch, force=lbf, temp=1.8, temp_offset=459.67),
+                   mode="add")
+    uff.write_sets(pyuff.prepare_58(binary=1, func_type=4, rsp_node=4, rsp_dir=-3, ref_node=4,
+                                    ref_dir=3, abscissa_spacing=0, abscissa_spec_data_type=18,
+                                    ordinate_spec_data_type=12, orddenom_spec_data_type=13,
+                                    data=-frf.values * inch / lbf, x=f), mode="add")
+    assert main(["fit", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert (f"{path}: UFF record 0: response 4-3, force 4+3, read negated (its directions "
+            "differ in sign), values x 0.00571015 to SI (its units dataset)") in out
+    assert "driving point: yes" in out
 
 
 def test_fit_command_reports_bad_input(capsys):
