@@ -53,7 +53,7 @@ _KEYWORDS = {
     # how a hammer test becomes an FRF (frf_from_hammer)
     "fs": "--fs", "response_type": "--response-type", "force_window": "--force-window",
     "force_window_length": "--force-window-length", "exponential_decay": "--exponential-decay",
-    "n_fft": "--n-fft",
+    "n_fft": "--n-fft", "force_scale": "--force-scale", "response_scale": "--response-scale",
 }
 
 

@@ -520,6 +520,8 @@ def test_hammer_command_reads_what_the_channels_say(hammer_test, tmp_path, capsy
     args = ["hammer", *map(str, paths)]
     assert main(args) == 2
     assert "'Force [mV]' is in 'mV', a unit not known here" in capsys.readouterr().err
+    assert main(args + ["--force-scale", "-0.02"]) == 2
+    assert "--force-scale must be positive, got -0.02" in capsys.readouterr().err
     assert main(args + ["--force-scale", "0.02"]) == 2
     assert "give the sample rate with --fs" in capsys.readouterr().err
     assert main(args + ["--force-scale", "0.02", "--fs", "13.8"]) == 2
