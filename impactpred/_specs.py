@@ -7,6 +7,7 @@ contact law as a spec string. Errors name the spec or the file.
 from __future__ import annotations
 
 import inspect
+import warnings
 from pathlib import Path
 from typing import Any
 
@@ -217,8 +218,10 @@ def _refuse_transfer_record(path, options, label) -> None:
     from modalid.io import describe_frfs
 
     try:
-        rows = describe_frfs(path, format=options.get("format"),
-                             columns=options.get("columns"))
+        with warnings.catch_warnings():     # said once already, when the file was read
+            warnings.simplefilter("ignore")
+            rows = describe_frfs(path, format=options.get("format"),
+                                 columns=options.get("columns"))
     except ValueError:           # bare complex lines: no records to describe, no DOFs
         return
     if "response_node" not in rows:

@@ -13,6 +13,7 @@ from __future__ import annotations
 import argparse
 import re
 import sys
+import warnings
 from pathlib import Path
 
 __all__ = ["run_command", "add_fit_options", "fit_options", "add_read_options", "read_options",
@@ -327,7 +328,10 @@ def uff_reading(path, options) -> str | None:
     from .io import describe_frfs
 
     try:
-        rows = describe_frfs(path, format=options.get("format"), columns=options.get("columns"))
+        with warnings.catch_warnings():     # said once already, when the file was read
+            warnings.simplefilter("ignore")
+            rows = describe_frfs(path, format=options.get("format"),
+                                 columns=options.get("columns"))
     except (ValueError, OSError):       # bare complex lines: no records to describe
         return None
     if "response_node" not in rows:

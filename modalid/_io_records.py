@@ -314,7 +314,7 @@ def _build(source, raw, quantity):
     if not np.iscomplexobj(raw.values):
         raise ValueError(f"{v_name} of {source} is real, not complex: a measured FRF has a "
                          "phase (a magnitude alone cannot be fitted); store it as complex, "
-                         "even where its imaginary part is zero")
+                         "even where its imaginary part is zero (MATLAB: complex(x, 0))")
     freq = np.real(raw.freq_hz).astype(float)
     coherence = raw.coherence
     if coherence is not None:

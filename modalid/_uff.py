@@ -15,6 +15,7 @@ import numpy as np
 from ._checks import as_count
 from ._io_measured import id_line, stated_in_id_line
 from ._io_records import _finite, _Raw
+from ._uff_units import SI, to_si, units_datasets
 
 # dataset 58, records 9/10 field 1 (specific data type): numerator codes of our quantities
 _UFF_NUMERATOR = {8: "receptance", 11: "mobility", 12: "accelerance"}
@@ -46,92 +47,30 @@ def _read_uff(path, columns):
     try:
         uff = pyuff.UFF(str(path))
         types = [int(t) for t in uff.get_set_types()]
-        picks = [i for i, t in enumerate(types) if t in (58, 164)]
+        picks = [i for i, t in enumerate(types) if t == 58]
         sets = uff.read_sets(picks) if picks else []
     except Exception as exc:  # pyuff raises bare Exception for every failure
         raise ValueError(f"cannot read UFF file {path} (truncated or corrupt?): {exc}") from exc
-    if 58 not in types:
+    if not picks:
         raise ValueError(f"{path} holds no dataset 58 (function at nodal DOF), so no FRF; "
                          f"its datasets are of types {types}")
     sets = [sets] if isinstance(sets, dict) else list(sets)
-    units = _SI_UNITS                # a dataset 164 holds for the datasets after it
-    for s in sets:
-        if s.get("type") == 164:
-            units = _units(path, s)
-        else:
-            s["_units"] = units
-    sets = [s for s in sets if s.get("type") != 164]
-    frfs = [s for s in sets if s.get("func_type") == 4]
-    if not frfs:
+    # a units dataset 164 holds for the datasets after it (none before: SI)
+    found = units_datasets(path, data, types.count(164))
+    units = [([SI] + found)[types[:i].count(164)] for i in picks]
+    records = [(s, u) for s, u in zip(sets, units) if s.get("func_type") == 4]
+    if not records:
         raise ValueError(f"{path} has no FRF: its datasets 58 hold function types "
                          f"{sorted({s.get('func_type') for s in sets})}, an FRF is type 4")
     cohs = [s for s in sets if s.get("func_type") == 6]
-    return [_uff_raw(path, s, number, cohs) for number, s in enumerate(frfs)]
-
-
-#: a file without a dataset 164 is in SI: (description, length factor, force factor)
-_SI_UNITS = ("SI", 1.0, 1.0)
-
-
-def _units(path, dset):
-    """``(description, length, force)`` of a dataset 164: the factors that divide a length
-    and a force in the file's units to give them in m and N (the dataset's record 2)."""
-    length, force = dset.get("length"), dset.get("force")
-    description = str(dset.get("units_description") or "").strip() or \
-        f"units code {dset.get('units_code')}"
-    for name, value in (("length", length), ("force", force)):
-        if value is None or not np.isfinite(value) or value <= 0:
-            raise ValueError(f"{path}: its units dataset 164 ({description}) has the {name} "
-                             f"factor {value!r}; a unit factor must be positive and finite")
-    return description, float(length), float(force)
-
-
-def _to_si(source, dset):
-    """The factor that takes the FRF values of dataset 58 ``dset`` to SI (m, N), from the
-    units dataset 164 before it and the length and force exponents of its ordinate's
-    numerator and denominator (records 9 and 10; all zero, as many writers leave them:
-    a length over a force, as every FRF quantity read here is; a numerator of length 1 and
-    force -1 over nothing: the ratio in record 9)."""
-    description, length, force = dset["_units"]
-    num = [int(dset.get(f"ordinate_{k}_unit_exp", 0) or 0) for k in ("len", "force")]
-    den = [int(dset.get(f"orddenom_{k}_unit_exp", 0) or 0) for k in ("len", "force")]
-    num = num if any(num) else [1, 0]
-    if not any(den):             # a numerator stating a force (length 1, force -1) is the ratio
-        den = [0, 0] if num[1] else [0, 1]
-    factor = length ** (den[0] - num[0]) * force ** (den[1] - num[1])
-    labels = [str(dset.get(k, "") or "").strip() for k in ("ordinate_axis_units_lab",
-                                                           "orddenom_axis_units_lab")]
-    stated = _label_factor(*labels)
-    if stated is not None and not np.isclose(stated, factor, rtol=1e-3):
-        warnings.warn(f"{source}: its axis labels say {labels[0]!r} over {labels[1]!r} "
-                      f"(x{stated:.6g} to SI), its units ({description}) x{factor:.6g}; "
-                      "read by its units, as the UFF standard says: if the values are in "
-                      "the labels' units, scale them", UserWarning, stacklevel=5)
-    return factor
-
-
-def _label_factor(numerator, denominator):
-    """The SI factor the axis labels name (``g`` over ``N``, ``m/s^2/N`` over ``""``), or
-    None when they name no unit read here."""
-    from ._io_records import VALUE_UNITS, _normalised_unit
-
-    text = _normalised_unit(numerator)
-    if text in ("", "none"):
-        return None
-    den = _normalised_unit(denominator)
-    if den not in ("", "none"):
-        text = f"{text}/{den}" if "/" not in text else f"({text})/{den}"
-    for units in VALUE_UNITS.values():
-        if text in units:
-            return units[text]
-    return None
+    return [_uff_raw(path, s, u, number, cohs) for number, (s, u) in enumerate(records)]
 
 
 def _uff_dofs(dset):
     return tuple(dset.get(k) for k in ("rsp_node", "rsp_dir", "ref_node", "ref_dir"))
 
 
-def _uff_raw(path, dset, number, cohs):
+def _uff_raw(path, dset, units, number, cohs):
     source = f"{path} (FRF {number}, dataset 58)"
     if dset.get("x") is None or dset.get("data") is None:
         raise ValueError(f"{source} is truncated or corrupt: no data values were read")
@@ -171,7 +110,7 @@ def _uff_raw(path, dset, number, cohs):
     # read every record for positive directions (a driving point measured as response +Z,
     # reference -Z, the hammer's direction, is the driving-point FRF negated)
     sign = -1.0 if (dofs[1] or 0) * (dofs[3] or 0) < 0 else 1.0
-    factor = _to_si(source, dset)
+    factor = to_si(source, dset, units)
     if sign * factor != 1.0:
         values = values * (sign * factor)
     meta = dict(zip(("response_node", "response_dir", "reference_node", "reference_dir"),
@@ -200,7 +139,10 @@ def _write_uff(path, frf, binary, response, reference):
                   ref_node=reference[0], ref_dir=reference[1], x=f.copy(),
                   abscissa_spacing=spacing, abscissa_spec_data_type=18,
                   abscissa_axis_units_lab="Hz")
-    dsets = [pyuff.prepare_58(func_type=4, data=frf.values.copy(), id1=frf.quantity,
+    # the FRF is along positive directions (as read); the record stores it along the
+    # directions given: negated where they differ in sign
+    sign = -1.0 if response[1] * reference[1] < 0 else 1.0
+    dsets = [pyuff.prepare_58(func_type=4, data=sign * frf.values, id1=frf.quantity,
                               id4=id_line(frf) or "NONE",
                               ordinate_spec_data_type=_UFF_CODE[frf.quantity],
                               orddenom_spec_data_type=13,

@@ -547,7 +547,8 @@ def write_frf(path, frf, *, format=None, binary=False, response=None, reference=
         UFF only: binary dataset 58 (float64 frequencies and values, bit-exact round
         trip) instead of ASCII.
     response, reference : (node, direction), optional
-        UFF only: the DOFs of record 6, default ``(1, 3)`` (node 1, +Z).
+        UFF only: the DOFs of record 6, default ``(1, 3)`` (node 1, +Z); directions of
+        opposite sign store the FRF negated (it is read back as given).
 
     Notes
     -----

@@ -4,8 +4,9 @@
 (any format :func:`modalid.io.read_frfs` reads, or bare complex lines with ``freq_hz=``),
 or one CSV table with several FRF columns. The rows must share one frequency grid: sets on
 different grids are refused with the files and lines that differ, never resampled. Which
-row is the driving point comes from the UFF records (response DOF equal to reference DOF)
-or from ``driving_point=``; a set without one is read only with ``driving_point=None``.
+row is the driving point comes from the UFF records (the response at the reference's node
+and axis) or from ``driving_point=``; a set without one is read only with
+``driving_point=None``.
 """
 
 from __future__ import annotations
@@ -65,9 +66,10 @@ def _dof_label(node, direction):
 
 
 def _uff_labels(metas):
-    """Labels from the UFF DOFs: the roving one (response or reference), else both."""
-    rsp = [_dof_label(m["response_node"], m["response_dir"]) for m in metas]
-    ref = [_dof_label(m["reference_node"], m["reference_dir"]) for m in metas]
+    """Labels from the UFF DOFs along positive directions (the values are read so): the
+    roving one (response or reference), else both."""
+    rsp = [_dof_label(m["response_node"], abs(m["response_dir"])) for m in metas]
+    ref = [_dof_label(m["reference_node"], abs(m["reference_dir"])) for m in metas]
     if len(set(ref)) == 1 and len(set(rsp)) == len(rsp):
         return rsp
     if len(set(rsp)) == 1 and len(set(ref)) == len(ref):
@@ -97,7 +99,9 @@ def read_frf_set(path_or_paths, *, driving_point="auto", format=None, quantity=N
         several files (each holding one FRF or more), read in the order given.
     driving_point : "auto", int, str or None
         The driving-point row (index or output label). ``"auto"``: the UFF record whose
-        response DOF equals its reference DOF; other formats do not say, so ``"auto"``
+        response is at its reference's node and axis (a record along the opposite
+        direction is read negated: :func:`modalid.io.read_frfs`); other formats do not
+        say, so ``"auto"``
         raises asking for it. ``None``: no row is the driving point (the set can be
         plotted and converted but not fitted).
     format, quantity, columns
@@ -108,9 +112,9 @@ def read_frf_set(path_or_paths, *, driving_point="auto", format=None, quantity=N
         ``p2`` (``mag_db_1, phase_deg_1, coh_1`` ... likewise); ``columns`` applies to
         single-FRF files only.
     outputs : sequence of str, optional
-        Row labels; default from the UFF DOFs (the roving one: response node and
-        direction, e.g. ``"3+Z"``, when the reference is fixed), the CSV column groups, or
-        the file names.
+        Row labels; default from the UFF DOFs along positive directions, as the values
+        are read (the roving one: response node and direction, e.g. ``"3+Z"``, when the
+        reference is fixed), the CSV column groups, or the file names.
     freq_hz : array_like of float, optional
         Frequencies (Hz) of bare complex-lines files.
     conjugate, negate : bool, default False
@@ -192,7 +196,7 @@ def _auto_driving_point(metas, uff, sources):
         dofs = [f"{_dof_label(m['response_node'], m['response_dir'])}/"
                 f"{_dof_label(m['reference_node'], m['reference_dir'])}" for m in metas]
         found = "no record has" if not same else f"records {same} have"
-        raise ValueError(f"no single driving point among {sources}: {found} its response DOF "
-                         f"equal to its reference DOF (response/reference: {dofs}); pass "
+        raise ValueError(f"no single driving point among {sources}: {found} its response at "
+                         f"its reference's node and axis (response/reference: {dofs}); pass "
                          "driving_point= a row index or label, or None")
     return same[0]

@@ -137,12 +137,12 @@ def test_predict_refuses_a_conjugated_or_reversed_frf_naming_the_flag(
 
 @pytest.mark.filterwarnings("ignore::UserWarning")
 def test_predict_says_how_a_uff_record_was_read(two_mode_accelerance, tmp_path, capsys):
-    """A driving point stored as response 1-3 for a force at 1+3 (minus the FRF) predicts
-    the same impact as the FRF in a CSV file, and says it was read negated."""
+    """A driving point stored as response 1-3 for a force at 1+3 (minus the FRF: write_frf
+    stores it so) predicts the same impact as the FRF in a CSV file, and says it was read
+    negated."""
     frf = two_mode_accelerance
     write_frf(tmp_path / "a.csv", frf)
-    write_frf(tmp_path / "a.uff", FRFData(frf.freq_hz, -frf.values, quantity="accelerance"),
-              binary=True, response=(1, -3), reference=(1, 3))
+    write_frf(tmp_path / "a.uff", frf, binary=True, response=(1, -3), reference=(1, 3))
     figures = {}
     for name in ("a.csv", "a.uff"):
         assert main(["predict", "mass:1", str(tmp_path / name), "--v1", "0.1", "--t-end",

@@ -773,7 +773,7 @@ def test_a_uff_record_whose_dofs_say_transfer_is_refused(tmp_path):
                         quantity="accelerance")
     paths = []
     for name, value, response in (("a", frf.values, (1, 3)), ("b", 0.5 * frf.values, (2, 3)),
-                                  ("c", -frf.values, (1, -3))):
+                                  ("c", frf.values, (1, -3))):    # stored negated
         paths.append(tmp_path / f"{name}.uff")
         write_frf(paths[-1], FRFData(f, value, quantity="accelerance"), binary=True,
                   response=response, reference=(1, 3))

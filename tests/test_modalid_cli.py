@@ -35,7 +35,9 @@ def test_fit_command_prints_the_modes_and_writes_the_model(tmp_path, capsys):
 
 def test_fit_command_says_how_a_uff_record_was_read(tmp_path, capsys):
     """An inch-pound UFF record along -Z for a force along +Z: converted and negated, and
-    said so before the fit's report (the fit is a driving point's)."""
+    said so before the fit's report (the fit is a driving point's); its labels' warning
+    said once (the record was read again to say how: it had been said twice, once as a
+    raw Python warning)."""
     import pyuff
 
     f = np.linspace(1.0, 100.0, 400)
@@ -50,9 +52,14 @@ def test_fit_command_says_how_a_uff_record_was_read(tmp_path, capsys):
     uff.write_sets(pyuff.prepare_58(binary=1, func_type=4, rsp_node=4, rsp_dir=-3, ref_node=4,
                                     ref_dir=3, abscissa_spacing=0, abscissa_spec_data_type=18,
                                     ordinate_spec_data_type=12, orddenom_spec_data_type=13,
+                                    ordinate_axis_units_lab="g", orddenom_axis_units_lab="N",
                                     data=-frf.values * inch / lbf, x=f), mode="add")
     assert main(["fit", str(path)]) == 0
-    out = capsys.readouterr().out
+    captured = capsys.readouterr()
+    out = captured.out
+    # the labels contradict the units: said once, in the command line's words
+    assert captured.err.count("its axis labels say 'g' over 'N'") == 1, captured.err
+    assert "UserWarning" not in captured.err
     assert (f"{path}: UFF record 0: response 4-3, force 4+3, read negated (its directions "
             "differ in sign), values x 0.00571015 to SI (its units dataset)") in out
     assert "driving point: yes" in out

@@ -4,6 +4,7 @@ import warnings
 from pathlib import Path
 
 import numpy as np
+import pyuff
 import pytest
 
 from modalid import FRFData, FRFSet, read_frf, read_frf_set, write_frf
@@ -227,7 +228,8 @@ def test_read_uff_records_find_the_driving_point(tmp_path):
 
 def test_read_uff_without_or_with_two_driving_points(tmp_path):
     paths = write_uffs(tmp_path, [(1, 2), (3, 2)])
-    with pytest.raises(ValueError, match="no record has its response DOF equal"):
+    with pytest.raises(ValueError, match="no record has its response at its reference.s "
+                                         "node and axis"):
         read_frf_set(paths)
     assert read_frf_set(paths, driving_point=None).driving_point is None
     twice = write_uffs(tmp_path, [(1, 1), (1, 1)])
@@ -263,15 +265,18 @@ def test_frf_data_and_sets_pickle_through_their_constructors():
 
 def test_auto_driving_point_takes_a_record_along_the_opposite_direction_negated(tmp_path):
     """Response -Z at the reference node +Z holds -H: read negated, it is the driving point
-    (its values the +Z/+Z FRF), the other record read as stored."""
+    (its values the +Z/+Z FRF, as written: write_frf stores it negated), its label along
+    +Z; the other record read as stored."""
     freq = np.arange(1.0, 101.0, 2.0)
     frf = FRFData(freq, 1.0 / (1.0 - (freq / 40.0) ** 2 + 0.02j * freq / 40.0))
     write_frf(tmp_path / "a.uff", frf, response=(1, -3), reference=(1, 3))
     write_frf(tmp_path / "b.uff", frf, response=(2, 3), reference=(1, 3))
     data = read_frf_set([tmp_path / "a.uff", tmp_path / "b.uff"])
     assert data.driving_point == 0
-    np.testing.assert_allclose(data.values[0], -frf.values, rtol=1e-11)  # ASCII: 12 digits
-    np.testing.assert_allclose(data.values[1], frf.values, rtol=1e-11)
+    np.testing.assert_allclose(data.values, [frf.values] * 2, rtol=1e-11)  # ASCII: 12 digits
+    assert data.outputs == ("1+Z", "2+Z")
+    stored = pyuff.UFF(str(tmp_path / "a.uff")).read_sets(0)["data"]
+    np.testing.assert_allclose(stored, -frf.values, rtol=1e-11)
 
 
 def test_frf_data_states_how_it_was_measured_and_keeps_it():

@@ -214,10 +214,17 @@ def test_ascii_uff_refuses_a_grid_it_cannot_hold(tmp_path):
 
 
 def test_uff_writes_the_dofs_and_quantity_codes(tmp_path):
-    write_frf(tmp_path / "a.uff", make_frf("mobility"), response=(5, -2), reference=(7, 1))
+    """DOFs and codes as given; directions of opposite sign store the FRF negated, so that
+    it reads back as written (the reader takes every record along positive directions)."""
+    frf = make_frf("mobility")
+    write_frf(tmp_path / "a.uff", frf, response=(5, -2), reference=(7, 1), binary=True)
     row = describe_frfs(tmp_path / "a.uff").iloc[0]
     assert (row.response_node, row.response_dir, row.reference_node, row.reference_dir) == \
         (5, -2, 7, 1)
+    assert row.negated and row.to_si == 1.0
+    np.testing.assert_array_equal(read_frf(tmp_path / "a.uff").values, frf.values)
+    np.testing.assert_array_equal(pyuff.UFF(str(tmp_path / "a.uff")).read_sets(0)["data"],
+                                  -frf.values)
     assert row.quantity == "mobility" and row.coherence
     dsets = pyuff.UFF(str(tmp_path / "a.uff")).read_sets()
     assert [d["func_type"] for d in dsets] == [4, 6]  # FRF, then its coherence
@@ -403,8 +410,60 @@ def test_uff_values_taken_to_si_by_the_units_dataset_before_each_record(tmp_path
     np.testing.assert_allclose(describe_frfs(path).to_si, [1.0, to_si, to_si, 1.0, to_si],
                                rtol=1e-12)
     bad = write_uff_sets(tmp_path / "b.uff", units164(9, "user", 0.0, 1.0), dset58())
-    with pytest.raises(ValueError, match="length factor 0.0"):
+    with pytest.raises(ValueError, match=r"units dataset 164 number 1 \(user\) does not give "
+                                         r"a positive length and force factor"):
         read_frf(bad)
+
+
+@pytest.mark.parametrize("code, name, length, force", [
+    (2, "BG", 3.28083989501312, 0.224808943099710),       # foot, pound-force
+    (3, "MG", 1.0, 0.101971621297793),                     # metre, kilogram-force
+    (8, "GM", 1000.0, 0.101971621297793)])                 # millimetre, kilogram-force
+@pytest.mark.parametrize("code58, quantity", [(8, "receptance"), (11, "mobility"),
+                                              (12, "accelerance")])
+def test_uff_units_of_every_standard_system(tmp_path, code, name, length, force, code58,
+                                            quantity):
+    """A length over a force in file units is ``force / length`` of it in SI, whatever the
+    quantity: 1 ft/lbf = 0.0685 m/N, 1 m/kgf = 0.102 m/N, 1 mm/kgf = 1.02e-4 m/N."""
+    values = np.arange(1, 11) * (1 + 0.5j)
+    path = write_uff_sets(tmp_path / "a.uff", units164(code, name, length, force),
+                          dset58(ordinate_spec_data_type=code58))
+    frf = read_frf(path)
+    assert frf.quantity == quantity
+    np.testing.assert_allclose(frf.values, values * force / length, rtol=1e-12)
+
+
+def test_uff_units_datasets_read_from_the_text_and_checked(tmp_path):
+    """A dataset 164 without its temperature lines (pyuff cannot parse it: the file had
+    become unreadable) is read from the text; a dataset 164 after the records changes
+    none of them; factors that are not their code's are warned about (read by the
+    factors); exponents that are not a length over a force are refused outside SI."""
+    inch, lbf = 1 / 0.0254, 1 / 4.4482216152605
+    write_uff_sets(tmp_path / "a.uff", units164(7, "IN", inch, lbf), dset58())
+    text = (tmp_path / "a.uff").read_text().splitlines(keepends=True)
+    start = next(i for i, line in enumerate(text) if line.strip() == "164")
+    # record 1, then the factors' line; the temperature offset's line dropped
+    (tmp_path / "short.uff").write_text("".join(text[:start + 3] + text[start + 4:]))
+    np.testing.assert_allclose(read_frf(tmp_path / "short.uff").values,
+                               np.arange(1, 11) * (1 + 0.5j) * lbf / inch, rtol=1e-12)
+    after = write_uff_sets(tmp_path / "after.uff", dset58(), units164(7, "IN", inch, lbf))
+    np.testing.assert_array_equal(read_frf(after).values, np.arange(1, 11) * (1 + 0.5j))
+    odd = write_uff_sets(tmp_path / "odd.uff", units164(1, "SI units", 3.28083989501312,
+                                                        0.224808943099710), dset58())
+    with pytest.warns(UserWarning, match=r"says code 1 \(SI: factors 1, 1\) but gives the "
+                                         r"factors 3.28084, 0.224809: read by the factors"):
+        read_frf(odd)
+    ratio = write_uff_sets(tmp_path / "r.uff", units164(7, "IN", inch, lbf),
+                           dset58(ordinate_len_unit_exp=1, ordinate_force_unit_exp=-1,
+                                  orddenom_force_unit_exp=1))
+    with pytest.raises(ValueError, match=r"records 9 and 10 state a length\^1 force\^-1 "
+                                         r"over a length\^0 force\^1, not a length over a "
+                                         r"force, in the units IN"):
+        read_frf(ratio)
+    si = write_uff_sets(tmp_path / "si.uff", dset58(ordinate_len_unit_exp=1,
+                                                    ordinate_force_unit_exp=-1,
+                                                    orddenom_force_unit_exp=1))
+    np.testing.assert_array_equal(read_frf(si).values, np.arange(1, 11) * (1 + 0.5j))
 
 
 def test_uff_axis_labels_that_contradict_its_units_are_warned_about(tmp_path):
