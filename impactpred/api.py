@@ -13,6 +13,7 @@ from modalid.validation import as_choice, as_positive_scalar, as_real_scalar
 
 from ._caveats import caveats, many_micro_contacts
 from ._energy_terms import contact_energy, dashpot_dissipation, exchangeable_energy, load_work
+from ._specs import parse_contact
 from .body import Body, SampledResponse
 from .contact import Hertz, LinearSpring, Rigid, check_contact
 from .damper.excitation import HarmonicForce
@@ -58,8 +59,10 @@ def solve_impact(body1: Body, body2: Body, *, gap: float = 0.0, contact=Rigid(),
         Body 1 approaches from below (``-y`` side); ``+y`` points from body 1 to body 2.
     gap : float, keyword-only
         Initial clearance ``g0 >= 0`` (m) between the contact points.
-    contact : Rigid, LinearSpring or Hertz, keyword-only
-        Contact law; ``Rigid()`` is the paper's.
+    contact : Rigid, LinearSpring, Hertz or str, keyword-only
+        Contact law; ``Rigid()`` is the paper's. A string is its spec, as
+        :func:`impactpred.predict.parse_contact` reads it (``"rigid"``,
+        ``"spring:stiffness=1e4"``).
     t_end : float, keyword-only
         End of the prediction (s): every contact, separation and re-contact up to it.
     dt : float or None, keyword-only
@@ -109,7 +112,7 @@ def solve_impact(body1: Body, body2: Body, *, gap: float = 0.0, contact=Rigid(),
                          f"< 0 (gap={gap!r}, contact-point displacements at t = 0 from "
                          f"displacement, vibration and a load's direct term d F(0): "
                          f"y1(0)={y1_0!r}, y2(0)={y2_0!r})")
-    contact = check_contact(contact)
+    contact = check_contact(parse_contact(contact) if isinstance(contact, str) else contact)
     t_end = as_positive_scalar("t_end", t_end)
     if dt is not None:
         dt = as_positive_scalar("dt", dt)
@@ -342,7 +345,8 @@ def _choose_method(bodies, contact, method):
         names = [type(b.model).__name__ for b in bodies if not b.is_rational]
         raise ValueError(f"method={method!r} needs rational models (ModalModel, LumpedMass, "
                          f"SpringMass), got {', '.join(names)}: use method='convolution' or "
-                         "give model.modal_model(n_modes, residual=True)")
+                         "a model of finitely many modes (model.modal_model(N, "
+                         "residual=True), saved as a .json model file for the command line)")
     if method == "laplace" and not linear:
         raise ValueError(f"method='laplace' needs a linear contact law (Rigid or an undamped "
                          f"LinearSpring), got {contact!r}: use method='modal'")

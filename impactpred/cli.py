@@ -369,6 +369,9 @@ def _cmd_benchmark(args) -> int:
     from .benchmark import error_table, markdown_table, run_benchmark
 
     check_out_dir(args.out)
+    if args.quick and (args.bands is not None or args.noise is not None):
+        raise ValueError("--quick runs 10 modes at 1 % noise on two cases: drop --bands and "
+                         "--noise, or drop --quick")
     client = cluster = None
     if args.scheduler:                   # a Dask cluster's scheduler (dask is optional)
         n_local = _local_workers(args.scheduler)
@@ -384,8 +387,8 @@ def _cmd_benchmark(args) -> int:
         client = Client(cluster if cluster is not None else args.scheduler)
     try:
         table = run_benchmark(quick=args.quick, out=args.out, progress=True,
-                              bands=tuple(args.bands),
-                              noises=tuple(n / 100 for n in args.noise),
+                              bands=tuple(args.bands or (10, 20, 40)),
+                              noises=tuple(n / 100 for n in args.noise or (1.0, 5.0)),
                               workers=args.workers, executor=client)
     finally:
         if client is not None:
@@ -499,8 +502,8 @@ def build_parser() -> argparse.ArgumentParser:
                                              "prediction, against the exact answers")
     bench.add_argument("--quick", action="store_true",
                        help="10 modes, 1 %% noise, two cases (seconds)")
-    bench.add_argument("--bands", type=_mode_count, nargs="+", default=[10, 20, 40],
-                       help="modes covered by the measured band")
+    bench.add_argument("--bands", type=_mode_count, nargs="+", default=None,
+                       help="modes covered by the measured band (default: 10 20 40)")
     bench.add_argument("--workers", type=int, default=2,
                        help="processes (2 cases at one band each); the numbers do not "
                             "depend on it")
@@ -510,8 +513,8 @@ def build_parser() -> argparse.ArgumentParser:
                             "LocalCluster of N workers (default: every core) set up for "
                             "these tasks (impactpred.parallel.local_cluster); needs "
                             "impactpred[distributed]")
-    bench.add_argument("--noise", type=_percent, nargs="+", default=[1.0, 5.0],
-                       help="noise levels in per cent")
+    bench.add_argument("--noise", type=_percent, nargs="+", default=None,
+                       help="noise levels in per cent (default: 1 5)")
     bench.add_argument("--out", help="folder for the CSV and markdown tables and the figures")
     bench.set_defaults(func=_cmd_benchmark)
     return parser

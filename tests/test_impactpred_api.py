@@ -266,3 +266,13 @@ def test_a_loads_direct_term_that_closes_the_gap_at_t0_is_refused():
         solve_impact(loaded, Body(free), gap=0.0, t_end=0.01)
     r = solve_impact(loaded, Body(free), gap=2e-3, t_end=0.01)
     assert r.gap[0] == pytest.approx(2e-3 - 2e-5 * 50.0, rel=1e-9)
+
+
+def test_solve_impact_takes_a_contact_spec_string():
+    """``contact="rigid"`` was refused (TypeError) though ``predict`` and the docs take it."""
+    bodies = (Body(LumpedMass(1.0), velocity=1.0), Body(LumpedMass(1.0)))
+    by_spec = solve_impact(*bodies, contact="spring:stiffness=1e4", t_end=0.1)
+    by_law = solve_impact(*bodies, contact=LinearSpring(1e4), t_end=0.1)
+    assert by_spec.restitution == by_law.restitution == pytest.approx(1.0, abs=1e-9)
+    with pytest.raises(ValueError, match="contact 'glue': use rigid"):
+        solve_impact(*bodies, contact="glue", t_end=0.1)

@@ -268,6 +268,14 @@ def test_benchmark_flags_out_of_range_are_refused(args, message, capsys):
     assert message in capsys.readouterr().err
 
 
+@pytest.mark.parametrize("args", [["--bands", "5"], ["--noise", "2"]])
+def test_benchmark_quick_with_bands_or_noise_is_refused(args, capsys):
+    """--quick ran 10 modes at 1 % whatever --bands and --noise said."""
+    assert main(["benchmark", "--quick", *args]) == 2
+    assert one_line_error(capsys) == ("--quick runs 10 modes at 1 % noise on two cases: drop "
+                                      "--bands and --noise, or drop --quick")
+
+
 def test_empty_out_and_absurd_mode_counts_are_refused(tmp_path, monkeypatch, capsys):
     """``--out ""`` wrote into the current folder; ``models --n-modes 100000000`` printed
     for minutes."""
