@@ -363,13 +363,17 @@ def _local_workers(scheduler):
     return int(count)
 
 
+#: the benchmark's default grid (``run_benchmark``'s, noise in per cent); --quick runs its own
+BENCHMARK_BANDS, BENCHMARK_NOISE = [10, 20, 40], [1.0, 5.0]
+
+
 def _cmd_benchmark(args) -> int:
     import pandas as pd
 
     from .benchmark import error_table, markdown_table, run_benchmark
 
     check_out_dir(args.out)
-    if args.quick and (args.bands is not None or args.noise is not None):
+    if args.quick and (args.bands != BENCHMARK_BANDS or args.noise != BENCHMARK_NOISE):
         raise ValueError("--quick runs 10 modes at 1 % noise on two cases: drop --bands and "
                          "--noise, or drop --quick")
     client = cluster = None
@@ -387,8 +391,8 @@ def _cmd_benchmark(args) -> int:
         client = Client(cluster if cluster is not None else args.scheduler)
     try:
         table = run_benchmark(quick=args.quick, out=args.out, progress=True,
-                              bands=tuple(args.bands or (10, 20, 40)),
-                              noises=tuple(n / 100 for n in args.noise or (1.0, 5.0)),
+                              bands=tuple(args.bands),
+                              noises=tuple(n / 100 for n in args.noise),
                               workers=args.workers, executor=client)
     finally:
         if client is not None:
@@ -502,8 +506,8 @@ def build_parser() -> argparse.ArgumentParser:
                                              "prediction, against the exact answers")
     bench.add_argument("--quick", action="store_true",
                        help="10 modes, 1 %% noise, two cases (seconds)")
-    bench.add_argument("--bands", type=_mode_count, nargs="+", default=None,
-                       help="modes covered by the measured band (default: 10 20 40)")
+    bench.add_argument("--bands", type=_mode_count, nargs="+", default=BENCHMARK_BANDS,
+                       help="modes covered by the measured band")
     bench.add_argument("--workers", type=int, default=2,
                        help="processes (2 cases at one band each); the numbers do not "
                             "depend on it")
@@ -513,8 +517,8 @@ def build_parser() -> argparse.ArgumentParser:
                             "LocalCluster of N workers (default: every core) set up for "
                             "these tasks (impactpred.parallel.local_cluster); needs "
                             "impactpred[distributed]")
-    bench.add_argument("--noise", type=_percent, nargs="+", default=None,
-                       help="noise levels in per cent (default: 1 5)")
+    bench.add_argument("--noise", type=_percent, nargs="+", default=BENCHMARK_NOISE,
+                       help="noise levels in per cent")
     bench.add_argument("--out", help="folder for the CSV and markdown tables and the figures")
     bench.set_defaults(func=_cmd_benchmark)
     return parser
