@@ -7,7 +7,6 @@ contact law as a spec string. Errors name the spec or the file.
 from __future__ import annotations
 
 import inspect
-import warnings
 from pathlib import Path
 from typing import Any
 
@@ -16,6 +15,8 @@ from sklearn.base import clone
 from data_synth import CantileverBeam, LumpedMass, Rod, SpringMass
 from modalid import FRFData, ModalFit, ModalModel, MultiOutputModalModel, SavedFit
 from modalid.io import check_sign, read_frf
+from modalid._uff import at_reference, dofs_text
+from modalid.io_set import uff_record
 from modalid.model import read_model_json
 from modalid.receptance import Receptance
 
@@ -215,28 +216,14 @@ def _refuse_transfer_record(path, options, label) -> None:
     alike can look passive (a record at node 2 for a force at node 1 predicted a
     restitution of 0.24 with no word). A record along opposite directions of one axis is
     the driving point, read negated (:func:`modalid.read_frfs`)."""
-    from modalid.io import describe_frfs
-
-    try:
-        with warnings.catch_warnings():     # said once already, when the file was read
-            warnings.simplefilter("ignore")
-            rows = describe_frfs(path, format=options.get("format"),
-                                 columns=options.get("columns"))
-    except ValueError:           # bare complex lines: no records to describe, no DOFs
+    record = uff_record(path, options)
+    if record is None or at_reference(record):
         return
-    if "response_node" not in rows:
-        return
-    index = options.get("index") or 0
-    row = rows.iloc[index]
-    if (row.response_node, abs(row.response_dir)) == (row.reference_node,
-                                                       abs(row.reference_dir)):
-        return
-    raise ValueError(f"{label}{path}: record {index} is the response at "
-                     f"{row.response_node}{int(row.response_dir):+d} to a force at "
-                     f"{row.reference_node}{int(row.reference_dir):+d}, a transfer FRF by its "
-                     "DOFs: a body needs its driving-point FRF (force and response at the "
-                     "contact point); give the record measured there (index=N), or, if its "
-                     "DOFs are written wrong, fit it as a driving point (passive=True)")
+    raise ValueError("{}{}: record {} is the response at {} to a force at {}, a transfer FRF "
+                     "by its DOFs: a body needs its driving-point FRF (force and response at "
+                     "the contact point); give the record measured there (index=N), or, if "
+                     "its DOFs are written wrong, fit it as a driving point (passive=True)"
+                     .format(label, path, options.get("index") or 0, *dofs_text(record)))
 
 
 def _in_memory_fit(spec, *, quantity, estimator, read_options, check_passive, label):

@@ -13,7 +13,6 @@ from __future__ import annotations
 import argparse
 import re
 import sys
-import warnings
 from pathlib import Path
 
 __all__ = ["run_command", "add_fit_options", "fit_options", "add_read_options", "read_options",
@@ -325,23 +324,16 @@ def uff_reading(path, options) -> str | None:
     """How the UFF record of ``path`` read with ``options`` (``read_frf``'s) was read: its
     DOFs, negated (directions of opposite sign), scaled to SI by its units dataset; None
     for another kind of file."""
-    from .io import describe_frfs
+    from ._uff import dofs_text
+    from .io_set import uff_record
 
-    try:
-        with warnings.catch_warnings():     # said once already, when the file was read
-            warnings.simplefilter("ignore")
-            rows = describe_frfs(path, format=options.get("format"),
-                                 columns=options.get("columns"))
-    except (ValueError, OSError):       # bare complex lines: no records to describe
+    record = uff_record(path, options)
+    if record is None:
         return None
-    if "response_node" not in rows:
-        return None
-    index = options.get("index") or 0
-    row = rows.iloc[index]
-    said = [f"UFF record {index}: response {row.response_node}{int(row.response_dir):+d}, "
-            f"force {row.reference_node}{int(row.reference_dir):+d}"]
-    if row.negated:
+    said = ["UFF record {}: response {}, force {}".format(options.get("index") or 0,
+                                                          *dofs_text(record))]
+    if record["negated"]:
         said.append("read negated (its directions differ in sign)")
-    if row.to_si != 1.0:
-        said.append(f"values x {row.to_si:.6g} to SI (its units dataset)")
+    if record["to_si"] != 1.0:
+        said.append(f"values x {record['to_si']:.6g} to SI (its units dataset)")
     return ", ".join(said)

@@ -165,13 +165,25 @@ def _write_uff(path, frf, binary, response, reference):
             os.remove(tmp)
 
 
+def dofs_text(meta) -> tuple:
+    """``("1+3", "1-3")``: a UFF record's response and reference DOFs as stored."""
+    return (f"{meta['response_node']}{int(meta['response_dir']):+d}",
+            f"{meta['reference_node']}{int(meta['reference_dir']):+d}")
+
+
+def at_reference(meta) -> bool:
+    """Whether a UFF record's response is at its reference's node and axis (a driving
+    point; along the opposite direction too: such a record is read negated)."""
+    return ((meta["response_node"], abs(meta["response_dir"]))
+            == (meta["reference_node"], abs(meta["reference_dir"])))
+
+
 def records_listing(metas, shown) -> str:
     """`` (0: response 1+3, reference 1+3; 1: ...)`` of UFF records' metadata (the first
     ``shown``), else ``""``."""
     if not all("response_node" in m for m in metas):
         return ""
-    items = [f"{i}: response {m['response_node']}{int(m['response_dir']):+d}, reference "
-             f"{m['reference_node']}{int(m['reference_dir']):+d}"
+    items = ["{}: response {}, reference {}".format(i, *dofs_text(m))
              + (" (read negated)" if m.get("negated") else "") for i, m in enumerate(metas)]
     return " (" + "; ".join(items[:shown]) + ("; ..." if len(items) > shown else "") + ")"
 

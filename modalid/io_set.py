@@ -13,9 +13,11 @@ from __future__ import annotations
 
 import os
 import re
+import warnings
 
 from ._io_records import _QUANTITY_WORDS, _UNITS, _WORDS, _build, split_unit
 from .frf_set import FRFSet, grid_difference
+from ._uff import at_reference
 from .io import (_check_orientation, _load_table, _oriented, _read_raw, _read_table, _resolve,
                  read_complex_lines)
 
@@ -189,9 +191,7 @@ def _auto_driving_point(metas, uff, sources):
                          "driving_point=None if there is none")
     # the reader took every record to positive directions (a response along -Z at the
     # reference node +Z, negated, is the driving point)
-    same = [i for i, m in enumerate(metas)
-            if (m["response_node"], abs(m["response_dir"]))
-            == (m["reference_node"], abs(m["reference_dir"]))]
+    same = [i for i, m in enumerate(metas) if at_reference(m)]
     if len(same) != 1:
         dofs = [f"{_dof_label(m['response_node'], m['response_dir'])}/"
                 f"{_dof_label(m['reference_node'], m['reference_dir'])}" for m in metas]
@@ -200,3 +200,19 @@ def _auto_driving_point(metas, uff, sources):
                          f"its reference's node and axis (response/reference: {dofs}); pass "
                          "driving_point= a row index or label, or None")
     return same[0]
+
+
+def uff_record(path, options) -> dict | None:
+    """The metadata of the UFF record of ``path`` that ``read_frf(path, **options)`` reads
+    (:func:`modalid.io.describe_frfs`'s columns but the quantity and band: its DOFs as
+    stored, ``negated``, ``to_si``), or None for another kind of file. The file's warnings
+    are not said again (they were when it was read)."""
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            where, fmt = _resolve(path, options.get("format"))
+            raws = _read_raw(where, fmt, options.get("columns"))
+    except (ValueError, OSError):       # bare complex lines: no records to describe
+        return None
+    meta = raws[options.get("index") or 0].meta
+    return meta if "response_node" in meta else None
