@@ -174,7 +174,7 @@ def solve_impact(body1: Body, body2: Body, *, gap: float = 0.0, contact=Rigid(),
             warnings.simplefilter("ignore")
             finer = run(bodies, gap, contact, t_end, dt / 2, notes=())
     sentences = caveats(result, bodies, t_end=t_end, start_gap=start_gap, finer=finer,
-                        time_stepping=stepping)
+                        time_stepping=stepping, contact=contact, energy_scale=audit.scale)
     for sentence in sentences:
         warnings.warn(sentence, UserWarning, stacklevel=2)
     if sentences:

@@ -18,6 +18,9 @@ __all__ = ["main"]
 
 #: ``impactpred models`` prints at most this many frequencies per model
 _MAX_LISTED_MODES = 1000
+#: exit statuses beyond 0 (done) and 2 (a refused input): a prediction written but not
+#: physical (its energy audit fails); a benchmark written that misses a target
+EXIT_NOT_PHYSICAL, EXIT_TARGETS_MISSED = 3, 4
 
 
 def _cmd_models(args) -> int:
@@ -345,8 +348,8 @@ def _cmd_predict(args) -> int:
     if not pred.result.energy_audit.ok:
         # written for inspection, but not an answer: the books do not balance
         print("error: the energy audit flags this prediction (see energy_audit above): "
-              "it is not physical; exit status 3", file=sys.stderr)
-        return 3
+              f"it is not physical; exit status {EXIT_NOT_PHYSICAL}", file=sys.stderr)
+        return EXIT_NOT_PHYSICAL
     return 0
 
 
@@ -406,6 +409,11 @@ def _cmd_benchmark(args) -> int:
     print(f"total {table.attrs['seconds']:.0f} s; "
           + (f"wrote synthetic_benchmark.csv, .md and figures in {args.out}" if args.out
              else nothing_saved("DIR writes the CSV and markdown tables and the figures")))
+    missed = int((table.attrs["targets"]["result"] == "MISS").sum())
+    if missed:
+        print(f"impactpred: {missed} of {len(table.attrs['targets'])} targets MISS; exit "
+              f"status {EXIT_TARGETS_MISSED}", file=sys.stderr)
+        return EXIT_TARGETS_MISSED
     return 0
 
 
@@ -536,7 +544,8 @@ def main(argv=None) -> int:
     -------
     int
         The exit status: 0 on success, 2 for a refused input, 3 for a prediction whose
-        energy audit fails (written, but not physical).
+        energy audit fails (written, but not physical), 4 for a benchmark that misses a
+        target (written).
     """
     return run_command(build_parser(), argv)
 

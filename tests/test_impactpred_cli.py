@@ -47,12 +47,26 @@ def test_cli_reports_bad_input_without_a_traceback(capsys):
     assert "dt must be positive" in capsys.readouterr().err
 
 
-def test_benchmark_command_quick_writes_tables(tmp_path, capsys):
+def test_benchmark_command_quick_writes_tables(tmp_path, capsys, monkeypatch):
+    import impactpred.benchmark as benchmark
+
+    tables = []
+    real_run = benchmark.run_benchmark
+    monkeypatch.setattr(benchmark, "run_benchmark",
+                        lambda **kw: tables.append(real_run(**kw)) or tables[-1])
     assert main(["benchmark", "--quick", "--out", str(tmp_path)]) == 0
     out = capsys.readouterr().out
     assert "mass-rod M/m=1" in out and "no prediction with e > 1" in out
     table = pd.read_csv(tmp_path / "synthetic_benchmark.csv")
     assert len(table) == 2 and (tmp_path / "synthetic_benchmark.md").exists()
+    # a target missed is said, and the exit status says it too (4: written, not met)
+    missed = tables[0].copy()
+    missed.attrs["targets"] = tables[0].attrs["targets"].copy()
+    missed.attrs["targets"].loc[0, "result"] = "MISS"
+    monkeypatch.setattr(benchmark, "run_benchmark", lambda **kw: missed)
+    assert main(["benchmark", "--quick"]) == 4
+    n_targets = len(missed.attrs["targets"])
+    assert f"1 of {n_targets} targets MISS; exit status 4" in capsys.readouterr().err
 
 
 # ------------------------------------------------------------------ predict: files, flags

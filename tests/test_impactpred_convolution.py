@@ -216,6 +216,10 @@ def test_two_free_masses_meet_plastically_and_stay_apart_from_rounding(method):
     r = solve_impact(Body(LumpedMass(m1), velocity=v1), Body(LumpedMass(m2), velocity=v2),
                      gap=1e-3, t_end=0.05, dt=2.5e-5, method=method)
     assert len(r.contact_intervals) == 1          # no contact made of rounding afterwards
+    (start, end), = r.contact_intervals           # a pure Dirac, as the exact solver's
+    (time, impulse), = r.dirac_impulses
+    assert start == end == time and abs(time - 1e-3 / (v1 - v2)) <= 2.5e-5
+    assert impulse == pytest.approx(m1 * (v1 - common), rel=1e-12) and r.peak_force == 0.0
     np.testing.assert_allclose(r.velocities_after, [common, common], rtol=1e-12)
     assert r.energy_audit.after == pytest.approx(0.5 * (m1 + m2) * common**2, rel=1e-12)
 
@@ -232,6 +236,28 @@ def test_a_mass_on_a_truncated_rod_matches_the_exact_solver(mass):
         # travel, and after a separation they touch again at a gap of 0
         np.testing.assert_allclose(r.contact_intervals, exact.contact_intervals, atol=6e-3)
         assert r.restitution == pytest.approx(exact.restitution, abs=1e-3)
+
+
+@pytest.mark.parametrize("method", ["modal", "convolution"])
+def test_a_plastic_start_is_a_dirac_impulse_not_a_force_of_impulse_over_dt(method):
+    # a unit mass on a 5-mode fixed rod: the exact force is a Dirac at each contact's start
+    # and a regular press after it. The start step's impulse is listed as a Dirac; the
+    # force keeps the press (1481 N exact), which had been impulse/dt: 9105 N at 1e-5 s,
+    # 90 910 N at 1e-6 s
+    bodies = (Body(LumpedMass(1.0), velocity=1.0),
+              Body(Rod(1.0, 1e-3, support="fixed").modal_model(5)))
+    exact = solve_impact(*bodies, t_end=0.01, method="laplace")
+    assert len(exact.dirac_impulses) == 2
+    for dt, rtol in ((1e-5, 0.02), (1e-6, 0.002)):
+        r = solve_impact(*bodies, t_end=0.01, dt=dt, method=method)
+        assert r.peak_force == pytest.approx(exact.peak_force, rel=rtol)
+        assert r.peak_force_max == pytest.approx(exact.peak_force_max, rel=rtol)
+        assert len(r.dirac_impulses) == len(exact.dirac_impulses)
+        for (t, j), (t_exact, j_exact) in zip(r.dirac_impulses, exact.dirac_impulses):
+            assert abs(t - t_exact) <= dt and j == pytest.approx(j_exact, rel=rtol)
+        # the split keeps the force's integral: the momentum passed is the same
+        diracs = sum(j for _, j in r.dirac_impulses)
+        assert np.sum(r.force[:-1]) * dt + diracs == pytest.approx(r.impulse, rel=1e-12)
 
 
 def test_a_step_too_fine_to_resolve_a_plastic_hold_says_so():

@@ -73,7 +73,9 @@ class StepForce:
     the offset is below the step's resolution): ``holding``, per step, whether a contact
     held (its force may be 0), marks the steps between as held. A contact that starts at
     rest under a constant acceleration gets the law's force (the two rules agree there).
-    First order in ``dt``, like the zero-order hold at every event.
+    First order in ``dt``, like the zero-order hold at every event. ``starts`` lists the
+    steps that took a plastic impulse (:func:`._stepping.assemble_result` reports each as
+    a Dirac impulse, not as a force of impulse/dt).
 
     Parameters
     ----------
@@ -106,6 +108,7 @@ class StepForce:
         self._touch = 0.0                  # the gap at which the bodies touch
         self._reopen = np.inf              # the gap past which that is 0 again
         self.impacts = 0                   # plastic starts (re-touches within a contact too)
+        self.starts: list = []             # the steps at which they happened
         self.holding: list = []
         self._parted = 0                   # the step at which the last hold parted
 
@@ -143,6 +146,7 @@ class StepForce:
             self.holding[self._parted:] = [True] * (len(self.holding) - self._parted)
         self._held, self._press = G + self.k0 * f, 0.0
         self.impacts += 1
+        self.starts.append(len(self.holding))
         return f
 
     def unresolved_notes(self, n_contacts: int, *, stacklevel: int) -> tuple:

@@ -19,7 +19,7 @@ from scipy.signal import fftconvolve
 from ..result import BodyEnergy, ImpactResult
 
 __all__ = ["Grid", "step_kernel", "free_displacements", "assemble_result", "causal_convolve",
-           "energy_before"]
+           "energy_before", "split_diracs"]
 
 
 class Grid:
@@ -109,8 +109,35 @@ def contact_runs(force: np.ndarray, gap_end: np.ndarray, tol: float, *, holding=
     return [tuple(r) for r in merged]
 
 
+def split_diracs(force, grid: Grid, starts, holding):
+    """The steps that took a plastic impulse as Dirac impulses, and the regular force.
+
+    A step ``n`` in ``starts`` (:class:`._step_force.StepForce`'s plastic starts) carries
+    the impulse ``f_n dt`` that stops the bodies' relative motion within it: reported as
+    a force ``f_n`` it grows like ``1/dt`` (the exact force has a Dirac there, method.md,
+    section 5). Its regular part is the next step's force while the contact holds (the
+    press the Dirac leaves, to first order in ``dt``), else 0; the rest is a Dirac impulse
+    at ``t_n``. The force's integral is unchanged.
+
+    Returns
+    -------
+    regular : ndarray, shape (n_steps,)
+        The force (N) without the Dirac parts.
+    diracs : tuple of (float, float)
+        (time s, impulse N s) of each Dirac part.
+    """
+    regular = np.array(force, dtype=float)
+    diracs = []
+    for n in starts:
+        held = n + 1 < regular.size and holding is not None and holding[n + 1]
+        part = min(max(float(force[n + 1]), 0.0), float(force[n])) if held else 0.0
+        regular[n] = part
+        diracs.append((float(grid.t[n]), (float(force[n]) - part) * grid.dt))
+    return regular, tuple(diracs)
+
+
 def assemble_result(bodies, gap0, grid: Grid, force, kernels, y_free, *, method, notes=(),
-                    y=None, points=(None, None), holding=None):
+                    y=None, points=(None, None), holding=None, plastic_starts=()):
     """Build the :class:`ImpactResult` of a piecewise-constant force history.
 
     Parameters
@@ -126,6 +153,9 @@ def assemble_result(bodies, gap0, grid: Grid, force, kernels, y_free, *, method,
     holding : sequence of bool or None, keyword-only
         Per step, whether :class:`._step_force.StepForce`'s plastic rule held a contact
         (:func:`contact_runs`); None: the contact law's own steps.
+    plastic_starts : sequence of int, keyword-only
+        The steps that took a plastic impulse (:func:`split_diracs`): reported in
+        ``dirac_impulses``, not in ``force``.
     """
     b1, b2 = bodies
     if y is None:
@@ -136,7 +166,11 @@ def assemble_result(bodies, gap0, grid: Grid, force, kernels, y_free, *, method,
     gap = y2 - y1 + gap0
     runs = contact_runs(force, gap[1:], micro_separation_tolerance(y1, y2), holding=holding)
     dt = grid.dt
-    intervals = tuple((float(grid.t[a]), float(grid.t[b])) for a, b in runs)
+    regular, diracs = split_diracs(force, grid, plastic_starts, holding)
+    # a contact that is its plastic start alone is a pure Dirac: start == end, as exact
+    alone = {a for a, b in runs if b == a + 1 and regular[a] == 0.0} & set(plastic_starts)
+    intervals = tuple((float(grid.t[a]), float(grid.t[a if a in alone else b]))
+                      for a, b in runs)
     total_impulse = float(np.sum(force) * dt)
     first_impulse = float(np.sum(force[runs[0][0]:runs[0][1]]) * dt) if runs else 0.0
 
@@ -155,9 +189,9 @@ def assemble_result(bodies, gap0, grid: Grid, force, kernels, y_free, *, method,
         vib_before = energy_before(body)
         energies.append(BodyEnergy(rigid_before, vib_before, rigid_after,
                                    vib_before + work - (rigid_after - rigid_before)))
-    force_out = np.append(force, force[-1])
+    force_out = np.append(regular, regular[-1])
     return ImpactResult(t=grid.t, force=force_out, y1=y1, y2=y2, gap=gap,
-                        contact_intervals=intervals, dirac_impulses=(),
+                        contact_intervals=intervals, dirac_impulses=diracs,
                         velocities_before=u_before, velocities_after=u_after,
                         energy_by_body=tuple(energies), method=method, dt=dt,
                         first_contact_impulse=first_impulse, total_impulse=total_impulse,

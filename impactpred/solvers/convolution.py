@@ -118,6 +118,7 @@ def solve_convolution(bodies, gap0, contact, t_end, dt, *, notes=(), progress=Fa
     result = assemble_result(bodies, gap0, grid, force, kernels, y_free,
                              method="convolution", notes=notes,
                              points=convolution_points(bodies, grid, force),
-                             holding=rule.holding if rule.plastic else None)
+                             holding=rule.holding if rule.plastic else None,
+                             plastic_starts=rule.starts)
     said = rule.unresolved_notes(result.n_contacts, stacklevel=3)
     return dataclasses.replace(result, notes=result.notes + said) if said else result

@@ -388,6 +388,7 @@ def _solve_constant_hold(bodies, gap0, contact, t_end, dt, *, notes=(), progress
     points = tuple(r.response(b, grid.t) if r else None for r, b in zip((rec1, rec2), bodies))
     result = assemble_result(bodies, gap0, grid, force, None, None, method="modal",
                              notes=notes, y=(y1, y2), points=points,
-                             holding=rule.holding if rule.plastic else None)
+                             holding=rule.holding if rule.plastic else None,
+                             plastic_starts=rule.starts)
     said = rule.unresolved_notes(result.n_contacts, stacklevel=4)
     return dataclasses.replace(result, notes=result.notes + said) if said else result
