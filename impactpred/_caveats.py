@@ -146,10 +146,9 @@ def _plastic_truncation(result, bodies, contact, energy_scale) -> str | None:
     return (f"the rigid contact's {n} plastic (Dirac) impulse{'s' if n > 1 else ''} took "
             f"{100 * share:.3g} % of the energy the impact can redistribute ({lost:.4g} J): "
             f"{names}'s modal model, with no residual flexibility, is a mass at the "
-            "contact, while the structure it stands for is compliant there and loses no "
+            "contact, while a continuum it stands for is compliant there and loses no "
             "energy at a rigid contact; the figures depend on the modes kept (more modes, "
-            "or the residual flexibility, ModalModel(flexibility=...), or a compliant "
-            "contact law settle them)")
+            "a residual flexibility term or a contact law with stiffness settle them)")
 
 
 def _no_contact(bodies, t_end, start_gap) -> str:
