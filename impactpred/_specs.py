@@ -215,9 +215,13 @@ def _refuse_transfer_record(path, options, label) -> None:
     other nodes or along other axes): the data of a transfer FRF between points that move
     alike can look passive (a record at node 2 for a force at node 1 predicted a
     restitution of 0.24 with no word). A record along opposite directions of one axis is
-    the driving point, read negated (:func:`modalid.read_frfs`)."""
+    the driving point, read negated (:func:`modalid.read_frfs`); a scalar direction (0)
+    at the reference's node does not say which axis, so it is not refused."""
     record = uff_record(path, options)
     if record is None or at_reference(record):
+        return
+    if (record["response_node"] == record["reference_node"]
+            and 0 in (record["response_dir"], record["reference_dir"])):
         return
     raise ValueError("{}{}: record {} is the response at {} to a force at {}, a transfer FRF "
                      "by its DOFs: a body needs its driving-point FRF (force and response at "

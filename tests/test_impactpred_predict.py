@@ -788,3 +788,11 @@ def test_a_uff_record_whose_dofs_say_transfer_is_refused(tmp_path):
     assert told.figures["restitution"] < 0.3
     assert negated.figures["restitution"] == pytest.approx(first.figures["restitution"],
                                                            rel=1e-9)
+    # a scalar direction (0) at the force's node says no axis: not a transfer by its DOFs
+    write_frf(tmp_path / "scalar.uff", FRFData(f, frf.values, quantity="accelerance"),
+              binary=True, response=(1, 0), reference=(1, 3))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        scalar = predict("mass:0.5", tmp_path / "scalar.uff", **runs)
+    assert scalar.figures["restitution"] == pytest.approx(first.figures["restitution"],
+                                                          rel=1e-9)
