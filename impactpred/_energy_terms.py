@@ -118,5 +118,5 @@ def exchangeable_energy(bodies, before: float, load_work: float) -> float:
     if all(i > 0.0 for i in inv) and all(b.load is None for b in bodies):
         mass = 1.0 / inv[0] + 1.0 / inv[1]
         momentum = bodies[0].velocity / inv[0] + bodies[1].velocity / inv[1]
-        before -= 0.5 * momentum**2 / mass
+        before -= 0.5 * momentum * (momentum / mass)     # no overflow at huge masses
     return max(before, 0.0) + abs(load_work)

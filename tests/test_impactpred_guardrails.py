@@ -426,6 +426,14 @@ def test_a_truncated_models_plastic_loss_is_exact_and_said():
     assert not flexible.dirac_impulses and masses.dirac_impulses
 
 
+def test_a_huge_mass_does_not_overflow_the_energy_books():
+    # the centre of mass's energy as momentum * (momentum / mass): momentum**2 had raised
+    # a bare OverflowError from the audit at 1e300 kg
+    res = solve_impact(Body(LumpedMass(1e300), velocity=1.0), Body(LumpedMass(1.0)),
+                       contact=LinearSpring(1e4), t_end=0.1)
+    assert res.restitution == pytest.approx(1.0) and res.energy_audit.ok
+
+
 def test_a_step_longer_than_the_run_is_refused():
     """dt = 10 s over t_end = 8 s had given a contact interval (0, 10 s): past t_end."""
     bodies = (Body(LumpedMass(1.0), velocity=1.0), Body(Rod(1.0, 1.0, support="fixed")))
