@@ -176,7 +176,8 @@ def solve_impact(body1: Body, body2: Body, *, gap: float = 0.0, contact=Rigid(),
         # sequence is checked at the automatic step, which the solver vouches for: a step
         # given is the caller's to converge (and timed as given: one run)
         other = (dt / 2 if 2 * t_end / dt <= _MAX_STEPS
-                 else None if many_micro_contacts(result) else 2 * dt)
+                 else None if many_micro_contacts(result)
+                 else _step_within_records(bodies, t_end, 2 * dt, []))
         if other is not None:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")

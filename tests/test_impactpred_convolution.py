@@ -258,6 +258,24 @@ def test_a_plastic_start_is_a_dirac_impulse_not_a_force_of_impulse_over_dt(metho
         # the split keeps the force's integral: the momentum passed is the same
         diracs = sum(j for _, j in r.dirac_impulses)
         assert np.sum(r.force[:-1]) * dt + diracs == pytest.approx(r.impulse, rel=1e-12)
+        # the start step keeps the press that follows it (the contact holds)
+        start = int(round(r.dirac_impulses[0][0] / dt))
+        assert r.force[start] == r.force[start + 1] > 0.0
+
+
+@pytest.mark.parametrize("method", ["modal", "convolution"])
+def test_a_plastic_start_on_the_last_step_is_still_in_contact_at_the_end(method):
+    # a 1 kg mass meets a spring-mass at 0.00995 s, within the last step of t_end 0.01:
+    # the exact solver has the bodies pressed together at t_end (no restitution); the
+    # start is a Dirac, and the contact is not shrunk to a point (it goes on)
+    bodies = (Body(LumpedMass(1.0), velocity=1.0), Body(SpringMass(1.0, 1e4)))
+    with pytest.warns(UserWarning, match="still closed at t_end"):
+        exact = solve_impact(*bodies, gap=0.00995, t_end=0.01, method="laplace")
+        r = solve_impact(*bodies, gap=0.00995, t_end=0.01, dt=1e-4, method=method)
+    assert exact.in_contact_at_end and r.in_contact_at_end and r.restitution is None
+    (t, j), = r.dirac_impulses
+    assert t == pytest.approx(0.0099) and j == pytest.approx(exact.dirac_impulses[0][1],
+                                                              rel=1e-4)
 
 
 def test_a_step_too_fine_to_resolve_a_plastic_hold_says_so():

@@ -117,7 +117,8 @@ def split_diracs(force, grid: Grid, starts, holding):
     a force ``f_n`` it grows like ``1/dt`` (the exact force has a Dirac there, method.md,
     section 5). Its regular part is the next step's force while the contact holds (the
     press the Dirac leaves, to first order in ``dt``), else 0; the rest is a Dirac impulse
-    at ``t_n``. The force's integral is unchanged.
+    at ``t_n`` (none where nothing is left: a step too fine to resolve the hold). The
+    force's integral is unchanged.
 
     Returns
     -------
@@ -131,8 +132,9 @@ def split_diracs(force, grid: Grid, starts, holding):
     for n in starts:
         held = n + 1 < regular.size and holding is not None and holding[n + 1]
         part = min(max(float(force[n + 1]), 0.0), float(force[n])) if held else 0.0
-        regular[n] = part
-        diracs.append((float(grid.t[n]), (float(force[n]) - part) * grid.dt))
+        if part < force[n]:          # a start at a step too fine to resolve may take none
+            regular[n] = part
+            diracs.append((float(grid.t[n]), (float(force[n]) - part) * grid.dt))
     return regular, tuple(diracs)
 
 
@@ -168,7 +170,9 @@ def assemble_result(bodies, gap0, grid: Grid, force, kernels, y_free, *, method,
     dt = grid.dt
     regular, diracs = split_diracs(force, grid, plastic_starts, holding)
     # a contact that is its plastic start alone is a pure Dirac: start == end, as exact
-    alone = {a for a, b in runs if b == a + 1 and regular[a] == 0.0} & set(plastic_starts)
+    # (not one on the last step, which may go on after t_end: in contact at the end)
+    alone = {a for a, b in runs
+             if b == a + 1 < force.size and regular[a] == 0.0} & set(plastic_starts)
     intervals = tuple((float(grid.t[a]), float(grid.t[a if a in alone else b]))
                       for a, b in runs)
     total_impulse = float(np.sum(force) * dt)
