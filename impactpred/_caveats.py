@@ -32,7 +32,7 @@ from modalid import ModalModel
 from .contact import Rigid
 
 __all__ = ["MICRO_STEPS", "CHATTER_CHANGE", "PLASTIC_LOSS_SHARE", "SEQUENCE_CONTACTS",
-           "caveats", "checks_at_half_step", "many_micro_contacts", "velocity_per_impulse"]
+           "caveats", "is_sequence", "many_micro_contacts", "velocity_per_impulse"]
 
 #: a contact of at most this many steps is not resolved by a time-stepping grid
 MICRO_STEPS = 2
@@ -73,9 +73,10 @@ def caveats(result, bodies, *, t_end: float, start_gap: float, time_stepping: bo
         Whether the solver steps on a grid (``"modal"``, ``"convolution"``), whose
         contacts may chatter at the grid's scale.
     finer : ImpactResult, optional
-        The same run at half the step, made where :func:`checks_at_half_step` holds: its
-        figures tell chatter (they move) from Dirac re-contacts (they do not), and a
-        sequence of contacts converged in ``dt`` from one that is not (a sequence whose
+        The same run at half the step, made where :func:`many_micro_contacts` or
+        :func:`is_sequence` holds: its figures tell chatter (they move) from Dirac
+        re-contacts (they do not), and a sequence of contacts converged in ``dt`` from
+        one that is not (a sequence whose
         half step exceeds the step limit: the run at twice the step; made at the
         automatic step only). Without it, many micro contacts are said as unverified and
         a sequence is not checked.
@@ -108,7 +109,7 @@ def caveats(result, bodies, *, t_end: float, start_gap: float, time_stepping: bo
         chatter = _grid_chatter(result, finer)
         if chatter:
             said.append(chatter)
-    elif time_stepping and result.n_contacts >= SEQUENCE_CONTACTS and finer is not None:
+    elif time_stepping and is_sequence(result) and finer is not None:
         sequence = _sequence_moves(result, finer)
         if sequence:
             said.append(sequence)
@@ -198,10 +199,10 @@ def many_micro_contacts(result) -> bool:
     return micro >= _MIN_MICRO and micro >= 0.25 * (total - 1)
 
 
-def checks_at_half_step(result) -> bool:
-    """Whether a time-stepping ``result`` is to be repeated at half its step (many micro
-    contacts, or a sequence of :data:`SEQUENCE_CONTACTS` contacts or more)."""
-    return many_micro_contacts(result) or result.n_contacts >= SEQUENCE_CONTACTS
+def is_sequence(result) -> bool:
+    """Whether ``result`` has :data:`SEQUENCE_CONTACTS` contacts or more (a time-stepping
+    one is repeated at another step to check them: :func:`_sequence_moves`)."""
+    return result.n_contacts >= SEQUENCE_CONTACTS
 
 
 def _sequence_moves(result, finer) -> str | None:

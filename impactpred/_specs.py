@@ -15,7 +15,7 @@ from sklearn.base import clone
 from data_synth import CantileverBeam, LumpedMass, Rod, SpringMass
 from modalid import FRFData, ModalFit, ModalModel, MultiOutputModalModel, SavedFit
 from modalid.io import check_sign, read_frf
-from modalid._uff import at_reference, dofs_text
+from modalid._uff import dofs_text, says_transfer
 from modalid.io_set import uff_record
 from modalid.model import read_model_json
 from modalid.receptance import Receptance
@@ -218,10 +218,7 @@ def _refuse_transfer_record(path, options, label) -> None:
     the driving point, read negated (:func:`modalid.read_frfs`); a scalar direction (0)
     at the reference's node does not say which axis, so it is not refused."""
     record = uff_record(path, options)
-    if record is None or at_reference(record):
-        return
-    if (record["response_node"] == record["reference_node"]
-            and 0 in (record["response_dir"], record["reference_dir"])):
+    if record is None or not says_transfer(record):
         return
     raise ValueError("{}{}: record {} is the response at {} to a force at {}, a transfer FRF "
                      "by its DOFs: a body needs its driving-point FRF (force and response at "

@@ -11,7 +11,7 @@ import numpy as np
 
 from modalid.validation import as_choice, as_positive_scalar, as_real_scalar
 
-from ._caveats import caveats, checks_at_half_step, many_micro_contacts
+from ._caveats import caveats, is_sequence, many_micro_contacts
 from ._energy_terms import contact_energy, dashpot_dissipation, exchangeable_energy, load_work
 from ._specs import parse_contact
 from .body import Body, SampledResponse
@@ -167,8 +167,8 @@ def solve_impact(body1: Body, body2: Body, *, gap: float = 0.0, contact=Rigid(),
         result = run(bodies, gap, contact, t_end, dt, notes=tuple(notes))
         audit = energy_audit(result, bodies, contact)
     finer = None
-    if stepping and (many_micro_contacts(result)
-                     or automatic and checks_at_half_step(result)):
+    micro = stepping and many_micro_contacts(result)
+    if micro or stepping and automatic and is_sequence(result):
         # contacts of a step or two: the grid's chatter, or the model's Dirac re-contacts?
         # a sequence of contacts: converged in dt? the same run at half the step tells
         # (its figures move, or they do not); a sequence at the step limit is compared
@@ -176,8 +176,7 @@ def solve_impact(body1: Body, body2: Body, *, gap: float = 0.0, contact=Rigid(),
         # sequence is checked at the automatic step, which the solver vouches for: a step
         # given is the caller's to converge (and timed as given: one run)
         other = (dt / 2 if 2 * t_end / dt <= _MAX_STEPS
-                 else None if many_micro_contacts(result)
-                 else _step_within_records(bodies, t_end, 2 * dt, []))
+                 else None if micro else _step_within_records(bodies, t_end, 2 * dt, []))
         if other is not None:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")

@@ -8,8 +8,8 @@ import sys
 from pathlib import Path
 
 from modalid._cli import (add_fit_options, add_read_options, check_out_dir, fit_options,
-                          uff_reading,
-                          in_flags, nothing_saved, read_options, run_command, window_line)
+                          in_flags, nothing_saved, read_options, run_command, uff_reading,
+                          window_line)
 
 from ._cli_bodies import (BODY_FLAGS_HELP, add_body_flags, body_args, for_body, in_body_flags,
                           identification_flags, is_file_body)

@@ -178,6 +178,14 @@ def at_reference(meta) -> bool:
             == (meta["reference_node"], abs(meta["reference_dir"])))
 
 
+def says_transfer(meta) -> bool:
+    """Whether a UFF record's DOFs say it is a transfer FRF: not :func:`at_reference`,
+    and not a scalar direction (0) at the reference's node, which names no axis."""
+    scalar_here = (meta["response_node"] == meta["reference_node"]
+                   and 0 in (meta["response_dir"], meta["reference_dir"]))
+    return not (at_reference(meta) or scalar_here)
+
+
 def records_listing(metas, shown) -> str:
     """`` (0: response 1+3, reference 1+3; 1: ...)`` of UFF records' metadata (the first
     ``shown``), else ``""``."""
