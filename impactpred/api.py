@@ -11,7 +11,7 @@ import numpy as np
 
 from modalid.validation import as_choice, as_positive_scalar, as_real_scalar
 
-from ._caveats import caveats, is_sequence, many_micro_contacts
+from ._caveats import SENSITIVITY_SCALE, caveats, is_sequence, many_micro_contacts
 from ._energy_terms import contact_energy, dashpot_dissipation, exchangeable_energy, load_work
 from ._specs import parse_contact
 from .body import Body, SampledResponse
@@ -46,6 +46,8 @@ _LAPLACE_SAMPLES_PER_SCALE = 8
 #: implicit steps only lose energy); the step rule targets 0.1 % on the restitution.
 ENERGY_TOLERANCE = {"closed_form": 1e-6, "laplace": 1e-6, "modal": 5e-3, "convolution": 5e-3}
 _EXACT = ("closed_form", "laplace")
+#: output samples of the exact solver's sensitivity runs (their figures are the events')
+_SENSITIVITY_SAMPLES = 16
 
 
 def solve_impact(body1: Body, body2: Body, *, gap: float = 0.0, contact=Rigid(),
@@ -96,7 +98,11 @@ def solve_impact(body1: Body, body2: Body, *, gap: float = 0.0, contact=Rigid(),
         touch before ``t_end`` (no impact: the message gives the gap, the closing speed and
         when rigid motion alone would close the gap); when a time-stepping run chatters at
         its grid's scale (many contacts of one or two steps, and the restitution or the
-        impulse moves when the run is repeated at ``dt / 2``: the figures depend on ``dt``).
+        impulse moves when the run is repeated at ``dt / 2``: the figures depend on ``dt``);
+        when a sequence of contacts is not converged in ``dt`` (a time-stepping run at the
+        automatic step, repeated at ``dt / 2``) or, from the exact solver, not robust to its
+        inputs (repeated with body 1's receptance scaled by ``1 +- 1e-6``, at a coarse
+        output step: the events cost a few times the run's own search).
         The same words go into the result's ``notes`` (:mod:`impactpred._caveats`).
     """
     for name, body in (("body1", body1), ("body2", body2)):
@@ -141,9 +147,10 @@ def solve_impact(body1: Body, body2: Body, *, gap: float = 0.0, contact=Rigid(),
                           "them to about 0.1 %", RuntimeWarning, stacklevel=2)
     if stepping:
         dt = _step_within_records(bodies, t_end, dt, notes)
-    solver: Callable[..., ImpactResult] = {
+    solvers: dict[str, Callable[..., ImpactResult]] = {
         "laplace": solve_laplace, "modal": solve_modal, "convolution": solve_convolution,
-        "closed_form": solve_closed_form}[chosen]
+        "closed_form": solve_closed_form}
+    solver = solvers[chosen]
     options = {"progress": bool(progress)} if stepping else {}
 
     def run(*args, **kwargs) -> ImpactResult:   # small dense algebra: one BLAS thread
@@ -181,8 +188,18 @@ def solve_impact(body1: Body, body2: Body, *, gap: float = 0.0, contact=Rigid(),
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
                 finer = run(bodies, gap, contact, t_end, other, notes=())
+    perturbed: tuple[ImpactResult, ...] = ()
+    if chosen == "laplace" and is_sequence(result):
+        # an exact sequence of contacts: does it hold when body 1's receptance changes by
+        # a part in a million? (its figures are the events': a coarse output step will do)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            perturbed = tuple(run(bodies, gap, contact, t_end, t_end / _SENSITIVITY_SAMPLES,
+                                  notes=(), receptance_scale=1.0 + sign * SENSITIVITY_SCALE)
+                              for sign in (1, -1))
     sentences = caveats(result, bodies, t_end=t_end, start_gap=start_gap, finer=finer,
-                        time_stepping=stepping, contact=contact, energy_scale=audit.scale)
+                        perturbed=perturbed, time_stepping=stepping, contact=contact,
+                        energy_scale=audit.scale)
     for sentence in sentences:
         warnings.warn(sentence, UserWarning, stacklevel=2)
     if sentences:

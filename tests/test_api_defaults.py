@@ -118,10 +118,15 @@ def test_the_options_the_issue_named():
     for entry in (ModalFit.__init__, ImpactDamper.simulate, sweep,
                   importlib.import_module("impactpred.benchmark").run_benchmark):
         assert inspect.signature(entry).parameters["progress"].default is False, entry
-    # excitation: required in effect at its one entry point, named when missing
+    # excitation: required at its one entry point (no default), named when missing
     from data_synth import SpringMass
-    with pytest.raises(TypeError, match="excitation must be a HarmonicForce"):
+    assert inspect.signature(ImpactDamper).parameters["excitation"].default is \
+        inspect.Parameter.empty
+    with pytest.raises(TypeError, match="missing 1 required keyword-only argument: "
+                                        "'excitation'"):
         ImpactDamper(SpringMass(1.0, 100.0), damper_mass=0.1, clearance=1e-3)
+    with pytest.raises(TypeError, match="excitation must be a HarmonicForce"):
+        ImpactDamper(SpringMass(1.0, 100.0), damper_mass=0.1, clearance=1e-3, excitation=None)
     # contact: predict's spec string is solve_impact's law
     assert parse_contact(inspect.signature(predict).parameters["contact"].default) == \
         inspect.signature(solve_impact).parameters["contact"].default

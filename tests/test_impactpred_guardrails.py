@@ -161,7 +161,8 @@ def test_bodies_still_approaching_at_t_end_are_said_so():
     """A 1 kg mass on a cantilever's tip (10 modes and the residual of a 1 kg beam of time
     scale 10 ms; the exact solver): by 5 ms its 13 contacts have left it still moving
     towards the beam (restitution -0.64, printed without a word before): another contact
-    must follow. By 30 ms it has left (0.81)."""
+    must follow. By 30 ms it has left (0.81), after a sequence of 47 contacts whose
+    figures a change of its mass by 1e-6 moves (said)."""
     from data_synth import CantileverBeam
 
     beam = CantileverBeam(1.0, 0.01).modal_model(10, damping_ratio=0.0, residual=True)
@@ -176,10 +177,9 @@ def test_bodies_still_approaching_at_t_end_are_said_so():
         early = run(0.005)
     assert early.method == "laplace" and early.restitution == pytest.approx(-0.642, abs=1e-3)
     assert early.notes[-1].startswith("the bodies still approach")
-    with warnings.catch_warnings():
-        warnings.simplefilter("error", UserWarning)
+    with pytest.warns(UserWarning, match=r"^the sequence of 47 contacts is sensitive") as said:
         late = run(0.03)
-    assert late.restitution == pytest.approx(0.812, abs=1e-3)
+    assert len(said) == 1 and late.restitution == pytest.approx(0.812, abs=1e-3)
 
 
 def test_energy_audit_of_exact_solutions_is_rounding():
@@ -374,14 +374,17 @@ def test_a_sequence_of_contacts_not_converged_in_dt_is_said(monkeypatch):
     rigid contact, 1 s: 21 contacts, e 0.2336 exact. The modal method's automatic step
     follows the sequence (0.2319, nothing said); the convolution method's loses it
     (0.388 over 25 contacts, its first contact right): each contact starts from the
-    error the last one left. That was silent; the run at half the step shows it."""
+    error the last one left. That was silent; the run at half the step shows it. (The
+    exact sequence is itself sensitive to its inputs, and says so: a change of the mass
+    by 1e-6 moves its e to 0.2201 or 0.2288.)"""
     from data_synth import CantileverBeam
 
     beam = CantileverBeam(1.0, 1.0).modal_model(10, residual=True)
     bodies = (Body(LumpedMass(0.5), velocity=1.0), Body(beam))
+    with pytest.warns(UserWarning, match="sensitive to its inputs"):
+        exact = solve_impact(*bodies, t_end=1.0, method="laplace")
     with warnings.catch_warnings():
         warnings.simplefilter("error", UserWarning)
-        exact = solve_impact(*bodies, t_end=1.0, method="laplace")
         modal = solve_impact(*bodies, t_end=1.0, method="modal")
     assert exact.n_contacts == modal.n_contacts == 21
     assert modal.restitution == pytest.approx(exact.restitution, abs=2e-3)
@@ -399,6 +402,47 @@ def test_a_sequence_of_contacts_not_converged_in_dt_is_said(monkeypatch):
     with pytest.warns(UserWarning, match=r"is not converged in dt: at 2 dt its figures move"):
         coarse = solve_impact(*bodies, t_end=1.0, method="convolution")
     assert coarse.dt == stepped.dt and coarse.restitution == stepped.restitution
+
+
+def test_an_exact_sequence_sensitive_to_its_inputs_is_said():
+    """A 0.5 kg mass at 1 m/s on a 10-mode cantilever (zeta 1 %, its residual flexibility,
+    rigid contact): 53 contacts, e 0.7006 exact, and 57 / 58 contacts at e 0.7064 / 0.6877
+    with the mass changed by a part in a million: no model fixes the figures after the
+    first contacts, and that was silent. The check's runs are the exact solver's with body
+    1's receptance scaled (here: the mass divided by 1 +- 1e-6), at a coarse output step
+    that leaves every event's figure as it was. The same beam without its residual
+    flexibility makes a sequence of 22 contacts that holds: nothing said."""
+    from data_synth import CantileverBeam
+
+    beam = CantileverBeam(1.0, 1e-3)
+    rigid = Body(beam.modal_model(10, damping_ratio=0.01, residual=True))
+
+    def run(mass, beam_body=rigid, **kw):
+        return solve_impact(Body(LumpedMass(mass), velocity=1.0), beam_body, t_end=0.05, **kw)
+
+    with pytest.warns(UserWarning, match=r"^the sequence of 53 contacts is sensitive to its "
+                                         r"inputs: with body 1's receptance scaled by "
+                                         r"1 \+- 1e-06 .* its figures move \(restitution "
+                                         r"0.7006 -> (0.\d+) / (0.\d+),") as said:
+        res = run(0.5)
+    assert res.method == "laplace" and res.notes[-1] == str(said[0].message)
+    assert "(the first contact's restitution, -0.9017, holds)" in res.notes[-1]
+    moved = re.search(r"restitution 0.7006 -> (0.\d+) / (0.\d+),", res.notes[-1]).groups()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        lighter, heavier = (run(0.5 / (1 + s * 1e-6)) for s in (1, -1))
+        coarse = run(0.5, dt=0.05 / 16)
+    assert moved == (f"{lighter.restitution:.4g}", f"{heavier.restitution:.4g}")
+    assert abs(lighter.restitution - res.restitution) > 5e-3
+    # the events do not depend on the output step
+    assert (coarse.n_contacts, coarse.restitution, coarse.impulse) == \
+        (res.n_contacts, res.restitution, res.impulse)
+    truncated = Body(beam.modal_model(10, damping_ratio=0.01))
+    with warnings.catch_warnings(record=True) as said:
+        warnings.simplefilter("always")
+        holds = run(0.5, truncated)
+    assert holds.n_contacts == 22
+    assert not [w for w in said if "sensitive" in str(w.message)]
 
 
 def test_a_truncated_models_plastic_loss_is_exact_and_said():

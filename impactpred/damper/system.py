@@ -91,7 +91,7 @@ class ImpactDamper:
     damper_mass: float = field(kw_only=True)
     clearance: float = field(kw_only=True)
     contact: Any = field(default=Rigid(), kw_only=True)
-    excitation: Any = field(default=None, kw_only=True)
+    excitation: Any = field(kw_only=True)
 
     def __post_init__(self):
         model, base = _primary_model(self.primary)

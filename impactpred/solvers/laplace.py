@@ -43,12 +43,18 @@ __all__ = ["solve_laplace", "CoupledSystem"]
 
 
 class CoupledSystem:
-    """The two bodies' stacked real state space and the bookkeeping of its states."""
+    """The two bodies' stacked real state space and the bookkeeping of its states
+    (``scale``: body 1's receptance multiplied by it, its mass and stiffness divided)."""
 
-    def __init__(self, bodies):
+    def __init__(self, bodies, scale=1.0):
         blocks = []
-        for body in bodies:
+        for body, factor in zip(bodies, (scale, 1.0)):
             m = body.modal_model()
+            if factor != 1.0:       # body 1's receptance scaled: the sensitivity check
+                m = m.replace(residues=factor * m.residues,
+                              real_residues=factor * m.real_residues,
+                              inverse_mass=factor * m.inverse_mass,
+                              flexibility=factor * m.flexibility)
             a, b, c, d = pole_residue_to_statespace(m.poles, m.residues, m.real_poles,
                                                     m.real_residues, m.inverse_mass,
                                                     m.flexibility)
@@ -206,10 +212,12 @@ def harmonic_loads(bodies):
     return loads
 
 
-def solve_laplace(bodies, gap0, contact, t_end, dt, *, notes=()):
-    """Exact event-driven solve of two rational bodies; see the module docstring."""
+def solve_laplace(bodies, gap0, contact, t_end, dt, *, notes=(), receptance_scale=1.0):
+    """Exact event-driven solve of two rational bodies; see the module docstring.
+    ``receptance_scale``: body 1's receptance multiplied by it (the sensitivity check of
+    :func:`impactpred.solve_impact` runs at ``1 +- 1e-6``)."""
     loads = harmonic_loads(bodies)
-    sysm = CoupledSystem(bodies)
+    sysm = CoupledSystem(bodies, receptance_scale)
     points = LaplaceOutputs(bodies, sysm)
     n = sysm.n
     A, Bf, Cg = sysm.A, sysm.Bf, sysm.Cg
