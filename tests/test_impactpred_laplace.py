@@ -525,6 +525,25 @@ def test_a_stiff_spring_contact_started_at_its_located_gap_is_not_released_at_on
     assert exact.total_impulse == pytest.approx(stepped.total_impulse, rel=1e-6)
 
 
+@pytest.mark.parametrize("gap", [0.0, 1e-3])
+@pytest.mark.parametrize("stiffness", [1e9, 1e14, 1e15, 1e16])
+def test_a_very_stiff_spring_between_two_masses_is_exact(stiffness, gap):
+    """Two 1 kg masses, one at 1 m/s, through an undamped spring: one contact of duration
+    pi / sqrt(2 k), e = 1 (closed form). At 1e14-1e15 N/m (contacts of 0.07-0.2 us) the run
+    stalled ("contact events repeat without time advancing"): the contact phase's split
+    form started 3e-9 of its terms below the force the loop computed on the state, which
+    is zero, and ended at once; the form now starts at the loop's value."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        res = solve_impact(Body(LumpedMass(1.0), velocity=1.0), Body(LumpedMass(1.0)),
+                           gap=gap, contact=LinearSpring(stiffness), t_end=1.0,
+                           method="laplace")
+    (start, end), = res.contact_intervals
+    assert start == pytest.approx(gap, rel=1e-14, abs=1e-300)
+    assert end - start == pytest.approx(np.pi / np.sqrt(2.0 * stiffness), rel=1e-9)
+    assert res.restitution == pytest.approx(1.0, abs=1e-12)
+
+
 @pytest.mark.parametrize("case", ["rest under a load", "rattling beams", "graze"])
 def test_the_matrix_exponential_path_matches_the_spectral_one(case, monkeypatch):
     """The exact method's fallback for a contact phase too close to defective (matrix

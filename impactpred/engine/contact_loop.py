@@ -98,8 +98,12 @@ def contact_start(xa, rho, coef, bf, jdx, force_row, force_rate_row, cg_powers, 
             xa[jdx] += impulse
     f0 = np.dot(force_row, xa)
     df0 = np.dot(force_rate_row, xa)
-    # rounding in the located gap shows up in f0 (as -g/Dg where rho = 0)
-    f_tol = 1e-9 * (abs(f0) + abs(df0) * step) + (tol_g / abs(coef) if rho == 0 else 0.0)
+    # rounding in the located gap shows up in f0 (as -g/c where rho = 0, c = Dg, or for a
+    # spring, c = 1/k + Dg): the gap's tolerance, and 1e-12 of the scale of the terms of
+    # f0 = -(gap0 + y2 - y1)/c (a loaded run from rest has a tolerance of 1e-312 m)
+    f_tol = 1e-9 * (abs(f0) + abs(df0) * step)
+    if rho <= 0:
+        f_tol += tol_g / abs(coef) + 1e-12 * np.dot(np.abs(force_row), np.abs(xa))
     holds = f0 > f_tol or (f0 > -f_tol and df0 > 0.0)
     if not holds and df0 > 0.0 and free_lobe_height(xa, cg_powers) <= tol_g:
         holds = True
@@ -109,7 +113,7 @@ def contact_start(xa, rho, coef, bf, jdx, force_row, force_rate_row, cg_powers, 
 @njit(cache=True)
 def phase_run(rates, abs_rates, abs_rates4, order, modes_r, modes_i, proj_r, proj_i, in0,
               s0_powers, out_poly_m, out_expo_m, ev_poly_m, ev_expo_m, ev_abs, x, t0, t_end,
-              out_step, zero_tol, relative, on_boundary):
+              out_step, zero_tol, relative, on_boundary, start_value=np.nan):
     """One phase of the exact solver from state ``x`` at ``t0``: its event, samples and end state.
 
     The phase's split form (:class:`.spectral.SpectralPhase`: ``rates`` (m,) with their
@@ -123,7 +127,12 @@ def phase_run(rates, abs_rates, abs_rates4, order, modes_r, modes_i, proj_r, pro
     with cancellation), located at the row's own zero by :func:`.search.first_event`;
     ``on_boundary``: the phase starts where the loop has decided it (a contact start or
     end): the event row is open there, and an event only where it leaves its rounding
-    level (or after a short positive lobe, at its zero).
+    level (or after a short positive lobe, at its zero). ``start_value``: the event row's
+    value at the start as the loop computed it on the state (NaN: not given), where the
+    split form's own value carries the rounding of its projections, far larger where the
+    phase is stiff (a 1e14 N/m spring between 1 kg masses: 0.024 N off, 3e-9 of the row's
+    terms): the form is set to start there (at 0 where the value is below it: the loop
+    decided the row opens).
 
     Returns
     -------
@@ -188,6 +197,9 @@ def phase_run(rates, abs_rates, abs_rates4, order, modes_r, modes_i, proj_r, pro
         # a contact start, its terms cancelling from 1e6 times their sum) is not an event;
         # the search takes the row from that offset
         start = row_value(rates, b_ev[0], p_ev[0], 0.0, 0)
+        if not np.isnan(start_value):
+            p_ev[0, 0] += max(start_value, 0.0) - start
+            start = max(start_value, 0.0)
         allowed = max(_START_OFFSET * total, (m + k) * np.finfo(np.float64).eps * rounding)
         if -allowed <= start < 0.0:
             p_ev[0, 0] -= start
@@ -353,7 +365,8 @@ def event_loop(free, stuck, xa0, in_contact, t_end, step, out_step, tol_g, rho, 
                                        ph[4], ph[5], ph[6], ph[7], ph[8], ph[9], ph[10],
                                        ph[11], xa,
                                        t, t_end, out_step, 1e-12 if in_contact else tol_g,
-                                       in_contact, True)
+                                       in_contact, True,
+                                       np.dot(force_row, xa) if in_contact else np.nan)
         if used + ts.size > times.size:
             need = used + ts.size
             grown = np.empty(max(need, 2 * times.size))

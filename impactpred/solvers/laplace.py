@@ -294,7 +294,8 @@ def solve_laplace(bodies, gap0, contact, t_end, dt, *, notes=(), receptance_scal
     cg_powers[0] = gap_row @ M_free
     cg_powers[1] = cg_powers[0] @ M_free
     cg_powers[2] = cg_powers[1] @ M_free
-    rules = ContactRules(-1 if rho is None else rho, 1.0 if rho is None else coef, Bf, jdx,
+    rules = ContactRules(-1 if rho is None else rho,
+                         1.0 / contact.stiffness + sysm.Dg if rho is None else coef, Bf, jdx,
                          force_row, force_row @ M_con, cg_powers, tol_g)
     # touching at t = 0 and approaching: the first contact starts at once
     in_contact = bool(n) and gap0 <= tol_g and float(cg_powers[0] @ Xa) < 0
