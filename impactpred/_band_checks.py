@@ -16,7 +16,14 @@ import numpy as np
 
 from .result import ImpactResult
 
-__all__ = ["BandWarning", "force_energy_above", "force_energy_below", "band_reach"]
+__all__ = ["BandWarning", "force_energy_above", "force_energy_below", "band_reach",
+           "resolved_force"]
+
+#: a run sampled more coarsely than its shortest contact over this many steps does not
+#: resolve the force's spectrum (a long ``t_end`` coarsens the automatic output step)
+RESOLVED_STEPS = 32
+#: ... and is solved again for the spectrum up to this many spans of its contacts
+SHARE_SPANS = 64
 
 
 class BandWarning(UserWarning):
@@ -37,6 +44,29 @@ def _force_samples(result: ImpactResult) -> tuple:
     for time, impulse in result.dirac_impulses:
         signal[min(int(round(time / dt)), n - 1)] += impulse / dt
     return signal, dt
+
+
+def resolved_force(result: ImpactResult, resolve) -> ImpactResult:
+    """The solved impact whose force spectrum the band's shares are read from: ``result``
+    where its samples resolve its contacts, else ``resolve(t_end)``, the same impact
+    solved up to :data:`SHARE_SPANS` spans of its contacts at its automatic step.
+
+    A long ``t_end`` coarsens the automatic output step (4e6 samples at most): at
+    ``t_end = 1e6`` s the force is sampled every 0.25 s, a contact of a second has no
+    spectrum, and the continuation's rule saw no energy above a 6 Hz band and turned the
+    continuation off (16 contacts, e 0.455, where ``t_end = 4`` s gave one contact and
+    0.451 with it). Read from the run up to its contacts' spans, the shares do not depend
+    on ``t_end``. A run whose contacts reach its end, or without contacts of a duration,
+    is its own record.
+    """
+    intervals = np.asarray(result.contact_intervals, dtype=float).reshape(-1, 2)
+    durations = intervals[:, 1] - intervals[:, 0]
+    durations = durations[durations > 0]
+    if durations.size == 0 or result.dt <= durations.min() / RESOLVED_STEPS:
+        return result
+    span = intervals[-1, 1] - intervals[0, 0]
+    t_short = intervals[-1, 1] + (SHARE_SPANS - 1) * span
+    return result if t_short >= result.t[-1] else resolve(t_short)
 
 
 def force_energy_above(result: ImpactResult, freq_hz: float) -> float:
@@ -156,9 +186,10 @@ def warn_unsettled(check, figures, bodies=()) -> list:
     return names
 
 
-def band_reach(result, fits, notes, band_tolerance, lower) -> tuple:
+def band_reach(result, fits, notes, band_tolerance, lower, record=None) -> tuple:
     """Per identified body, the shares of the force's energy above and below its band
-    (None for the other bodies), with a :class:`BandWarning` for each above
+    (None for the other bodies; read from ``record``, :func:`resolved_force`'s, where
+    given), with a :class:`BandWarning` for each above
     ``band_tolerance``: above, always; below, where the model has a term standing for
     what lies below the band and more than it is trusted with lies there (``lower``: per
     body, ``(words, share, vouched)`` naming that term, the share of the energy it is
@@ -166,6 +197,7 @@ def band_reach(result, fits, notes, band_tolerance, lower) -> tuple:
     ``impactpred.predict._lower_terms``), or, for a term the band does not vouch for,
     where the run goes on after the first contact past a quarter period of the band's
     bottom (:func:`_outlasts_band_bottom`)."""
+    record = result if record is None else record
     above: list[float | None] = []
     below: list[float | None] = []
     for i, (fit, note, (terms, trusted, vouched)) in enumerate(zip(fits, notes, lower)):
@@ -174,7 +206,7 @@ def band_reach(result, fits, notes, band_tolerance, lower) -> tuple:
             below.append(None)
             continue
         low, top = fit.report_["band_hz"]
-        share = force_energy_above(result, top)
+        share = force_energy_above(record, top)
         above.append(share)
         if share > band_tolerance:
             there = ("its continuation above the band" if note.startswith("on")
@@ -182,7 +214,7 @@ def band_reach(result, fits, notes, band_tolerance, lower) -> tuple:
             warnings.warn(f"body {i + 1}: {100 * share:.1f} % of the contact force's energy "
                           f"lies above its measured band ({top:.4g} Hz); the prediction "
                           f"relies on {there}", BandWarning, stacklevel=3)
-        share = force_energy_below(result, low)
+        share = force_energy_below(record, low)
         below.append(share)
         if share > trusted:
             warnings.warn(f"body {i + 1}: {100 * share:.1f} % of the contact force's energy "

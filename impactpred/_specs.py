@@ -194,8 +194,8 @@ def identify(spec, *, quantity=None, estimator=None, read_options=None, check_pa
         fields = _complete_fields(f"{kind} spec", text, cls, kind, rest, names)
         try:
             return cls(**fields), None
-        except TypeError as exc:
-            raise ValueError(f"{kind} spec {text!r}: {exc}") from exc
+        except (TypeError, ValueError) as exc:      # named by the body and its spec
+            raise ValueError(f"{label}{kind} spec {text!r}: {exc}") from None
     path = Path(text)
     if not path.exists():
         raise ValueError(f"body {text!r} is neither an existing file nor a spec "
@@ -299,7 +299,11 @@ def parse_contact(spec) -> ContactLaw:
         raise ValueError(f"contact {spec!r}: use rigid, spring:..., hertz:... or "
                          "hertz-sphere:...")
     factory, names = laws[kind]
-    return factory(**_complete_fields("contact", spec, factory, kind, rest, names))
+    fields = _complete_fields("contact", spec, factory, kind, rest, names)
+    try:
+        return factory(**fields)
+    except (TypeError, ValueError) as exc:          # named by its spec (the CLI's flag)
+        raise type(exc)(f"contact={spec!r}: {exc}") from None
 
 
 def _complete_fields(what, text, factory, kind, rest, names) -> dict:

@@ -36,6 +36,7 @@ from modalid import ModalModel, MultiOutputModalModel, SavedFit
 from modalid.validation import as_nonnegative_scalar, as_real_scalar
 
 from ._band_checks import (BandWarning, band_reach, force_energy_above, force_energy_below,
+                           resolved_force,
                            warn_unsettled)
 from ._figures import band_resolution, impact_figures
 from ._specs import (READ_OPTIONS, body_label, check_estimator, identify, parse_contact,
@@ -370,13 +371,22 @@ def _solve_pair(model1, model2, *, velocity1, velocity2, check_passive, gap, con
                         progress=progress)
 
 
+def _quiet_solve(solve, models, t_end):
+    """``solve`` of ``models`` up to ``t_end`` at the automatic step, its warnings not
+    said (the band's spectrum of a run the caller's ``t_end`` samples too coarsely:
+    :func:`impactpred._band_checks.resolved_force`)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return solve(*models, t_end=t_end, dt=None)
+
+
 def _body(index, model, velocity, check_passive):
     """``Body(model, velocity=...)``, its refusals naming the body and ``velocity{index}``
     (``predict``'s argument, the command line's ``--v1``/``--v2``)."""
     try:
         return Body(model, velocity=velocity, check_passive=check_passive)
     except ValueError as exc:
-        message = re.sub(r"\bvelocity(?==)", f"velocity{index}", str(exc))
+        message = re.sub(r"\bvelocity(?==| must\b)", f"velocity{index}", str(exc))
         raise ValueError(f"body {index}: {message}") from None
 
 
@@ -515,7 +525,8 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
         with warnings.catch_warnings(record=True) as probe_warnings:
             warnings.simplefilter("always")
             result = solve(*models, progress=progress)
-        shares = [None if fit is None else force_energy_above(result, fit.report_["band_hz"][1])
+        record = resolved_force(result, functools.partial(_quiet_solve, solve, models))
+        shares = [None if fit is None else force_energy_above(record, fit.report_["band_hz"][1])
                   for fit in fits]
         wanted = [share is not None and share > CONTINUATION_SHARE for share in shares]
         notes = [None if share is None else
@@ -565,7 +576,9 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
             warn_unsettled(check, figures, checked)
     reach, reach_below = band_reach(result, fits, notes, band_tolerance,
                                     [_lower_terms(fit, band_tolerance) if fit is not None
-                                     else (None, np.inf, True) for fit in fits])
+                                     else (None, np.inf, True) for fit in fits],
+                                    record=resolved_force(result, functools.partial(
+                                        _quiet_solve, solve, models)))
     return Prediction(result=result, fits=tuple(fits), band_reach=tuple(reach),
                       figures=figures, uncertainty=band, continuation=tuple(notes),
                       band_reach_below=tuple(reach_below))

@@ -282,6 +282,23 @@ def test_benchmark_flags_out_of_range_are_refused(args, message, capsys):
     assert message in capsys.readouterr().err
 
 
+@pytest.mark.parametrize("args, message", [
+    (["mass:1", "mass:1", "--contact", "spring:stiffness=-1"],
+     "--contact spring:stiffness=-1: stiffness must be positive, got -1.0"),
+    (["mass:1", "mass:1", "--contact", "hertz:stiffness=1e9,exponent=0"],
+     "--contact hertz:stiffness=1e9,exponent=0: exponent must be positive"),
+    (["mass:-1", "mass:1"], "body 1: mass spec 'mass:-1': mass must be positive, got -1.0"),
+    (["mass:1", "beam:mass=2,time_scale=-0.02"],
+     "body 2: beam spec 'beam:mass=2,time_scale=-0.02': time_scale must be positive"),
+    (["mass:1", "mass:1", "--v1", "3e8"], "body 1: --v1 must be under the speed of light"),
+])
+def test_predict_refusals_of_specs_and_laws_name_the_flag_or_body(args, message, capsys):
+    """A spec's or a law's own refusal ("stiffness must be positive") named neither the
+    flag nor the body it came from; the speed limit said "velocity", not --v1."""
+    assert main(["predict", *args[:2], "--v1", "1", "--t-end", "1", *args[2:]]) == 2
+    assert one_line_error(capsys).startswith(message)
+
+
 @pytest.mark.parametrize("args", [["--bands", "5"], ["--noise", "2"]])
 def test_benchmark_quick_with_bands_or_noise_is_refused(args, capsys):
     """--quick ran 10 modes at 1 % whatever --bands and --noise said."""

@@ -65,6 +65,32 @@ def test_measured_frf_body_is_identified_and_continued_by_default(measured_rod):
     assert pred.result.restitution == pytest.approx(0.698876, rel=0.04)
 
 
+def test_a_long_t_end_decides_the_continuation_as_a_short_one(measured_rod):
+    """The continuation's rule reads the force's spectrum from the run. At t_end = 1e6 s
+    the automatic output step is 0.25 s, which resolves no contact: the rule saw no energy
+    above the band, turned the continuation off, and another impact came out (a
+    walkthrough: 16 contacts for one, restitution_first -0.59 for 0.45), exit 0. The
+    spectrum is now read from a run up to 64 spans of the contacts."""
+    from impactpred._band_checks import RESOLVED_STEPS, resolved_force
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        short = predict("mass:1", measured_rod, velocity1=1.0, t_end=8.0)
+        long = predict("mass:1", measured_rod, velocity1=1.0, t_end=1e6)
+    assert long.result.dt == 0.25 and long.continuation[1].startswith("on, above 10.25 Hz")
+    assert long.result.n_contacts == short.result.n_contacts == 1
+    assert long.result.contact_intervals == short.result.contact_intervals
+    assert long.result.restitution == pytest.approx(short.result.restitution, abs=1e-9)
+    assert long.band_reach[1] == pytest.approx(short.band_reach[1], abs=0.01)
+    # a run that resolves its contacts is its own record; a coarse one is solved again
+    assert resolved_force(short.result, None) is short.result
+    seen = []
+    resolved_force(long.result, seen.append)
+    (end,), contact = seen, long.result.contact_intervals[0]
+    assert end == pytest.approx(contact[0] + 64 * (contact[1] - contact[0]))
+    assert long.result.dt > (contact[1] - contact[0]) / RESOLVED_STEPS
+
+
 def test_the_probe_without_continuation_says_nothing_once_it_is_replaced(measured_rod):
     """``continuation="auto"`` solves once without continuation to decide; when the
     continued solve replaces it, the probe's warnings go with it. At ``t_end = 2 s`` the
