@@ -624,3 +624,39 @@ def test_near_resonance_the_rounding_error_is_said(offset):
         assert any("rounding error" in str(w.message) for w in said)
     with pytest.raises(ValueError, match="no term for the resonant growth"):
         d.replace(excitation=HarmonicForce(F0, 1.0)).simulate(1)
+
+
+def test_the_amplitude_of_samples_too_far_apart_is_theirs_and_said():
+    """An undamped 10 Hz spring-mass forced at 0.1 Hz, no impacts: its free vibration
+    from rest never decays, and 32 samples a cycle lie 0.6 of its periods apart. The
+    cubic refinement between them made 9.5e-4 m of a 5.07e-4 m half peak-to-peak (103 m
+    at 1e-6 Hz). It refines where the samples lie within a radian of the lowest mode;
+    elsewhere the amplitude is the samples' own, and a note says so."""
+    primary = SpringMass(2.0, 2.0 * (2 * np.pi * 10) ** 2)
+
+    def run(freq_hz, **kw):
+        damper = ImpactDamper(primary, damper_mass=0.2, clearance=0.1,
+                              contact=InstantaneousImpact(0.6),
+                              excitation=HarmonicForce(2.0, freq_hz))
+        return damper.simulate(20, **kw)
+
+    with pytest.warns(UserWarning, match=r"^the output samples \(32 per cycle, 0.3125 s "
+                                         r"apart\) do not resolve the primary's lowest mode "
+                                         r"\(10 Hz, 3.12 of its periods .* "
+                                         r"samples_per_cycle >= 629 resolves it"):
+        coarse = run(0.1)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        fine = run(0.1, samples_per_cycle=629)
+        dense = run(0.1, samples_per_cycle=20000)
+    assert len(coarse.impacts) == len(fine.impacts) == 0
+    last = dense.t >= dense.t[-1] - 2 * dense.period   # the window: the last 10 % cycles
+    truth = 0.5 * np.ptp(dense.primary[last])       # samples 1/300 of a mode's period apart
+    assert truth == pytest.approx(5.066e-4, rel=1e-3)
+    assert fine.primary_amplitude == pytest.approx(truth, rel=3e-3)
+    # the samples' half peak-to-peak: no extreme beyond the motion's own
+    assert coarse.primary_amplitude <= 0.5 * np.ptp(coarse.primary) + 1e-15
+    assert coarse.primary_amplitude < truth and "do not resolve" in coarse.notes[-1]
+    with pytest.warns(UserWarning, match="do not resolve"):
+        slow = run(1e-6)
+    assert slow.primary_amplitude < 6e-4            # was 103 m
