@@ -91,10 +91,11 @@ def caveats(result, bodies, *, t_end: float, start_gap: float, time_stepping: bo
         half step exceeds the step limit: the run at twice the step; made at the
         automatic step only). Without it, many micro contacts are said as unverified and
         a sequence is not checked.
-    perturbed : tuple of ImpactResult, optional
+    perturbed : tuple of ImpactResult or str, optional
         An exact solver's sequence (:func:`is_sequence`) run again with body 1's
         receptance scaled by ``1 + SENSITIVITY_SCALE`` and ``1 - SENSITIVITY_SCALE``:
-        figures that move are said (:func:`_sensitive_sequence`). Empty: not checked.
+        figures that move are said (:func:`_sensitive_sequence`). Empty: not checked; a
+        string: why it could not be (said).
     contact : ContactLaw, optional
         The contact law (the plastic-loss sentence is for ``Rigid`` contact only).
     energy_scale : float, optional
@@ -128,9 +129,13 @@ def caveats(result, bodies, *, t_end: float, start_gap: float, time_stepping: bo
         sequence = _sequence_moves(result, finer)
         if sequence:
             said.append(sequence)
-    sensitive = _sensitive_sequence(result, perturbed) if perturbed else None
-    if sensitive:
-        said.append(sensitive)
+    if isinstance(perturbed, str):
+        said.append(f"the sequence of {result.n_contacts} contacts is not checked for its "
+                    f"sensitivity to its inputs: {perturbed}")
+    elif perturbed:
+        sensitive = _sensitive_sequence(result, perturbed)
+        if sensitive:
+            said.append(sensitive)
     plastic = _plastic_truncation(result, bodies, contact, energy_scale)
     if plastic:
         said.append(plastic)
@@ -273,13 +278,17 @@ def _sensitive_sequence(result, perturbed) -> str | None:
 def _figure_changes(result, others) -> list[str]:
     """The figures (restitutions, impulse) that move from ``result`` to any of ``others``
     by more than :data:`CHATTER_CHANGE`, as ``"name a -> b1 / b2"``."""
+    def text(value):
+        return "None" if value is None else f"{value:.4g}"
+
     changes = []
     for name in ("restitution", "restitution_first"):
         a, bs = getattr(result, name), [getattr(other, name) for other in others]
-        if a is None or any(b is None for b in bs):
+        if a is None and all(b is None for b in bs):
             continue
-        if any(abs(a - b) > CHATTER_CHANGE for b in bs):
-            changes.append(f"{name} {a:.4g} -> {' / '.join(f'{b:.4g}' for b in bs)}")
+        # one in contact at its end (None) and another not is a change too
+        if any(b is None or a is None or abs(a - b) > CHATTER_CHANGE for b in bs):
+            changes.append(f"{name} {text(a)} -> {' / '.join(text(b) for b in bs)}")
     a, bs = result.impulse, [other.impulse for other in others]
     scale = max(abs(a), *(abs(b) for b in bs), 1e-300)
     if any(abs(a - b) > CHATTER_CHANGE * scale for b in bs):

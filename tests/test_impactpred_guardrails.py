@@ -406,34 +406,39 @@ def test_a_sequence_of_contacts_not_converged_in_dt_is_said(monkeypatch):
 
 def test_an_exact_sequence_sensitive_to_its_inputs_is_said():
     """A 0.5 kg mass at 1 m/s on a 10-mode cantilever (zeta 1 %, its residual flexibility,
-    rigid contact): 53 contacts, e 0.7006 exact, and 57 / 58 contacts at e 0.7064 / 0.6877
-    with the mass changed by a part in a million: no model fixes the figures after the
-    first contacts, and that was silent. The check's runs are the exact solver's with body
-    1's receptance scaled (here: the mass divided by 1 +- 1e-6), at a coarse output step
-    that leaves every event's figure as it was. The same beam without its residual
-    flexibility makes a sequence of 22 contacts that holds: nothing said."""
+    rigid contact): some 53 contacts, e 0.7006 exact, and 57 / 58 contacts at e 0.7064 /
+    0.6877 with the mass changed by a part in a million: no model fixes the figures after
+    the first contacts, and that was silent. (Chaotic: the figures are not pinned here.)
+    The check's runs are the exact solver's with body 1's receptance scaled (here: the
+    mass divided by 1 +- 1e-6), at a coarse output step that leaves every event's figure
+    as it was, up to three spans of the sequence after it. The same beam without its
+    residual flexibility makes a sequence of 22 contacts that holds: nothing said."""
     from data_synth import CantileverBeam
 
     beam = CantileverBeam(1.0, 1e-3)
     rigid = Body(beam.modal_model(10, damping_ratio=0.01, residual=True))
 
-    def run(mass, beam_body=rigid, **kw):
-        return solve_impact(Body(LumpedMass(mass), velocity=1.0), beam_body, t_end=0.05, **kw)
+    def run(mass, beam_body=rigid, t_end=0.05, **kw):
+        return solve_impact(Body(LumpedMass(mass), velocity=1.0), beam_body, t_end=t_end, **kw)
 
-    with pytest.warns(UserWarning, match=r"^the sequence of 53 contacts is sensitive to its "
+    figure = r"(-?\d\.\d+|None)"
+    with pytest.warns(UserWarning, match=r"^the sequence of \d+ contacts is sensitive to its "
                                          r"inputs: with body 1's receptance scaled by "
                                          r"1 \+- 1e-06 .* its figures move \(restitution "
-                                         r"0.7006 -> (0.\d+) / (0.\d+),") as said:
+                                         rf"{figure} -> {figure} / {figure},") as said:
         res = run(0.5)
     assert res.method == "laplace" and res.notes[-1] == str(said[0].message)
-    assert "(the first contact's restitution, -0.9017, holds)" in res.notes[-1]
-    moved = re.search(r"restitution 0.7006 -> (0.\d+) / (0.\d+),", res.notes[-1]).groups()
+    assert f"(the first contact's restitution, {res.restitution_first:.4g}, holds)" in \
+        res.notes[-1]
+    moved = re.search(rf"restitution {figure} -> {figure} / {figure},", res.notes[-1]).groups()
+    (first, _), (_, last) = res.contact_intervals[0], res.contact_intervals[-1]
+    t_check = last + 3 * (last - first)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        lighter, heavier = (run(0.5 / (1 + s * 1e-6)) for s in (1, -1))
+        lighter, heavier = (run(0.5 / (1 + s * 1e-6), t_end=t_check) for s in (1, -1))
         coarse = run(0.5, dt=0.05 / 16)
-    assert moved == (f"{lighter.restitution:.4g}", f"{heavier.restitution:.4g}")
-    assert abs(lighter.restitution - res.restitution) > 5e-3
+    assert moved == tuple(f"{r.restitution:.4g}" for r in (res, lighter, heavier))
+    assert max(abs(r.restitution - res.restitution) for r in (lighter, heavier)) > 2e-3
     # the events do not depend on the output step
     assert (coarse.n_contacts, coarse.restitution, coarse.impulse) == \
         (res.n_contacts, res.restitution, res.impulse)
@@ -443,6 +448,47 @@ def test_an_exact_sequence_sensitive_to_its_inputs_is_said():
         holds = run(0.5, truncated)
     assert holds.n_contacts == 22
     assert not [w for w in said if "sensitive" in str(w.message)]
+
+
+def test_the_sensitivity_check_keeps_a_vibrating_body_as_it_is():
+    """Body 1 vibrating 1 mm towards body 2 at a 1 mm gap (touching at t = 0): the check's
+    scaled receptance had scaled its initial vibration too, the +1e-6 run started 1e-9 m
+    overlapped and stalled, and solve_impact raised where the run itself had worked. The
+    body's physical motion is kept now; a run of the check that stops is said, not
+    raised."""
+    from impactpred._caveats import caveats
+
+    for velocity, contacts in ((0.5, 5), (-0.5, 4)):
+        b1 = Body(SpringMass(1.0, 1e4, damping_ratio=0.01), vibration=[[1e-3, velocity]])
+        b2 = Body(SpringMass(1.0, 2e4, damping_ratio=0.01))
+        with warnings.catch_warnings(record=True) as said:
+            warnings.simplefilter("always")
+            res = solve_impact(b1, b2, gap=1e-3, t_end=0.5)
+        assert res.method == "laplace" and res.n_contacts == contacts
+        assert not [w for w in said if "sensitiv" in str(w.message)]
+    sentences = caveats(res, (b1, b2), t_end=0.5, start_gap=0.0, time_stepping=False,
+                        perturbed="a run with body 1's receptance scaled stopped (grazing)")
+    assert sentences[-1] == ("the sequence of 4 contacts is not checked for its sensitivity "
+                             "to its inputs: a run with body 1's receptance scaled stopped "
+                             "(grazing)")
+
+
+def test_a_figure_that_is_none_in_one_run_and_not_in_another_moved():
+    """One run ending in contact (restitution None) and another not is a change: it was
+    skipped, and a sequence whose perturbed run met an extra contact at t_end went
+    unsaid (a mass on a 10-mode cantilever, t_end 0.738 s: 0.0344 -> None / 0.0346)."""
+    from types import SimpleNamespace
+
+    from impactpred._caveats import _figure_changes
+
+    def figures(e, j=1.0):
+        return SimpleNamespace(restitution=e, restitution_first=-0.9, impulse=j)
+
+    assert _figure_changes(figures(0.0344), [figures(None), figures(0.0346)]) == \
+        ["restitution 0.0344 -> None / 0.0346"]
+    assert _figure_changes(figures(None), [figures(None), figures(None, 1.001)]) == []
+    assert _figure_changes(figures(0.5), [figures(0.5), figures(0.5, 1.01)]) == \
+        ["impulse 1 -> 1 / 1.01 N s"]
 
 
 def test_a_truncated_models_plastic_loss_is_exact_and_said():

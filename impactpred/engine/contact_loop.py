@@ -131,8 +131,8 @@ def phase_run(rates, abs_rates, abs_rates4, order, modes_r, modes_i, proj_r, pro
     value at the start as the loop computed it on the state (NaN: not given), where the
     split form's own value carries the rounding of its projections, far larger where the
     phase is stiff (a 1e14 N/m spring between 1 kg masses: 0.024 N off, 3e-9 of the row's
-    terms): the form is set to start there (at 0 where the value is below it: the loop
-    decided the row opens).
+    terms): the form is set to start there (then, as without it, a start below zero by
+    no more than rounding is taken as zero; a genuinely negative start stays an event).
 
     Returns
     -------
@@ -198,8 +198,8 @@ def phase_run(rates, abs_rates, abs_rates4, order, modes_r, modes_i, proj_r, pro
         # the search takes the row from that offset
         start = row_value(rates, b_ev[0], p_ev[0], 0.0, 0)
         if not np.isnan(start_value):
-            p_ev[0, 0] += max(start_value, 0.0) - start
-            start = max(start_value, 0.0)
+            p_ev[0, 0] += start_value - start
+            start = start_value
         allowed = max(_START_OFFSET * total, (m + k) * np.finfo(np.float64).eps * rounding)
         if -allowed <= start < 0.0:
             p_ev[0, 0] -= start

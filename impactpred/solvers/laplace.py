@@ -70,8 +70,9 @@ class CoupledSystem:
         self.Cg = self.C2 - self.C1
         self.D = (d1, d2)
         self.Dg = d1 + d2
-        self.X0 = np.concatenate([_initial_state(bodies[0], m1, n1),
-                                  _initial_state(bodies[1], m2, n2)])
+        x1 = _initial_state(bodies[0], m1, n1)
+        x1[:2 * m1.n_modes] /= scale        # the same physical vibration (y = c z, c scaled)
+        self.X0 = np.concatenate([x1, _initial_state(bodies[1], m2, n2)])
 
     def rigid_velocity(self, X, i):
         """Rigid-body velocity (m/s) of body ``i`` in state ``X`` (0 if grounded)."""
