@@ -48,7 +48,7 @@ def _force_samples(result: ImpactResult) -> tuple:
 
 def resolved_force(result: ImpactResult, resolve) -> ImpactResult:
     """The solved impact whose force spectrum the band's shares are read from: ``result``
-    where its samples resolve its contacts, else ``resolve(t_end)``, the same impact
+    where its samples resolve its longest contact, else ``resolve(t_end)``, the same impact
     solved up to :data:`SHARE_SPANS` spans of its contacts at its automatic step.
 
     A long ``t_end`` coarsens the automatic output step (4e6 samples at most): at
@@ -62,11 +62,16 @@ def resolved_force(result: ImpactResult, resolve) -> ImpactResult:
     intervals = np.asarray(result.contact_intervals, dtype=float).reshape(-1, 2)
     durations = intervals[:, 1] - intervals[:, 0]
     durations = durations[durations > 0]
-    if durations.size == 0 or result.dt <= durations.min() / RESOLVED_STEPS:
-        return result
+    if durations.size == 0 or result.dt <= durations.max() / RESOLVED_STEPS:
+        return result              # the longest contact, the force's bulk, is resolved
     span = intervals[-1, 1] - intervals[0, 0]
     t_short = intervals[-1, 1] + (SHARE_SPANS - 1) * span
-    return result if t_short >= result.t[-1] else resolve(t_short)
+    if t_short >= result.t[-1]:
+        return result
+    try:
+        return resolve(t_short)
+    except (ValueError, RuntimeError):    # a run the shorter t_end refuses: its own record
+        return result
 
 
 def force_energy_above(result: ImpactResult, freq_hz: float) -> float:

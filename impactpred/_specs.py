@@ -191,11 +191,14 @@ def identify(spec, *, quantity=None, estimator=None, read_options=None, check_pa
     kind, _, rest = text.partition(":")
     if is_spec(text):
         cls, names = _SPECS[kind]
-        fields = _complete_fields(f"{kind} spec", text, cls, kind, rest, names)
+        try:
+            fields = _complete_fields(f"{kind} spec", text, cls, kind, rest, names)
+        except ValueError as exc:                    # named by the body
+            raise ValueError(f"{label}{exc}") from exc
         try:
             return cls(**fields), None
         except (TypeError, ValueError) as exc:      # named by the body and its spec
-            raise ValueError(f"{label}{kind} spec {text!r}: {exc}") from None
+            raise ValueError(f"{label}{kind} spec {text!r}: {exc}") from exc
     path = Path(text)
     if not path.exists():
         raise ValueError(f"body {text!r} is neither an existing file nor a spec "
@@ -299,11 +302,12 @@ def parse_contact(spec) -> ContactLaw:
         raise ValueError(f"contact {spec!r}: use rigid, spring:..., hertz:... or "
                          "hertz-sphere:...")
     factory, names = laws[kind]
-    fields = _complete_fields("contact", spec, factory, kind, rest, names)
     try:
-        return factory(**fields)
+        return factory(**_complete_fields("contact", spec, factory, kind, rest, names))
     except (TypeError, ValueError) as exc:          # named by its spec (the CLI's flag)
-        raise type(exc)(f"contact={spec!r}: {exc}") from None
+        if str(exc).startswith(f"contact {spec!r}"):
+            raise
+        raise type(exc)(f"contact={spec!r}: {exc}") from exc
 
 
 def _complete_fields(what, text, factory, kind, rest, names) -> dict:

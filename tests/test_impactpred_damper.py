@@ -628,10 +628,10 @@ def test_near_resonance_the_rounding_error_is_said(offset):
 
 def test_the_amplitude_of_samples_too_far_apart_is_theirs_and_said():
     """An undamped 10 Hz spring-mass forced at 0.1 Hz, no impacts: its free vibration
-    from rest never decays, and 32 samples a cycle lie 0.6 of its periods apart. The
+    from rest never decays, and 32 samples a cycle lie 3.1 of its periods apart. The
     cubic refinement between them made 9.5e-4 m of a 5.07e-4 m half peak-to-peak (103 m
-    at 1e-6 Hz). It refines where the samples lie within a radian of the lowest mode;
-    elsewhere the amplitude is the samples' own, and a note says so."""
+    at 1e-6 Hz). It refines where the samples lie within a period of the lowest mode;
+    further apart the amplitude is the samples' own, and a note says so."""
     primary = SpringMass(2.0, 2.0 * (2 * np.pi * 10) ** 2)
 
     def run(freq_hz, **kw):
@@ -660,3 +660,7 @@ def test_the_amplitude_of_samples_too_far_apart_is_theirs_and_said():
     with pytest.warns(UserWarning, match="do not resolve"):
         slow = run(1e-6)
     assert slow.primary_amplitude < 6e-4            # was 103 m
+    # within a period of the mode the cubic stays (1 Hz: 2 radians apart, 0.9 % off)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        run(1.0)

@@ -446,8 +446,12 @@ def test_an_exact_sequence_sensitive_to_its_inputs_is_said():
     with warnings.catch_warnings(record=True) as said:
         warnings.simplefilter("always")
         holds = run(0.5, truncated)
+        unchecked = run(0.5, sensitivity_check=False)     # the caller's choice: no runs
     assert holds.n_contacts == 22
-    assert not [w for w in said if "sensitive" in str(w.message)]
+    assert not [w for w in said if "sensitiv" in str(w.message)]
+    assert unchecked.restitution == res.restitution and not unchecked.notes[2:]
+    with pytest.raises(TypeError, match="sensitivity_check must be True or False, got 1"):
+        run(0.5, sensitivity_check=1)
 
 
 def test_the_sensitivity_check_keeps_a_vibrating_body_as_it_is():

@@ -290,3 +290,8 @@ def test_a_forcing_far_below_the_natural_frequency_is_refused_naming_it():
                                          r"natural frequency \(10 Hz\)"):
         masri_caughey(freq_hz=1e-9, **kw)
     assert masri_caughey(freq_hz=0.011, **kw).frequency_ratio == pytest.approx(1.1e-3)
+    # a curve keeps its other rows
+    with pytest.warns(UserWarning, match=r"^masri_caughey_curve: 1 frequencies below 0.001"):
+        curve = masri_caughey_curve([0.005, 12.0], **kw)
+    assert list(curve["exists"]) == [False, True] and np.isnan(curve["amplitude"][0])
+    assert curve["frequency_ratio"].to_numpy() == pytest.approx([5e-4, 1.2])

@@ -98,6 +98,7 @@ Am. 47, 245-248 (1970).
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -484,13 +485,29 @@ def masri_caughey_curve(freq_hz, *, primary_mass, damper_mass, stiffness, force_
     Returns
     -------
     pandas.DataFrame
-        One row per frequency, the columns above.
+        One row per frequency, the columns above; a frequency below
+        ``MIN_FREQUENCY_RATIO`` of the natural one is a row of NaN (``exists`` False), said
+        once by a ``UserWarning``.
     """
     f = np.atleast_1d(np.asarray(freq_hz, dtype=float))
     if f.ndim != 1:
         raise ValueError(f"freq_hz must be a 1-D array, got shape {f.shape}")
     rows = []
-    for fi in f:
+    f_n = math.sqrt(as_positive_scalar("stiffness", stiffness)
+                    / as_positive_scalar("primary_mass", primary_mass)) / (2 * np.pi)
+    low = f < MIN_FREQUENCY_RATIO * f_n
+    if np.any(low):
+        warnings.warn(f"masri_caughey_curve: {int(np.count_nonzero(low))} frequencies below "
+                      f"{MIN_FREQUENCY_RATIO:g} of the natural frequency are not solved "
+                      "(rows of NaN, exists False)", UserWarning, stacklevel=2)
+    for fi, skip in zip(f, low):
+        if skip:
+            nan = math.nan
+            rows.append({"freq_hz": fi, "frequency_ratio": fi / f_n, "exists": False,
+                         "stable": False, "amplitude": nan, "amplitude_without_damper": nan,
+                         "reduction": nan, "impact_phase": nan, "damper_velocity": nan,
+                         "n_roots": 0, "other_amplitude": nan, "other_stable": False})
+            continue
         s = masri_caughey(primary_mass=primary_mass, damper_mass=damper_mass, stiffness=stiffness,
                           force_amplitude=force_amplitude, freq_hz=fi, clearance=clearance,
                           restitution=restitution)

@@ -100,8 +100,10 @@ class DamperResult:
         4e-6 relative at the default 32 samples per cycle (1e-3 at 8; 1e-6 at 256, where
         the steady window's own tolerance ``STEADY_RTOL`` is the limit), while the
         histories are exact to rounding. Refined only where the samples lie within a
-        radian of the primary's lowest mode; where they lie further apart (a forcing far
-        below it), the samples' own half peak-to-peak, and ``notes`` says so.
+        period of the primary's lowest mode (beyond a radian, on an undamped primary
+        whose free vibration persists, to a few per cent); where they lie further apart
+        (a forcing far below it), the samples' own half peak-to-peak, and ``notes`` says
+        so.
     impacts_per_cycle : float
         Impacts per forcing period over the same cycles, counted by start time: an
         impact still open at the run's end counts here (it is listed in ``impacts`` by
@@ -262,8 +264,9 @@ def _steady(points, rtol):
 def _amplitude(t, y, v, max_step=np.inf):
     """Half peak-to-peak of ``y``, extremes refined by cubic Hermite steps between samples
     at most ``max_step`` (s) apart (a cubic through samples a radian of the primary's
-    lowest mode apart errs by at most ``(omega h)^4 / 384`` of its amplitude; through
-    samples several of its periods apart, by any amount: 103 m for a 0.5 mm motion)."""
+    lowest mode apart errs by at most ``(omega h)^4 / 384`` of its amplitude, through
+    samples 2 to 4 radians apart by 1-3 % on an undamped primary; through samples
+    several of its periods apart, by any amount: 103 m for a 0.5 mm motion)."""
     if y.size < 2:
         return 0.0
     h = np.diff(t)
@@ -332,12 +335,12 @@ def build_result(damper, raw, *, n_cycles, samples_per_cycle):
                      f"power are over the last {n_cycles - c_a} cycles")
     t_a, t_b = t0 + c_a * T, raw["t_end"]
     win = (t >= t_a - 1e-12 * T) & (t <= t_b + 1e-12 * T)
-    # the samples resolve the primary's lowest mode (the cubic refinement) where they lie at
-    # most a radian of it apart
+    # a cubic between samples a period or more of the primary's lowest mode apart
+    # represents nothing: no refinement there (closer, it errs by a few per cent at most)
     omega_low = float(np.min(np.abs(damper.model.poles), initial=np.inf))
-    amp = _amplitude(t[win], vals[0, win], vals[1, win], max_step=1.0 / omega_low)
+    amp = _amplitude(t[win], vals[0, win], vals[1, win], max_step=2 * np.pi / omega_low)
     step = T / spc
-    if step * omega_low > 1.0:
+    if step * omega_low > 2 * np.pi:
         need = math.ceil(T * omega_low)
         note = (f"the output samples ({spc} per cycle, {step:.4g} s apart) do not resolve the "
                 f"primary's lowest mode ({omega_low / (2 * np.pi):.4g} Hz, "
