@@ -363,12 +363,13 @@ def _bodies(specs, *, quantity, estimator, read_options, check_passive):
 
 
 def _solve_pair(model1, model2, *, velocity1, velocity2, check_passive, gap, contact, t_end,
-                dt, method, progress=False):
-    """The impact of two models (``predict``'s solves)."""
+                dt, method, progress=False, sensitivity_check=True):
+    """The impact of two models (``predict``'s solves; the band's variants without the
+    exact solver's sensitivity check: their spread is the band's own)."""
     return solve_impact(_body(1, model1, velocity1, check_passive),
                         _body(2, model2, velocity2, check_passive),
                         gap=gap, contact=contact, t_end=t_end, dt=dt, method=method,
-                        progress=progress)
+                        progress=progress, sensitivity_check=sensitivity_check)
 
 
 def _quiet_solve(solve, models, t_end):
@@ -550,11 +551,12 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
         for caught in probe_warnings:
             warnings.warn(caught.message, caught.category, stacklevel=2)
     identified = any(f is not None for f in fits)
+    variants = functools.partial(solve, sensitivity_check=False)   # the band's solves
     figures = impact_figures(result, resolution=band_resolution(fits) if identified else 0.0)
     band = None
     continued = any(n is not None and n.startswith("on") for n in notes)
     if uncertainty and identified:
-        band = uncertainty_band(models, fits, solve, n_draws=uncertainty_draws, seed=seed,
+        band = uncertainty_band(models, fits, variants, n_draws=uncertainty_draws, seed=seed,
                                 continuation=continued, nominal=result, executor=executor,
                                 contact=law)
     elif band_check and any(_cuttable(f) for f in fits):
@@ -565,7 +567,7 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
             with warnings.catch_warnings():   # its outcome changes: in warn_unsettled's words
                 warnings.filterwarnings("ignore", message=".*left out of the band's spread")
                 check = uncertainty_band(models, [f if _cuttable(f) else None for f in fits],
-                                         solve, n_draws=0, continuation=continued,
+                                         variants, n_draws=0, continuation=continued,
                                          nominal=result, executor=executor, contact=law,
                                          fractions=(BAND_CHECK_FRACTION,), tail_variant=False)
         except ValueError as exc:        # a re-identification the cut band refuses

@@ -91,6 +91,27 @@ def test_a_long_t_end_decides_the_continuation_as_a_short_one(measured_rod):
     assert long.result.dt > (contact[1] - contact[0]) / RESOLVED_STEPS
 
 
+def test_the_bands_variants_skip_the_sensitivity_check(measured_rod, monkeypatch):
+    """The exact solver's sensitivity check reruns a sequence twice; the band's variants
+    are a spread of their own (and their warnings are not said): they skip it, the
+    prediction's own solves keep it."""
+    import sys
+
+    predict_module = sys.modules["impactpred.predict"]    # the name is the function's too
+    seen = []
+    real = predict_module.solve_impact
+
+    def spy(*args, **kwargs):
+        seen.append(kwargs["sensitivity_check"])
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(predict_module, "solve_impact", spy)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        predict("mass:1", measured_rod, velocity1=1.0, t_end=8.0)
+    assert seen[:2] == [True, True] and len(seen) > 2 and not any(seen[2:])
+
+
 def test_the_probe_without_continuation_says_nothing_once_it_is_replaced(measured_rod):
     """``continuation="auto"`` solves once without continuation to decide; when the
     continued solve replaces it, the probe's warnings go with it. At ``t_end = 2 s`` the
