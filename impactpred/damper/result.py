@@ -74,13 +74,17 @@ class DamperResult:
         The force (N) or base displacement (m).
     input_work : ndarray, shape (n_samples,)
         Energy put in by the excitation since the run's start (J), exact (closed-form
-        integrals of force times velocity; for a base excitation the base's work through
-        the spring and dashpot).
+        integrals of force times velocity; for a base excitation the work of its
+        equivalent force ``k y_b + c y_b'`` on the primary's absolute motion, which
+        balances the energy counted with the spring's ``k x^2 / 2`` of the absolute
+        displacement; the base's own work through the spring and dashpot differs from it
+        by boundary terms, not in the mean power).
     freq_hz, period : float
         Excitation frequency (Hz) and period (s).
     impacts : pandas.DataFrame
         One row per impact: ``time`` (s), ``side`` (+1 upper, -1 lower), ``impulse``
-        (N s, Dirac part included), ``duration`` (s, 0 for instantaneous),
+        (N s, its magnitude, Dirac part included: ``side`` gives its direction on the
+        primary), ``duration`` (s, 0 for instantaneous),
         ``relative_velocity`` (m/s, approach speed before it), ``phase`` (rad of the
         forcing at impact, in [0, 2 pi)). A fresh copy on each access (the result stays
         as it was run). An impact is listed by the run in which it ends: one still in
