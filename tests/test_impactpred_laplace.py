@@ -544,6 +544,19 @@ def test_a_very_stiff_spring_between_two_masses_is_exact(stiffness, gap):
     assert res.restitution == pytest.approx(1.0, abs=1e-12)
 
 
+def test_a_spring_too_stiff_for_double_precision_times_is_refused():
+    """A 1e300 N/m spring between 1 kg masses: a contact time of 2e-150 s in a run of 1 s,
+    which no double-precision time resolves; the event search hung. 1e16 N/m solves
+    (above), 1e300 is refused naming the stiffness and Rigid()."""
+    bodies = (Body(LumpedMass(1.0), velocity=1.0), Body(LumpedMass(1.0)))
+    with pytest.raises(ValueError, match=r"^the spring contact's fastest rate, 1.41e\+150 "
+                                         r"rad/s, over t_end = 1 s .* a stiffness of 1e\+300 "
+                                         r"N/m is rigid at this scale: use Rigid\(\)"):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)       # numpy's own overflow
+            solve_impact(*bodies, contact=LinearSpring(1e300), t_end=1.0, method="laplace")
+
+
 def test_a_contact_whose_force_starts_negative_is_released_at_once():
     """A 0.5 kg mass on a 20-mode cantilever (no residual flexibility: a Dirac start): some
     contacts are held by the lobe rule with a force genuinely negative (-72 N of terms

@@ -31,7 +31,7 @@ import scipy.linalg
 
 from modalid.statespace import pole_residue_to_statespace
 
-from ..contact import Rigid
+from ..contact import LinearSpring, Rigid
 from ..damper.excitation import HarmonicForce
 from ..engine.contact_loop import relative_degree
 from ..engine.impact_run import (ContactRules, Phase, grazing_error, insert_exact_peak,
@@ -40,6 +40,11 @@ from ..result import BodyEnergy, ImpactResult
 from ._outputs import LaplaceOutputs
 
 __all__ = ["solve_laplace", "CoupledSystem"]
+
+#: a spring contact's fastest rate (rad/s) times t_end the closed form's times resolve: a
+#: time scale under 1e-15 of t_end is a few units of rounding of t (a 1e300 N/m spring
+#: hung the event search)
+_RESOLVED_RATE = 1e15
 
 
 class CoupledSystem:
@@ -283,6 +288,13 @@ def solve_laplace(bodies, gap0, contact, t_end, dt, *, notes=(), receptance_scal
                   True,
                   update_of=(free.form, force_in, force_row))
 
+    rate = stuck.form.max_rate
+    if isinstance(contact, LinearSpring) and not rate * t_end <= _RESOLVED_RATE:
+        raise ValueError(f"the spring contact's fastest rate, {rate:.3g} rad/s, over t_end = "
+                         f"{t_end:.6g} s is beyond what double-precision times resolve (a "
+                         f"time scale of {1 / rate:.3g} s, {1 / (rate * t_end):.2g} of t_end):"
+                         f" a stiffness of {contact.stiffness:.3g} N/m is rigid at this "
+                         "scale: use Rigid(), or a shorter t_end")
     step = search_step(max(free.form.max_rate, stuck.form.max_rate), t_end)
     out_step = dt if dt is not None else t_end / 4000
 
