@@ -200,28 +200,8 @@ def solve_impact(body1: Body, body2: Body, *, gap: float = 0.0, contact=Rigid(),
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
                 finer = run(bodies, gap, contact, t_end, other, notes=())
-    perturbed: tuple[ImpactResult, ...] | str = ()
-    if not sensitivity_check:
-        pass
-    elif chosen == "laplace" and result.n_contacts > _SENSITIVITY_CONTACTS:
-        perturbed = (f"more than {_SENSITIVITY_CONTACTS} contacts: two more runs would "
-                     "about triple the cost")
-    elif chosen == "laplace" and is_sequence(result):
-        # an exact sequence of contacts: does it hold when body 1's receptance changes by
-        # a part in a million? Its figures are the events': a coarse output step, and a
-        # run to a few spans of the sequence after its end (the search to a long t_end
-        # would triple the run's cost: 87 s for 35 s at t_end = 1e7 s)
-        (first, _), (_, last) = result.contact_intervals[0], result.contact_intervals[-1]
-        t_check = min(t_end, last + _SENSITIVITY_SPANS * (last - first))
-        try:
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore")
-                perturbed = tuple(run(bodies, gap, contact, t_check,
-                                      t_check / _SENSITIVITY_SAMPLES, notes=(),
-                                      receptance_scale=1.0 + sign * SENSITIVITY_SCALE)
-                                  for sign in (1, -1))
-        except RuntimeError as exc:          # a perturbed run stalled: said, not raised
-            perturbed = f"a run with body 1's receptance scaled stopped ({exc})"
+    perturbed = (_sensitivity_runs(run, result, bodies, gap, contact, t_end)
+                 if sensitivity_check and chosen == "laplace" else ())
     sentences = caveats(result, bodies, t_end=t_end, start_gap=start_gap, finer=finer,
                         perturbed=perturbed, time_stepping=stepping, contact=contact,
                         energy_scale=audit.scale)
@@ -236,6 +216,33 @@ def solve_impact(body1: Body, body2: Body, *, gap: float = 0.0, contact=Rigid(),
     if not audit.ok:
         warnings.warn(f"energy audit: {'; '.join(audit.reasons)}", EnergyWarning, stacklevel=2)
     return dataclasses.replace(result, energy_audit=audit)
+
+
+def _sensitivity_runs(run, result, bodies, gap, contact, t_end) -> tuple | str:
+    """The exact run ``run`` repeated with body 1's receptance scaled by ``1 +- 1e-6``
+    where ``result`` is a sequence of contacts (:func:`impactpred._caveats.caveats`'s
+    ``perturbed``): ``()`` for no sequence, a string saying why it is not checked.
+
+    Its figures are the events': a coarse output step, and a run to a few spans of the
+    sequence after its end (the search to a long ``t_end`` would triple the run's cost:
+    87 s for 35 s at ``t_end = 1e7`` s); a sequence of more than
+    :data:`_SENSITIVITY_CONTACTS` is not rerun.
+    """
+    if result.n_contacts > _SENSITIVITY_CONTACTS:
+        return (f"more than {_SENSITIVITY_CONTACTS} contacts: two more runs would about "
+                "triple the cost")
+    if not is_sequence(result):
+        return ()
+    (first, _), (_, last) = result.contact_intervals[0], result.contact_intervals[-1]
+    t_check = min(t_end, last + _SENSITIVITY_SPANS * (last - first))
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            return tuple(run(bodies, gap, contact, t_check, t_check / _SENSITIVITY_SAMPLES,
+                             notes=(), receptance_scale=1.0 + sign * SENSITIVITY_SCALE)
+                         for sign in (1, -1))
+    except RuntimeError as exc:          # a perturbed run stalled: said, not raised
+        return f"a run with body 1's receptance scaled stopped ({exc})"
 
 
 def _start_displacement(body) -> float:

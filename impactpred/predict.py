@@ -519,14 +519,17 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
                               check_passive=check_passive, gap=gap, contact=law,
                               t_end=t_end, dt=dt, method=method)
 
+    # the run the band's spectrum is read from (resolved_force), of ``models`` as they
+    # stand when called; ``record`` is the probe's while the probe is the answer
+    resolve = functools.partial(_quiet_solve, solve, models)
     notes = [None if fit is None else "off" for fit in fits]
-    result, probe_warnings = None, []
+    result, probe_warnings, record = None, [], None
     if continuation == "auto":
         # the probe without continuation: its warnings are said only if its result stays
         with warnings.catch_warnings(record=True) as probe_warnings:
             warnings.simplefilter("always")
             result = solve(*models, progress=progress)
-        record = resolved_force(result, functools.partial(_quiet_solve, solve, models))
+        record = resolved_force(result, resolve)
         shares = [None if fit is None else force_energy_above(record, fit.report_["band_hz"][1])
                   for fit in fits]
         wanted = [share is not None and share > CONTINUATION_SHARE for share in shares]
@@ -544,7 +547,7 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
                     notes[i] += (f" (auto: {100 * shares[i]:.2f} % of the force's "  # type: ignore[operator]
                                  "energy lay above the band without it)")
                 _check_model(models[i], specs[i], i + 1, check_passive)
-        result = solve(*models, progress=progress)
+        result, record = solve(*models, progress=progress), None
     elif result is None:
         result = solve(*models, progress=progress)
     else:
@@ -579,8 +582,8 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
     reach, reach_below = band_reach(result, fits, notes, band_tolerance,
                                     [_lower_terms(fit, band_tolerance) if fit is not None
                                      else (None, np.inf, True) for fit in fits],
-                                    record=resolved_force(result, functools.partial(
-                                        _quiet_solve, solve, models)))
+                                    record=record if record is not None
+                                    else resolved_force(result, resolve))
     return Prediction(result=result, fits=tuple(fits), band_reach=tuple(reach),
                       figures=figures, uncertainty=band, continuation=tuple(notes),
                       band_reach_below=tuple(reach_below))
