@@ -668,3 +668,32 @@ def test_the_first_peak_is_exact_when_the_samples_are_coarse():
         assert run.contact_duration == pytest.approx(runs[0].contact_duration, rel=1e-12)
         assert run.restitution == pytest.approx(runs[0].restitution, rel=1e-12)
 
+
+
+@pytest.mark.parametrize("contact", [Rigid(), LinearSpring(1e6)], ids=["rigid", "spring"])
+def test_a_gap_opened_by_the_initial_motion_is_flown_first(contact):
+    """``gap=0`` with body 1 displaced 1 mm back is the same impact as ``gap=1e-3`` (it had
+    started a contact at t = 0 with the bodies apart: a spring's peak force 0, e = -1);
+    a gap opened by body 2's initial vibration (``1e-3 cos(100 t)`` against a mass at
+    0.5 m/s) closes first where ``1e-3 cos(100 t) = 0.5 t``, as the modal solver finds."""
+    from scipy.optimize import brentq
+
+    b2 = Body(SpringMass(1.0, 1e4))
+    moved = solve_impact(Body(LumpedMass(1.0), velocity=1.0, displacement=-1e-3), b2,
+                         contact=contact, t_end=0.05, method="laplace")
+    spaced = solve_impact(Body(LumpedMass(1.0), velocity=1.0), b2, gap=1e-3,
+                          contact=contact, t_end=0.05, method="laplace")
+    np.testing.assert_allclose(moved.contact_intervals, spaced.contact_intervals,
+                               rtol=1e-10, atol=1e-15)
+    assert moved.contact_intervals[0][0] == pytest.approx(1e-3, rel=1e-12)
+    assert moved.peak_force == pytest.approx(spaced.peak_force, rel=1e-10)
+    assert moved.restitution_first == pytest.approx(spaced.restitution_first, rel=1e-9)
+    assert not moved.dirac_impulses or moved.dirac_impulses[0][0] > 0.0
+    model = ModalModel.from_modes([100.0, 1e4], 0.0, [2.0, 1.0])
+    with warnings.catch_warnings():     # a rigid contact's plastic share, a later contact
+        warnings.simplefilter("ignore", UserWarning)
+        shaken = solve_impact(Body(LumpedMass(1.0), velocity=0.5),
+                              Body(model, vibration=[[1e-3, 0.0]]), contact=contact,
+                              t_end=0.01, method="laplace")
+    touch = brentq(lambda t: 1e-3 * np.cos(100.0 * t) - 0.5 * t, 0.0, 0.01, xtol=1e-15)
+    assert shaken.contact_intervals[0][0] == pytest.approx(touch, rel=1e-9)

@@ -310,8 +310,9 @@ def solve_laplace(bodies, gap0, contact, t_end, dt, *, notes=(), receptance_scal
     rules = ContactRules(-1 if rho is None else rho,
                          1.0 / contact.stiffness + sysm.Dg if rho is None else coef, Bf, jdx,
                          force_row, force_row @ M_con, cg_powers, tol_g)
-    # touching at t = 0 and approaching: the first contact starts at once
-    in_contact = bool(n) and gap0 <= tol_g and float(cg_powers[0] @ Xa) < 0
+    # touching at t = 0 and approaching: the first contact starts at once (the gap at
+    # t = 0 is gap0 plus what the bodies' initial displacements and loads open or close)
+    in_contact = bool(n) and float(gap_row @ Xa) <= tol_g and float(cg_powers[0] @ Xa) < 0
     raw = run_contact(free, stuck, Xa, in_contact=in_contact, rules=rules, t_end=t_end,
                       step=step, out_step=out_step, gap0=gap0)
     # an undamped body's energy at t_end is the energy delivered: the work is integrated
