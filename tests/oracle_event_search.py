@@ -40,7 +40,8 @@ from impactpred.engine.exp_kernels import sample_rows
 from impactpred.engine.phase import _poly_derivative
 from impactpred.engine.search import (_ETA, _GEO, _H1, _MAX_SPLITS, _MIN_KERNEL, _RATIO,
                                       _SPLIT_SHARE, _STEP)
-from impactpred.engine.step_kernels import crossing_steps, uncertified_steps
+from impactpred.engine.step_kernels import (QUIET_MIN_STEPS, crossing_steps, quiet_from,
+                                            uncertified_steps)
 
 __all__ = ["first_event"]
 
@@ -408,6 +409,10 @@ def _search_span(kind, b, poly, tau_max, *, scale, zero_tol, on_boundary, open_r
         found = fine(tau, tau_max)
         return found if found is not None else (None, -1)
     h0 = levels[0][3]
+    if tau_max - tau > QUIET_MIN_STEPS * h0:     # a long span: its quiet tail cut off
+        tau_max = quiet_from(lam, b, poly, tau, tau_max, h0, zero_tol)
+        if tau_max <= tau:
+            return None, -1
     chunk = 16
     while tau < tau_max:
         grid = tau + h0 * np.arange(0, chunk + 1)

@@ -165,6 +165,62 @@ def test_an_event_inside_the_transient_is_found_before_its_end():
                        else 0.0)
 
 
+def test_quiet_tail_of_a_long_span_is_certified_not_searched():
+    """A body receding at 0.3 m/s from a damped vibration (``2e-3 e^{(-1 + 100 i) tau}``,
+    its velocity under 0.2 m/s: the gap only grows):
+    :func:`quiet_from` ends the search where the gap's growth outweighs the vibration's
+    decaying bound, and the row stays positive after it (sampled densely to 5 s); a
+    polynomial that dips (``(tau - 20)^2 - 4``, negative on 18-22 s) keeps its span
+    to the dip; no polynomial, or one of degree 4: the whole span. The searches of a
+    1e6 s span (the compiled one and its oracle) agree with the 50 s one."""
+    import oracle_event_search as oracle
+
+    from impactpred.engine.step_kernels import quiet_from
+
+    lam = np.array([-1.0 + 100j])
+    b = np.array([[2e-3 + 0j]])
+    zero_tol = np.array([1e-12])
+    h0 = math.pi / 800
+    recede = np.array([[-2e-3, 0.3, 0.0, 0.0]])     # the gap, 0 at the start
+    end = quiet_from(lam, b, recede, 0.0, 1e6, h0, zero_tol)
+    assert 0.0 < end < 0.1
+    taus = np.linspace(end, 5.0, 200_001)
+    assert _direct(lam, b, recede, taus).min() > 0.0
+    dip = np.array([[396.0, -40.0, 1.0, 0.0]])                 # (tau - 20)^2 - 4
+    assert 22.0 <= quiet_from(lam, b, dip, 0.0, 1e6, h0, zero_tol) < 1e6
+    assert quiet_from(lam, b, np.zeros((1, 0)), 0.0, 1e6, h0, zero_tol) == 1e6
+    assert quiet_from(lam, b, np.zeros((1, 5)), 0.0, 1e6, h0, zero_tol) == 1e6
+    # the whole search: no event after the start on the receding row, the dip's root found
+    kind, b1, p_dip, scale = _stiff_rows(lam, b[0], dip[0])
+    args = (kind.lam, kind.abs_lam, kind.abs_lam4, kind.order_desc, b1)
+    root = first_event(*args, p_dip, 50.0, scale, zero_tol, False, -1)[0]
+    assert root == pytest.approx(18.0, rel=1e-10)      # the vibration: 3e-11 at 18 s
+    assert first_event(*args, p_dip, 1e6, scale, zero_tol, False, -1)[0] == root
+    tau, row = oracle.first_event(kind, b1, p_dip, 1e6, scale=scale, zero_tol=zero_tol,
+                                  on_boundary=False)
+    assert row == 0 and tau == pytest.approx(root, rel=1e-13)
+    kind, b1, p_rec, scale = _stiff_rows(lam, b[0], recede[0])
+    assert first_event(*args, p_rec, 1e6, scale, zero_tol, True, 0) == (-1.0, -1)
+    assert oracle.first_event(kind, b1, p_rec, 1e6, scale=scale, zero_tol=zero_tol,
+                              on_boundary=True, open_rows=(0,)) == (None, -1)
+
+
+def test_a_long_run_after_the_last_contact_changes_nothing():
+    """A mass struck back from a damped spring-mass: the same contact, restitution and
+    final gap growth whether the run ends at 2 s or at 1e6 s (whose free flight the
+    search now certifies in steps doubling over its span)."""
+    from data_synth import SpringMass
+
+    runs = [solve_impact(Body(LumpedMass(0.5), velocity=1.0),
+                         Body(SpringMass(1.0, 1e4, damping_ratio=0.01)), t_end=t_end,
+                         dt=t_end / 100) for t_end in (2.0, 1e6)]
+    assert [r.n_contacts for r in runs] == [1, 1]
+    assert runs[1].restitution == pytest.approx(runs[0].restitution, rel=1e-12)
+    np.testing.assert_allclose(runs[1].contact_intervals, runs[0].contact_intervals, rtol=1e-12)
+    v_rel = (runs[1].gap[-1] - runs[1].gap[-2]) / (runs[1].t[-1] - runs[1].t[-2])
+    assert v_rel == pytest.approx(runs[0].restitution * 1.0, rel=1e-6)
+
+
 def test_rows_restarted_later_are_the_same_rows():
     """``_shifted`` (compiled) and the oracle's: ``b e^{lam t}`` and the cubic's Taylor
     coefficients at ``t``, the same values at every later time."""

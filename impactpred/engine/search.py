@@ -41,7 +41,8 @@ import numpy as np
 from numba import njit
 
 from .exp_kernels import _polish, _value_slope, grid_rows, row_value
-from .step_kernels import crossing_steps, cubic_min, uncertified_steps
+from .step_kernels import (QUIET_MIN_STEPS, crossing_steps, cubic_min, quiet_from,
+                           uncertified_steps)
 
 __all__ = ["cabs", "first_event"]
 
@@ -514,6 +515,10 @@ def _search_span(lam, abs_lam, abs_lam4, order, b, poly, tau_max, scale, zero_to
             return -1.0, -1
         tau = taus[-1]
     h0 = hs[0]
+    if tau_max - tau > QUIET_MIN_STEPS * h0:     # a long span: its quiet tail cut off
+        tau_max = quiet_from(lam, b, poly, tau, tau_max, h0, zero_tol)
+        if tau_max <= tau:
+            return -1.0, -1
     chunk = 16
     # spans still to search, depth first in time order: (level, start, end, piece)
     st_lv = np.empty(64, np.int64)
