@@ -47,7 +47,8 @@ class Body:
     Parameters
     ----------
     model : ModalModel, MultiOutputModalModel, data_synth model or SampledResponse
-        Driving-point receptance at the contact point (m/N). A
+        Driving-point receptance at the contact point (m/N); a SISO python-control
+        system (``control.tf``, ``control.ss``) is read by ``ModalModel.from_control``. A
         ``modalid.MultiOutputModalModel`` gives its driving row (stored in ``model``) and
         its rows as output points (then ``outputs`` must be None).
     velocity : float, keyword-only
@@ -103,14 +104,14 @@ class Body:
 
     def __init__(self, model, *, velocity=0.0, displacement=0.0, vibration=None, load=None,
                  outputs=None, check_passive=True):
-        model, outputs = _split_outputs(model, outputs)
+        model, outputs = _split_outputs(control_as_model(model), outputs)
         if isinstance(model, type):
             raise TypeError(f"model must be a model object, got the class {model.__name__}: "
                             f"build one, e.g. {model.__name__}(...)")
         if not isinstance(model, Receptance):
             raise TypeError(f"model must be a ModalModel, a MultiOutputModalModel, a data_synth "
-                            f"model or a SampledResponse (a modalid.receptance.Receptance), got "
-                            f"{type(model).__name__}")
+                            f"model, a SampledResponse (a modalid.receptance.Receptance) or a "
+                            f"SISO python-control system, got {type(model).__name__}")
         if not isinstance(check_passive, bool):
             raise TypeError(f"check_passive must be True or False, got {check_passive!r}")
         if check_passive and isinstance(model, ModalModel):
@@ -415,6 +416,17 @@ def _negative_conductance(model: ModalModel):
     if conductance[k] >= -NEGATIVE_CONDUCTANCE * largest:
         return None
     return float(omega[k] / (2 * np.pi)), float(conductance[k]), largest
+
+
+def control_as_model(model):
+    """A python-control LTI system as its ``ModalModel`` (``ModalModel.from_control``, which
+    refuses what is not a receptance: MIMO, discrete time, a simple pole at 0 ...);
+    anything else unchanged."""
+    if type(model).__module__.split(".")[0] != "control":
+        return model
+    import control
+
+    return ModalModel.from_control(model) if isinstance(model, control.LTI) else model
 
 
 def check_driving_point(model, *, name: str = "model", opt_out: str = "") -> None:

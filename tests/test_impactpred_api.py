@@ -108,6 +108,28 @@ def test_bad_body_input():
         Hertz(-1.0)
 
 
+def test_a_python_control_system_is_a_body():
+    """python-control is the interchange format: ``Body(tf)`` is ``Body(from_control(tf))``
+    (a spring-mass ``1/(m s^2 + k)`` struck by a mass through a rigid contact: e = m1/(m1 +
+    m2), contact pi sqrt((m1 + m2)/k)); what is not a receptance is refused by name."""
+    import warnings
+
+    import control
+
+    s = control.tf("s")
+    with warnings.catch_warnings():          # the lumped spring-mass's plastic share
+        warnings.simplefilter("ignore", UserWarning)
+        res = solve_impact(Body(LumpedMass(0.5), velocity=1.0), Body(1 / (s**2 + 1e4)),
+                           t_end=0.1)
+    assert res.restitution == pytest.approx(0.5 / 1.5, rel=1e-12)
+    assert res.contact_intervals[0][1] == pytest.approx(np.pi * np.sqrt(1.5 / 1e4), rel=1e-12)
+    assert isinstance(Body(control.ss(1 / (s**2 + 1e4))).model, ModalModel)
+    with pytest.raises(ValueError, match="simple pole at s = 0"):
+        Body(1 / s)                          # a mobility, not a receptance
+    with pytest.raises(ValueError, match="continuous"):
+        Body(control.tf([1], [1, 0.5], dt=0.1))
+
+
 def test_inputs_a_bad_input_sweep_found_are_refused_naming_them():
     """An exact solver's output samples are capped like a stepping solver's steps (dt 1e-9
     over 4 s was a MemoryError inside numba); a velocity of 1e200 m/s overflowed; a

@@ -664,3 +664,17 @@ def test_the_amplitude_of_samples_too_far_apart_is_theirs_and_said():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         run(1.0)
+
+
+def test_a_python_control_primary_is_its_modal_model():
+    import control
+
+    s = control.tf("s")
+    k, zeta = 1e4, 0.02
+    excitation = HarmonicForce(1.0, 16.0)
+    runs = [ImpactDamper(primary, damper_mass=0.05, clearance=1e-3,
+                         excitation=excitation).simulate(30)
+            for primary in (1 / (s**2 + 2 * zeta * 100.0 * s + k),
+                            SpringMass(1.0, k, damping_ratio=zeta))]
+    assert runs[0].primary_amplitude == pytest.approx(runs[1].primary_amplitude, rel=1e-9)
+    assert len(runs[0].impacts) == len(runs[1].impacts) > 0

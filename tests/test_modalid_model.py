@@ -189,9 +189,25 @@ def test_from_modes_rejects_bad_input(args, match):
         ModalModel.from_modes(*args)
 
 
+def test_from_control_keeps_a_repeated_pole_that_is_not_defective():
+    # two uncoupled equal modes: one pole, residues that add up (1 + 2)
+    sys = control.ss(np.diag([-1.0, -1.0]), [[1.0], [1.0]], [[1.0, 2.0]], 0.0)
+    model = ModalModel.from_control(sys)
+    s = np.array([0.5j, 3.0j])
+    np.testing.assert_allclose(model.receptance(s), 3.0 / (s + 1.0), rtol=1e-12)
+
+
 @pytest.mark.parametrize("sys, match", [
     (control.tf([1, 0, 0], [1, 1]), "improper"),
     (control.tf([1], [1, 0]), "simple pole at s = 0"),
+    (control.tf([1], [1, 0, 0, 0]), r"order 3 at s = 0 \(coefficient 1 of 1/s\^3\)"),
+    # 1/s^4 had become a zero receptance (a wall), beside a mode the mode alone
+    (control.tf([1], [3, 0, 0, 0, 0]), r"order 4 at s = 0 \(coefficient 0.333333 of 1/s\^4"),
+    (control.tf([1], [1, 0, 0, 0, 0]) + control.tf([1], [1, 0, 100]), "order 4 at s = 0"),
+    (control.tf([1, 0, 1], [1, 0, 0, 0, 0, 0]), "order 5 at s = 0"),
+    # (s^2 + 100)^2: split by rounding into modes 6e-8 apart with residues +-4e4 i
+    (control.tf([1], [1, 0, 200, 0, 1e4]), "repeated pole near s = .*10j"),
+    (control.tf([1], [1, 4, 204, 400, 1e4]) + control.tf([1], [1, 0, 4e4]), "repeated pole"),
     (control.tf([1], [1, -1]), "unstable"),
     (control.ss(-np.eye(2), np.ones((2, 2)), np.ones((2, 2)), 0), "SISO"),
     (control.tf([1], [1, 1], dt=0.1), "continuous"),
@@ -246,3 +262,19 @@ def test_pickle_round_trip_is_exact(model):
 
     back = pickle.loads(pickle.dumps(model))
     assert back == model and back.poles.flags.writeable is False
+
+
+def test_transfer_function_export_says_when_polynomials_lose_the_model():
+    import warnings
+
+    from data_synth import Rod
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")          # a low order: exact, said nothing
+        small = Rod(1.0, 1.0, support="fixed").modal_model(5)
+        tf = small.to_transfer_function()
+    w = np.array([0.3, 7.0, 40.0])
+    np.testing.assert_allclose(tf(1j * w), small.receptance(1j * w), rtol=1e-9)
+    big = Rod(1.0, 1.0, support="fixed").modal_model(30)     # 6.7 relative error
+    with pytest.warns(UserWarning, match=r"60 poles lose its receptance .* to_statespace"):
+        big.to_transfer_function()

@@ -15,7 +15,7 @@ from modalid import ModalModel, MultiOutputModalModel
 from modalid.validation import (as_count, as_nonnegative_scalar, as_positive_scalar,
                                 as_real_scalar)
 
-from ..body import check_driving_point
+from ..body import check_driving_point, control_as_model
 from ..contact import Hertz, InstantaneousImpact, LinearSpring, Rigid
 from ..engine import MAX_SAMPLES
 from ..engine.cycle_run import run
@@ -35,6 +35,7 @@ _CONTACTS = (Rigid, LinearSpring, Hertz, InstantaneousImpact)
 
 def _primary_model(primary):
     """(ModalModel, (k, c) of a SpringMass or None) of a primary, validated."""
+    primary = control_as_model(primary)
     if isinstance(primary, SpringMass):
         k, m = primary.stiffness, primary.mass
         return primary.modal_model(1), (k, 2.0 * primary.damping_ratio * math.sqrt(k * m))
@@ -43,9 +44,10 @@ def _primary_model(primary):
     elif isinstance(primary, ModalModel):
         model = primary
     else:
-        raise TypeError(f"primary must be a modalid.ModalModel, a MultiOutputModalModel or a "
-                        f"data_synth.SpringMass, got {type(primary).__name__} (for a rod or "
-                        f"a beam pass its modal_model(n))")
+        raise TypeError(f"primary must be a modalid.ModalModel, a MultiOutputModalModel, a "
+                        f"data_synth.SpringMass or a SISO python-control system, got "
+                        f"{type(primary).__name__} (for a rod or a beam pass its "
+                        f"modal_model(n))")
     if model.inverse_mass != 0.0:
         raise ValueError(f"the primary must be grounded: its inverse_mass is "
                          f"{model.inverse_mass!r} 1/kg (a free body); an impact damper needs a "
@@ -62,10 +64,11 @@ class ImpactDamper:
 
     Parameters
     ----------
-    primary : ModalModel, MultiOutputModalModel or data_synth.SpringMass
+    primary : ModalModel, MultiOutputModalModel, data_synth.SpringMass or control system
         Grounded (``inverse_mass == 0``), passive driving-point receptance (m/N) at the
         point where the damper acts; a multi-output model gives its driving row, and its
-        rows are output points (:attr:`DamperResult.points`: the motion of each).
+        rows are output points (:attr:`DamperResult.points`: the motion of each); a SISO
+        python-control system is read by ``ModalModel.from_control``.
     damper_mass : float, keyword-only
         Mass of the free damper body ``m_d`` (kg), > 0.
     clearance : float, keyword-only
