@@ -291,14 +291,41 @@ def test_optimum_against_mass_ratio_and_edge_flag():
     with ThreadPoolExecutor(2) as pool:
         table = sweep(FakeDamper(), mass_ratio=[0.02, 0.05], clearance=[2e-3, 3e-3],
                       n_cycles=20, executor=pool, progress=False)
-    best = optimum_clearance(table)
+    with pytest.warns(UserWarning, match="no clearance of the grid"):   # reduction 1.02
+        best = optimum_clearance(table)
     assert best.columns[0] == "mass_ratio"
     assert best["on_edge"].all()          # 1 mm is below the grid: the edge is flagged
+    assert not best["damper_helps"].any()
     with pytest.raises(ValueError, match="no axis besides clearance"):
         optimum_clearance(table[table["mass_ratio"] == 0.02])
     with pytest.raises(ValueError, match="x must be one of"):
         optimum_clearance(table, x="freq_hz")
 
+
+
+def test_optimum_says_when_no_clearance_helps():
+    # at 6 Hz impacts only raise the amplitude: the best is an impact-free clearance, where
+    # the damper idles; reported as such (the idle range's edge), warned, and crossed out
+    table = pd.DataFrame({
+        "freq_hz": [6.0] * 4 + [10.0] * 4,
+        "clearance": [1e-4, 2e-4, 4e-4, 8e-4] * 2,
+        "primary_amplitude": [4.3e-4, 4.4e-4, 3.96e-4, 3.96e-4 - 1e-12,
+                              2.2e-3, 6.7e-4, 2.1e-3, 6.3e-3],
+        "reduction": [1.08, 1.11, 1.0, 1.0 - 3e-12, 0.35, 0.11, 0.33, 1.0],
+        "impacts_per_cycle": [4.5, 3.0, 0.0, 0.0, 44.0, 2.0, 1.6, 0.0],
+        "is_steady": [True] * 8})
+    with pytest.warns(UserWarning, match=r"no clearance of the grid lowers .* freq_hz=6:"):
+        best = optimum_clearance(table)
+    assert best["damper_helps"].tolist() == [False, True]
+    assert best["clearance"].tolist() == [4e-4, 2e-4]     # 6 Hz: where the idle range starts
+    assert best["impacts_per_cycle"].tolist() == [0.0, 2.0]
+    with pytest.warns(UserWarning, match="no clearance of the grid"):
+        ax = plot_optimum_clearance(table)
+    crosses = [line for line in ax.lines if line.get_marker() == "x"]
+    assert len(crosses) == 1 and crosses[0].get_xdata().tolist() == [6.0]
+    import matplotlib.pyplot as plt
+
+    plt.close("all")
 
 
 # ------------------------------------------------------------- the real ImpactDamper

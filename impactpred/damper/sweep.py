@@ -19,6 +19,7 @@ import math
 import os
 import pickle
 import traceback
+import warnings
 from contextlib import closing
 
 import numpy as np
@@ -410,10 +411,14 @@ def optimum_clearance(table, *, x=None):
     -------
     pandas.DataFrame
         One row per value of ``x`` (and of any other swept axis): those values, then
-        ``clearance`` (the best of the grid), ``primary_amplitude`` and ``reduction``
-        there, ``is_steady`` there, and ``on_edge`` (True when the best clearance is the
-        grid's smallest or largest: the true optimum may lie outside the grid). Rows
-        whose amplitudes are all NaN are left out.
+        ``clearance`` (the best of the grid), ``primary_amplitude``, ``reduction``,
+        ``impacts_per_cycle`` and ``is_steady`` there, ``on_edge`` (True when the best
+        clearance is the grid's smallest or largest: the true optimum may lie outside the
+        grid) and ``damper_helps`` (False when no clearance of the grid lowers the
+        amplitude with impacts: the damper idles at the best clearance, and ``clearance``
+        is then the smallest of the grid without impacts, the edge of the idle range;
+        a :class:`UserWarning` names those rows). Rows whose amplitudes are all NaN are
+        left out.
     """
     if not isinstance(table, pd.DataFrame):
         raise TypeError(f"table must be a pandas DataFrame from sweep(), got "
@@ -429,17 +434,45 @@ def optimum_clearance(table, *, x=None):
         if amplitude.notna().sum() == 0:
             continue
         best = group.loc[amplitude.idxmin()]
+        helps = _damper_helps(best)
+        if not helps and "impacts_per_cycle" in group:
+            # an idle damper: every impact-free clearance ties (up to the transient's
+            # remnant); report the smallest, where the idle range starts
+            idle = group[group["impacts_per_cycle"] == 0]
+            if len(idle):
+                best = idle.loc[idle["clearance"].idxmin()]
         key = key if isinstance(key, tuple) else (key,)
         row = dict(zip([x] + others, key))
         row.update({"clearance": best["clearance"],
                     "primary_amplitude": best["primary_amplitude"],
                     "reduction": best.get("reduction", np.nan),
+                    "impacts_per_cycle": best.get("impacts_per_cycle", np.nan),
                     "is_steady": bool(best.get("is_steady", True)),
                     "on_edge": bool(group["clearance"].nunique() > 1
-                                    and best["clearance"] in (lo, hi))})
+                                    and best["clearance"] in (lo, hi)),
+                    "damper_helps": helps})
         rows.append(row)
-    return pd.DataFrame(rows, columns=[x] + others + ["clearance", "primary_amplitude",
-                                                      "reduction", "is_steady", "on_edge"])
+    result = pd.DataFrame(rows, columns=[x] + others + [
+        "clearance", "primary_amplitude", "reduction", "impacts_per_cycle", "is_steady",
+        "on_edge", "damper_helps"])
+    idle = result[~result["damper_helps"]]
+    if len(idle):
+        where = ", ".join(f"{x}={value:.6g}" for value in idle[x].head(5))
+        more = f" and {len(idle) - 5} more" if len(idle) > 5 else ""
+        warnings.warn(f"optimum_clearance: no clearance of the grid lowers the primary "
+                      f"amplitude with impacts at {where}{more}: the damper idles at the "
+                      f"'best' clearance there (damper_helps=False); try smaller clearances "
+                      f"or another mass ratio", UserWarning, stacklevel=2)
+    return result
+
+
+def _damper_helps(best):
+    """Whether the best row lowers the amplitude through impacts (unknown: True)."""
+    impacts = best.get("impacts_per_cycle", np.nan)
+    reduction = best.get("reduction", np.nan)
+    if impacts == 0:
+        return False
+    return not (np.isfinite(reduction) and reduction >= 1.0 - 1e-6)
 
 
 _LABELS = {"freq_hz": "excitation frequency (Hz)", "mass_ratio": "mass ratio",
@@ -463,8 +496,10 @@ def plot_optimum_clearance(table, *, ax=None, x=None):
     -------
     matplotlib.axes.Axes
         Optimum clearance (mm) per ``x``; open markers where the optimum is at the edge
-        of the swept clearances (widen the grid there) or the run was not steady. The
-        reduction at the optimum is on a twin axis (dashed).
+        of the swept clearances (widen the grid there) or the run was not steady, crosses
+        where no clearance of the grid helps (the damper idles; see
+        :func:`optimum_clearance`, which also warns). The reduction at the optimum is on a
+        twin axis (dashed).
     """
     best = optimum_clearance(table, x=x)
     x = best.columns[0]
@@ -484,6 +519,10 @@ def plot_optimum_clearance(table, *, ax=None, x=None):
         if doubtful.any():
             ax.plot(group[x][doubtful], 1e3 * group["clearance"][doubtful], "o",
                     markerfacecolor="white", color=line.get_color())
+        idle = ~group["damper_helps"]
+        if idle.any():
+            ax.plot(group[x][idle], 1e3 * group["clearance"][idle], "x", markersize=10,
+                    color=line.get_color(), label="no clearance of the grid helps")
         twin.plot(group[x], group["reduction"], "--", color=line.get_color(), alpha=0.6)
     ax.set_xlabel(_LABELS.get(x, x))
     ax.set_ylabel("optimum clearance (mm)")
