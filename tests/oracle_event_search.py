@@ -40,13 +40,47 @@ from impactpred.engine.exp_kernels import sample_rows
 from impactpred.engine.phase import _poly_derivative
 from impactpred.engine.search import (_ETA, _GEO, _H1, _MAX_SPLITS, _MIN_KERNEL, _RATIO,
                                       _SPLIT_SHARE, _STEP)
-from impactpred.engine.step_kernels import (QUIET_MIN_STEPS, crossing_steps, quiet_from,
-                                            uncertified_steps)
+from impactpred.engine.step_kernels import QUIET_MIN_STEPS, crossing_steps, uncertified_steps
 
 __all__ = ["first_event"]
 
 #: steps of the first piece of a last-level span evaluated at once (then doubling)
 _PIECE = 64
+
+
+def quiet_from(lam, b, poly, tau0, tau_max, h0, zero_tol):
+    """Where a span's search may stop (the compiled ``step_kernels.quiet_from``, written
+    again): steps doubling from ``h0`` over ``[tau0, tau_max]``; on ``[a, e]`` each row's
+    polynomial (degree <= 3; its cubic Hermite minimum, found here on a fine grid of the
+    cubic itself, which is exact enough for a test oracle: the cubic's own minimum by
+    its stationary points) less ``sum |b| e^{Re lambda a}``, ``zero_tol`` and rounding
+    must stay positive; the end of the last step where it does not."""
+    k = poly.shape[1]
+    if np.any(poly[:, 4:] != 0.0) or np.any(lam.real > 0.0) or k == 0:
+        return tau_max
+    c = np.zeros((poly.shape[0], 4))
+    c[:, :min(k, 4)] = poly[:, :4]
+    amp = np.abs(b)
+    last, a, h = tau0, tau0, h0
+    while a < tau_max:
+        e = min(a + h, tau_max)
+        bound = zero_tol + amp @ np.exp(lam.real * a)
+        # the cubic's minimum on [a, e]: the ends and the roots of its derivative inside
+        cands = [np.full(c.shape[0], a), np.full(c.shape[0], e)]
+        for r in range(c.shape[0]):
+            roots = np.roots([3 * c[r, 3], 2 * c[r, 2], c[r, 1]]) if np.any(c[r, 1:]) else []
+            for x in np.atleast_1d(roots):
+                if abs(x.imag) < 1e-300 and a < x.real < e:
+                    cand = np.full(c.shape[0], a)
+                    cand[r] = x.real
+                    cands.append(cand)
+        low = np.min([c[:, 0] + t * (c[:, 1] + t * (c[:, 2] + t * c[:, 3])) for t in cands],
+                     axis=0)
+        size = np.abs(c) @ np.array([1.0, e, e * e, e ** 3])
+        if not np.all(low - bound - 4 * np.finfo(float).eps * size > 0.0):
+            last = e
+        a, h = e, 2.0 * h
+    return last
 
 
 def _levels(kind, amp, scale):

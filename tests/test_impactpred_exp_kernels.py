@@ -171,8 +171,9 @@ def test_quiet_tail_of_a_long_span_is_certified_not_searched():
     :func:`quiet_from` ends the search where the gap's growth outweighs the vibration's
     decaying bound, and the row stays positive after it (sampled densely to 5 s); a
     polynomial that dips (``(tau - 20)^2 - 4``, negative on 18-22 s) keeps its span
-    to the dip; no polynomial, or one of degree 4: the whole span. The searches of a
-    1e6 s span (the compiled one and its oracle) agree with the 50 s one."""
+    to the dip; no polynomial, one of degree 4 or a growing term: the whole span. The
+    searches of a 1e6 s span (the compiled one and its oracle) agree with the 50 s one,
+    and the oracle's own ``quiet_from`` with the compiled one."""
     import oracle_event_search as oracle
 
     from impactpred.engine.step_kernels import quiet_from
@@ -189,7 +190,30 @@ def test_quiet_tail_of_a_long_span_is_certified_not_searched():
     dip = np.array([[396.0, -40.0, 1.0, 0.0]])                 # (tau - 20)^2 - 4
     assert 22.0 <= quiet_from(lam, b, dip, 0.0, 1e6, h0, zero_tol) < 1e6
     assert quiet_from(lam, b, np.zeros((1, 0)), 0.0, 1e6, h0, zero_tol) == 1e6
-    assert quiet_from(lam, b, np.zeros((1, 5)), 0.0, 1e6, h0, zero_tol) == 1e6
+    quartic = np.array([[1.0, 0.3, 0.0, 0.0, 1e-3]])
+    assert quiet_from(lam, b, quartic, 0.0, 1e6, h0, zero_tol) == 1e6
+    # a longer block whose top coefficients are 0 is the cubic it is (two rigid bodies)
+    padded = np.concatenate([recede, np.zeros((1, 2))], axis=1)
+    assert quiet_from(lam, b, padded, 0.0, 1e6, h0, zero_tol) == end
+    # a growing term (a model given with check_passive=False): no decaying bound, the
+    # whole span searched; 2 + e^{1e-6 tau} cos(tau) first falls below 0 near 6.93e5 s
+    grow = np.array([1e-6 + 1j])
+    assert quiet_from(grow, np.array([[1.0 + 0j]]), np.array([[2.0, 0.0]]), 0.0, 8e5, 0.4,
+                      zero_tol) == 8e5
+    kind, b1, p1, scale = _stiff_rows(grow, [1.0], [2.0])
+    tau, _ = first_event(kind.lam, kind.abs_lam, kind.abs_lam4, kind.order_desc, b1, p1,
+                         8e5, scale, zero_tol, False, -1)
+    assert math.exp(1e-6 * tau) * math.cos(tau) == pytest.approx(-2.0, abs=1e-9)
+    assert 6.9e5 < tau < 6.95e5
+    # the oracle's own quiet_from agrees on random receding and dipping rows
+    rng = np.random.default_rng(5)
+    for _ in range(200):
+        lam_r = -rng.uniform(0.0, 2.0, 3) + 1j * rng.uniform(0.0, 200.0, 3)
+        b_r = (rng.normal(size=(2, 3)) + 1j * rng.normal(size=(2, 3))) * 1e-3
+        p_r = np.column_stack([rng.uniform(-1e-2, 1e-2, 2), rng.uniform(0.0, 0.5, 2),
+                               rng.uniform(-1e-3, 1e-3, 2), rng.uniform(0, 1e-6, 2)])
+        args = (lam_r, b_r, p_r, 0.0, 1e4, 0.01, np.full(2, 1e-12))
+        assert quiet_from(*args) == pytest.approx(oracle.quiet_from(*args), rel=1e-12)
     # the whole search: no event after the start on the receding row, the dip's root found
     kind, b1, p_dip, scale = _stiff_rows(lam, b[0], dip[0])
     args = (kind.lam, kind.abs_lam, kind.abs_lam4, kind.order_desc, b1)

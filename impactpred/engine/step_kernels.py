@@ -111,14 +111,23 @@ def quiet_from(lam, b, poly, tau0, tau_max, h0, zero_tol):  # pragma: no cover -
     exact) less the terms' bound ``sum_j |b_j| e^{Re lambda_j a}`` (``Re lambda <= 0``),
     less ``zero_tol`` and the polynomial's rounding, must stay positive. Returns the end
     of the last step where it does not (``tau0``: every step certified, no event), or
-    ``tau_max`` where this test does not apply (no polynomial, or of degree over 3). A
+    ``tau_max`` where this test does not apply (no polynomial, one of degree over 3, or
+    a growing term, ``Re lambda > 0``: a model given with ``check_passive=False``). A
     receding body's free flight, its vibration decayed or small beside its gap, is then
     cleared in ``log2`` of its span in steps, not in steps of its slowest vibration (a
     damped spring-mass left behind at 1e6 s: 17 s of search before).
     """
     K, m = b.shape
     k = poly.shape[1]
-    if k == 0 or k > 4:
+    for r in range(K):
+        for c in range(4, k):           # the rows' degree, not the block's: at most 3
+            if poly[r, c] != 0.0:
+                return tau_max
+    k = min(k, 4)
+    for j in range(m):
+        if lam[j].real > 0.0:           # a growing term: no decaying bound
+            return tau_max
+    if k == 0:
         return tau_max
     amp = np.empty((K, m))
     for r in range(K):
@@ -145,7 +154,7 @@ def quiet_from(lam, b, poly, tau0, tau_max, h0, zero_tol):  # pragma: no cover -
                 pa += coef * wa
                 pe += coef * we
                 size += abs(coef) * abs(we)
-            if cubic_min(pa, pe, da, de, step) - bound - eps4 * size <= 0.0:
+            if not cubic_min(pa, pe, da, de, step) - bound - eps4 * size > 0.0:   # NaN too
                 last = e
                 break
         a = e
