@@ -183,8 +183,8 @@ class ModalModel:
 
         The system must be continuous-time, proper, and stable in Lyapunov's sense
         (poles with ``Re p <= 0``; a double pole at 0 is the rigid-body term). A simple
-        pole at 0, a repeated non-zero pole, an improper or MIMO system raise
-        ``ValueError``.
+        pole at 0 or one of order 3 or more, a repeated pole that is a Jordan block (two
+        uncoupled equal modes are kept), an improper or MIMO system raise ``ValueError``.
 
         Parameters
         ----------

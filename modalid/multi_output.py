@@ -572,7 +572,13 @@ def _match(reference, values, rtol, what) -> np.ndarray:
     order = np.argmin(distance, axis=1)
     scale = np.maximum(np.abs(reference), 1e-300)
     worst = np.max(distance[np.arange(reference.size), order] / scale)
-    if worst > rtol or np.unique(order).size != order.size:
+    if np.unique(order).size != order.size:
+        twice = reference[np.bincount(order, minlength=values.size)[order] > 1][0]
+        raise ValueError(f"{what} holds a repeated pole near {twice:.6g} rad/s that its poles "
+                         "cannot be matched to one by one (two modes of one frequency, such "
+                         "as two identical uncoupled oscillators): give the rows with each "
+                         "pole once")
+    if worst > rtol:
         raise ValueError(f"{what} does not share the poles of row 0 (relative difference "
                          f"{worst:.3g} > {rtol:g})")
     return order

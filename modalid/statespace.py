@@ -85,26 +85,28 @@ def pole_residue_to_statespace(poles, residues, real_poles, real_residues, inver
     return a, b, c[0], float(flexibility)
 
 
-def _refuse_split_repeated_pole(lam, res):
-    """Raise for two poles within 1e-6 of each other whose residues nearly cancel.
+def _refuse_split_repeated_pole(lam, v, res):
+    """Raise for two poles within 1e-6 of each other whose eigenvectors are parallel.
 
-    A repeated pole ``1/(s - p)^2`` reaches the eigen-decomposition split by rounding into
-    two poles about ``1e-8 |p|`` apart with huge opposite residues (``1/(s^2 + 100)^2``:
-    ``+-4e4 i`` for a true ``1/s`` coefficient of ``2.5e-4``) whenever the eigenvector
-    matrix stays under ``defect_cond``; a non-defective repeated pole (two uncoupled equal
-    modes) keeps residues that add up.
+    A repeated pole ``1/(s - p)^2`` (a Jordan block) reaches the eigen-decomposition split
+    by rounding into two poles about ``1e-8 |p|`` apart, with parallel eigenvectors and
+    huge opposite residues (``1/(s^2 + 100)^2``: ``+-4e4 i`` for a true ``1/s``
+    coefficient of ``2.5e-4``), whenever the eigenvector matrix stays under
+    ``defect_cond``. Two genuine close modes (a symmetric structure's pair) have
+    independent eigenvectors and are kept.
     """
     if lam.size < 2:
         return
+    unit = v / np.linalg.norm(v, axis=0)
     gap = np.abs(lam[:, None] - lam[None, :])
-    close = gap <= 1e-6 * np.abs(lam)[:, None]
-    np.fill_diagonal(close, False)
-    for i, j in zip(*np.nonzero(np.triu(close))):
-        if abs(res[i] + res[j]) < 1e-3 * (abs(res[i]) + abs(res[j])):
-            raise ValueError(f"the system has a repeated pole near s = {lam[i]:.6g} (split "
-                             f"by rounding into two poles {gap[i, j]:.2g} apart with "
-                             f"cancelling residues {res[i]:.4g} and {res[j]:.4g}): its "
-                             "receptance is not a sum of simple poles")
+    close = np.triu(gap <= 1e-6 * np.abs(lam)[:, None], 1)
+    for i, j in zip(*np.nonzero(close)):
+        if abs(np.vdot(unit[:, i], unit[:, j])) > 1.0 - 1e-6:
+            raise ValueError(f"the system has a repeated pole near s = {lam[i]:.6g} (a "
+                             f"Jordan block: split by rounding into two poles "
+                             f"{gap[i, j]:.2g} rad/s apart with parallel eigenvectors and "
+                             f"residues {res[i]:.4g} and {res[j]:.4g}): its receptance is "
+                             "not a sum of simple poles")
 
 
 def pole_residue_from_statespace(a, b, c, d, *, zero_tol=1e-8, defect_cond=1e10):
@@ -169,7 +171,7 @@ def pole_residue_from_statespace(a, b, c, d, *, zero_tol=1e-8, defect_cond=1e10)
             raise ValueError("the system has a defective (repeated, coupled) pole: its "
                              "receptance is not a sum of simple poles")
         res = (c2 @ v) * np.linalg.solve(v, b2.astype(complex))
-        _refuse_split_repeated_pole(lam, res)
+        _refuse_split_repeated_pole(lam, v, res)
     else:
         res = np.zeros(0, complex)
     omega_ref = float(np.min(np.abs(lam))) if lam.size else 1.0
@@ -230,9 +232,9 @@ def transfer_function_of(model):
     """``model``'s ``control.TransferFunction``, with a warning where it loses the model.
 
     Compared 1 % above the poles' moduli, between them (geometric means) and beyond them
-    (rad/s):
-    a relative error over ``1e-6`` anywhere raises a :class:`UserWarning` naming the
-    worst point (polynomial coefficients lose high-order models to rounding).
+    (rad/s): an error over ``1e-6`` of the sum of the terms' moduli anywhere raises a
+    :class:`UserWarning` naming the worst point (polynomial coefficients lose high-order
+    models to rounding).
     """
     import control
 
@@ -244,11 +246,18 @@ def transfer_function_of(model):
         return tf
     between = np.sqrt(rates[1:] * rates[:-1])
     w = np.concatenate([[0.5 * rates[0]], 1.01 * rates, between, [2.0 * rates[-1]]])
-    want = model.receptance(1j * w)
-    got = np.asarray(tf(1j * w), dtype=complex).reshape(-1)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        err = np.abs(got - want) / np.abs(want)
-    err = np.where(np.isfinite(err), err, np.inf)
+    s = 1j * w
+    want = model.receptance(s)
+    got = np.asarray(tf(s), dtype=complex).reshape(-1)
+    # relative to the sum of the terms' moduli (|H| itself vanishes at an antiresonance)
+    p, r = model.poles, model.residues
+    size = (np.sum(np.abs(r) / np.abs(s[:, None] - p), axis=1)
+            + np.sum(np.abs(r) / np.abs(s[:, None] - np.conj(p)), axis=1)
+            + np.sum(np.abs(model.real_residues) / np.abs(s[:, None] - model.real_poles),
+                     axis=1)
+            + abs(model.flexibility) + abs(model.inverse_mass) / w**2)
+    err = np.abs(got - want) / size
+    err = np.where(np.isnan(err), np.inf, err)
     worst = int(np.argmax(err))
     if err[worst] > 1e-6:
         warnings.warn(f"to_transfer_function: the polynomials of this model's "

@@ -147,3 +147,23 @@ def test_pickle_round_trip_is_exact(model):
 
     back = pickle.loads(pickle.dumps(model))
     assert back == model and back.outputs == model.outputs
+
+
+def test_close_modes_survive_the_state_space_round_trip_and_a_repeat_is_named():
+    """Two genuine modes 1e-7 apart (a symmetric structure's pair: an antisymmetric cross
+    row) keep their independent eigenvectors and come back; two identical uncoupled
+    oscillators (one pole twice) are refused naming the repeat, not as 'relative
+    difference 0 > 1e-08'."""
+    p1, p2 = -0.01 + 100j, -0.01 + 100j * (1 + 1e-7)
+    rows = [ModalModel(poles=[p1, p2], residues=[-0.005j, -0.005j]),
+            ModalModel(poles=[p1, p2], residues=[-0.005j, 0.005j])]
+    model = MultiOutputModalModel.from_rows(rows, driving_point=0, outputs=["a", "b"])
+    back = MultiOutputModalModel.from_control(model.to_statespace())
+    s = 1j * np.array([99.0, 100.0, 101.0])
+    np.testing.assert_allclose(back.receptance(s), model.receptance(s), rtol=1e-6)
+    one = np.array([[0.0, 1.0], [-1e4, -0.2]])
+    twice = control.ss(np.block([[one, np.zeros((2, 2))], [np.zeros((2, 2)), one]]),
+                       [[0.0], [1.0], [0.0], [1.0]], [[1.0, 0, 1, 0], [1.0, 0, -1, 0]],
+                       np.zeros((2, 1)))
+    with pytest.raises(ValueError, match="repeated pole near .* two identical uncoupled"):
+        MultiOutputModalModel.from_control(twice, driving_point=0)
