@@ -677,4 +677,8 @@ def test_a_python_control_primary_is_its_modal_model():
             for primary in (1 / (s**2 + 2 * zeta * 100.0 * s + k),
                             SpringMass(1.0, k, damping_ratio=zeta))]
     assert runs[0].primary_amplitude == pytest.approx(runs[1].primary_amplitude, rel=1e-9)
+    damper = ImpactDamper(1 / (s**2 + 1e4), damper_mass=0.05, clearance=1e-3,
+                          excitation=excitation)
+    assert isinstance(damper.primary, ModalModel)       # stored converted: compares, pickles
+    assert damper.replace(clearance=2e-3).primary == damper.primary
     assert len(runs[0].impacts) == len(runs[1].impacts) > 0

@@ -314,15 +314,29 @@ def test_optimum_says_when_no_clearance_helps():
         "reduction": [1.08, 1.11, 1.0, 1.0 - 3e-12, 0.35, 0.11, 0.33, 1.0],
         "impacts_per_cycle": [4.5, 3.0, 0.0, 0.0, 44.0, 2.0, 1.6, 0.0],
         "is_steady": [True] * 8})
-    with pytest.warns(UserWarning, match=r"no clearance of the grid lowers .* freq_hz=6:"):
+    with pytest.warns(UserWarning, match=r"no clearance of the grid lowers .* at freq_hz=6 "
+                                         r"the best clearance of the grid has no impacts"):
         best = optimum_clearance(table)
     assert best["damper_helps"].tolist() == [False, True]
     assert best["clearance"].tolist() == [4e-4, 2e-4]     # 6 Hz: where the idle range starts
     assert best["impacts_per_cycle"].tolist() == [0.0, 2.0]
-    with pytest.warns(UserWarning, match="no clearance of the grid"):
+    with pytest.warns(UserWarning, match="no clearance of the grid") as caught:
         ax = plot_optimum_clearance(table)
+    assert caught[0].filename == __file__              # the warning points at the caller
     crosses = [line for line in ax.lines if line.get_marker() == "x"]
     assert len(crosses) == 1 and crosses[0].get_xdata().tolist() == [6.0]
+    # every clearance impacts and raises the amplitude (a second axis named too); a best
+    # row without impacts but with a lower amplitude (not steady) is kept as it is
+    worse = table.assign(mass_ratio=0.1)
+    worse.loc[worse["freq_hz"] == 6.0, "impacts_per_cycle"] = [4.5, 3.0, 1.0, 0.5]
+    worse.loc[worse["freq_hz"] == 6.0, "reduction"] = [1.08, 1.11, 1.05, 1.02]
+    with pytest.warns(UserWarning, match=r"at freq_hz=6, mass_ratio=0.1 every clearance of "
+                                         r"the grid impacts and raises"):
+        assert optimum_clearance(worse, x="freq_hz")["damper_helps"].tolist() == [False, True]
+    odd = table.copy()
+    odd.loc[2, ["primary_amplitude", "reduction"]] = [2e-4, 0.5]   # 0 impacts, lower
+    with pytest.warns(UserWarning, match="no impacts"):
+        assert optimum_clearance(odd)["clearance"].tolist()[0] == 4e-4
     import matplotlib.pyplot as plt
 
     plt.close("all")

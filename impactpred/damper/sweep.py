@@ -420,6 +420,13 @@ def optimum_clearance(table, *, x=None):
         a :class:`UserWarning` names those rows). Rows whose amplitudes are all NaN are
         left out.
     """
+    best, axes = _optimum_rows(table, x)
+    _warn_unhelpful(best, axes)
+    return best
+
+
+def _optimum_rows(table, x):
+    """:func:`optimum_clearance`'s table, without its warning, and the axes it keys on."""
     if not isinstance(table, pd.DataFrame):
         raise TypeError(f"table must be a pandas DataFrame from sweep(), got "
                         f"{type(table).__name__}")
@@ -435,12 +442,13 @@ def optimum_clearance(table, *, x=None):
             continue
         best = group.loc[amplitude.idxmin()]
         helps = _damper_helps(best)
-        if not helps and "impacts_per_cycle" in group:
-            # an idle damper: every impact-free clearance ties (up to the transient's
-            # remnant); report the smallest, where the idle range starts
-            idle = group[group["impacts_per_cycle"] == 0]
-            if len(idle):
-                best = idle.loc[idle["clearance"].idxmin()]
+        if not helps and best.get("impacts_per_cycle", np.nan) == 0:
+            # an idle damper: the impact-free clearances tie (to the transient's remnant);
+            # report the smallest, where the idle range starts
+            idle = group[(group["impacts_per_cycle"] == 0)
+                         & (group["primary_amplitude"] <= best["primary_amplitude"]
+                            * (1.0 + 1e-6))]
+            best = idle.loc[idle["clearance"].idxmin()]
         key = key if isinstance(key, tuple) else (key,)
         row = dict(zip([x] + others, key))
         row.update({"clearance": best["clearance"],
@@ -455,24 +463,44 @@ def optimum_clearance(table, *, x=None):
     result = pd.DataFrame(rows, columns=[x] + others + [
         "clearance", "primary_amplitude", "reduction", "impacts_per_cycle", "is_steady",
         "on_edge", "damper_helps"])
-    idle = result[~result["damper_helps"]]
-    if len(idle):
-        where = ", ".join(f"{x}={value:.6g}" for value in idle[x].head(5))
-        more = f" and {len(idle) - 5} more" if len(idle) > 5 else ""
-        warnings.warn(f"optimum_clearance: no clearance of the grid lowers the primary "
-                      f"amplitude with impacts at {where}{more}: the damper idles at the "
-                      f"'best' clearance there (damper_helps=False); try smaller clearances "
-                      f"or another mass ratio", UserWarning, stacklevel=2)
-    return result
+    return result, [x] + others
 
 
 def _damper_helps(best):
-    """Whether the best row lowers the amplitude through impacts (unknown: True)."""
+    """Whether the best row lowers the amplitude (its ``reduction`` under 1) with impacts;
+    without a reduction (a free rattle), whether it impacts."""
     impacts = best.get("impacts_per_cycle", np.nan)
     reduction = best.get("reduction", np.nan)
     if impacts == 0:
         return False
     return not (np.isfinite(reduction) and reduction >= 1.0 - 1e-6)
+
+
+def _warn_unhelpful(best, axes, stacklevel=3):
+    """One UserWarning for the rows of ``best`` where no clearance of the grid helps:
+    those where the damper idles (the best clearance has no impacts) and those where
+    every clearance impacts and raises the amplitude."""
+    unhelpful = best[~best["damper_helps"]]
+    if not len(unhelpful):
+        return
+    idle = unhelpful["impacts_per_cycle"] == 0
+
+    def where(rows):
+        text = "; ".join(", ".join(f"{a}={row[a]:.6g}" for a in axes)
+                         for _, row in rows.head(5).iterrows())
+        return text + (f" and {len(rows) - 5} more" if len(rows) > 5 else "")
+
+    parts = []
+    if idle.any():
+        parts.append(f"at {where(unhelpful[idle])} the best clearance of the grid has no "
+                     f"impacts: the damper idles there, and every impacting clearance "
+                     f"raises the amplitude")
+    if (~idle).any():
+        parts.append(f"at {where(unhelpful[~idle])} every clearance of the grid impacts "
+                     f"and raises the amplitude (larger ones may let the damper idle)")
+    warnings.warn("optimum_clearance: no clearance of the grid lowers the primary amplitude "
+                  "(damper_helps=False): " + "; ".join(parts) + "; another mass ratio or "
+                  "frequency may help", UserWarning, stacklevel=stacklevel)
 
 
 _LABELS = {"freq_hz": "excitation frequency (Hz)", "mass_ratio": "mass ratio",
@@ -501,7 +529,8 @@ def plot_optimum_clearance(table, *, ax=None, x=None):
         :func:`optimum_clearance`, which also warns). The reduction at the optimum is on a
         twin axis (dashed).
     """
-    best = optimum_clearance(table, x=x)
+    best, axes = _optimum_rows(table, x)
+    _warn_unhelpful(best, axes)
     x = best.columns[0]
     others = [c for c in best.columns[1:] if c in AXES and c != "clearance"]
     if ax is None:
@@ -509,6 +538,7 @@ def plot_optimum_clearance(table, *, ax=None, x=None):
 
         _, ax = plt.subplots()
     twin = ax.twinx()
+    crossed = False
     groups = best.groupby(others, sort=True) if others else [((), best)]
     for key, group in groups:
         key = key if isinstance(key, tuple) else (key,)
@@ -522,7 +552,9 @@ def plot_optimum_clearance(table, *, ax=None, x=None):
         idle = ~group["damper_helps"]
         if idle.any():
             ax.plot(group[x][idle], 1e3 * group["clearance"][idle], "x", markersize=10,
-                    color=line.get_color(), label="no clearance of the grid helps")
+                    color=line.get_color(),
+                    label="_" if crossed else "no clearance of the grid helps")
+            crossed = True
         twin.plot(group[x], group["reduction"], "--", color=line.get_color(), alpha=0.6)
     ax.set_xlabel(_LABELS.get(x, x))
     ax.set_ylabel("optimum clearance (mm)")

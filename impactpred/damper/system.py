@@ -35,7 +35,6 @@ _CONTACTS = (Rigid, LinearSpring, Hertz, InstantaneousImpact)
 
 def _primary_model(primary):
     """(ModalModel, (k, c) of a SpringMass or None) of a primary, validated."""
-    primary = control_as_model(primary)
     if isinstance(primary, SpringMass):
         k, m = primary.stiffness, primary.mass
         return primary.modal_model(1), (k, 2.0 * primary.damping_ratio * math.sqrt(k * m))
@@ -97,6 +96,7 @@ class ImpactDamper:
     excitation: Any = field(kw_only=True)
 
     def __post_init__(self):
+        object.__setattr__(self, "primary", control_as_model(self.primary))  # stored as such
         model, base = _primary_model(self.primary)
         object.__setattr__(self, "damper_mass", as_positive_scalar("damper_mass",
                                                                     self.damper_mass))
