@@ -365,9 +365,11 @@ def driving_point_problems(model: ModalModel) -> list:
             problems.append(f"{where} is unstable (Re p = {p[k].real:.4g} rad/s > 0: it "
                             "grows without a force)")
         elif not negligible[k] and not (np.isfinite(modal_mass[k]) and modal_mass[k] > 0.0):
+            hint = (" (a residue with no imaginary part: a mobility or an accelerance "
+                    "given as a receptance?)" if r[k].imag == 0.0 else "")
             problems.append(f"{where} has modal mass {modal_mass[k]:.4g} kg (residue "
                             f"{r[k].real:.4g}{r[k].imag:+.4g}j): not positive, a mode that "
-                            "gives back energy it never received")
+                            f"gives back energy it never received{hint}")
     for sigma, a in zip(model.real_poles, model.real_residues):
         if sigma >= 0.0:
             problems.append(f"the real pole {sigma:.4g} rad/s is unstable (>= 0)")

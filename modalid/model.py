@@ -184,7 +184,8 @@ class ModalModel:
         The system must be continuous-time, proper, and stable in Lyapunov's sense
         (poles with ``Re p <= 0``; a double pole at 0 is the rigid-body term). A simple
         pole at 0 or one of order 3 or more, a repeated pole that is a Jordan block (two
-        uncoupled equal modes are kept), an improper or MIMO system raise ``ValueError``.
+        uncoupled equal modes are kept), an improper or MIMO system, or non-finite entries
+        raise ``ValueError``.
 
         Parameters
         ----------
@@ -214,6 +215,8 @@ class ModalModel:
             with quiet_polynomial_trimming():
                 sys = control.ss(sys)
         a, b, c, d = (np.asarray(m, dtype=float) for m in (sys.A, sys.B, sys.C, sys.D))
+        if not all(np.isfinite(m).all() for m in (a, b, c, d)):
+            raise ValueError("sys has NaN or infinite entries in its A, B, C or D")
         parts = pole_residue_from_statespace(a, b.ravel(), c.ravel(), float(d.ravel()[0])
                                              if d.size else 0.0)
         return cls(**parts)

@@ -180,12 +180,9 @@ def pole_residue_from_statespace(a, b, c, d, *, zero_tol=1e-8, defect_cond=1e10)
         k1 = float(c1 @ b1)              # 1/s coefficient
         k2 = float(c1 @ t11 @ b1)        # 1/s^2 coefficient
         scale = abs(k2) / omega_ref**2 + abs(float(d)) + float(np.sum(np.abs(res))) / omega_ref
-        if abs(k1) / omega_ref > 1e-6 * scale:
-            raise ValueError(f"the system has a simple pole at s = 0 (coefficient {k1:.6g} "
-                             "of 1/s): a receptance has a rigid-body double pole or none")
         # 1/s^j coefficients c T^(j-1) b, j = 3 .. n_zero (the block is nilpotent): the
         # highest that is not rounding names the order (1/s^4: an accelerance's 1/s^2
-        # divided by s^2 once too often)
+        # divided by s^2 once too often), before a simple pole (1/s: a mobility's)
         power, highest = t11 @ t11, None
         for order in range(3, n_zero + 1):
             k_j = float(c1 @ power @ b1)
@@ -196,6 +193,10 @@ def pole_residue_from_statespace(a, b, c, d, *, zero_tol=1e-8, defect_cond=1e10)
             raise ValueError(f"the system has a pole of order {highest[0]} at s = 0 "
                              f"(coefficient {highest[1]:.6g} of 1/s^{highest[0]}): a "
                              "receptance has a rigid-body double pole or none")
+        if abs(k1) / omega_ref > 1e-6 * scale:
+            raise ValueError(f"the system has a simple pole at s = 0 (coefficient {k1:.6g} "
+                             "of 1/s): a receptance has a rigid-body double pole or none (a "
+                             "mass's mobility is 1/(m s), its receptance 1/(m s^2))")
         # Rounding-level values are zero; a negative one is a transfer term (rigid rotation).
         out["inverse_mass"] = k2 if abs(k2) > 1e-9 * scale * omega_ref**2 else 0.0
 

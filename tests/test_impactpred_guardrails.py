@@ -52,6 +52,9 @@ def two_modes(sign2=1.0, **kw):
     (two_modes(real_poles=[-50.0], real_residues=[-1e-3]),
      r"real pole -50 rad/s has a negative residue"),
     (two_modes(inverse_mass=-0.5), r"rigid-body term 1/M = -0.5 1/kg is negative"),
+    # s / (s^2 + 100): an undamped mobility, its residue real
+    (ModalModel(poles=[10j], residues=[0.5]),
+     r"modal mass -inf kg .* no imaginary part: a mobility or an accelerance"),
 ])
 def test_body_refuses_a_model_that_is_not_a_passive_driving_point(model, match):
     with pytest.raises(ValueError, match=match) as info:

@@ -205,6 +205,9 @@ def test_from_control_keeps_a_repeated_pole_that_is_not_defective():
     (control.tf([1], [3, 0, 0, 0, 0]), r"order 4 at s = 0 \(coefficient 0.333333 of 1/s\^4"),
     (control.tf([1], [1, 0, 0, 0, 0]) + control.tf([1], [1, 0, 100]), "order 4 at s = 0"),
     (control.tf([1, 0, 1], [1, 0, 0, 0, 0, 0]), "order 5 at s = 0"),
+    (control.tf([1], [1, 1, 0, 0, 0]), "order 3 at s = 0"),     # 1/(s^3 (s + 1)), not "simple"
+    (control.tf([1], [2, 0]), r"simple pole .* mobility is 1/\(m s\)"),
+    (control.ss([[np.nan]], [[1.0]], [[1.0]], 0.0), "NaN or infinite entries"),
     # (s^2 + 100)^2: split by rounding into modes 6e-8 apart with residues +-4e4 i
     (control.tf([1], [1, 0, 200, 0, 1e4]), "repeated pole near s = .*10j"),
     (control.tf([1], [1, 4, 204, 400, 1e4]) + control.tf([1], [1, 0, 4e4]), "repeated pole"),
