@@ -13,6 +13,7 @@ from modalid.validation import as_choice, as_positive_scalar, as_real_scalar
 
 from ._caveats import SENSITIVITY_SCALE, caveats, is_sequence, many_micro_contacts
 from ._energy_terms import contact_energy, dashpot_dissipation, exchangeable_energy, load_work
+from ._load_impulse import at_contacts
 from ._specs import parse_contact
 from .body import Body, SampledResponse
 from .contact import Hertz, LinearSpring, Rigid, check_contact
@@ -167,7 +168,7 @@ def solve_impact(body1: Body, body2: Body, *, gap: float = 0.0, contact=Rigid(),
 
     def run(*args, **kwargs) -> ImpactResult:   # small dense algebra: one BLAS thread
         with one_blas_thread():
-            return solver(*args, **options, **kwargs)
+            return at_contacts(solver(*args, **options, **kwargs), bodies)
     if t_end / dt > _MAX_STEPS * (1 + 1e-9):       # steps, or an exact solver's samples
         raise ValueError(f"t_end={t_end:.6g} / dt={dt:.4g} = {t_end / dt:.3g} steps or samples "
                          f"exceeds {_MAX_STEPS}: increase dt or shorten t_end (at most "

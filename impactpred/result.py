@@ -155,7 +155,9 @@ class ImpactResult:
     dirac_impulses : tuple of (float, float)
         (time s, impulse N s) of every Dirac part of the force.
     velocities_before, velocities_after : tuple of float
-        Rigid-body velocities (m/s) of the two bodies before and after all contacts.
+        Rigid-body velocities (m/s) of the two bodies before and after all contacts: where
+        a free body carries a load, which moves them all the time, at the first contact's
+        start and at the last contact's end.
     energy_by_body : tuple of BodyEnergy
         Per body: rigid and vibration energy (J) before and after (:attr:`energy`
         tabulates them).
@@ -179,6 +181,9 @@ class ImpactResult:
         The contact points' velocities (m/s) at ``t`` where the solver samples them in
         closed form (the Laplace method; both one-sided limits at event times, the Dirac
         parts not in the samples); None for the time-stepping methods.
+    first_contact_load_impulse : tuple of float
+        Each body's load impulse (N s, along ``+y``) during the first contact (0 without a
+        load on a free body), which ``restitution_first`` counts with the contact's.
     success, message : bool, str
         Whether the result can be trusted, and why not (derived from ``energy_audit``).
     energy : pandas.DataFrame
@@ -227,6 +232,7 @@ class ImpactResult:
     energy_audit: EnergyAudit | None = None
     v1: np.ndarray | None = None
     v2: np.ndarray | None = None
+    first_contact_load_impulse: tuple = (0.0, 0.0)
 
     def __post_init__(self):
         for name in ("t", "force", "y1", "y2", "gap"):
@@ -327,7 +333,8 @@ class ImpactResult:
             return None
         u1, u2 = self.velocities_before
         p = self.first_contact_impulse
-        after = (u1 - p * self.inverse_masses[0], u2 + p * self.inverse_masses[1])
+        q1, q2 = self.first_contact_load_impulse
+        after = (u1 + (q1 - p) * self.inverse_masses[0], u2 + (q2 + p) * self.inverse_masses[1])
         return _restitution(self.velocities_before, after)
 
     @property
