@@ -291,7 +291,8 @@ def event_loop(free, stuck, xa0, in_contact, t_end, step, out_step, tol_g, rho, 
     xa0 : ndarray, shape (n + 2,)
         Augmented initial state ``[X, 1, J]``.
     in_contact : bool
-        The bodies touch and approach at ``t = 0``.
+        The bodies touch and do not separate at ``t = 0``: the contact rules decide at once
+        (a Dirac impulse where they approach, a contact where they press).
     t_end, step, out_step, tol_g : float
         End time, the search step of the contact decision's rounding level, the output
         step (s) and the gap's rounding level (m).
@@ -347,7 +348,7 @@ def event_loop(free, stuck, xa0, in_contact, t_end, step, out_step, tol_g, rho, 
         if impulse != 0.0:
             diracs[n_d, 0], diracs[n_d, 1] = 0.0, impulse
             n_d += 1
-        if not in_contact:     # a Dirac alone: the first contact is over at once
+        if not in_contact and impulse != 0.0:   # a Dirac alone: over at once
             intervals[n_iv, 0], intervals[n_iv, 1] = 0.0, 0.0
             n_iv += 1
             first_impulse, have_first = xa[jdx], True

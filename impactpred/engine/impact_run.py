@@ -218,7 +218,7 @@ def _root(f, a, b, *, rising=False):
 def run_contact(free, stuck, xa, *, in_contact, rules, t_end, step, out_step, gap0):
     """Run the free-flight and contact phases from ``t = 0`` (state ``xa``) to ``t_end``.
 
-    ``in_contact``: the contact starts at ``t = 0`` (touching and approaching); ``step``
+    ``in_contact``: the contact rules decide at ``t = 0`` (touching, not separating); ``step``
     (s): the event search step; ``out_step`` (s): the output grid. Raises
     ``RuntimeError`` (:func:`grazing_error`) where events repeat without time advancing.
     """
@@ -345,8 +345,9 @@ def run_contact(free, stuck, xa, *, in_contact, rules, t_end, step, out_step, ga
     contact_at = 0.0
     first_impulse = None
     if in_contact:
+        n_diracs = len(diracs)
         Xa, in_contact = start_contact(0.0, Xa)
-        if not in_contact:         # a Dirac alone: the first contact is over at once
+        if not in_contact and len(diracs) > n_diracs:   # a Dirac alone: over at once
             intervals.append((0.0, 0.0))
             first_impulse = float(Xa[jdx])
     stalled = 0
