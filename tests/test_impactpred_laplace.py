@@ -720,3 +720,22 @@ def test_a_damped_mode_s_energy_is_its_mechanical_energy(qdot):
     assert before[0] == pytest.approx(body.vibration_energy(), rel=1e-12)
     assert before[1] == pytest.approx(before[0], rel=1e-12)
     assert after[1] == pytest.approx(after[0], rel=1e-3)
+
+
+def test_bodies_touching_and_pressed_at_the_start_are_in_contact_from_it():
+    """A spring-mass held 1 mm back (its spring pushing it on) against a resting mass
+    placed at it: in contact from t = 0, no Dirac (the exact solver had flown them apart
+    for 1.4e-7 s, then struck a Dirac of 4.7e-7 N s), the force at the start its spring's
+    share ``k q m2 / (m1 + m2)``; two resting masses touching: no contact at all."""
+    b1 = Body(SpringMass(1.0, 1e4), vibration=[[-1e-3, 0.0]])
+    b2 = Body(LumpedMass(0.5), displacement=-1e-3)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)
+        res = solve_impact(b1, b2, contact=Rigid(), t_end=0.006, method="laplace")
+    assert res.contact_intervals == ((0.0, 0.006),) and res.dirac_impulses == ()
+    assert res.force[0] == pytest.approx(1e4 * 1e-3 * 0.5 / 1.5, rel=1e-9)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)
+        rest = solve_impact(Body(LumpedMass(1.0)), Body(LumpedMass(1.0)), t_end=0.1,
+                            method="laplace")
+    assert not rest.touched and rest.contact_intervals == ()
