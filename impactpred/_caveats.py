@@ -112,13 +112,14 @@ def caveats(result, bodies, *, t_end: float, start_gap: float, time_stepping: bo
                     f"still closed at t_end = {t_end:.6g} s: no restitution (None), and the "
                     "figures after it describe the bodies pressed together; a longer t_end "
                     "shows whether they separate")
-    elif result.restitution is not None and result.restitution < -_ROUND_OFF:
-        w1, w2 = result.velocities_after
+    elif result.restitution is not None and _closing_at_end(result):
+        w1, w2 = result.velocities_at_end or result.velocities_after
         said.append(f"the bodies still approach after the last contact (ended at "
                     f"{result.contact_intervals[-1][1]:.6g} s): their rigid motion closes "
-                    f"the gap at {w1 - w2:.6g} m/s (restitution {result.restitution:.4g} < "
-                    f"0), so another contact follows after t_end = {t_end:.6g} s and the "
-                    "figures after the impact are not final; a longer t_end reaches its end")
+                    f"the gap at {w1 - w2:.6g} m/s at t_end (restitution "
+                    f"{result.restitution:.4g}), so another contact follows after t_end = "
+                    f"{t_end:.6g} s and the figures after the impact are not final; a "
+                    "longer t_end reaches its end")
     if not result.touched:
         said.append(_no_contact(bodies, t_end, start_gap))
     if time_stepping and many_micro_contacts(result):
@@ -189,6 +190,14 @@ def _plastic_truncation(result, bodies, contact, energy_scale) -> str | None:
             "energy at a rigid contact, the figures depend on the modes kept (more modes, "
             "a residual flexibility term or a contact law with stiffness settle them); a "
             "lumped system's plastic impacts are its own")
+
+
+def _closing_at_end(result) -> bool:
+    """Whether the bodies' rigid motion closes the gap at ``t_end`` after the last contact
+    (at the velocities there: a load keeps changing them after the contact)."""
+    u1, u2 = result.velocities_before
+    w1, w2 = result.velocities_at_end or result.velocities_after
+    return w1 - w2 > _ROUND_OFF * (u1 - u2)
 
 
 def _no_contact(bodies, t_end, start_gap) -> str:

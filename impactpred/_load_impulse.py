@@ -14,42 +14,46 @@ import dataclasses
 import math
 
 import numpy as np
-from scipy.integrate import quad
 
 from .damper.excitation import HarmonicForce
 
 __all__ = ["at_contacts", "load_impulse"]
 
+#: least points of the trapezoid rule over an interval of a callable load
+_MIN_POINTS = 33
 
-def load_impulse(load, a, b) -> float:
-    """``int_a^b load(t) dt`` (N s) for ``0 <= a <= b`` (s).
 
-    A :class:`HarmonicForce` in closed form; any other load (a vectorised callable, or
-    the interpolant of samples) by adaptive quadrature (``scipy.integrate.quad``, to
-    1e-10 relative), which resolves a sampled load's kinks by subdivision.
+def load_impulse(load, a, b, grid) -> float:
+    """``int_a^b load(t) dt`` (N s) for ``a <= b`` (s).
+
+    A :class:`HarmonicForce` in closed form; samples (``Body(load=(t, f))``) exactly, as
+    the piecewise-linear load they are; any other callable by the trapezoid rule on the
+    solver's own time ``grid`` (s) inside ``[a, b]`` (at least ``_MIN_POINTS`` points),
+    the grid the time-stepping solvers apply the load on (one vectorised call).
     """
     if b <= a or load is None:
         return 0.0
     if isinstance(load, HarmonicForce):
         w, phi = load.omega, load.phase
-        if w == 0.0:
-            return load.amplitude * math.cos(phi) * (b - a)
         return load.amplitude / w * (math.sin(w * b + phi) - math.sin(w * a + phi))
-
-    def f(t):
-        return float(np.asarray(load(np.array([t])), dtype=float).reshape(-1)[0])
-
-    value, _ = quad(f, a, b, limit=500, epsabs=0.0, epsrel=1e-10)
-    return float(value)
+    if hasattr(load, "impulse"):
+        return float(load.impulse(a, b))
+    inside = grid[(grid > a) & (grid < b)]
+    if inside.size < _MIN_POINTS:
+        inside = np.linspace(a, b, _MIN_POINTS)[1:-1]
+    knots = np.concatenate([[a], inside, [b]])
+    values = np.asarray(load(knots), dtype=float).reshape(-1)
+    return float(np.sum(0.5 * (values[1:] + values[:-1]) * np.diff(knots)))
 
 
 def at_contacts(result, bodies):
     """``result`` with its loaded free bodies' velocities read at the impact's ends.
 
     ``velocities_before``: at the first contact's start; ``velocities_after``: at the last
-    contact's end (the load's impulse after it taken back from the final velocity);
-    ``first_contact_load_impulse``: each load's impulse (N s) during the first contact.
-    Unchanged where no free body carries a load, or the bodies never touched.
+    contact's end (the load's impulse after it taken back from the final velocity),
+    ``velocities_at_end``: the final ones; ``first_contact_load_impulse``: each load's
+    impulse (N s) during the first contact. Unchanged where no free body carries a load,
+    or the bodies never touched.
     """
     inv = result.inverse_masses
     loaded = [b.load is not None and m != 0.0 for b, m in zip(bodies, inv)]
@@ -57,12 +61,14 @@ def at_contacts(result, bodies):
         return result
     t_start, t_first_end = result.contact_intervals[0]
     t_last_end = result.contact_intervals[-1][1]
-    t_final = float(result.t[-1])
+    grid = np.asarray(result.t, dtype=float)
+    t_final = float(grid[-1])
     loads = [b.load if on else None for b, on in zip(bodies, loaded)]
-    before = tuple(u + m * load_impulse(f, 0.0, t_start)
+    before = tuple(u + m * load_impulse(f, 0.0, t_start, grid)
                    for u, m, f in zip(result.velocities_before, inv, loads))
-    after = tuple(u - m * load_impulse(f, t_last_end, t_final)
+    after = tuple(u - m * load_impulse(f, t_last_end, t_final, grid)
                   for u, m, f in zip(result.velocities_after, inv, loads))
-    during = tuple(load_impulse(f, t_start, t_first_end) for f in loads)
+    during = tuple(load_impulse(f, t_start, t_first_end, grid) for f in loads)
     return dataclasses.replace(result, velocities_before=before, velocities_after=after,
+                               velocities_at_end=result.velocities_after,
                                first_contact_load_impulse=during)

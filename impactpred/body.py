@@ -503,4 +503,24 @@ def _as_load(load):
     if t.shape != f.shape or np.any(np.diff(t) <= 0):
         raise ValueError(f"load (t, f) must be samples of equal shape with increasing t, got "
                          f"shapes {t.shape} and {f.shape}")
-    return lambda tt: np.interp(tt, t, f, left=0.0, right=0.0)
+    return SampledLoad(t, f)
+
+
+class SampledLoad:
+    """A load given as samples ``(t, f)`` (s, N): linear between them, zero outside.
+
+    Callable like any load; :meth:`impulse` integrates it exactly.
+    """
+
+    def __init__(self, t, f):
+        self.t, self.f = t, f
+
+    def __call__(self, tt):
+        return np.interp(tt, self.t, self.f, left=0.0, right=0.0)
+
+    def impulse(self, a, b) -> float:
+        """``int_a^b f dt`` (N s) of the piecewise-linear load, exactly."""
+        inside = self.t[(self.t > a) & (self.t < b)]
+        knots = np.concatenate([[a], inside, [b]])
+        values = self(knots)
+        return float(np.sum(0.5 * (values[1:] + values[:-1]) * np.diff(knots)))

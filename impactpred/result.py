@@ -160,7 +160,8 @@ class ImpactResult:
         start and at the last contact's end.
     energy_by_body : tuple of BodyEnergy
         Per body: rigid and vibration energy (J) before and after (:attr:`energy`
-        tabulates them).
+        tabulates them), at ``t = 0`` and at the run's end (a load's work between them
+        included; unlike ``velocities_before``/``after`` of a loaded body).
     method : str
         The solver used.
     dt : float
@@ -184,6 +185,10 @@ class ImpactResult:
     first_contact_load_impulse : tuple of float
         Each body's load impulse (N s, along ``+y``) during the first contact (0 without a
         load on a free body), which ``restitution_first`` counts with the contact's.
+    velocities_at_end : tuple of float or None
+        Rigid-body velocities (m/s) at the run's end where they differ from
+        ``velocities_after`` (a load on a free body acts after the contacts); None
+        otherwise.
     success, message : bool, str
         Whether the result can be trusted, and why not (derived from ``energy_audit``).
     energy : pandas.DataFrame
@@ -233,6 +238,7 @@ class ImpactResult:
     v1: np.ndarray | None = None
     v2: np.ndarray | None = None
     first_contact_load_impulse: tuple = (0.0, 0.0)
+    velocities_at_end: tuple | None = None
 
     def __post_init__(self):
         for name in ("t", "force", "y1", "y2", "gap"):
