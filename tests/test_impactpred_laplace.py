@@ -746,6 +746,19 @@ def test_bodies_touching_and_pressed_at_the_start_are_in_contact_from_it():
     assert not rest.touched and rest.contact_intervals == ()
     assert damped.contact_intervals[0][0] == 0.0 and damped.dirac_impulses == ()
     assert damped.force[0] == pytest.approx(7843.0 * 1.467e-3 * 0.27 / 1.27, rel=1e-9)
+    # and for random damped preloads: no flight apart, no rounding-level Dirac (1e-21 N s)
+    rng = np.random.default_rng(1)
+    for _ in range(12):
+        k, zeta = rng.uniform(1e3, 1e5), rng.uniform(0.0, 0.5)
+        q, m2 = rng.uniform(1e-4, 3e-3), rng.uniform(0.1, 2.0)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", UserWarning)
+            res = solve_impact(Body(SpringMass(1.0, k, damping_ratio=zeta),
+                                    vibration=[[-q, 0.0]]),
+                               Body(LumpedMass(m2), displacement=-q), contact=Rigid(),
+                               t_end=0.002, method="laplace")
+        assert res.contact_intervals[0][0] == 0.0 and res.dirac_impulses == ()
+        assert res.force[0] == pytest.approx(k * q * m2 / (1.0 + m2), rel=1e-8)
 
 
 def test_a_non_proportionally_damped_body_passes_the_energy_audit():
