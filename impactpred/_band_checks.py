@@ -191,10 +191,10 @@ def warn_unsettled(check, figures, bodies=()) -> list:
     return names
 
 
-def band_reach(result, fits, notes, band_tolerance, lower, record=None) -> tuple:
+def band_reach(result, fits, notes, band_tolerance, lower, record) -> tuple:
     """Per identified body, the shares of the force's energy above and below its band
-    (None for the other bodies; read from ``record``, :func:`resolved_force`'s, where
-    given), with a :class:`BandWarning` for each above
+    (None for the other bodies; read from ``record``, :func:`resolved_force`'s), with a
+    :class:`BandWarning` for each above
     ``band_tolerance``: above, always; below, where the model has a term standing for
     what lies below the band and more than it is trusted with lies there (``lower``: per
     body, ``(words, share, vouched)`` naming that term, the share of the energy it is
@@ -202,7 +202,6 @@ def band_reach(result, fits, notes, band_tolerance, lower, record=None) -> tuple
     ``impactpred.predict._lower_terms``), or, for a term the band does not vouch for,
     where the run goes on after the first contact past a quarter period of the band's
     bottom (:func:`_outlasts_band_bottom`)."""
-    record = result if record is None else record
     above: list[float | None] = []
     below: list[float | None] = []
     for i, (fit, note, (terms, trusted, vouched)) in enumerate(zip(fits, notes, lower)):

@@ -112,11 +112,10 @@ def caveats(result, bodies, *, t_end: float, start_gap: float, time_stepping: bo
                     f"still closed at t_end = {t_end:.6g} s: no restitution (None), and the "
                     "figures after it describe the bodies pressed together; a longer t_end "
                     "shows whether they separate")
-    elif result.restitution is not None and _closing_at_end(result):
-        w1, w2 = result.velocities_at_end or result.velocities_after
+    elif result.restitution is not None and (closing := _closing_at_end(result)):
         said.append(f"the bodies still approach after the last contact (ended at "
                     f"{result.contact_intervals[-1][1]:.6g} s): their rigid motion closes "
-                    f"the gap at {w1 - w2:.6g} m/s at t_end (restitution "
+                    f"the gap at {closing:.6g} m/s at t_end (restitution "
                     f"{result.restitution:.4g}), so another contact follows after t_end = "
                     f"{t_end:.6g} s and the figures after the impact are not final; a "
                     "longer t_end reaches its end")
@@ -192,12 +191,13 @@ def _plastic_truncation(result, bodies, contact, energy_scale) -> str | None:
             "lumped system's plastic impacts are its own")
 
 
-def _closing_at_end(result) -> bool:
-    """Whether the bodies' rigid motion closes the gap at ``t_end`` after the last contact
-    (at the velocities there: a load keeps changing them after the contact)."""
+def _closing_at_end(result) -> float | None:
+    """The speed (m/s) at which the bodies' rigid motion closes the gap at ``t_end`` after
+    the last contact (at the velocities there: a load keeps changing them after the
+    contact), or None where it does not."""
     u1, u2 = result.velocities_before
     w1, w2 = result.velocities_at_end or result.velocities_after
-    return w1 - w2 > _ROUND_OFF * (u1 - u2)
+    return w1 - w2 if w1 - w2 > _ROUND_OFF * (u1 - u2) else None
 
 
 def _no_contact(bodies, t_end, start_gap) -> str:

@@ -330,11 +330,12 @@ def solve_laplace(bodies, gap0, contact, t_end, dt, *, notes=(), receptance_scal
     # contact starts (a Dirac where they approach; held where they press) (the gap at
     # t = 0 is gap0 plus what the bodies' initial displacements and loads open or close)
     # (a relative velocity within the rounding of its terms is zero)
-    v_rel, v_terms = float(cg_powers[0] @ Xa), float(np.abs(cg_powers[0]) @ np.abs(Xa))
-    in_contact = bool(n) and float(gap_row @ Xa) <= tol_g and v_rel <= 1e-12 * v_terms
+    v_rel = float(cg_powers[0] @ Xa)
+    still = abs(v_rel) <= 1e-12 * float(np.abs(cg_powers[0]) @ np.abs(Xa))
+    in_contact = bool(n) and float(gap_row @ Xa) <= tol_g and (v_rel < 0.0 or still)
     raw = run_contact(free, stuck, Xa, in_contact=in_contact, rules=rules, t_end=t_end,
                       step=step, out_step=out_step, gap0=gap0)
-    if in_contact and v_rel >= -1e-12 * v_terms and raw.diracs and raw.diracs[0][0] == 0.0:
+    if in_contact and still and raw.diracs and raw.diracs[0][0] == 0.0:
         # a Dirac at t = 0 of a relative velocity within rounding is rounding (1e-21 N s):
         # not reported, nor the touch it alone would make
         raw.diracs = raw.diracs[1:]
