@@ -525,6 +525,38 @@ def test_a_stiff_spring_contact_started_at_its_located_gap_is_not_released_at_on
     assert exact.total_impulse == pytest.approx(stepped.total_impulse, rel=1e-6)
 
 
+def test_a_spring_contact_pressed_at_rest_starts_at_once():
+    """A 1 kg mass on a 1e4 N/m spring, displaced 1 mm into a 0.5 kg mass touching it, both
+    at rest, through a 1e6 N/m contact spring: the force and its rate are 0 at t = 0 and
+    the contact holds (releasing it opens no gap: the free gap closes at once). The rule
+    had released it; the run flew free until the gap passed its tolerance and began the
+    contact 1.4e-7 s late. Now from 0 to the force's first zero of the exact 2-DOF motion
+    (matrix exponential), to 1e-9."""
+    from scipy.linalg import expm
+    from scipy.optimize import brentq
+
+    m1, k1, m2, kc, q = 1.0, 1e4, 0.5, 1e6, 1e-3
+    a = np.array([[0.0, 0.0, 1.0, 0.0], [0.0, 0.0, 0.0, 1.0],
+                  [-(k1 + kc) / m1, kc / m1, 0.0, 0.0], [kc / m2, -kc / m2, 0.0, 0.0]])
+
+    def force(t):
+        y1, y2 = (expm(a * t) @ [-q, -q, 0.0, 0.0])[:2]
+        return kc * (y1 - y2)
+
+    grid = np.linspace(1e-5, 5e-3, 500)
+    first_negative = np.argmax([force(t) < 0.0 for t in grid])
+    end = brentq(force, grid[first_negative - 1], grid[first_negative], xtol=1e-15)
+    res = solve_impact(Body(SpringMass(m1, k1), vibration=[[-q, 0.0]]),
+                       Body(LumpedMass(m2), displacement=-q), contact=LinearSpring(kc),
+                       t_end=end * 1.01, method="laplace")
+    assert not res.dirac_impulses
+    assert res.contact_intervals[0][0] == 0.0
+    assert res.contact_intervals[0][1] == pytest.approx(end, rel=1e-9)
+    inside = res.t < end
+    np.testing.assert_allclose(res.force[inside], [force(t) for t in res.t[inside]],
+                               rtol=1e-7, atol=1e-9 * kc * q)
+
+
 @pytest.mark.parametrize("gap", [0.0, 1e-3])
 @pytest.mark.parametrize("stiffness", [1e9, 1e14, 1e15, 1e16])
 def test_a_very_stiff_spring_between_two_masses_is_exact(stiffness, gap):

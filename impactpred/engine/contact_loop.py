@@ -56,11 +56,18 @@ def free_lobe_height(x, cg_powers):
     """Largest gap (m) a free flight from ``x`` opens before closing (cubic Taylor form).
 
     ``cg_powers`` (3, n): the rows of the gap's first three time derivatives in free flight
-    (on the state ``x``: the augmented one, loads included).
+    (on the state ``x``: the augmented one, loads included). Bodies pressed together at
+    rest (the gap's rate 0 within the rounding of its terms, the first derivative beyond
+    rounding closing it) open no gap: 0.
     """
     g1 = np.dot(cg_powers[0], x)
     g2 = np.dot(cg_powers[1], x)
     g3 = np.dot(cg_powers[2], x)
+    r1 = 1e-12 * np.dot(np.abs(cg_powers[0]), np.abs(x))
+    r2 = 1e-12 * np.dot(np.abs(cg_powers[1]), np.abs(x))
+    r3 = 1e-12 * np.dot(np.abs(cg_powers[2]), np.abs(x))
+    if abs(g1) <= r1 and (g2 < -r2 or (abs(g2) <= r2 and g3 < -r3)):
+        return 0.0
     if g3 >= 0.0:
         return np.inf            # the cubic does not close again: a real opening
     disc = g2 * g2 - 2.0 * g3 * g1   # g'(tau) = g1 + g2 tau + g3 tau^2 / 2 = 0
@@ -105,7 +112,10 @@ def contact_start(xa, rho, coef, bf, jdx, force_row, force_rate_row, cg_powers, 
     if rho <= 0:
         f_tol += tol_g / abs(coef) + 1e-12 * np.dot(np.abs(force_row), np.abs(xa))
     holds = f0 > f_tol or (f0 > -f_tol and df0 > 0.0)
-    if not holds and df0 > 0.0 and free_lobe_height(xa, cg_powers) <= tol_g:
+    # (releasing would open the gap by no more than rounding: a force below zero but
+    # rising, or bodies pressed together at rest, the force and its rate 0)
+    rate_tol = 1e-12 * np.dot(np.abs(force_rate_row), np.abs(xa))
+    if not holds and df0 >= -rate_tol and free_lobe_height(xa, cg_powers) <= tol_g:
         holds = True
     return impulse, holds
 
