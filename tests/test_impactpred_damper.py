@@ -261,6 +261,39 @@ def test_result_is_immutable_and_continues():
     assert d.replace(clearance=3e-3).clearance == 3e-3
 
 
+def test_a_run_continued_where_the_changed_damper_cannot_hold_its_mass_is_refused():
+    """``simulate(initial=...)`` accepts a changed damper (a frequency step); a changed
+    clearance or contact law could leave the mass where its new stops cannot hold it,
+    and the run had it jump at its first event (0.6 mm in no time, 44 impacts per cycle;
+    stuck 1 mm off its stop with a force of -1.4 N) or crashed with an AttributeError deep
+    in the engine. Refused, naming the mass's position and the stops."""
+    primary = SpringMass(2.0, 2.0 * (2 * np.pi * 10) ** 2, damping_ratio=0.02)
+    free = ImpactDamper(primary, damper_mass=0.2, clearance=1e-3,
+                        contact=InstantaneousImpact(0.6), excitation=HarmonicForce(2.0, 10.5))
+    run = free.simulate(37)
+    rel = run.damper[-1] - run.primary[-1]
+    assert run.final_state.mode == "free" and 1e-4 < abs(rel) < 1e-3
+    with pytest.raises(ValueError, match=r"^initial puts the damper mass -?0\.000\d+ m from "
+                                         r"the middle .* in free flight past this damper's "
+                                         r"stops at \+-0\.0001 m"):
+        free.replace(clearance=1e-4).simulate(3, initial=run)
+    wider = free.replace(clearance=1e-2).simulate(3, initial=run)      # inside: continues
+    assert wider.damper[0] - wider.primary[0] == pytest.approx(rel, rel=1e-9)
+    stuck = ImpactDamper(primary, damper_mass=0.2, clearance=0.0, contact=Rigid(),
+                         excitation=HarmonicForce(2.0, 10.5)).simulate(5)
+    assert stuck.final_state.mode == "stuck"
+    with pytest.raises(ValueError, match=r"stuck on the (lower|upper) stop, which this "
+                                         r"damper puts at [-]?0\.001 m"):
+        free.simulate(3, initial=stuck)
+    spring = ImpactDamper(primary, damper_mass=0.2, clearance=3e-4,
+                          contact=LinearSpring(2e4, damping=5.0),
+                          excitation=HarmonicForce(2.0, 11.0)).simulate(50)
+    assert spring.final_state.mode == "spring"
+    with pytest.raises(ValueError, match=r"^initial ended inside a contact \('spring' phase .*"
+                                         r"of another contact law than this damper's Rigid"):
+        free.replace(contact=Rigid(), clearance=3e-4).simulate(3, initial=spring)
+
+
 @pytest.mark.parametrize("contact, split", [(Rigid(), 50), (LinearSpring(2e4, damping=5.0), 50)])
 def test_a_split_run_lists_each_impact_once(contact, split):
     # split while stuck (rigid) or inside a spring contact: the impact in progress is
@@ -624,6 +657,22 @@ def test_near_resonance_the_rounding_error_is_said(offset):
         assert any("rounding error" in str(w.message) for w in said)
     with pytest.raises(ValueError, match="no term for the resonant growth"):
         d.replace(excitation=HarmonicForce(F0, 1.0)).simulate(1)
+
+
+def test_a_grazing_stall_within_rounding_of_a_resonance_names_the_frequency():
+    """A mass held at clearance 0 on an undamped 10 Hz primary forced 1e-12 above 10 Hz:
+    the free-flight phase's response is rounded to 2e-4 of itself and the side switches
+    cannot be decided; the stall's message named no cause. It now names the frequency,
+    its distance to the mode and the way out."""
+    M = 2.0
+    d = ImpactDamper(SpringMass(M, M * (2 * np.pi * 10) ** 2), damper_mass=0.2, clearance=0.0,
+                     contact=Rigid(), excitation=HarmonicForce(2.0, 10 * (1 + 1e-12)))
+    with pytest.raises(RuntimeError, match=r"without time advancing .* the excitation "
+                                           r"frequency 10\.0000000000100\d* Hz lies within a "
+                                           r"relative 1e-12 of an undamped mode of a phase, "
+                                           r"where the response is rounded to 0\.0002\d of "
+                                           r"itself: move the frequency off the mode"):
+        d.simulate(100)
 
 
 def test_the_amplitude_of_samples_too_far_apart_is_theirs_and_said():

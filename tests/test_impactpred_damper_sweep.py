@@ -391,12 +391,20 @@ def test_real_damper_mass_ratio_axis_sets_the_damper_mass():
 
 
 def test_real_damper_failing_combination_names_it():
-    # undamped primary forced exactly at its natural frequency: simulate raises
+    """Undamped primary forced exactly at its natural frequency, which ``simulate`` refuses
+    (no resonant-growth term in the closed form); a grid such as ``linspace(8, 12, 9)``
+    holds 10.0 exactly. The sweep ran its tasks and failed mid-way, nothing stored; now
+    the combination is named before any task runs (this executor fails every task), with
+    the way out."""
     damper = real_damper(damping_ratio=0.0)
-    with pytest.raises(SweepError, match=r"freq_hz=10, clearance=0\.005 failed.*"
-                                         r"coincides") as info:
-        sweep(damper, freq_hz=[9.0, 10.0], clearance=[5e-3], n_cycles=5, progress=False)
+    with pytest.raises(SweepError, match=r"freq_hz=10, clearance=0\.005 is invalid: "
+                                         r"ValueError: the excitation frequency 10\.0 Hz "
+                                         r"coincides with an undamped mode .* move the "
+                                         r"frequency off the mode") as info:
+        sweep(damper, freq_hz=np.linspace(8, 12, 9), clearance=[5e-3], n_cycles=5,
+              executor=BrokenExecutor(), progress=False)
     assert isinstance(info.value.__cause__, ValueError)
+    assert info.value.combination == {"freq_hz": 10.0, "clearance": 5e-3}
 
 
 def test_real_damper_contact_stiffness_refused_for_instantaneous_impact():

@@ -435,7 +435,10 @@ def masri_caughey(*, primary_mass, damper_mass, stiffness, force_amplitude, freq
             continue
         x0, u, w = -c - 0.5 * np.pi * W, r * W * (P - mu), r * W
         if not _no_intermediate_contact(x0, u, w, phi, r, c):
-            reasons.append("a root has an intermediate contact during the flight")
+            reasons.append("a root has an intermediate contact during the flight" + (
+                " (with restitution 0 the mass leaves the stop at zero relative velocity: "
+                "where the primary presses it, it sticks there, which this closed form "
+                "does not model; ImpactDamper.simulate does)" if e == 0.0 else ""))
             continue
         amp = _amplitude(x0, u, phi, r)
         mult = _multipliers(mu, r, c, e, phi, x0, u, w, max(amp, c, 1e-300))

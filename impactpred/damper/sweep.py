@@ -291,8 +291,11 @@ def sweep(damper, *, freq_hz=None, mass_ratio=None, clearance=None, contact_stif
         the value); no axis at all; ``contact_stiffness`` with a contact law without
         stiffness.
     SweepError
-        A combination failed (``simulate`` raised, or the executor failed its task): the
-        message names the combination, the original exception is chained. Pending tasks
+        A combination is invalid (the damper's ``replace`` refuses it, or its phases
+        cannot be built: an excitation frequency on an undamped mode, of the primary or of
+        the primary with the mass stuck to it), found before any run; or a combination
+        failed (``simulate`` raised, or the executor failed its task): the message names
+        the combination, the original exception is chained. Pending tasks
         are cancelled; no partial table is returned (with ``store``, the rows finished
         so far are in it, and a new call resumes from them).
 
@@ -342,10 +345,17 @@ def sweep(damper, *, freq_hz=None, mass_ratio=None, clearance=None, contact_stif
     if chunksize is not None:
         chunksize = as_count("chunksize", chunksize, minimum=1)
     combinations = _grid(axes)
-    # fail early, in the caller's process, on a combination replace() refuses
+    # fail early, in the caller's process, on a combination replace() refuses or whose
+    # phases cannot be built (a frequency on an undamped mode of the primary or of the
+    # primary with the mass stuck to it): one engine per design, the clearance aside
+    built = set()
     for combination in combinations:
         try:
-            damper.replace(**_changes(damper, combination))
+            candidate = damper.replace(**_changes(damper, combination))
+            design = tuple(v for name, v in combination.items() if name != "clearance")
+            if design not in built and hasattr(candidate, "engine"):
+                built.add(design)
+                candidate.engine()
         except Exception as exc:
             raise SweepError(f"sweep: the combination {_describe(combination)} is invalid: "
                              f"{type(exc).__name__}: {exc}", [combination]) from exc

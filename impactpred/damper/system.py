@@ -234,6 +234,36 @@ class ImpactDamper:
         x[eng.iy], x[eng.iv] = y_p + y_d, v_d
         return DamperState(t0, x, "free", 0)
 
+    def _check_start(self, eng, state):
+        """Refuse a start (a run continued on a changed damper) that puts the damper mass
+        where this damper's stops cannot hold it: past a stop in free flight, off its stop
+        stuck, or inside a contact of another law (its motion would jump at the first
+        event)."""
+        laws = {"stuck": (Rigid, InstantaneousImpact), "spring": LinearSpring,
+                "pen": LinearSpring, "hertz": Hertz}
+        mode, side, c = state.mode, state.side, self.clearance
+        if mode in laws and not isinstance(self.contact, laws[mode]):
+            raise ValueError(f"initial ended inside a contact ({mode!r} phase on the "
+                             f"{'upper' if side > 0 else 'lower'} stop) of another contact law "
+                             f"than this damper's {type(self.contact).__name__}: continue it "
+                             "with the law it ended in, or start from initial_state()")
+        xa = eng.augmented(np.asarray(state.state, dtype=float), float(state.time))
+        rel = float(eng.r0 @ xa)       # y_d - y_p (without a flexibility's share of the force)
+        tol = 1e-9 * (c + float(np.abs(eng.r0) @ np.abs(xa)))
+        where = (f"initial puts the damper mass {rel:.6g} m from the middle of the clearance "
+                 f"(y_d - y_p)")
+        fix = (" (the run it continues had another clearance): continue from "
+               "initial_state(), or with the clearance it ended in")
+        if mode == "free" and abs(rel) > c + tol:
+            raise ValueError(f"{where}, in free flight past this damper's stops at +-{c:.6g} "
+                             f"m{fix}")
+        if mode == "stuck" and eng.rho >= 1 and abs(side * rel - c) > tol:
+            raise ValueError(f"{where}, stuck on the {'upper' if side > 0 else 'lower'} stop, "
+                             f"which this damper puts at {side * c:.6g} m{fix}")
+        if mode in ("spring", "pen", "hertz") and -side * rel > c + tol:
+            raise ValueError(f"{where}, in contact on the {'upper' if side > 0 else 'lower'} "
+                             f"stop but past the other one at {-side * c:.6g} m{fix}")
+
     # ------------------------------------------------------------------ simulation
     def simulate(self, n_cycles, *, initial=None, samples_per_cycle=32,
                  progress=False) -> DamperResult:
@@ -264,7 +294,10 @@ class ImpactDamper:
         Raises
         ------
         ValueError
-            More than ``MAX_OUTPUT_SAMPLES`` output samples asked for.
+            More than ``MAX_OUTPUT_SAMPLES`` output samples asked for; an ``initial``
+            state this damper cannot continue (a run on another clearance that ended with
+            the damper mass past a stop or stuck off it, or inside a contact of another
+            law), naming the mass's position and the stops.
         RuntimeError
             Contact events repeat without time advancing (an undecidable grazing contact,
             or elastic impacts between stops that coincide to rounding), or more than
@@ -290,6 +323,7 @@ class ImpactDamper:
         if state.state.shape != (eng.n,):
             raise ValueError(f"initial has {state.state.size} states, this damper's engine "
                              f"{eng.n}: it comes from another primary")
+        self._check_start(eng, state)
         start = EngineState(state.time, state.state, state.mode, state.side,
                             state.open_impact)
         raw = run(eng, start=start, n_cycles=n_cycles, samples_per_cycle=spc,

@@ -42,6 +42,12 @@ def stall_error(eng, t, phase):
         hint = (f"; with restitution 1 an impact between stops that coincide to rounding "
                 f"(clearance {eng.c!r} m) rebounds into the other stop for ever: use a "
                 f"restitution below 1 or a larger clearance")
+    near = float(np.finfo(float).eps) / max(eng.resonance_error(), 1e-300)
+    if near < 1e-6:     # the phases' rounding, eps / near, decides the grazing contacts
+        hint += (f"; the excitation frequency {eng.omega / (2 * np.pi)!r} Hz lies within a "
+                 f"relative {near:.2g} of an undamped mode of a phase, where the response "
+                 f"is rounded to {eng.resonance_error():.2g} of itself: move the frequency "
+                 f"off the mode or give it some damping")
     return RuntimeError(f"contact events repeat without time advancing at t = {float(t)!r} s "
                         f"({phase} phase): the contact state cannot be decided (grazing)"
                         + hint)
