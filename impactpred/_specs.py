@@ -179,7 +179,7 @@ def identify(spec, *, quantity=None, estimator=None, read_options=None, check_pa
     if isinstance(spec, (Receptance, MultiOutputModalModel)):
         return spec, None
     if isinstance(spec, SavedFit):
-        return None, spec
+        return None, _refuse_transfer_fit(spec, label)
     if _in_memory(spec):
         return None, _in_memory_fit(spec, quantity=quantity, estimator=estimator,
                                     read_options=read_options, check_passive=check_passive,
@@ -205,7 +205,8 @@ def identify(spec, *, quantity=None, estimator=None, read_options=None, check_pa
                          f"({', '.join(k + ':...' for k in _SPECS)})")
     if path.suffix.lower() == ".json":
         saved = _saved_model(path)
-        return (None, saved) if isinstance(saved, SavedFit) else (saved, None)
+        return ((None, _refuse_transfer_fit(saved, f"{label}{path}: "))
+                if isinstance(saved, SavedFit) else (saved, None))
     options = _read_options(read_options, quantity)
     data = _checked_frf(path, options, label=label, check_passive=check_passive)
     if getattr(estimator, "passive", "auto") is not True:
@@ -228,6 +229,21 @@ def _refuse_transfer_record(path, options, label) -> None:
                      "the contact point); give the record measured there (index=N), or, if "
                      "its DOFs are written wrong, fit it as a driving point (passive=True)"
                      .format(label, path, options.get("index") or 0, *dofs_text(record)))
+
+
+def _refuse_transfer_fit(saved, label):
+    """``saved``, unless its UFF record's DOFs say a transfer FRF (as
+    :func:`_refuse_transfer_record` refuses the record itself: its data may look
+    passive)."""
+    if not saved.dofs_say_transfer:
+        return saved
+    r_node, r_dir, f_node, f_dir = saved.record_dofs
+    raise ValueError(f"{label}the saved fit of {saved.source or 'a UFF record'} is of the "
+                     f"response at {r_node}{r_dir:+d} to a force at {f_node}{f_dir:+d}, a "
+                     "transfer FRF by its record's DOFs: a body needs its driving-point FRF "
+                     "(force and response at the contact point); fit the record measured "
+                     "there, or, if its DOFs are written wrong, fit it again as a driving "
+                     "point (passive=True) and save that fit")
 
 
 def _in_memory_fit(spec, *, quantity, estimator, read_options, check_passive, label):

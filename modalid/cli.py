@@ -56,9 +56,10 @@ def _print_report(args, data, report, window=None) -> None:
 
 
 def _save_fit(fit, out: Path, stem: str, source: str, *, several: bool = False,
-              body: bool = True) -> None:
+              body: bool = True, record=None) -> None:
     import matplotlib
 
+    from ._uff import dofs_text
     from .saved_fit import SavedFit
 
     matplotlib.use("Agg")
@@ -67,7 +68,12 @@ def _save_fit(fit, out: Path, stem: str, source: str, *, several: bool = False,
     out.mkdir(parents=True, exist_ok=True)
     # the model with the fit's band, verdict and decisions: a prediction uses it as it
     # uses the FRF file's fit (the bare model would be used raw, without its band)
-    SavedFit.from_fit(fit, source=source).to_json(out / f"{stem}_model.json")
+    # (with the UFF record's DOFs: a transfer record by them is refused as a body)
+    dofs = None if record is None else tuple(
+        int(record[k]) for k in ("response_node", "response_dir", "reference_node",
+                                 "reference_dir"))
+    saved = SavedFit.from_fit(fit, source=source, record_dofs=dofs)
+    saved.to_json(out / f"{stem}_model.json")
     coherence = getattr(fit.data_, "coherence", None) is not None
     rows = 3 if coherence else 2                  # magnitude, phase (, coherence)
     # constrained layout: the chart's legend above it takes its own room, not a gap
@@ -78,7 +84,11 @@ def _save_fit(fit, out: Path, stem: str, source: str, *, several: bool = False,
     fit.plot_stabilization(ax=axes[rows])
     fig.savefig(out / f"{stem}_fit.png", dpi=110)
     plt.close(fig)
-    if not several:
+    if not several and saved.dofs_say_transfer:
+        use = (f"the fit of a transfer FRF by its record's DOFs (response {dofs_text(record)[0]}, "
+               f"force {dofs_text(record)[1]}): impactpred predict refuses it as a body, as it "
+               f"refuses {source}")
+    elif not several:
         use = f"the fit: impactpred predict takes it in place of {source}, with the same results"
     elif body:
         use = "the common-pole fit: impactpred predict takes it as a body, its driving row's model"
@@ -93,6 +103,8 @@ def _cmd_fit(args) -> int:
     from ._sign import check_sign
     from .fit import ModalFit
     from .io import read_frf
+    from ._uff import dofs_text, says_transfer
+    from .io_set import uff_record
 
     out = check_out_dir(args.out)                 # before any work
     fit = ModalFit(progress=True, **fit_options(args))    # a wide band: one line a segment
@@ -131,6 +143,15 @@ def _cmd_fit(args) -> int:
         _warn(w.message)
     report = fit.report_
     _print_report(args, data, report, window_line(fit))
+    # the record's DOFs go with the fit, unless it was fitted as a driving point as
+    # asserted (--driving-point yes: DOFs written wrong)
+    record = (None if several or fit.passive is True
+              else uff_record(paths[0], read_options(args, paths[0])))
+    if record is not None and says_transfer(record) and report.get("driving_point"):
+        _warn("the record's DOFs (response {}, force {}) say a transfer FRF, though its "
+              "data look like a driving point's: impactpred predict refuses it as a body "
+              "(if the DOFs are written wrong, fit it with --driving-point yes)"
+              .format(*dofs_text(record)))
     if several:
         print_shapes(fit)
     stem = Path(paths[0]).stem + ("_set" if several else "")
@@ -139,7 +160,7 @@ def _cmd_fit(args) -> int:
     else:
         body = not several or bool(report["driving_row_is_driving_point"])
         _save_fit(fit, out, stem, Path(args.file).name if not several else args.file,
-                  several=several, body=body)
+                  several=several, body=body, record=record)
     if report["verdict"] == "failed":
         fix = (f"; {in_flags(sign.problem(named))}" if sign.verdict != "ok" else "")
         print(f"{args.file}: the fit failed (see the verdict); try --fmin/--fmax, "

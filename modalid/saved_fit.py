@@ -166,11 +166,18 @@ class SavedFit:
         cannot hold.
     source : str or None
         The data the fit was made on (e.g. the FRF file's name), as given.
+    record_dofs : tuple of 4 int or None
+        The DOFs of the UFF record fitted, ``(response_node, response_dir,
+        reference_node, reference_dir)`` as stored (``modalid fit`` keeps them), or None
+        (another kind of file, or not given). Where they say a transfer FRF
+        (:attr:`dofs_say_transfer`) ``impactpred.predict`` refuses the fit as an impact
+        body, as it refuses the record itself, whatever its data look like.
     """
 
     model_: ModalModel | MultiOutputModalModel
     report_: FitReport
     source: str | None = None
+    record_dofs: tuple | None = None
 
     def __post_init__(self):
         if not isinstance(self.model_, (ModalModel, MultiOutputModalModel)):
@@ -180,12 +187,31 @@ class SavedFit:
             raise TypeError(f"report_ must be a FitReport, got {type(self.report_).__name__}")
         if self.source is not None and not isinstance(self.source, str):
             raise TypeError(f"source must be a string or None, got {self.source!r}")
+        if self.record_dofs is not None:
+            dofs = tuple(self.record_dofs)
+            if len(dofs) != 4 or not all(isinstance(d, (int, np.integer))
+                                         and not isinstance(d, bool) for d in dofs):
+                raise ValueError("record_dofs must be None or 4 integers (response node, "
+                                 f"its direction, reference node, its direction), got "
+                                 f"{self.record_dofs!r}")
+            object.__setattr__(self, "record_dofs", tuple(int(d) for d in dofs))
         checked = _checked_report(dict(self.report_), "SavedFit", _n_outputs(self.model_))
         if not isinstance(self.report_["band_hz"], tuple):     # e.g. an array: a tuple
             object.__setattr__(self, "report_", self.report_.replace(band_hz=checked["band_hz"]))
 
+    @property
+    def dofs_say_transfer(self) -> bool:
+        """Whether :attr:`record_dofs` say the record is a transfer FRF (response and
+        force at other nodes or along other axes; False without them)."""
+        from ._uff import says_transfer
+
+        if self.record_dofs is None:
+            return False
+        return says_transfer(dict(zip(("response_node", "response_dir", "reference_node",
+                                       "reference_dir"), self.record_dofs)))
+
     @classmethod
-    def from_fit(cls, fit, *, source=None) -> SavedFit:
+    def from_fit(cls, fit, *, source=None, record_dofs=None) -> SavedFit:
         """The model and report of a fitted :class:`~modalid.ModalFit` (copied: refitting
         ``fit`` changes nothing here).
 
@@ -195,6 +221,8 @@ class SavedFit:
             A fitted estimator (FRF or FRF-set fit with a band: ``report_["band_hz"]``).
         source : str or os.PathLike, optional, keyword-only
             What the fit was made on, e.g. the FRF file (kept as a string).
+        record_dofs : tuple of 4 int, optional, keyword-only
+            The DOFs of the UFF record fitted (see :attr:`record_dofs`).
 
         Returns
         -------
@@ -218,7 +246,7 @@ class SavedFit:
         entries = {name: (value.copy() if isinstance(value, pd.DataFrame) else value)
                    for name, value in fit.report_.items()}
         return cls(model_=model, report_=FitReport(entries),
-                   source=None if source is None else str(source))
+                   source=None if source is None else str(source), record_dofs=record_dofs)
 
     def to_json(self, path=None) -> str:
         """The model's JSON (as ``model_.to_json()`` writes it) with the report beside it,
@@ -249,6 +277,8 @@ class SavedFit:
             except TypeError:
                 continue                      # not JSON: left out (see the docstring)
         payload[_KEY] = {"source": self.source, "report": report}
+        if self.record_dofs is not None:
+            payload[_KEY]["record_dofs"] = list(self.record_dofs)
         text = json.dumps(payload, indent=1)
         if path is not None:
             Path(path).write_text(text)
@@ -307,5 +337,11 @@ class SavedFit:
             entries["modes"] = _modes_table(entries["modes"], label)
         entries = _checked_report(entries, label, _n_outputs(model))
         where = block.get("source")
+        dofs = block.get("record_dofs")
+        if dofs is not None and not (isinstance(dofs, list) and len(dofs) == 4
+                                     and all(type(d) is int for d in dofs)):
+            raise ValueError(f"{label}: its identification's record_dofs must be 4 integers "
+                             f"or absent, got {str(dofs)[:80]!r}")
         return cls(model_=model, report_=FitReport(entries),
-                   source=where if isinstance(where, str) else None)
+                   source=where if isinstance(where, str) else None,
+                   record_dofs=None if dofs is None else tuple(dofs))

@@ -187,14 +187,14 @@ def test_predict_reads_bare_complex_lines_and_takes_the_fit_flags(two_mode_accel
     assert main(args + lines) == 0
     out = capsys.readouterr().out
     assert f"body 2: identified from {path} (1-40 Hz," in out
-    assert "continuation: body 2: off (auto: 0.04 % of the force's energy above the band)" \
+    assert "continuation: body 2: off (auto: 0.03 % of the force's energy above the band)" \
         in out                                     # a soft contact: the force keeps to it
     assert out.splitlines()[-1] == ("nothing saved (--out DIR writes force_motion.csv, "
                                     "summary.csv, energy.csv and impact.png)")
     assert main(args + lines + ["--fmax", "18", "--n-modes", "1", "--fit-method", "vf"]) == 0
     out = capsys.readouterr().out
     assert f"body 2: identified from {path} (1-17.99 Hz," in out   # the last line below 18
-    assert ("continuation: body 2: on, above 17.99 Hz (auto: 0.35 % of the force's energy "
+    assert ("continuation: body 2: on, above 17.99 Hz (auto: 0.29 % of the force's energy "
             "lay above the band without it)") in out
 
 

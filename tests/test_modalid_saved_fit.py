@@ -151,3 +151,25 @@ def test_bad_input_is_named(rod_fit, tmp_path):
     path.write_text(json.dumps(scaled))
     with pytest.raises(ValueError, match=r"mm\.json: a saved fit's report is in SI units"):
         SavedFit.from_json(path)
+
+
+def test_a_uff_record_s_dofs_go_with_the_fit(rod_fit, tmp_path):
+    """``record_dofs`` (what ``modalid fit --out`` keeps of a UFF record) round-trip
+    through JSON; where they say a transfer FRF ``dofs_say_transfer`` is True (a driving
+    point along the opposite direction, a scalar direction at the reference's node and no
+    DOFs at all are not); malformed ones are refused, naming them."""
+    for dofs, transfer in [((2, 3, 1, 3), True), ((1, 2, 1, 3), True), ((1, -3, 1, 3), False),
+                           ((1, 0, 1, 3), False), (None, False)]:
+        saved = SavedFit.from_fit(rod_fit, source="rod.uff", record_dofs=dofs)
+        again = SavedFit.from_json(saved.to_json())
+        assert again.record_dofs == dofs and again.dofs_say_transfer is transfer
+    with pytest.raises(ValueError, match=r"record_dofs must be None or 4 integers .* got "
+                                         r"\(2, 3, 1\)"):
+        SavedFit.from_fit(rod_fit, record_dofs=(2, 3, 1))
+    payload = json.loads(SavedFit.from_fit(rod_fit, record_dofs=(2, 3, 1, 3)).to_json())
+    payload["identification"]["record_dofs"] = ["2", 3, 1, 3]
+    path = tmp_path / "dofs.json"
+    path.write_text(json.dumps(payload))
+    with pytest.raises(ValueError, match=r"dofs\.json: its identification's record_dofs must "
+                                         r"be 4 integers or absent"):
+        SavedFit.from_json(path)
