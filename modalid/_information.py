@@ -27,9 +27,11 @@ def select_by_information(omega, values, weights, candidates, terms: Terms, fixe
     (``n`` real data, four real parameters per mode) picks ``k``. One Cholesky
     factorisation of the Gram matrix gives every prefix's SSE. A noise pole lowers the
     SSE by about what its four parameters fit in noise, far less than the penalty; a
-    physical pole lowers it by orders of magnitude. With ``greedy`` the candidates are
-    not ranked beforehand: each step adds the one that lowers the SSE most (so of two
-    poles on one resonance only one is taken).
+    physical pole lowers it by orders of magnitude. From the chosen prefix, candidates
+    whose removal lowers the criterion are dropped one at a time (backward
+    elimination): noise poles ranked before a physical one the prefix had to take. With
+    ``greedy`` the candidates are not ranked beforehand: each step adds the one that
+    lowers the SSE most (so of two poles on one resonance only one is taken).
 
     Parameters
     ----------
@@ -122,13 +124,41 @@ def prefix_information(mat, y, n_head, n_candidates, *, per_candidate=2, n_param
     sse = np.maximum(sse_full + tail[sizes], floor)
     bic = n * np.log(sse / n) + n_params * np.arange(n_candidates + 1) * np.log(n)
     k = int(np.argmin(bic))
+    kept, x = _pruned(mat, gram, y, n_head, per_candidate, list(range(k)), n_params, floor)
     keep = np.zeros(n_candidates, bool)
-    keep[:k] = True
+    keep[kept] = True
     negative = np.zeros(n_candidates, bool)
-    if k and per_candidate == 2:
-        xk = solve_triangular(upper[:sizes[k], :sizes[k]], z[:sizes[k]]) / scale[:sizes[k]]
-        negative[:k] = xk[n_head + 1::2] > 0.0        # Im r > 0: negative modal mass
+    if kept and per_candidate == 2:
+        # Im r > 0: negative modal mass (the columns' scales are positive: signs kept)
+        negative[kept] = x[n_head + 1::2] > 0.0
     return keep & ~negative if passive else keep, bic, negative
+
+
+def _pruned(mat, gram, y, n_head, per, kept, n_params, floor):
+    """Backward elimination from the chosen prefix ``kept`` (candidate indices): drop,
+    one at a time, the candidate whose columns' removal raises the SSE least while that
+    lowers the criterion (``n ln(SSE'/SSE) < n_params ln n``). A prefix ranked by
+    persistence takes every candidate ranked before a physical pole ranked late, and
+    before it is in, each of them lowers the SSE by absorbing part of its resonance: a
+    noise-floored segment of a 0.05 Hz hammer FRF kept 19 poles where it has one mode,
+    and the refinement took 10 of them to noise lines (zeta 1e-5). Returns ``(kept,
+    x)``: the candidates kept and the least-squares solution on the head's and their
+    columns (scaled as ``mat``)."""
+    n = y.size
+    while True:
+        cols = list(range(n_head)) + [n_head + per * j + i for j in kept for i in range(per)]
+        inverse = np.linalg.inv(gram[np.ix_(cols, cols)])
+        x = inverse @ (mat[:, cols].T @ y)
+        if not kept:
+            return kept, x
+        sse = max(float(np.sum((y - mat[:, cols] @ x) ** 2)), floor)
+        rises = [float(x[g] @ np.linalg.solve(inverse[g, g], x[g]))
+                 for g in (slice(n_head + per * m, n_head + per * (m + 1))
+                           for m in range(len(kept)))]
+        weakest = int(np.argmin(rises))
+        if n * np.log((sse + max(rises[weakest], 0.0)) / sse) >= n_params * np.log(n):
+            return kept, x
+        kept = kept[:weakest] + kept[weakest + 1:]
 
 
 def _greedy_information(mat, gram, y, n_head, n_cand, per, n_params, floor, scale, passive):
