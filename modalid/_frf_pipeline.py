@@ -24,9 +24,10 @@ from ._report import (fit_report, local_misfit_inflation, misfit_notes, mode_std
 from ._segments import (MAX_PEAKS_ONE_FIT, MIN_SEGMENTED, default_order, distinct_peaks,
                         resonance_peaks, segment_poles)
 from ._low_end import LowEnd
-from ._lsfd import (Terms, design_matrix, evaluate, noise_level, place_upper_modes,
+from ._lsfd import (Terms, evaluate, noise_level, place_upper_modes,
                     refine_varpro, release_gain, split_coefficients)
 from ._vf import vector_fit_poles
+from ._segment_assembly import assemble, drop_idle_modes, refine_pseudo_modes
 from ._zero_start import hold_single
 from ._unresolved_damping import lift_single
 from ._window import nonnegative_mass_line, structure_model, windowed_receptance
@@ -281,15 +282,18 @@ class FRFPipeline(PoleChecks, LowEnd):
         """Refine ``poles`` into the model of ``frf`` and store it (``_store``).
         ``segment_std``: the poles come from segment fits (:mod:`modalid._segments`)
         with these standard deviations: they are held, and only the linear unknowns of
-        the whole band are fitted (:meth:`_assemble`); else :meth:`_refine_poles`."""
+        the whole band are fitted (:func:`modalid._segment_assembly.assemble`); else
+        :meth:`_refine_poles`."""
         omega, h = frf.omega, frf.values
         notes = []
         if segment_std is not None:
             poles, kinds, terms = self._start(omega, h, w, poles, cut)
             self._iterations, self._buffers = 0, {}
-            poles, x, info = self._assemble(omega, h, w, poles, kinds, terms, segment_std)
-            poles, kinds, x, info, segment_std = self._drop_idle_modes(
-                omega, h, w, poles, kinds, x, info, terms, segment_std, notes)
+            poles, x, info = assemble(self, omega, h, w, poles, kinds, terms, segment_std)
+            poles, kinds, x, info, segment_std = drop_idle_modes(
+                self, omega, h, w, poles, kinds, x, info, terms, segment_std, notes)
+            poles, x, info = refine_pseudo_modes(self, omega, h, w, poles, kinds, x, info,
+                                                 terms)
         else:
             poles, kinds, x, info, terms = self._refine_poles(omega, h, w, poles, cut, notes)
         if self._passive_on and not self.__dict__.get("_probe"):
@@ -399,60 +403,6 @@ class FRFPipeline(PoleChecks, LowEnd):
             poles, x, info = self._refine(omega, h, w, poles[~idle], kinds[~idle], terms)
             kinds = kinds[~idle]
         return poles, kinds, x, info
-
-    def _drop_idle_modes(self, omega, h, w, poles, kinds, x, info, terms, mode_std, notes):
-        """Segment fits' poles the passive fit of the whole band holds at zero modal mass
-        (``Im r`` at its bound 0): resonances of the other sign or noise the unconstrained
-        segment fits kept, which carry nothing in this FRF (reported as modes of infinite
-        modal mass, the verdict "failed"); and poles whose damping is not resolved (a
-        half-power bandwidth under a line, or a standard deviation from their segment over
-        half of it) that stand on no distinct peak of the data
-        (:func:`modalid._segments.distinct_peaks`, within two lines): a sharp mode shows as
-        such a peak, a noise line's fit does not. Dropped,
-        and the band assembled again without them (twice at most). Returns ``(poles,
-        kinds, x, info, mode_std)``."""
-        spacing = float(np.median(np.diff(omega)))
-        distinct = distinct_peaks(h, resonance_peaks(h))
-        for _ in range(2):
-            mode = kinds == "mode"
-            idle = mode & (split_coefficients(x, poles.size, terms)[0].imag >= 0
-                           if self._passive_on else False)
-            # its damping unresolved (narrower than a line, or its segment's standard
-            # deviation over half of it) and on no distinct peak of the data: a noise
-            # line's fit (a 0.05 Hz hammer FRF under a noise floor: 835.6 Hz, zeta 7e-6,
-            # 9300 kg, and 829.9 Hz, zeta 1.7e-4, 1600 kg, beside an 848 Hz mode of 0.5 kg)
-            unresolved = -2.0 * poles.real < spacing
-            unresolved[mode] |= mode_std[:, 0] > -0.5 * poles.real[mode]   # NaN: passes
-            sharp = mode & unresolved
-            lines = np.searchsorted(omega, np.abs(poles))
-            sharp &= np.array([not np.any(np.abs(distinct - k) <= 2) for k in lines])
-            why = np.where(idle, "no positive modal mass over the band",
-                           "its damping unresolved, on no distinct peak of the data")
-            idle |= sharp
-            if not idle.any():
-                break
-            notes += [f"dropped the pole at {abs(p) / (2 * np.pi):.6g} Hz: a segment's, {reason}"
-                      for p, reason in zip(poles[idle], why[idle])]
-            mode_std = mode_std[~idle[mode]]
-            poles, kinds = poles[~idle], kinds[~idle]
-            poles, x, info = self._assemble(omega, h, w, poles, kinds, terms, mode_std)
-        return poles, kinds, x, info, mode_std
-
-    def _assemble(self, omega, h, w, poles, kinds, terms, mode_std):
-        """The whole band's linear unknowns for held poles (segment fits' poles, the
-        pseudo-modes where :meth:`_start` placed them): one weighted linear least-squares
-        solve (passive when the constraint is on). The physical poles' standard deviations
-        are their segments' (``mode_std``, rows in the order of the physical poles);
-        the pseudo-modes' and the extra terms' are NaN."""
-        poles, x, info = self._linear_fit(omega, h, w, poles, terms)
-        self._final_weights = w
-        rows = np.full((poles.size, 4), np.nan)
-        rows[kinds == "mode"] = mode_std
-        n_extra = design_matrix(1j * omega[:1], np.zeros(0), terms).shape[1]
-        info.update(converged=True, std={"modes": rows, "extra": np.full(n_extra, np.nan)},
-                    message=f"poles from {self._segment_count} segment fits, held; residues "
-                            "and residual terms by linear least squares over the band")
-        return poles, x, info
 
     def _linear_fit(self, omega, h, w, poles, terms):
         """The linear unknowns for the poles held (one weighted least-squares solve, passive
