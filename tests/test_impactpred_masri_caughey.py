@@ -295,3 +295,17 @@ def test_a_forcing_far_below_the_natural_frequency_is_refused_naming_it():
         curve = masri_caughey_curve([0.005, 12.0], **kw)
     assert list(curve["exists"]) == [False, True] and np.isnan(curve["amplitude"][0])
     assert curve["frequency_ratio"].to_numpy() == pytest.approx([5e-4, 1.2])
+
+
+def test_at_restitution_0_a_root_rejected_for_sticking_says_so():
+    """mu 0.05, r 1.2, c* 3, e = 0: the stable motion sticks the mass to the stop after
+    each impact (2.6 ms, simulated), which the closed form does not model; its root is
+    rejected for an intermediate contact and the unstable one is shown. The note now says
+    why and where the sticking motion is computed."""
+    k = (2 * np.pi * 10.0) ** 2
+    s = masri_caughey(primary_mass=1.0, damper_mass=0.05, stiffness=k, force_amplitude=1.0,
+                      freq_hz=12.0, clearance=3.0 / k, restitution=0.0)
+    assert s.exists and not s.stable
+    assert any("with restitution 0 the mass leaves the stop at zero relative velocity: where "
+               "the primary presses it, it sticks there, which this closed form does not "
+               "model; ImpactDamper.simulate does" in note for note in s.notes)

@@ -115,6 +115,10 @@ def test_damper_plot_with_a_lasting_contact_force_on_a_level_twin():
     assert _legend_hides_nothing(ax) >= 3
     assert "contact force on the primary" in [t.get_text() for t in ax.get_legend().get_texts()]
     plt.close(ax.figure)
+    # no empty plot from a count that is not one (it drew empty curves)
+    for bad, kind in [(-3, ValueError), (0, ValueError), (2.5, TypeError)]:
+        with pytest.raises(kind, match="last_cycles must be"):
+            res.plot(last_cycles=bad)
 
 
 def test_damper_plot_of_instantaneous_impacts_has_no_force_axis():

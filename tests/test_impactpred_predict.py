@@ -810,7 +810,7 @@ def test_the_band_checks_own_band_warning_does_not_leak(monkeypatch):
     assert not any("left out of the band's spread" in w for w in words)
 
 
-def test_a_uff_record_whose_dofs_say_transfer_is_refused(tmp_path):
+def test_a_uff_record_whose_dofs_say_transfer_is_refused(tmp_path, capsys):
     """A free rod's accelerance as three UFF records: at the force's node (1+3/1+3), at
     another node (2+3/1+3, its values half: they look passive) and along the opposite
     direction (1-3/1+3, negated). The second predicted a restitution of 0.24 with no word;
@@ -844,8 +844,14 @@ def test_a_uff_record_whose_dofs_say_transfer_is_refused(tmp_path):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         assert modalid_main(["fit", str(paths[1]), "--out", str(tmp_path / "fit")]) == 0
+        said = capsys.readouterr()
         assert modalid_main(["fit", str(paths[1]), "--driving-point", "yes", "--out",
                              str(tmp_path / "told")]) == 0
+    assert ("warning: the record's DOFs (response 2+3, force 1+3) say a transfer FRF, though "
+            "its data look like a driving point's: impactpred predict refuses it as a body "
+            "(if the DOFs are written wrong, fit it with --driving-point yes)") in said.err
+    assert "the fit of a transfer FRF by its record's DOFs (response 2+3, force 1+3)" in said.out
+    assert "transfer" not in capsys.readouterr().err
     saved = tmp_path / "fit" / "b_model.json"
     with pytest.raises(ValueError, match=r"b_model\.json: the saved fit of b\.uff is of the "
                                          r"response at 2\+3 to a force at 1\+3, a transfer "

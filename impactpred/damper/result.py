@@ -10,6 +10,8 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from modalid.validation import as_count
+
 from ..contact import Hertz
 from ..points import PointResponse
 from ..result import _frozen
@@ -46,6 +48,10 @@ class DamperState:
         which lists it whole. A ``Hertz`` contact cut so restarts its time-stepping grid
         there: the continued run departs from the unsplit one by the stepping's error
         (5e-11 m in a 3e-4 m clearance), which a chaotic response may then grow.
+    clearance : float or None
+        The clearance (m) of the damper the state comes from (None: not known); a run
+        continued on another clearance is checked against it
+        (:meth:`ImpactDamper.simulate`).
     """
 
     time: float
@@ -53,6 +59,7 @@ class DamperState:
     mode: str
     side: int
     open_impact: Any = None
+    clearance: float | None = None
 
 
 @dataclass(frozen=True)
@@ -66,7 +73,8 @@ class DamperResult:
     primary, damper : ndarray, shape (n_samples,)
         Displacement (m) of the primary's driving point and of the damper mass.
     primary_velocity, damper_velocity : ndarray, shape (n_samples,)
-        Their velocities (m/s); after an event the value just after it.
+        Their velocities (m/s); at an event's time the value just before it (the sample
+        closes the phase the event ends; the samples after it follow the event).
     force : ndarray, shape (n_samples,)
         Contact force on the primary along ``+y`` (N): positive at the upper stop,
         negative at the lower one. Dirac parts are only in ``impacts``.
@@ -201,7 +209,7 @@ class DamperResult:
         ----------
         ax : matplotlib Axes, optional
         last_cycles : int, keyword-only, optional
-            Plot only the last cycles (default: all).
+            Plot only the last cycles, >= 1 (default: all).
 
         Returns
         -------
@@ -214,6 +222,8 @@ class DamperResult:
 
         if ax is None:
             _, ax = plt.subplots(figsize=(8, 3.5))
+        if last_cycles is not None:      # not an empty plot from 0, -3 or 2.5
+            last_cycles = as_count("last_cycles", last_cycles, minimum=1)
         t0 = -np.inf if last_cycles is None else self.t[-1] - last_cycles * self.period
         sel = self.t >= t0
         ax.plot(self.t[sel], self.primary[sel] * 1e3, label="primary (driving point)")
@@ -377,7 +387,7 @@ def build_result(damper, raw, *, n_cycles, samples_per_cycle):
             / (4 * om)
         w_in = work[0] - 2 * eng.base_damping * work[1] \
             + eng.base_damping * eng.base_velocity_amplitude ** 2 * sin2
-    final = DamperState(fs.time, fs.state, fs.mode, fs.side, fs.open_impact)
+    final = DamperState(fs.time, fs.state, fs.mode, fs.side, fs.open_impact, damper.clearance)
     n_points = eng.n_points
     points = None
     if n_points:

@@ -232,37 +232,51 @@ class ImpactDamper:
         x[eng.i1] = 1.0
         y_p = float(eng.yp0 @ eng.augmented(x, t0))      # the primary at rest
         x[eng.iy], x[eng.iv] = y_p + y_d, v_d
-        return DamperState(t0, x, "free", 0)
+        return DamperState(t0, x, "free", 0, None, self.clearance)
 
     def _check_start(self, eng, state):
-        """Refuse a start (a run continued on a changed damper) that puts the damper mass
-        where this damper's stops cannot hold it: past a stop in free flight, off its stop
-        stuck, or inside a contact of another law (its motion would jump at the first
-        event)."""
+        """Refuse a start this damper cannot continue: inside a contact of another law
+        (the engine has no such phase), inside a contact on another clearance than the
+        one the run ended on (stuck or spring/Hertz: the force, or a flexible primary's
+        driving point, would jump), or in free flight on another clearance with the mass
+        past this damper's stops (it would jump to a stop at the first event). On its own
+        clearance a run continues as it stands (a frequency step moves a flexible
+        primary's driving point by its flexibility times the change of force: the
+        model's own)."""
         laws = {"stuck": (Rigid, InstantaneousImpact), "spring": LinearSpring,
                 "pen": LinearSpring, "hertz": Hertz}
-        mode, side, c = state.mode, state.side, self.clearance
+        mode, side, c, before = state.mode, state.side, self.clearance, state.clearance
+        stop = "upper" if side > 0 else "lower"
         if mode in laws and not isinstance(self.contact, laws[mode]):
-            raise ValueError(f"initial ended inside a contact ({mode!r} phase on the "
-                             f"{'upper' if side > 0 else 'lower'} stop) of another contact law "
-                             f"than this damper's {type(self.contact).__name__}: continue it "
-                             "with the law it ended in, or start from initial_state()")
+            raise ValueError(f"initial ended inside a contact ({mode!r} phase on the {stop} "
+                             f"stop) of another contact law than this damper's "
+                             f"{type(self.contact).__name__}: continue it with the law it ended "
+                             "in, or start from initial_state()")
+        if before is not None and before == c:
+            return
+        fix = (f"the run it continues had a clearance of {before:.6g} m: continue with it, "
+               "or from initial_state()" if before is not None
+               else "a state of unknown clearance: start from initial_state()")
+        if mode != "free" and before is not None:
+            raise ValueError(f"initial ended inside a contact ({mode!r} phase on the {stop} "
+                             f"stop) on a clearance of {before:.6g} m, this damper's is "
+                             f"{c:.6g} m: a contact continues on its own clearance only (its "
+                             "force, or a flexible primary's driving point, would jump); change "
+                             "the clearance in free flight, or start from initial_state()")
         xa = eng.augmented(np.asarray(state.state, dtype=float), float(state.time))
         rel = float(eng.r0 @ xa)       # y_d - y_p (without a flexibility's share of the force)
         tol = 1e-9 * (c + float(np.abs(eng.r0) @ np.abs(xa)))
         where = (f"initial puts the damper mass {rel:.6g} m from the middle of the clearance "
                  f"(y_d - y_p)")
-        fix = (" (the run it continues had another clearance): continue from "
-               "initial_state(), or with the clearance it ended in")
         if mode == "free" and abs(rel) > c + tol:
             raise ValueError(f"{where}, in free flight past this damper's stops at +-{c:.6g} "
-                             f"m{fix}")
+                             f"m ({fix})")
         if mode == "stuck" and eng.rho >= 1 and abs(side * rel - c) > tol:
-            raise ValueError(f"{where}, stuck on the {'upper' if side > 0 else 'lower'} stop, "
-                             f"which this damper puts at {side * c:.6g} m{fix}")
+            raise ValueError(f"{where}, stuck on the {stop} stop, which this damper puts at "
+                             f"{side * c:.6g} m ({fix})")
         if mode in ("spring", "pen", "hertz") and -side * rel > c + tol:
-            raise ValueError(f"{where}, in contact on the {'upper' if side > 0 else 'lower'} "
-                             f"stop but past the other one at {-side * c:.6g} m{fix}")
+            raise ValueError(f"{where}, in contact on the {stop} stop but past the other one "
+                             f"at {-side * c:.6g} m ({fix})")
 
     # ------------------------------------------------------------------ simulation
     def simulate(self, n_cycles, *, initial=None, samples_per_cycle=32,
@@ -279,8 +293,10 @@ class ImpactDamper:
             moves). A
             ``DamperResult`` (or its ``final_state``) continues that run from its end,
             contact state included; the damper may differ (e.g. a frequency step) as long
-            as the primary has the same number of states. :meth:`initial_state` sets the
-            damper mass going inside a primary at rest.
+            as the primary has the same number of states, the contact law is of the kind
+            the run ended in, and a clearance changed leaves the mass within the stops in
+            free flight (a run that ended in contact continues on its own clearance).
+            :meth:`initial_state` sets the damper mass going inside a primary at rest.
         samples_per_cycle : int, keyword-only
             Output samples per forcing period (>= 4), plus every event time;
             ``n_cycles * samples_per_cycle`` at most ``MAX_OUTPUT_SAMPLES`` (4e6).
