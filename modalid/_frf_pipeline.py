@@ -198,8 +198,8 @@ class FRFPipeline(PoleChecks, LowEnd):
         extra ``terms`` (``(Terms, fixed poles)``): ``(poles, mask of the clusters, misfit
         ratio, the chosen poles of negative modal mass)``. The ratio is the selected
         poles' residual sum of squares over the one without them (1 when none is
-        selected): the chosen prefix's, or, where the passivity constraint left some of
-        it out, the poles kept's."""
+        selected): the chosen prefix's, or, where the passivity constraint or the backward
+        elimination left some of it out, the poles kept's."""
         share = clusters["share"].to_numpy(float)
         cand = clusters["pole"].to_numpy(complex)[share >= min_share]
         selected = np.zeros(len(clusters), bool)
@@ -209,8 +209,10 @@ class FRFPipeline(PoleChecks, LowEnd):
                                                        passive=self._passive_on)
             negative = cand[flagged]
             selected[np.flatnonzero(share >= min_share)[keep]] = True
-            thinned = bool(np.any(flagged & ~keep))
-            if thinned:                           # the misfit of all those kept
+            # the passivity constraint or the backward elimination left some of the
+            # chosen prefix out: the misfit of all those kept
+            thinned = bool(np.any(flagged & ~keep)) or int(keep.sum()) != int(np.argmin(bic))
+            if thinned:
                 bic = select_by_information(omega, h, w, cand[keep], *terms,
                                             passive=False)[1]
             ratio = misfit_ratio(bic, 2 * omega.size, k=int(keep.sum()) if thinned else None)

@@ -6,8 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._lsfd import design_matrix, refine_varpro, split_coefficients
-from ._segments import distinct_peaks, resonance_peaks
+from ._lsfd import design_matrix, refine_varpro, removal_cost, split_coefficients
 
 __all__ = ["assemble", "drop_idle_modes", "refine_pseudo_modes"]
 
@@ -35,28 +34,32 @@ def drop_idle_modes(est, omega, h, w, poles, kinds, x, info, terms, mode_std, no
     segment fits kept, which carry nothing in this FRF (reported as modes of infinite
     modal mass, the verdict "failed"); and poles whose damping is not resolved (a
     half-power bandwidth under a line, or a standard deviation from their segment over
-    half of it) that stand on no distinct peak of the data
-    (:func:`modalid._segments.distinct_peaks`, within two lines): a sharp mode shows as
-    such a peak, a noise line's fit does not. Dropped,
+    half of it) that are not significant over the band (their removal, the rest refitted
+    linearly, raises the cost by less than ``4 ln(n)`` residual variances, the
+    information criterion's penalty: :func:`modalid._lsfd.removal_cost`). Dropped,
     and the band assembled again without them (twice at most). Returns ``(poles,
     kinds, x, info, mode_std)``."""
     spacing = float(np.median(np.diff(omega)))
-    distinct = distinct_peaks(h, resonance_peaks(h))
     for _ in range(2):
         mode = kinds == "mode"
         idle = mode & (split_coefficients(x, poles.size, terms)[0].imag >= 0
                        if est._passive_on else False)
         # its damping unresolved (narrower than a line, or its segment's standard
-        # deviation over half of it) and on no distinct peak of the data: a noise
-        # line's fit (a 0.05 Hz hammer FRF under a noise floor: 835.6 Hz, zeta 7e-6,
-        # 9300 kg, and 829.9 Hz, zeta 1.7e-4, 1600 kg, beside an 848 Hz mode of 0.5 kg)
+        # deviation over half of it) and its removal, the rest refitted, raising the
+        # band's cost by less than the information criterion's penalty: a noise line's
+        # fit (a 0.05 Hz hammer FRF under a noise floor: 835.6 Hz, zeta 7e-6, 9300 kg,
+        # and 829.9 Hz, zeta 1.7e-4, 1600 kg, beside an 848 Hz mode of 0.5 kg); a sharp
+        # mode on a broader one's skirt, 55 times the noise at its line, stays
         unresolved = -2.0 * poles.real < spacing
         unresolved[mode] |= mode_std[:, 0] > -0.5 * poles.real[mode]   # NaN: passes
-        sharp = mode & unresolved
-        lines = np.searchsorted(omega, np.abs(poles))
-        sharp &= np.array([not np.any(np.abs(distinct - k) <= 2) for k in lines])
+        sharp = mode & unresolved & ~idle
+        if sharp.any():
+            gain = removal_cost(omega, h, est._model_weights(omega, poles, x, terms, w),
+                                poles, terms, np.flatnonzero(sharp),
+                                passive=est._passive_on, buffers=est._buffers)
+            sharp[sharp] = gain < 4.0 * np.log(2 * omega.size)
         why = np.where(idle, "no positive modal mass over the band",
-                       "its damping unresolved, on no distinct peak of the data")
+                       "its damping unresolved, no more than noise to the band")
         idle |= sharp
         if not idle.any():
             break
@@ -66,6 +69,7 @@ def drop_idle_modes(est, omega, h, w, poles, kinds, x, info, terms, mode_std, no
         poles, kinds = poles[~idle], kinds[~idle]
         poles, x, info = assemble(est, omega, h, w, poles, kinds, terms, mode_std)
     return poles, kinds, x, info, mode_std
+
 
 def refine_pseudo_modes(est, omega, h, w, poles, kinds, x, info, terms):
     """The pseudo-modes of a segmented fit refined over the band, the segment fits'

@@ -43,9 +43,8 @@ from scipy.signal import find_peaks
 from sklearn.base import clone
 
 __all__ = ["SEGMENT_LINES", "SEGMENT_MARGIN", "MIN_SEGMENTED", "MAX_ORDER",
-           "MAX_PEAKS_ONE_FIT", "PEAKS_PER_SEGMENT", "NOISE_PEAKS", "default_order",
-           "segment_edges", "segment_length", "segment_poles", "resonance_peaks",
-           "distinct_peaks"]
+           "MAX_PEAKS_ONE_FIT", "PEAKS_PER_SEGMENT", "default_order", "segment_edges",
+           "segment_length", "segment_poles", "resonance_peaks", "distinct_peaks"]
 
 SEGMENT_LINES = 1600     # lines per segment (at most)
 SEGMENT_MARGIN = 200     # lines at a segment's inner edges: their poles are its neighbour's
@@ -55,9 +54,6 @@ MAX_ORDER = 120          # the stabilization diagram's default order is at most 
 #: default order (:func:`default_order`) would exceed :data:`MAX_ORDER`
 MAX_PEAKS_ONE_FIT = (MAX_ORDER - 16) // 4
 PEAKS_PER_SEGMENT = 12   # a band of many peaks: segments short enough to hold this many
-#: a segment's diagram order counts the band's peaks up to this many times its distinct
-#: ones (:func:`segment_poles`)
-NOISE_PEAKS = 10
 _MIN_SEGMENT_LINES = 200
 _LEVEL_LINES = 101  # a distinct peak stands above the median level of this many lines
 
@@ -176,12 +172,9 @@ def segment_poles(estimator, band, n_peaks=0, n_distinct=None):
         # its diagram's order: at least what the band's mean density of peaks gives it.
         # All the band's peaks, not its distinct ones: where modes overlap, a segment
         # shows few of either, and the band's count is the better guess of its modes
-        # (a 1 % damped rod's 40 modes on 8001 lines: 27 -> 40 found); but no more than
-        # NOISE_PEAKS times the distinct ones: a noise floor makes peaks by the hundred
-        # (a 0.05 Hz hammer FRF, 6 modes: 1396 peaks, 6 distinct), and a diagram of the
-        # largest order on each segment gave its selection dozens of noise poles
-        expected = min(n_peaks, NOISE_PEAKS * max(n_distinct, 1))
-        sub.__dict__["_expected_peaks"] = expected * (stop - start) / f.size
+        # (a 1 % damped rod's 40 modes on 8001 lines: 27 -> 40 found); noise peaks
+        # elsewhere can only raise the order, and the selection drops what they add
+        sub.__dict__["_expected_peaks"] = n_peaks * (stop - start) / f.size
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             sub.fit(band, weights=estimator._band_weights)     # per line of ``band``
