@@ -20,7 +20,11 @@ POLES = [-1 + 100j, -2 + 300j, -3 + 500j]
 def test_one_sign_is_a_driving_point_mixed_signs_a_transfer():
     driving = modes_of(POLES, [-0.01j, -0.02j, -0.015j])       # Im r < 0: m > 0
     assert driving_point_decision(driving, 0.0)[0] is True
-    assert driving_point_decision(driving, -1.0)[0] is False   # a negative mass line
+    # a negative mass line (the modes' strength sum 1/m is 29 1/kg), unless it is weaker
+    # than a tenth of them (a windowed hammer FRF's slight low-end misfit)
+    assert driving_point_decision(driving, -5.0)[0] is False
+    ok, why = driving_point_decision(driving, -1.0)
+    assert ok is True and "a negative mass line of -1 1/kg, under a tenth" in why
     mixed = modes_of(POLES, [-0.01j, 0.02j, -0.015j])
     ok, why = driving_point_decision(mixed, 0.0)
     assert ok is False and "transfer" in why
