@@ -6,9 +6,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._lsfd import design_matrix, refine_varpro, removal_cost, split_coefficients
+from ._lsfd import design_matrix, removal_cost, split_coefficients
 
-__all__ = ["assemble", "drop_idle_modes", "refine_pseudo_modes"]
+__all__ = ["assemble", "drop_idle_modes"]
 
 
 def assemble(est, omega, h, w, poles, kinds, terms, mode_std):
@@ -69,24 +69,3 @@ def drop_idle_modes(est, omega, h, w, poles, kinds, x, info, terms, mode_std, no
         poles, kinds = poles[~idle], kinds[~idle]
         poles, x, info = assemble(est, omega, h, w, poles, kinds, terms, mode_std)
     return poles, kinds, x, info, mode_std
-
-
-def refine_pseudo_modes(est, omega, h, w, poles, kinds, x, info, terms):
-    """The pseudo-modes of a segmented fit refined over the band, the segment fits'
-    poles held: where :meth:`FRFPipeline._start` placed them they stood in for the modes outside
-    the band poorly, and the residues made up for it (a beam's accelerance on 10 000
-    lines, 2 % noise: every modal mass 0.5 % high, the FRF 1.3 % off the truth against
-    0.08 % fitted as one band; refined, 0.02 % and 0.08 %). Kept where it lowers the
-    cost. Returns ``(poles, x, info)``."""
-    if not np.any(kinds != "mode"):
-        return poles, x, info
-    lo, hi = est._imag_bounds(kinds, omega, poles)
-    kw = dict(imag_lo=lo, imag_hi=hi, hold=kinds == "mode", passive=est._passive_on,
-              zero_start=est._zero_start, buffers=est._buffers, with_std=False)
-    if est.max_real is not None:
-        kw["max_real"] = est.max_real
-    moved, x_new, new = refine_varpro(omega, h, w, poles, terms, **kw)
-    est._iterations += new["n_iter"]
-    if not new["cost"] < info["cost"]:
-        return poles, x, info
-    return moved, x_new, {**info, "cost": new["cost"]}
