@@ -192,7 +192,7 @@ def identify(spec, *, quantity=None, estimator=None, read_options=None, check_pa
     if is_spec(text):
         cls, names = _SPECS[kind]
         try:
-            fields = _complete_fields(f"{kind} spec", text, cls, kind, rest, names)
+            fields = _complete_fields(f"{kind} spec ", text, cls, kind, rest, names)
         except ValueError as exc:                    # named by the body
             raise ValueError(f"{label}{exc}") from exc
         try:
@@ -312,29 +312,30 @@ def parse_contact(spec) -> ContactLaw:
                                                     "youngs_modulus2", "poisson2", "radius2"))}
     if kind == "rigid":
         if rest.strip():
-            raise ValueError(f"contact {spec!r}: rigid takes no fields")
+            raise ValueError(f"contact={spec!r}: rigid takes no fields")
         return Rigid()
     if kind not in laws:
-        raise ValueError(f"contact {spec!r}: use rigid, spring:..., hertz:... or "
+        raise ValueError(f"contact={spec!r}: use rigid, spring:..., hertz:... or "
                          "hertz-sphere:...")
     factory, names = laws[kind]
     try:
-        return factory(**_complete_fields("contact", spec, factory, kind, rest, names))
+        return factory(**_complete_fields("contact=", spec, factory, kind, rest, names))
     except (TypeError, ValueError) as exc:          # named by its spec (the CLI's flag)
-        if str(exc).startswith(f"contact {spec!r}"):
+        if str(exc).startswith(f"contact={spec!r}"):
             raise
         raise type(exc)(f"contact={spec!r}: {exc}") from exc
 
 
 def _complete_fields(what, text, factory, kind, rest, names) -> dict:
     """The fields of the spec ``text`` (``kind:rest``), refused naming what ``factory``
-    requires and the spec lacks (``what``: how the message names the spec)."""
+    requires and the spec lacks (``what``: how the message names the spec, ``"contact="``
+    for a contact: the command line says ``--contact`` there)."""
     fields = _parse_fields(kind, rest, names)
     required = [name for name, parameter in inspect.signature(factory).parameters.items()
                 if parameter.default is inspect.Parameter.empty and name in names]
     missing = [name for name in required if name not in fields]
     if missing:
-        raise ValueError(f"{what} {text!r} lacks {', '.join(missing)} (its fields: "
+        raise ValueError(f"{what}{text!r} lacks {', '.join(missing)} (its fields: "
                          f"{', '.join(names)}, e.g. {kind}:"
                          f"{','.join(f'{n}=...' for n in required)})")
     return fields

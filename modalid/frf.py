@@ -274,7 +274,8 @@ class FRFData:
         open_top = isinstance(fmax, (float, np.floating)) and np.isposinf(fmax)
         fmax = np.inf if open_top else as_real_scalar("freq_range[1]", fmax)
         if fmax <= fmin:
-            raise ValueError(f"freq_range must have fmin < fmax, got ({fmin!r}, {fmax!r})")
+            raise ValueError(f"freq_range must have fmin < fmax, got ({fmin!r}, {fmax!r}) "
+                             f"(the data span {self._freq_hz[0]:g}-{self._freq_hz[-1]:g} Hz)")
         # both ends included, to the rounding of a line's frequency (a hammer FRF's
         # 6.99999999999986 Hz line is the 7 Hz one a user names)
         mask = ((self._freq_hz >= fmin - 1e-9 * abs(fmin))

@@ -291,6 +291,15 @@ def test_benchmark_flags_out_of_range_are_refused(args, message, capsys):
     (["mass:1", "beam:mass=2,time_scale=-0.02"],
      "body 2: beam spec 'beam:mass=2,time_scale=-0.02': time_scale must be positive"),
     (["mass:1", "mass:1", "--v1", "3e8"], "body 1: --v1 must be under the speed of light"),
+    # a contact spec's missing fields, its fields refused or its kind unknown: the flag
+    # (these said "contact 'hertz-sphere:...' lacks ...")
+    (["mass:1", "mass:1", "--contact", "hertz-sphere:radius1=5e-3"],
+     "--contact hertz-sphere:radius1=5e-3 lacks youngs_modulus1, poisson1, youngs_modulus2, "
+     "poisson2"),
+    (["mass:1", "mass:1", "--contact", "rigid:foo=1"],
+     "--contact rigid:foo=1: rigid takes no fields"),
+    (["mass:1", "mass:1", "--contact", "bogus"],
+     "--contact bogus: use rigid, spring:..., hertz:... or hertz-sphere:..."),
 ])
 def test_predict_refusals_of_specs_and_laws_name_the_flag_or_body(args, message, capsys):
     """A spec's or a law's own refusal ("stiffness must be positive") named neither the

@@ -392,7 +392,7 @@ def test_contact_specs():
     assert sphere == Hertz.from_materials(radius1=5e-3, youngs_modulus1=210e9, poisson1=0.3,
                                           youngs_modulus2=70e9, poisson2=0.33)
     # a missing field is named, as a body spec's (it leaked Hertz.__init__'s TypeError)
-    with pytest.raises(ValueError, match=r"^contact 'hertz' lacks stiffness \(its fields: "
+    with pytest.raises(ValueError, match=r"^contact='hertz' lacks stiffness \(its fields: "
                                          r"stiffness, exponent, e.g. hertz:stiffness=...\)$"):
         parse_contact("hertz")
     with pytest.raises(ValueError, match=r"lacks youngs_modulus1, poisson1, youngs_modulus2, "

@@ -69,6 +69,12 @@ def test_fit_command_reports_bad_input(capsys):
     assert main(["fit", CASE1]) == 2
     assert "quantity" in capsys.readouterr().err
     assert main(["fit", "no_such_file.csv", "--quantity", "receptance"]) == 2
+    # an --fmin above the data's end: the top named is theirs (it said only "got (3000.0,
+    # 500.0)")
+    capsys.readouterr()
+    assert main(["fit", CASE1, "--quantity", "accelerance", "--fmin", "3000"]) == 2
+    assert ("--fmin/--fmax must have fmin < fmax, got (3000.0, 500.0) (the data span 0.3125-500 "
+            "Hz)") in capsys.readouterr().err
 
 
 @pytest.mark.slow
