@@ -15,7 +15,7 @@ from sklearn.base import clone
 from data_synth import CantileverBeam, LumpedMass, Rod, SpringMass
 from modalid import FRFData, ModalFit, ModalModel, MultiOutputModalModel, SavedFit
 from modalid.io import check_sign, read_frf
-from modalid._uff import dofs_text, says_transfer
+from modalid._uff import DOF_KEYS, dofs_text, says_transfer
 from modalid.io_set import uff_record
 from modalid.model import read_model_json
 from modalid.receptance import Receptance
@@ -237,9 +237,9 @@ def _refuse_transfer_fit(saved, label):
     passive)."""
     if not saved.dofs_say_transfer:
         return saved
-    r_node, r_dir, f_node, f_dir = saved.record_dofs
+    response, force = dofs_text(dict(zip(DOF_KEYS, saved.record_dofs)))
     raise ValueError(f"{label}the saved fit of {saved.source or 'a UFF record'} is of the "
-                     f"response at {r_node}{r_dir:+d} to a force at {f_node}{f_dir:+d}, a "
+                     f"response at {response} to a force at {force}, a "
                      "transfer FRF by its record's DOFs: a body needs its driving-point FRF "
                      "(force and response at the contact point); fit the record measured "
                      "there, or, if its DOFs are written wrong, fit it again as a driving "

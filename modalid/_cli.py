@@ -16,7 +16,8 @@ import sys
 from pathlib import Path
 
 __all__ = ["run_command", "add_fit_options", "fit_options", "add_read_options", "read_options",
-           "in_flags", "check_out_dir", "nothing_saved", "window_line", "uff_reading"]
+           "in_flags", "check_out_dir", "nothing_saved", "window_line", "uff_reading",
+           "record_reading"]
 
 #: phrases whose value picks the flag (matched first, as written)
 _PHRASES = (("check_passive=False", "--no-passivity-check"),
@@ -324,10 +325,16 @@ def uff_reading(path, options) -> str | None:
     """How the UFF record of ``path`` read with ``options`` (``read_frf``'s) was read: its
     DOFs, negated (directions of opposite sign), scaled to SI by its units dataset; None
     for another kind of file."""
-    from ._uff import dofs_text
     from .io_set import uff_record
 
-    record = uff_record(path, options)
+    return record_reading(uff_record(path, options), options)
+
+
+def record_reading(record, options) -> str | None:
+    """:func:`uff_reading` of a record's metadata as
+    :func:`modalid.io_set.uff_record` gives it (None: not a UFF file)."""
+    from ._uff import dofs_text
+
     if record is None:
         return None
     said = ["UFF record {}: response {}, force {}".format(options.get("index") or 0,

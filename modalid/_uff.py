@@ -66,6 +66,10 @@ def _read_uff(path, columns):
     return [_uff_raw(path, s, u, number, cohs) for number, (s, u) in enumerate(records)]
 
 
+#: a record's DOFs as its metadata names them (:func:`dofs_text`, :func:`says_transfer`)
+DOF_KEYS = ("response_node", "response_dir", "reference_node", "reference_dir")
+
+
 def _uff_dofs(dset):
     return tuple(dset.get(k) for k in ("rsp_node", "rsp_dir", "ref_node", "ref_dir"))
 
@@ -113,7 +117,7 @@ def _uff_raw(path, dset, units, number, cohs):
     factor = to_si(source, dset, units)
     if sign * factor != 1.0:
         values = values * (sign * factor)
-    meta = dict(zip(("response_node", "response_dir", "reference_node", "reference_dir"),
+    meta = dict(zip(DOF_KEYS,
                     dofs), name=str(dset.get("id1", "")).strip(), negated=sign < 0,
                 to_si=factor)
     return _Raw(freq, values, coherence, stated, ("the abscissa", "the ordinate",

@@ -10,7 +10,7 @@ import warnings
 from pathlib import Path
 
 from ._cli import (add_fit_options, add_read_options, check_out_dir, fit_options, in_flags,
-                   nothing_saved, read_options, run_command, uff_reading, window_line)
+                   nothing_saved, read_options, record_reading, run_command, window_line)
 from ._cli_set import print_shapes, read_set
 
 __all__ = ["main", "build_parser"]
@@ -59,7 +59,7 @@ def _save_fit(fit, out: Path, stem: str, source: str, *, several: bool = False,
               body: bool = True, record=None) -> None:
     import matplotlib
 
-    from ._uff import dofs_text
+    from ._uff import DOF_KEYS, dofs_text
     from .saved_fit import SavedFit
 
     matplotlib.use("Agg")
@@ -69,9 +69,7 @@ def _save_fit(fit, out: Path, stem: str, source: str, *, several: bool = False,
     # the model with the fit's band, verdict and decisions: a prediction uses it as it
     # uses the FRF file's fit (the bare model would be used raw, without its band)
     # (with the UFF record's DOFs: a transfer record by them is refused as a body)
-    dofs = None if record is None else tuple(
-        int(record[k]) for k in ("response_node", "response_dir", "reference_node",
-                                 "reference_dir"))
+    dofs = None if record is None else tuple(int(record[k]) for k in DOF_KEYS)
     saved = SavedFit.from_fit(fit, source=source, record_dofs=dofs)
     saved.to_json(out / f"{stem}_model.json")
     coherence = getattr(fit.data_, "coherence", None) is not None
@@ -120,6 +118,7 @@ def _cmd_fit(args) -> int:
             data = read_frf(paths[0], **read_options(args, paths[0]))
     for w in caught:
         _warn(w.message)
+    record = None                                 # a single UFF file's record metadata
     if several:
         args.file = " + ".join(Path(f).name for f in paths)
         # the sign check reads the driving row (named: the message is about one FRF)
@@ -127,7 +126,8 @@ def _cmd_fit(args) -> int:
     else:
         judged = data
         args.file = named = paths[0]
-        reading = uff_reading(paths[0], read_options(args, paths[0]))
+        record = uff_record(paths[0], read_options(args, paths[0]))   # read once
+        reading = record_reading(record, read_options(args, paths[0]))
         if reading is not None:
             print(f"{paths[0]}: {reading}")
     sign = check_sign(judged)
@@ -145,8 +145,8 @@ def _cmd_fit(args) -> int:
     _print_report(args, data, report, window_line(fit))
     # the record's DOFs go with the fit, unless it was fitted as a driving point as
     # asserted (--driving-point yes: DOFs written wrong)
-    record = (None if several or fit.passive is True
-              else uff_record(paths[0], read_options(args, paths[0])))
+    if fit.passive is True:
+        record = None
     if record is not None and says_transfer(record) and report.get("driving_point"):
         _warn("the record's DOFs (response {}, force {}) say a transfer FRF, though its "
               "data look like a driving point's: impactpred predict refuses it as a body "

@@ -203,12 +203,11 @@ class SavedFit:
     def dofs_say_transfer(self) -> bool:
         """Whether :attr:`record_dofs` say the record is a transfer FRF (response and
         force at other nodes or along other axes; False without them)."""
-        from ._uff import says_transfer
+        from ._uff import DOF_KEYS, says_transfer
 
         if self.record_dofs is None:
             return False
-        return says_transfer(dict(zip(("response_node", "response_dir", "reference_node",
-                                       "reference_dir"), self.record_dofs)))
+        return says_transfer(dict(zip(DOF_KEYS, self.record_dofs)))
 
     @classmethod
     def from_fit(cls, fit, *, source=None, record_dofs=None) -> SavedFit:

@@ -66,6 +66,10 @@ class FakeDamper:
             raise ValueError("damper_mass must be <= 0.5 in this fake")
         return dataclasses.replace(self, **changes)
 
+    def engine(self):
+        """No phases to build (a sweep builds each design's engine before any run)."""
+        return None
+
     def simulate(self, n_cycles, *, initial=None, samples_per_cycle=32, progress=False):
         if self.clearance == self.fail_clearance:
             raise FloatingPointError(f"engine blew up at clearance {self.clearance}")

@@ -51,6 +51,9 @@ SCRIPT = textwrap.dedent('''
         def replace(self, **changes):
             return dataclasses.replace(self, **changes)
 
+        def engine(self):
+            return None
+
         def simulate(self, n_cycles, **kwargs):
             f, c = self.excitation.freq_hz, self.clearance
             log = os.environ.get("SWEEP_LOG")
@@ -164,6 +167,10 @@ class _Damper:
 
     def replace(self, **changes):
         return dataclasses.replace(self, **changes)
+
+    def engine(self):
+        """No phases to build (a sweep builds each design's engine before any run)."""
+        return None
 
     def simulate(self, n_cycles, **kwargs):
         RUNS.append((self.excitation.freq_hz, self.clearance))
