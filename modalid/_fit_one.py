@@ -127,7 +127,7 @@ class FitOne:
             # point for want of evidence, the passive fit had dropped them all)
             unconstrained = self._fit_recorded(data)
         driving, reason = driving_point_decision(self.report_["modes"],
-                                                 self._raw_inverse_mass)
+                                                 self._raw_inverse_mass, data=self._data_band)
         probe_reason = reason
         if not full:        # the counts are the probe's, not the final table's modes
             reason = f"the quick unconstrained fit's {reason}"
@@ -142,8 +142,8 @@ class FitOne:
                 # the probe's junk poles can carry the sign: the full fit decides (a
                 # free rod at 1 % noise: two at damping 0.5-0.6 and modal mass -0.12,
                 # -1.1, 29 % of the strength; the full fit's 11 modes all positive)
-                driving, full_reason = driving_point_decision(self.report_["modes"],
-                                                              self._raw_inverse_mass)
+                driving, full_reason = driving_point_decision(
+                    self.report_["modes"], self._raw_inverse_mass, data=self._data_band)
                 if driving:
                     full = True                   # the full fit's error is the reference
                     reason = (f"{full_reason} (the full unconstrained fit; the quick "

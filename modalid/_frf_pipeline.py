@@ -508,7 +508,13 @@ class FRFPipeline(PoleChecks, LowEnd):
         # the model of the data fitted (windowed), then the structure's (modalid._window);
         # a transfer FRF (unconstrained fit) keeps a negative mass line (a rigid rotation,
         # or the modes below the band, measured away from the hit point)
-        self._raw_inverse_mass = float(u)     # its sign speaks of driving point or not
+        # its sign speaks of driving point or not, and so does a lower pseudo-mode's: above
+        # its pole it adds 2 Re(r p) / s^2, a mass line of that 1/M (exact for a mode of
+        # modal mass m: 1/m); a free body's transfer FRF fitted from 5 Hz carried its
+        # negative rigid term (-0.2 1/kg) in one of -5 kg, and passed for a driving point
+        lower = kinds == "lower"
+        self._raw_inverse_mass = float(u) + float(
+            np.sum(2.0 * np.real(residues[lower] * poles[lower])))
         u = float(u) if not self._passive_on else max(float(u), 0.0)
         fitted_model = ModalModel(poles=poles, residues=residues, inverse_mass=u, flexibility=d)
         fitted = evaluate(omega, poles, residues, (), (), u, d, self._shift)

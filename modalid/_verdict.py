@@ -26,14 +26,33 @@ from .frf import FRFData
 from .frf_set import FRFSet
 from .multi_output import MultiOutputModalModel
 
-__all__ = ["driving_point_decision", "quality_verdict", "damping_resolved", "judged_report",
-           "line_error_tolerance", "missed_resonances", "missed_peak_lines", "misfit_suspect"]
+__all__ = ["driving_point_decision", "mass_line_share", "quality_verdict", "damping_resolved",
+           "judged_report", "line_error_tolerance", "missed_resonances", "missed_peak_lines",
+           "misfit_suspect"]
 
 _DOMINANT = 0.9       # share of the peak receptance that decides a driving point
+_LOW_END_SHARE = 0.25  # a negative mass line making this much of the low end is counted
 MIN_DAMPING = 1e-6   # below this the damping ratio sits at the refinement's bound
 
 
-def driving_point_decision(modes: pd.DataFrame, inverse_mass: float):
+def mass_line_share(data: FRFData, inverse_mass: float, modes: pd.DataFrame) -> float:
+    """Median share of the band's low-end data a mass line ``1/M`` makes (NaN: no line).
+
+    The low end: the lines below half the lowest mode's frequency (all of them without a
+    mode). Per line ``|1/(M omega^2)| / |H|`` on the receptance ``H``; about 1 where the
+    mass line is what the data show there, near 0 where it is a fit's slight misfit.
+    """
+    rec = data.to_receptance()
+    f = modes["frequency_hz"].to_numpy(float)
+    top = 0.5 * float(np.min(f)) if f.size else np.inf
+    low = (rec.freq_hz < top) & (rec.freq_hz > 0) & (np.abs(rec.values) > 0)
+    if not np.any(low):
+        return np.nan
+    return float(np.median(np.abs(inverse_mass / rec.omega[low] ** 2) / np.abs(rec.values[low])))
+
+
+def driving_point_decision(modes: pd.DataFrame, inverse_mass: float, *,
+                           data: FRFData | None = None):
     """``(driving_point, reason)`` from an unconstrained fit's modes.
 
     Parameters
@@ -42,15 +61,20 @@ def driving_point_decision(modes: pd.DataFrame, inverse_mass: float):
         The physical modes (``ModalModel.modes``: ``omega_n``, ``damping_ratio``,
         ``modal_mass``, ``residue``).
     inverse_mass : float
-        The fitted mass line's ``1/M`` (1/kg), before any clipping; < 0 means a negative
-        mass line (a transfer FRF or a reversed sign).
+        The fitted mass line's ``1/M`` (1/kg), before any clipping, with the lower
+        pseudo-modes' (``2 Re(r p)`` each: the mass line a pole below the band adds
+        above it); < 0 means a negative mass line (a transfer FRF or a reversed sign).
+    data : FRFData, optional
+        The band fitted: a negative mass line is slight (not counted) only where it makes
+        under a quarter of the data's low end (:func:`mass_line_share`), as well as under
+        a tenth of the modes' strength.
 
     Returns
     -------
     driving_point : bool
         True when modes of positive modal mass carry at least 90 % of the modes'
-        strength ``sum 1/|m_k|`` and the mass line is not negative (or negative by less
-        than a tenth of that strength).
+        strength ``sum 1/|m_k|`` and the mass line is not negative (or slight: under a
+        tenth of that strength and, with ``data``, of the low end's data).
     reason : str
         The evidence, for ``report_``.
     """
@@ -69,7 +93,16 @@ def driving_point_decision(modes: pd.DataFrame, inverse_mass: float):
     # a negative mass line weaker than a tenth of the modes' strength does not outvote
     # them (a windowed hammer FRF of a fixed rod: -0.094 1/kg beside 31 of 33 modes
     # positive, 56 1/kg, had made it a transfer FRF)
+    # -- unless it makes a quarter of the band's low end (a free body's transfer FRF, its
+    # rigid term -0.05 1/kg against 2.2 of the modes': 39 % of the lines below them; the
+    # fixed rod's 11 %)
     slight = inverse_mass < 0 and -inverse_mass < (1 - _DOMINANT) * total
+    low_share = mass_line_share(data, inverse_mass, modes) if data is not None else np.nan
+    if slight and low_share >= _LOW_END_SHARE:
+        slight = False
+        because = f", making {100 * low_share:.0f} % of the data below the modes"
+    else:
+        because = ""
     if share >= _DOMINANT and (inverse_mass >= 0 or slight):
         aside = (f" (a negative mass line of {inverse_mass:.3g} 1/kg, under a tenth of it, "
                  "not counted)" if slight else "")
@@ -87,8 +120,8 @@ def driving_point_decision(modes: pd.DataFrame, inverse_mass: float):
                        "the wrong quantity (an accelerance read as a mobility)")
     if share >= _DOMINANT:              # the mass line is negative here
         return False, (f"{counts} have a positive modal mass, carrying {100 * share:.0f} % "
-                       "of the modes' strength, and the mass line a negative one: a "
-                       "transfer FRF")
+                       f"of the modes' strength, and the mass line a negative one "
+                       f"({inverse_mass:.3g} 1/kg{because}): a transfer FRF")
     why = f"modal masses of both signs ({counts} positive, {100 * share:.0f} % of the strength)"
     if inverse_mass < 0:
         why += " and a negative mass line"

@@ -3,11 +3,13 @@ whose answer is known, and on the fits of exact FRFs."""
 
 import numpy as np
 import pandas as pd
+import pytest
 
 from data_synth import CantileverBeam
 from modalid import ModalModel
-from modalid._verdict import (damping_resolved, driving_point_decision, missed_resonances,
-                              quality_verdict)
+from modalid import FRFData
+from modalid._verdict import (damping_resolved, driving_point_decision, mass_line_share,
+                              missed_resonances, quality_verdict)
 
 
 def modes_of(poles, residues):
@@ -35,6 +37,28 @@ def test_one_sign_is_a_driving_point_mixed_signs_a_transfer():
     weak = modes_of(POLES, [-0.01j, -0.02j, 0.0005j])
     assert driving_point_decision(weak, 0.0)[0] is True
     assert driving_point_decision(modes_of([], []), 0.0)[0] is True
+
+
+def test_a_slight_negative_mass_line_must_also_be_slight_in_the_data():
+    """A negative mass line under a tenth of the modes' strength is not counted only where
+    it makes under a quarter of the band's lowest lines (below half the first mode): a
+    transfer FRF's rigid term is what those lines show."""
+    driving = modes_of(POLES, [-0.01j, -0.02j, -0.015j])       # strength 29 1/kg
+    freq = np.arange(1.0, 8.0, 0.25)                           # below 100 rad/s / 2
+    omega = 2 * np.pi * freq
+    for inverse_mass, share in ((-1.0, 1.0), (-1.0, 0.1)):
+        # data of which the mass line makes the share: the rest a static flexibility
+        data = FRFData(freq, -inverse_mass / omega ** 2 / share + 0j)
+        assert mass_line_share(data, inverse_mass, driving) == pytest.approx(share)
+        ok, why = driving_point_decision(driving, inverse_mass, data=data)
+        if share == 1.0:
+            assert ok is False and "making 100 % of the data below the modes" in why
+        else:
+            assert ok is True and "under a tenth" in why
+    # no line below the modes: the strength alone decides
+    high = FRFData(np.arange(40.0, 60.0), np.ones(20, complex))
+    assert np.isnan(mass_line_share(high, -1.0, driving))
+    assert driving_point_decision(driving, -1.0, data=high)[0] is True
 
 
 def test_damping_is_resolved_only_when_the_lines_resolve_it():
