@@ -403,8 +403,10 @@ def test_draws_that_cannot_be_solved_are_said_not_dropped_silently(error):
 
 def test_a_variant_whose_outcome_changes_in_kind_is_said():
     """A variant that ends with the bodies still in contact (no restitution: left out of
-    the spread) is listed in the band and its table, and warned about; a band whose
-    variants agree with their references lists none."""
+    the spread) is listed in the band and its table, and warned about, and the
+    restitution's interval is all it can be, [-1, 1] (from the other variants alone it
+    had been a narrow one: a ball on a beam's [0.25, 0.36] for an exact 0.059); a band
+    whose variants agree with their references lists none."""
     from impactpred import Body, solve_impact
     from impactpred.truncation import identified_model
     from impactpred.uncertainty import outcome_change
@@ -419,8 +421,12 @@ def test_a_variant_whose_outcome_changes_in_kind_is_said():
         t_end = 0.05 if len(calls) == 3 else 8.0
         return solve_impact(Body(m1, velocity=1.0), Body(m2), t_end=t_end, method="laplace")
 
-    with pytest.warns(UserWarning, match="the outcome changes in kind in 1 of"):
+    with pytest.warns(UserWarning, match="the outcome changes in kind in 1 of") as said:
         band = uncertainty_band(models, [None, fit], solve, n_draws=2, nominal=nominal)
+    assert any("its interval is all it can be: restitution [-1, 1]" in str(w.message)
+               for w in said)
+    assert (band.low["restitution"], band.high["restitution"]) == (-1.0, 1.0)
+    assert band.low["impulse"] < nominal.impulse < band.high["impulse"]
     assert len(band.outcome_changes) == 1
     assert band.outcome_changes[0].endswith("restitution undefined")
     assert nominal.restitution is not None
