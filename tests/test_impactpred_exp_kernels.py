@@ -357,7 +357,7 @@ def test_compiled_and_matrix_exponential_paths_agree(monkeypatch, contact):
     monkeypatch.setattr(impact_run, "_phase_form",
                         lambda M, update_of=None: impact_run.ExpmForm(M))
     slow = solve_impact(*bodies, contact=law, t_end=6.0, dt=0.05, method="laplace")
-    assert "matrix-exponential" in slow.notes[-1]
+    assert any("matrix-exponential" in note for note in slow.notes)
     assert len(fast.contact_intervals) == len(slow.contact_intervals) > 1
     assert np.allclose(fast.contact_intervals, slow.contact_intervals, rtol=0, atol=1e-11)
     assert fast.restitution == pytest.approx(slow.restitution, rel=1e-10)

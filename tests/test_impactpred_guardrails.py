@@ -180,10 +180,13 @@ def test_bodies_still_approaching_at_t_end_are_said_so():
                                          r"t_end = 0\.005 s"):
         early = run(0.005)
     assert early.method == "laplace" and early.restitution == pytest.approx(-0.642, abs=1e-3)
-    assert early.notes[-1].startswith("the bodies still approach")
+    assert any(note.startswith("the bodies still approach") for note in early.notes)
     with pytest.warns(UserWarning, match=r"^the sequence of \d+ contacts is sensitive") as said:
         late = run(0.03)
-    assert len(said) == 1 and 0.7 < late.restitution < 0.95
+    # said besides: the contacts its ten modes do not resolve
+    assert [re.sub(r"\d+", "N", str(w.message))[:20] for w in said] == [
+        "the sequence of N co", "N of the N contacts "]
+    assert 0.7 < late.restitution < 0.95
 
 
 def test_energy_audit_of_exact_solutions_is_rounding():
@@ -387,9 +390,11 @@ def test_a_sequence_of_contacts_not_converged_in_dt_is_said(monkeypatch):
     bodies = (Body(LumpedMass(0.5), velocity=1.0), Body(beam))
     with pytest.warns(UserWarning, match="sensitive to its inputs"):
         exact = solve_impact(*bodies, t_end=1.0, method="laplace")
-    with warnings.catch_warnings():
-        warnings.simplefilter("error", UserWarning)
+    with warnings.catch_warnings(record=True) as said:
+        warnings.simplefilter("always")
         modal = solve_impact(*bodies, t_end=1.0, method="modal")
+    # converged in dt: said only that the ten modes do not resolve the contacts
+    assert [str(w.message)[:30] for w in said] == ["21 of the 21 contacts last les"]
     assert exact.n_contacts == modal.n_contacts == 21
     assert modal.restitution == pytest.approx(exact.restitution, abs=2e-3)
     with pytest.warns(UserWarning, match=r"^the sequence of 2\d contacts \(dt = 1.898e-06 s\) "
@@ -398,7 +403,7 @@ def test_a_sequence_of_contacts_not_converged_in_dt_is_said(monkeypatch):
         stepped = solve_impact(*bodies, t_end=1.0, method="convolution")
     assert abs(stepped.restitution - exact.restitution) > 0.1     # what was silent
     assert stepped.restitution_first == pytest.approx(exact.restitution_first, abs=1e-3)
-    assert "not converged in dt" in stepped.notes[-1]
+    assert any("not converged in dt" in note for note in stepped.notes)
     # where half the step would pass the step limit the run at twice it tells instead
     import impactpred.api as api
 
@@ -431,10 +436,10 @@ def test_an_exact_sequence_sensitive_to_its_inputs_is_said():
                                          r"1 \+- 1e-06 .* its figures move \(restitution "
                                          rf"{figure} -> {figure} / {figure},") as said:
         res = run(0.5)
-    assert res.method == "laplace" and res.notes[-1] == str(said[0].message)
-    assert f"(the first contact's restitution, {res.restitution_first:.4g}, holds)" in \
-        res.notes[-1]
-    moved = re.search(rf"restitution {figure} -> {figure} / {figure},", res.notes[-1]).groups()
+    (note,) = [n for n in res.notes if n.startswith("the sequence of")]
+    assert res.method == "laplace" and note == str(said[0].message)
+    assert f"(the first contact's restitution, {res.restitution_first:.4g}, holds)" in note
+    moved = re.search(rf"restitution {figure} -> {figure} / {figure},", note).groups()
     (first, _), (_, last) = res.contact_intervals[0], res.contact_intervals[-1]
     t_check = last + 3 * (last - first)
     with warnings.catch_warnings():
@@ -453,7 +458,8 @@ def test_an_exact_sequence_sensitive_to_its_inputs_is_said():
         unchecked = run(0.5, sensitivity_check=False)     # the caller's choice: no runs
     assert holds.n_contacts == 22
     assert not [w for w in said if "sensitiv" in str(w.message)]
-    assert unchecked.restitution == res.restitution and not unchecked.notes[2:]
+    assert unchecked.restitution == res.restitution
+    assert not [note for note in unchecked.notes if "sensitiv" in note]
     with pytest.raises(TypeError, match="sensitivity_check must be True or False, got 1"):
         run(0.5, sensitivity_check=1)
 
@@ -519,16 +525,46 @@ def test_a_truncated_models_plastic_loss_is_exact_and_said():
         audit = res.energy_audit
         assert lost == pytest.approx(-audit.created, rel=1e-9)     # undamped: all of it
         shares.append(lost / audit.scale)
-        assert f"took {100 * shares[-1]:.3g} % " in str(said[-1].message)
+        assert any(f"took {100 * shares[-1]:.3g} % " in str(w.message) for w in said)
     assert shares[0] > 3 * shares[1] > 0.2            # 25 %, 7.9 %: falls with the modes
-    with warnings.catch_warnings():
-        warnings.simplefilter("error", UserWarning)
+    # with the residual flexibility: no Dirac, but the ten modes' ringing chatters (nine
+    # contacts shorter than the top mode's period, restitution 0.92), which is said
+    with pytest.warns(UserWarning, match="9 of the 9 contacts last less than one period "
+                      "of the models' fastest mode") as said:
         flexible = solve_impact(Body(LumpedMass(0.2), velocity=1.0),
                                 Body(rod.modal_model(40).truncate(10, residual=True)),
                                 t_end=6.0, method="laplace")
+    assert not any("plastic" in str(w.message) for w in said)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", UserWarning)
         masses = solve_impact(Body(LumpedMass(1.0), velocity=1.0),
                               Body(LumpedMass(2.0), velocity=-1.0), t_end=0.01)
     assert not flexible.dirac_impulses and masses.dirac_impulses
+
+
+def test_contacts_the_models_do_not_resolve_are_said():
+    """A 0.5 kg steel mass at 1 m/s on a fixed steel rod (one contact of 512.5 us, e 0.72)
+    through its first 10 or 30 modes and their residual flexibility: the top modes ring
+    and the contact chatters (10 and 35 contacts, the first 52 and 29 us long with a
+    restitution of -0.64 and -0.79), silently until now. Said; the continuum itself
+    (exact solver on the rod) has its one contact and nothing to say."""
+    from data_synth import lightly_damped
+
+    period = 1.0 / np.sqrt(210e9 / 7850)
+    rod = Rod(7850 * 1e-4, period, support="fixed")
+    for n, contacts in ((10, 10), (30, 35)):
+        model = lightly_damped(rod, n, 0.003, residual=True)
+        with pytest.warns(UserWarning, match=r"of the \d+ contacts last less than one "
+                          "period of the models' fastest mode") as said:
+            res = solve_impact(Body(LumpedMass(0.5), velocity=1.0), Body(model),
+                               t_end=40 * period)
+        assert res.n_contacts == contacts and res.restitution_first < 0
+        top = np.abs(model.poles).max() / (2 * np.pi)
+        assert any(f"({top:.4g} Hz" in str(w.message) for w in said)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", UserWarning)
+        exact = solve_impact(Body(LumpedMass(0.5), velocity=1.0), Body(rod), t_end=40 * period)
+    assert exact.n_contacts == 1 and exact.restitution == pytest.approx(0.72, abs=1e-3)
 
 
 def test_a_huge_mass_does_not_overflow_the_energy_books():
