@@ -27,7 +27,7 @@ from ._low_end import LowEnd
 from ._lsfd import (Terms, evaluate, noise_level, place_upper_modes,
                     refine_varpro, release_gain, split_coefficients)
 from ._vf import vector_fit_poles
-from ._segment_assembly import assemble, drop_idle_modes
+from ._segment_assembly import assemble, drop_idle_modes, refine_pseudo_modes
 from ._zero_start import hold_single
 from ._unresolved_damping import lift_single
 from ._window import nonnegative_mass_line, structure_model, windowed_receptance
@@ -283,8 +283,8 @@ class FRFPipeline(PoleChecks, LowEnd):
     def _identify(self, frf, w, poles, cut, max_order, vf_iterations, segment_std=None):
         """Refine ``poles`` into the model of ``frf`` and store it (``_store``).
         ``segment_std``: the poles come from segment fits (:mod:`modalid._segments`)
-        with these standard deviations: they are held, and only the linear unknowns of
-        the whole band are fitted (:func:`modalid._segment_assembly.assemble`); else
+        with these standard deviations: they are held, the linear unknowns of the whole
+        band fitted and its pseudo-modes refined (:mod:`modalid._segment_assembly`); else
         :meth:`_refine_poles`."""
         omega, h = frf.omega, frf.values
         notes = []
@@ -294,6 +294,8 @@ class FRFPipeline(PoleChecks, LowEnd):
             poles, x, info = assemble(self, omega, h, w, poles, kinds, terms, segment_std)
             poles, kinds, x, info, segment_std = drop_idle_modes(
                 self, omega, h, w, poles, kinds, x, info, terms, segment_std, notes)
+            poles, kinds, x, info = refine_pseudo_modes(self, omega, h, w, poles, kinds, x,
+                                                        info, terms)
         else:
             poles, kinds, x, info, terms = self._refine_poles(omega, h, w, poles, cut, notes)
         if self._passive_on and not self.__dict__.get("_probe"):

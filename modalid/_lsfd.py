@@ -175,7 +175,7 @@ class _Projection:
     kernels of :mod:`modalid._vp_kernels` (real arithmetic, formulas there).
     """
 
-    def __init__(self, omega, w, y, poles, extra, bounds=None, ws=None):
+    def __init__(self, omega, w, y, poles, extra, bounds=None, ws=None, held=None):
         self.poles, self.omega = poles, omega
         m, n = omega.size, poles.size
         ws = ws or _Workspace(m, n, 2 * n + extra.shape[1])
@@ -185,7 +185,8 @@ class _Projection:
                      np.ascontiguousarray(poles.imag), mat, ws.wd, ws.a, ws.b)
         mat[:, 2 * n:] = extra
         self.mat = mat
-        self.gram = mat.T @ mat
+        self.held = held
+        self.gram = self._gram(held)
         scale = np.sqrt(np.diag(self.gram))
         scale[scale == 0] = 1.0
         self.scale = scale
@@ -198,6 +199,23 @@ class _Projection:
         self.residual = y - mat @ x
         self.cost = float(self.residual @ self.residual)
         self.x = x
+
+    def _gram(self, held):
+        """``M^T M``; with ``held`` (:class:`_HeldColumns`) only the rows of the columns
+        that move are computed, ``O(rows x columns x moving)`` in place of
+        ``O(rows x columns^2)``."""
+        if held is None:
+            return self.mat.T @ self.mat
+        if held.block is None:
+            gram = self.mat.T @ self.mat
+            held.block = gram[np.ix_(held.fixed, held.fixed)]
+            return gram
+        gram = np.empty((self.mat.shape[1],) * 2)
+        gram[np.ix_(held.fixed, held.fixed)] = held.block
+        rows = self.mat[:, ~held.fixed].T @ self.mat
+        gram[~held.fixed, :] = rows
+        gram[:, ~held.fixed] = rows.T
+        return gram
 
     def _gram_solve(self, rhs, cols=None):
         """``G^-1 rhs`` for the Gram matrix of ``cols`` (default: the free columns), from
@@ -266,29 +284,57 @@ class _Projection:
             out = out - np.multiply.outer(v, e @ out) / evv
         return out
 
-    def derivative(self, out=None):
+    def derivative(self, out=None, poles=None):
         """Columns ``d(Phi x)/d(Re p, Im p)`` of each pole (weighted, real form), shape
-        ``(2 m, 2 n)`` (:func:`modalid._vp_kernels.fill_derivative`)."""
+        ``(2 m, 2 n)`` (:func:`modalid._vp_kernels.fill_derivative`); of the ``poles``
+        (bool, shape (n,)) only, shape ``(2 m, 2 k)``, if given."""
         m, n = self.omega.size, self.poles.size
-        out = np.empty((2 * m, 2 * n)) if out is None else out
         ws = self.ws
-        fill_derivative(self.omega, np.ascontiguousarray(self.poles.real),
-                        np.ascontiguousarray(self.poles.imag),
-                        np.ascontiguousarray(self.x[0:2 * n:2]),
-                        np.ascontiguousarray(self.x[1:2 * n:2]), ws.wd, ws.a, ws.b, out)
+        wd, a, b = ws.wd, ws.a, ws.b
+        p, x = self.poles, self.x[:2 * n]
+        if poles is not None:
+            wd, a, b = (np.ascontiguousarray(z[:, poles]) for z in (wd, a, b))
+            p, x = p[poles], x.reshape(n, 2)[poles].ravel()
+        k = p.size
+        out = np.empty((2 * m, 2 * k)) if out is None else out[:, :2 * k]
+        fill_derivative(self.omega, np.ascontiguousarray(p.real), np.ascontiguousarray(p.imag),
+                        np.ascontiguousarray(x[0::2]), np.ascontiguousarray(x[1::2]),
+                        wd, a, b, out)
         return out
 
     def normal_equations(self, out=None):
-        """``J^T J`` and ``J^T r`` of Kaufman's Jacobian ``J = (I - P) G``."""
-        g = self.derivative(out)
+        """``J^T J`` and ``J^T r`` of Kaufman's Jacobian ``J = (I - P) G``; with held
+        poles, their rows and columns are 0 (they do not move)."""
+        moving = None
+        if self.held is None:
+            g = self.derivative(out)
+        else:
+            moving = np.repeat(~self.held.poles, 2)
+            g = self.derivative(out, ~self.held.poles)
         cross = (self.mat.T @ g)[self.free]
         jtj = g.T @ g - cross.T @ self._solve(cross)
-        return 0.5 * (jtj + jtj.T), g.T @ self.residual
+        jtj, jtr = 0.5 * (jtj + jtj.T), g.T @ self.residual
+        if moving is None:
+            return jtj, jtr
+        full, full_r = np.zeros((moving.size,) * 2), np.zeros(moving.size)
+        full[np.ix_(moving, moving)], full_r[moving] = jtj, jtr
+        return full, full_r
+
+
+class _HeldColumns:
+    """The poles a refinement holds and the Gram block of what does not move with them
+    (their residue columns and the extra terms), computed once (:meth:`_Projection._gram`)."""
+
+    def __init__(self, hold, n_extra):
+        self.poles = np.asarray(hold, bool)
+        self.fixed = np.concatenate([np.repeat(self.poles, 2), np.ones(n_extra, bool)])
+        self.block = None
 
 
 def refine_varpro(omega, values, weights, poles, terms: Terms, *, imag_lo=None, imag_hi=None,
                   hold=None, passive=False, zero_start=False, max_iter=50, xtol=1e-12,
-                  stat_tol=1e-4, stall_tol=1e-3, with_std=True, buffers=None, max_real=None):
+                  stat_tol=1e-4, stall_tol=1e-3, with_std=True, buffers=None, max_real=None,
+                  held_gram=False):
     """Weighted nonlinear least squares of poles and residues by variable projection.
 
     Parameters
@@ -315,6 +361,13 @@ def refine_varpro(omega, values, weights, poles, terms: Terms, *, imag_lo=None, 
         Upper bound on every ``Re p`` (rad/s, < 0), besides ``Re p < 0`` (see
         :func:`modalid._lm.pole_limits`): e.g. ``-decay_rate`` of an exponential window,
         so that the poles stay stable once the window is undone. ``None`` (default): none.
+    held_gram : bool
+        Keep the Gram block of the ``hold`` poles' columns and the extra terms from the
+        first step and compute only the moving columns' part in the others (and the
+        moving poles' derivatives): ``O(lines x columns x moving)`` a step instead of
+        ``O(lines x columns^2)``, the same normal equations to rounding (their order of
+        summation differs: an ill-conditioned fit may then step otherwise). For many
+        poles held and a few moving (a segmented fit's pseudo-modes).
 
     Returns
     -------
@@ -342,10 +395,11 @@ def refine_varpro(omega, values, weights, poles, terms: Terms, *, imag_lo=None, 
     hi = np.full(n, np.inf) if imag_hi is None else np.asarray(imag_hi, dtype=float)
     limits = pole_limits(lo, hi, max_real)
     free_workspaces = [spare, first]   # two projections alive at once: recycle their arrays
+    held = _HeldColumns(hold, extra.shape[1]) if held_gram and hold is not None else None
 
     def project(v):
         projection = _Projection(omega, w, y, v[0::2] + 1j * v[1::2], extra, bounds,
-                                 free_workspaces.pop())
+                                 free_workspaces.pop(), held)
         projection.normal_equations = functools.partial(projection.normal_equations, g_buffer)
         return projection
 
@@ -364,9 +418,11 @@ def refine_varpro(omega, values, weights, poles, terms: Terms, *, imag_lo=None, 
     return p, cur.x, info
 
 
-def release_gain(omega, values, weights, poles, terms: Terms, hold, *, passive=False):
+def release_gain(omega, values, weights, poles, terms: Terms, hold, *, passive=False,
+                 held=None):
     """What releasing the ``hold`` poles would gain: the Gauss-Newton decrease of the
-    weighted cost with every pole free, in units of the residual variance.
+    weighted cost with every pole free (but the ``held`` ones, held either way), in units
+    of the residual variance.
 
     At a minimum with ``hold`` fixed, compare it with ``ln(n)`` per released parameter
     (information criterion) to decide whether the data support moving them.
@@ -382,6 +438,7 @@ def release_gain(omega, values, weights, poles, terms: Terms, hold, *, passive=F
     norms = np.sqrt(np.maximum(np.diag(jtj), 1e-300))
     a_s, g_s = jtj / np.outer(norms, norms), jtr / norms
     free = ~np.repeat(np.asarray(hold, bool), 2)
+    movable = np.ones(free.size, bool) if held is None else ~np.repeat(np.asarray(held, bool), 2)
 
     def gain(mask):
         try:
@@ -392,7 +449,7 @@ def release_gain(omega, values, weights, poles, terms: Terms, hold, *, passive=F
     if not proj.cost > 0.0:      # the fit is exact (noise-free data): nothing to gain
         return 0.0
     sigma2 = proj.cost / max(y.size - proj.mat.shape[1] - 2 * poles.size, 1)
-    return (gain(np.ones(free.size, bool)) - gain(free)) / sigma2
+    return (gain(movable) - gain(free & movable)) / sigma2
 
 
 def _std(proj, n, n_data):

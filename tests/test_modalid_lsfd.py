@@ -7,8 +7,8 @@ import pytest
 from scipy.optimize import minimize
 
 from modalid._global import refine_joint, split_rows
-from modalid._lsfd import (Terms, _bounds, _Projection, _realify, design_matrix,
-                           refine_varpro, split_coefficients)
+from modalid._lsfd import (Terms, _bounds, _HeldColumns, _Projection, _realify,
+                           design_matrix, refine_varpro, split_coefficients)
 
 UPPER = Terms(np.zeros(0), False, True)
 
@@ -105,6 +105,41 @@ def test_gradient_of_the_projected_cost_holding_the_equality():
             down[k] -= hstep
             numeric[2 * k + part] = (project(up).cost - project(down).cost) / (2 * abs(hstep))
     np.testing.assert_allclose(-2 * jtr, numeric, rtol=0, atol=1e-4 * np.abs(numeric).max())
+
+
+def test_held_poles_keep_their_gram_block_and_give_the_same_normal_equations():
+    """With most poles held (the segments' poles while the pseudo-modes are refined) the
+    projection computes only the moving columns' rows of the Gram matrix and the moving
+    poles' derivatives: the same Gram matrix, cost and normal equations (held rows and
+    columns 0) as the full computation, for the poles it cached and for moved ones."""
+    omega, h, w, poles = _data(seed=3)
+    y = _realify(h * w)
+    extra = _realify(design_matrix(1j * omega, np.zeros(0), UPPER) * w[:, None])
+    hold = np.array([True, False, True, True, True])
+    held = _HeldColumns(hold, extra.shape[1])
+    moving = np.repeat(~hold, 2)
+    for shift in (0.0, 3.0 + 2.0j):                  # the first call caches the block
+        trial = poles.copy()
+        trial[~hold] += shift
+        full = _Projection(omega, w, y, trial, extra)
+        part = _Projection(omega, w, y, trial, extra, held=held)
+        np.testing.assert_allclose(part.gram, full.gram, rtol=1e-12, atol=0)
+        assert part.cost == pytest.approx(full.cost, rel=1e-12)
+        jtj, jtr = full.normal_equations()
+        jtj_h, jtr_h = part.normal_equations()
+        np.testing.assert_allclose(jtj_h[np.ix_(moving, moving)], jtj[np.ix_(moving, moving)],
+                                   rtol=1e-9)
+        np.testing.assert_allclose(jtr_h[moving], jtr[moving], rtol=1e-9)
+        assert not jtj_h[~moving].any() and not jtr_h[~moving].any()
+    # the refinement through it: the held poles stay, the moving one where the full
+    # computation takes it
+    p, x, info = refine_varpro(omega, h, w, poles, UPPER, hold=hold, with_std=False,
+                               held_gram=True)
+    assert info["converged"] and np.array_equal(p[hold], poles[hold])
+    q, _, reference = refine_varpro(omega, h, w, poles, UPPER, hold=hold, with_std=False)
+    # (both stop where a step would gain under 1e-4 of a residual variance)
+    assert reference["cost"] == pytest.approx(info["cost"], rel=1e-7)
+    np.testing.assert_allclose(q, p, rtol=1e-7)
 
 
 def test_refinement_holding_the_equality_keeps_it():

@@ -277,3 +277,34 @@ def test_overlapping_modes_under_a_light_noise_floor_keep_their_segments_order()
     found = fit.report_["modes"]["frequency_hz"].to_numpy()
     for f0 in (11750.0, 12250.0, 12750.0):
         assert np.min(np.abs(found / f0 - 1)) < 3e-3, (f0, found)
+
+
+@pytest.mark.parametrize("spacing, segments", [(0.5, 1), (0.2, 8), (0.1, 17)])
+def test_more_lines_fitted_by_segments_are_no_worse_than_one_fit(spacing, segments):
+    """A cantilever's accelerance to 2 kHz (its next modes at 2027 and 2532 Hz), 2 %
+    noise, on 4000 lines (one fit), 10 000 and 20 000 (by segments). The segmented fit
+    held its pseudo-modes where they were placed, and the residues made up for them:
+    every modal mass 0.5 % high, the FRF 1.3 % off the truth against 0.08 % for one fit.
+    With the pseudo-modes refined over the band (the segments' poles held) the denser
+    files are as good: modal masses within 0.15 %, the FRF's median error under 0.15 %
+    (measured 0.04-0.09 % and 0.06-0.07 %)."""
+    from data_synth import CantileverBeam, lightly_damped, synthetic_frf
+
+    truth = lightly_damped(CantileverBeam(2.0, 0.056), 30, 0.01)
+    f = np.arange(1, int(round(2000 / spacing)) + 1) * spacing
+    data = synthetic_frf(truth, f, quantity="accelerance", noise=0.02, seed=1)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        fit = ModalFit().fit(data)
+    assert fit.report_["segments"] == segments and fit.report_["verdict"] == "ok"
+    modes = fit.report_["modes"]
+    exact = truth.modes.iloc[:len(modes)]
+    assert len(modes) == 8
+    np.testing.assert_allclose(modes["modal_mass"], exact["modal_mass"], rtol=1.5e-3)
+    s = 2j * np.pi * np.arange(2.0, 2000.0, 0.25)
+    error = np.abs(fit.model_.receptance(s) / truth.receptance(s) - 1)
+    assert np.median(error) < 1.5e-3
+    # the pseudo-modes above the band decay (none undamped beside it)
+    pseudo = np.setdiff1d(fit.model_.poles, fit.poles_)
+    pseudo = pseudo[np.abs(pseudo) > 2 * np.pi * 2000]
+    assert np.all(-pseudo.real / np.abs(pseudo) > 1e-3)
