@@ -224,8 +224,9 @@ def _unresolved_contacts(result, bodies, contact) -> str | None:
             f"models' fastest mode ({1.0 / period:.4g} Hz, {period:.3g} s), which the "
             "models do not resolve: under a rigid contact a truncated modal model's top "
             "modes ring and the contact chatters at their scale, which the structure it "
-            "stands for, with its higher modes, need not do. The first contact's figures (restitution_first, "
-            "contact_duration_first) then describe one of those contacts, not the impact; "
+            "stands for, with its higher modes, need not do. The first contact's figures "
+            "(restitution_first, contact_duration_first) then describe one of those "
+            "contacts, not the impact; "
             "the whole sequence's (restitution, total_impulse) are the ones to read, and "
             "more modes, a continuation above the band (impactpred.predict continues "
             "measured models) or a contact law with stiffness settle them")
