@@ -18,7 +18,6 @@ import warnings
 
 import numpy as np
 
-from ._frf_pipeline import ModalFitWarning
 from ._verdict import driving_point_decision, line_error_tolerance, misfit_suspect
 
 __all__ = ["FitOne"]
@@ -136,8 +135,8 @@ class FitOne:
         if full and not driving:
             for w in unconstrained:           # the unconstrained fit stands
                 warnings.warn(w.message, w.category, stacklevel=4)
-        elif driving or self._segment_count == 1:     # its warnings, if it stands
-            refit_said = self._fit_recorded(data)
+        else:         # its warnings, if it stands (by segments: the pseudo-modes refined,
+            refit_said = self._fit_recorded(data)       # which the probe leaves)
             if not driving:
                 # the probe's junk poles can carry the sign: the full fit decides (a
                 # free rod at 1 % noise: two at damping 0.5-0.6 and modal mass -0.12,
@@ -151,10 +150,6 @@ class FitOne:
                     probe_error = self.report_["frf_median_relative_error"]
                     self._passive_on = True
                     refit_said = self._fit_recorded(data)
-        else:
-            # by segments: the probe was the whole unconstrained identification already
-            for message in self._held_warnings:
-                warnings.warn(message, ModalFitWarning, stacklevel=4)
         error = self.report_["frf_median_relative_error"]
         if driving and error > 1.5 * probe_error + 0.01 and not self._passes_as_judged():
             self._passive_on = False          # the data contradict a passive model,

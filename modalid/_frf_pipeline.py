@@ -41,6 +41,7 @@ from .stabilization import cluster_poles, select_poles, stabilization_table
 __all__ = ["FRFPipeline", "ModalFitWarning", "fit_report"]
 
 _FAR = 2.0          # the held upper pseudo-mode sits at twice the top of the band
+_MASS_LINE_POLE = 0.3  # a lower pseudo-mode under this share of the band's start is a mass line
 # the free upper pseudo-mode's starts (x band top): not the held one's (both dropped idle)
 _UPPER_RATIOS = tuple(r for r in (1.02, 1.05, 1.1, 1.2, 1.35, 1.6, 2.0, 2.8, 4.0) if r != _FAR)
 # missed modes: per pass at most this many added ("strict": half the band's peaks, up to
@@ -316,9 +317,7 @@ class FRFPipeline(PoleChecks, LowEnd):
         if not np.any(kinds == "mode"):
             said.append("no resonance found in the band: the model holds only residual "
                         "terms; see stabilization_")
-        # a probe keeps them (:meth:`modalid.fit.ModalFit.fit` says them if it keeps the
-        # probe's result)
-        self._held_warnings = said if self.__dict__.get("_probe") else []
+        # a probe's are not said: a full fit follows it
         for message in () if self.__dict__.get("_probe") else said:
             warnings.warn(message, ModalFitWarning, stacklevel=4)
         self._store(frf, poles, kinds, residues, u, d, info, notes, max_order, vf_iterations,
@@ -510,13 +509,15 @@ class FRFPipeline(PoleChecks, LowEnd):
         # the model of the data fitted (windowed), then the structure's (modalid._window);
         # a transfer FRF (unconstrained fit) keeps a negative mass line (a rigid rotation,
         # or the modes below the band, measured away from the hit point)
-        # its sign speaks of driving point or not, and so does a lower pseudo-mode's: above
-        # its pole it adds 2 Re(r p) / s^2, a mass line of that 1/M (exact for a mode of
-        # modal mass m: 1/m); a free body's transfer FRF fitted from 5 Hz carried its
-        # negative rigid term (-0.2 1/kg) in one of -5 kg, and passed for a driving point
-        lower = kinds == "lower"
+        # its sign speaks of driving point or not, and so does a lower pseudo-mode's well
+        # below the band: above its pole it adds 2 Re(r (p + sigma)) / (s + sigma)^2, a
+        # mass line of that 1/M (exact for a mode of modal mass m: 1/m); a free body's
+        # transfer FRF fitted from 5 Hz carried its negative rigid term (-0.2 1/kg) in one
+        # of -5 kg at 0.4 Hz, and passed for a driving point. One near the band's start
+        # is no mass line (a windowed fixed rod's at 0.93 of it, fitting the leakage there)
+        lower = (kinds == "lower") & (np.abs(poles) < _MASS_LINE_POLE * omega[0])
         self._raw_inverse_mass = float(u) + float(
-            np.sum(2.0 * np.real(residues[lower] * poles[lower])))
+            np.sum(2.0 * np.real(residues[lower] * (poles[lower] + self._shift))))
         u = float(u) if not self._passive_on else max(float(u), 0.0)
         fitted_model = ModalModel(poles=poles, residues=residues, inverse_mass=u, flexibility=d)
         fitted = evaluate(omega, poles, residues, (), (), u, d, self._shift)

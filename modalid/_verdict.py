@@ -39,8 +39,9 @@ def mass_line_share(data: FRFData, inverse_mass: float, modes: pd.DataFrame) -> 
     """Median share of the band's low-end data a mass line ``1/M`` makes (NaN: no line).
 
     The low end: the lines below half the lowest mode's frequency (all of them without a
-    mode). Per line ``|1/(M omega^2)| / |H|`` on the receptance ``H``; about 1 where the
-    mass line is what the data show there, near 0 where it is a fit's slight misfit.
+    mode). Per line ``|1/(M (s + sigma)^2)| / |H|`` on the receptance ``H`` (``sigma``: an
+    exponential window's decay rate); about 1 where the mass line is what the data show
+    there, near 0 where it is a fit's slight misfit.
     """
     rec = data.to_receptance()
     f = modes["frequency_hz"].to_numpy(float)
@@ -48,7 +49,9 @@ def mass_line_share(data: FRFData, inverse_mass: float, modes: pd.DataFrame) -> 
     low = (rec.freq_hz < top) & (rec.freq_hz > 0) & (np.abs(rec.values) > 0)
     if not np.any(low):
         return np.nan
-    return float(np.median(np.abs(inverse_mass / rec.omega[low] ** 2) / np.abs(rec.values[low])))
+    sigma = data.window_decay_rate or 0.0          # a windowed FRF's line: u / (s + sigma)^2
+    line = np.abs(inverse_mass) / (rec.omega[low] ** 2 + sigma ** 2)
+    return float(np.median(line / np.abs(rec.values[low])))
 
 
 def driving_point_decision(modes: pd.DataFrame, inverse_mass: float, *,

@@ -308,3 +308,29 @@ def test_more_lines_fitted_by_segments_are_no_worse_than_one_fit(spacing, segmen
     pseudo = np.setdiff1d(fit.model_.poles, fit.poles_)
     pseudo = pseudo[np.abs(pseudo) > 2 * np.pi * 2000]
     assert np.all(-pseudo.real / np.abs(pseudo) > 1e-3)
+
+
+def test_a_segmented_transfer_frf_gets_its_pseudo_modes_refined_too():
+    """The same cantilever's modes with every third one's sign reversed (a transfer
+    accelerance), 10 000 lines: decided a transfer FRF, the quick probe's model stood,
+    which does not refine the pseudo-modes (modal masses 0.46-0.9 % off, FRF 0.67 %, as
+    before the refinement; review). The full unconstrained fit follows the probe now:
+    within 0.2 % and 0.1 %, as one fit of 4000 lines."""
+    from data_synth import CantileverBeam, lightly_damped, synthetic_frf
+
+    modes = lightly_damped(CantileverBeam(2.0, 0.056), 30, 0.01).modes
+    sign = np.where(np.arange(len(modes)) % 3 == 1, -1.0, 1.0)
+    truth = ModalModel.from_modes(modes["omega_n"].to_numpy(), modes["damping_ratio"].to_numpy(),
+                                  sign * modes["modal_mass"].to_numpy())
+    f = np.arange(1, 10001) * 0.2
+    data = synthetic_frf(truth, f, quantity="accelerance", noise=0.02, seed=1)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        fit = ModalFit().fit(data)
+    assert fit.report_["segments"] == 8 and fit.report_["driving_point"] is False
+    found = fit.report_["modes"]
+    assert len(found) == 8
+    np.testing.assert_allclose(found["modal_mass"], truth.modes["modal_mass"].iloc[:8],
+                               rtol=2e-3)
+    s = 2j * np.pi * np.arange(2.0, 2000.0, 0.25)
+    assert np.median(np.abs(fit.model_.receptance(s) / truth.receptance(s) - 1)) < 1e-3
