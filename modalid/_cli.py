@@ -55,6 +55,7 @@ _KEYWORDS = {
     "fs": "--fs", "response_type": "--response-type", "force_window": "--force-window",
     "force_window_length": "--force-window-length", "exponential_decay": "--exponential-decay",
     "n_fft": "--n-fft", "force_scale": "--force-scale", "response_scale": "--response-scale",
+    "max_freq_hz": "--max-freq",
 }
 
 

@@ -234,7 +234,8 @@ def _cmd_hammer(args) -> int:
                               response_type=response_type, force_window=args.force_window,
                               force_window_length=args.force_window_length,
                               exponential_decay=args.exponential_decay, n_fft=args.n_fft,
-                              baseline=args.baseline, pretrigger=pretrigger)
+                              baseline=args.baseline, pretrigger=pretrigger,
+                              max_freq_hz=args.max_freq)
     for w in caught:
         _warn(w.message)
     frf = est.frf
@@ -395,6 +396,10 @@ def _add_hammer_parser(sub) -> None:
                              "not for a .uff file: it holds a round line spacing only)")
     hammer.add_argument("--n-fft", type=int, default=None, metavar="N",
                         help="FFT length, zero-padded (default: the record length)")
+    hammer.add_argument("--max-freq", type=float, default=None, metavar="HZ",
+                        help="the highest line written (default: fs / 2.56, where an "
+                             "analyzer's lines stop: above, its anti-aliasing filter rolls "
+                             "off; at most fs / 2)")
     hammer.add_argument("--out", metavar="FILE",
                         help="the FRF file to write (.csv, .npz, .mat, .uff; default: "
                              "nothing saved)")

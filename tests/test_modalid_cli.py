@@ -427,9 +427,11 @@ def test_hammer_command_writes_the_h1_and_the_flags_of_a_later_fit(hammer_test, 
                  "--exponential-decay", repr(decay), "--out", str(uff)]) == 0
     said = capsys.readouterr()
     assert f"fit it with: modalid fit {uff} (and --fmax " in said.out
-    # this rod's time scale is a second: its 0.18 s pulse is no hammer's, and is said
+    # this rod's time scale is a second: its 0.18 s pulse is no hammer's, and is said;
+    # 2.5 samples long, it holds force above fs / 2, which is said too (the records were
+    # filtered: no aliasing, as the warning allows)
     assert said.err.startswith("warning: the force pulse lasts ")
-    assert said.err.count("\n") == 1
+    assert said.err.count("\n") == 2 and "near the Nyquist frequency" in said.err
     written = read_frf(uff)
     assert (written.window_decay_rate, written.record_length) == (decay, 100.0)
 
@@ -439,25 +441,28 @@ def test_one_hit_writes_its_force_spectrum_and_the_fit_ends_its_band_there(hamme
                                                                           tmp_path, capsys):
     """One hit (no coherence): the CSV keeps the force spectrum (``excitation``), the
     printed advice says the automatic band ends with it, and ``modalid fit`` on the file
-    says it ended the band where the spectrum fell 20 dB."""
+    says it ended the band where the spectrum fell 20 dB (the lines to fs / 2, --max-freq:
+    this pulse of 2.5 samples reaches past fs / 2.56, where they end by default)."""
     from modalid import frf_from_hammer, read_frf
 
     test, _ = hammer_test
     out = tmp_path / "one.csv"
     (path,) = save_rows(tmp_path, type(test)(**{**vars(test), "force": test.force[:1],
                                                 "response": test.response[:1]}))
+    top = repr(test.fs / 2)
     assert main(["hammer", path, "--response-type", "velocity", "--pretrigger", "keep",
-                 "--out", str(out)]) == 0
+                 "--max-freq", top, "--out", str(out)]) == 0
     assert "its automatic band ends where the force spectrum the file keeps falls 20 dB" in (
         capsys.readouterr().out)
     written = out.read_bytes()        # a second run does not overwrite it without a word
     assert main(["hammer", path, "--response-type", "velocity", "--pretrigger", "keep",
-                 "--out", str(out)]) == 2
+                 "--max-freq", top, "--out", str(out)]) == 2
     assert capsys.readouterr().err == (f"modalid: error: --out {out} exists: remove it "
                                        "first, or give another name\n")
     assert out.read_bytes() == written
     expected = frf_from_hammer(test.force[:1], test.response[:1], test.fs,
-                               response_type="velocity", pretrigger="keep")
+                               response_type="velocity", pretrigger="keep",
+                               max_freq_hz=test.fs / 2)
     np.testing.assert_array_equal(read_frf(out).excitation, expected.force_spectrum)
     assert main(["fit", str(out), "--not-driving-point"]) == 0
     assert "the excitation's spectrum is 20 dB or more below its peak" in capsys.readouterr().out
