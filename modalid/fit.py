@@ -35,7 +35,7 @@ from ._fit_lines import FitLines
 from ._fit_one import FitOne
 from ._frf_pipeline import FRFPipeline, ModalFitWarning
 from ._record_end import refit_without_record_end
-from ._verdict import driving_point_decision, judged_report
+from ._verdict import driving_point_decision
 from ._window import MOST_WINDOW_DECAY, windowed_receptance
 from .frf import FRFData, check_fittable
 from .frf_set import FRFSet
@@ -386,25 +386,6 @@ class ModalFit(FitOne, FRFPipeline, FitLines, BaseEstimator):
                               "FRFs, and its model cannot be an impact body; give the row "
                               "measured at the excitation", ModalFitWarning, stacklevel=3)
         return self._judge(driving_point=driving, reason=f"row {data.outputs[dp]!r}: {reason}")
-
-    def _judge(self, *, driving_point, reason):
-        """Add the driving-point decision, damping resolution and the quality verdict
-        to ``report_`` (:func:`modalid._verdict.judged_report`); warn
-        (:class:`ModalFitWarning`) unless the verdict is ``"ok"``."""
-        self.report_ = self._judged_report(driving_point=driving_point, reason=reason)
-        if self.report_["verdict"] != "ok":
-            warnings.warn(f"the fit is {self.report_['verdict']}: "
-                          + "; ".join(self.report_["verdict_reasons"]), ModalFitWarning,
-                          stacklevel=3)
-        return self
-
-    def _judged_report(self, *, driving_point, reason):
-        """``report_`` judged (:func:`modalid._verdict.judged_report`), not stored."""
-        return judged_report(
-            self.report_, self.model_, getattr(self, "frf_", None),
-            driving_point=driving_point, reason=reason, weighting=self._weighting_on,
-            weighting_reason=self._weighting_reason,
-            band_reason=getattr(self, "_band_reason", None))
 
     def _resolve_window(self, data):
         """Set ``window_decay_rate_`` and ``record_length_``, what the fit models: the

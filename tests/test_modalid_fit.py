@@ -1010,6 +1010,27 @@ def test_a_reweighting_that_chases_lines_the_data_do_not_follow_is_not_kept(freq
     assert fit.report_["verdict"] == "ok" and fit.report_["converged"]
 
 
+def test_fewer_modes_than_asked_are_said():
+    """``n_modes`` above what the band's diagram supports gave fewer modes, silently (a
+    beam's n_modes=8, 12 or 20 all its 5): said now, in the notes and a warning."""
+    truth = ModalModel.from_modes(2 * np.pi * np.array([120.0, 310.0, 560.0]),
+                                  [0.01, 0.01, 0.01], [2.0, 1.5, 3.0])
+    data = synthetic_frf(truth, np.arange(5.0, 800.0, 0.5), noise=0.01, seed=2)
+    with warnings.catch_warnings(record=True) as said:
+        warnings.simplefilter("always")
+        fit = ModalFit(n_modes=6).fit(data)
+    found = len(fit.report_["modes"])
+    assert found == 3
+    note = "n_modes=6 asked, 3 found: the band's stabilization diagram"
+    assert fit.report_["notes"][-1].startswith(note)
+    assert [str(w.message) for w in said if issubclass(w.category, ModalFitWarning)
+            and str(w.message).startswith(note)]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", ModalFitWarning)
+        exact = ModalFit(n_modes=3).fit(data)
+    assert not [n for n in exact.report_["notes"] if "asked" in n]
+
+
 def test_a_transfer_fit_keeps_its_negative_mass_line():
     """An exact transfer receptance of a free body measured away from the hit point: a
     negative mass line (the rigid rotation outweighs the translation there) and modal
