@@ -11,6 +11,7 @@ from modalid import ModalModel, MultiOutputModalModel
 from modalid.receptance import Receptance
 from modalid.validation import as_real_array, as_real_scalar
 
+from .result import ReadOnlyArrays
 from .sampled import SampledResponse
 
 __all__ = ["Body", "SampledResponse", "check_driving_point", "driving_point_problems"]
@@ -41,7 +42,7 @@ _SPEED_OF_LIGHT = 299_792_458.0
 
 
 @dataclass(frozen=True, eq=False)
-class Body:
+class Body(ReadOnlyArrays):
     """One of the two colliding bodies.
 
     Parameters

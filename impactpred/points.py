@@ -14,6 +14,8 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
+from .result import ReadOnlyArrays
+
 __all__ = ["PointResponse", "QUANTITIES"]
 
 #: the three histories of a :class:`PointResponse`, with their units
@@ -28,8 +30,8 @@ def _frozen_2d(name, a, shape):
     return a
 
 
-@dataclass(frozen=True)
-class PointResponse:
+@dataclass(frozen=True, eq=False)
+class PointResponse(ReadOnlyArrays):
     """Motion of one body's output points during and after the impact; immutable.
 
     Attributes

@@ -10,6 +10,19 @@ import pandas as pd
 __all__ = ["ImpactResult", "BodyEnergy", "EnergyAudit", "EnergyWarning"]
 
 
+class ReadOnlyArrays:
+    """Mixin of the frozen result dataclasses: their arrays stay read-only when pickled,
+    deep-copied or copied (unpickling does not run ``__post_init__``, which froze them:
+    a result sent through a process pool came back writeable, and ``r.force[:] = 0``
+    then made its peak force 0 beside an unchanged impulse)."""
+
+    def __setstate__(self, state):
+        for name, value in state.items():
+            if isinstance(value, np.ndarray):
+                value.setflags(write=False)     # this object's own copy (or a frozen one)
+            object.__setattr__(self, name, value)
+
+
 class EnergyWarning(UserWarning):
     """A prediction ends with more energy than it had: beyond the solver's accuracy, the
     result is not physical (see :class:`EnergyAudit`)."""
@@ -128,8 +141,8 @@ def _frozen(a, dtype=float):
     return a
 
 
-@dataclass(frozen=True)
-class ImpactResult:
+@dataclass(frozen=True, eq=False)
+class ImpactResult(ReadOnlyArrays):
     """The predicted impact.
 
     The attributes up to ``energy_audit`` are what the result holds (its constructor's

@@ -11,6 +11,8 @@ import numpy as np
 from modalid.receptance import TimeScale
 from modalid.validation import as_real_array, as_real_scalar
 
+from .result import ReadOnlyArrays
+
 __all__ = ["SampledResponse"]
 
 #: a record's second half whose straight-line trend rises by more than this many times
@@ -19,7 +21,7 @@ DRIFT_OVER_SCATTER = 4.0
 
 
 @dataclass(frozen=True, eq=False)
-class SampledResponse:
+class SampledResponse(ReadOnlyArrays):
     """A driving-point impulse response known only by samples (e.g. measured).
 
     Parameters

@@ -279,6 +279,25 @@ def test_automatic_step_does_not_grow_with_t_end():
         solve_impact(*bodies, t_end=1e6)
 
 
+@pytest.mark.parametrize("method", ["modal", "convolution"])
+def test_a_run_shorter_than_the_automatic_step_takes_a_finer_one(method):
+    """A mass at 1 m/s touching a spring-mass through a spring, t_end = 1e-6 s, 24 times
+    under the automatic step: the grid was one step past t_end, the modal solver's bodies
+    overlapped 2.4e-5 m with touched=False and an impulse 555 times the exact one, the
+    convolution's contact ended after t_end (walkthrough). The automatic step is at most
+    t_end / 200 now: the exact solver's figures, the grid ends at t_end."""
+    bodies = (Body(LumpedMass(1.0), velocity=1.0), Body(SpringMass(1.0, 1e4)))
+    contact = LinearSpring(1e4)
+    assert choose_dt(bodies, contact, t_end=1e-6, method=method) == pytest.approx(5e-9)
+    assert choose_dt(bodies, contact, t_end=1.0, method=method) == pytest.approx(2.357e-5,
+                                                                                 rel=1e-3)
+    exact = solve_impact(*bodies, contact=contact, t_end=1e-6, method="laplace")
+    res = solve_impact(*bodies, contact=contact, t_end=1e-6, method=method)
+    assert res.touched and res.t[-1] == pytest.approx(1e-6, rel=1e-9)
+    assert res.contact_intervals[-1][1] <= 1e-6 * (1 + 1e-9)
+    assert res.total_impulse == pytest.approx(exact.total_impulse, rel=0.01)
+
+
 def test_automatic_step_coarsened_at_most_20_times_with_the_numbers():
     """t_end twice what 4e6 automatic steps cover: the step doubles, with a warning that
     says so and what it costs; the first contact stays within that estimate."""

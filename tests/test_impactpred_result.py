@@ -53,3 +53,41 @@ def test_no_restitution_while_the_contact_is_still_closed_at_t_end():
     assert not closed.in_contact_at_end
     assert closed.contact_intervals[0][1] == pytest.approx(3.068, abs=2e-3)
     assert 0.6 < closed.restitution < 0.75
+
+
+@pytest.mark.parametrize("how", ["pickle", "deepcopy", "copy"])
+def test_results_stay_read_only_when_pickled_or_copied(how):
+    """Unpickling does not run ``__post_init__``, which froze the arrays: a result sent
+    through a process pool came back writeable, and ``r.force[:] = 0`` made its peak
+    force 0 beside an unchanged impulse (walkthrough). Results, their point responses,
+    bodies, sampled responses and damper results keep read-only arrays; ``==`` is
+    identity (comparing the arrays had raised "truth value ... is ambiguous")."""
+    import copy
+    import pickle
+
+    import numpy as np
+
+    from data_synth import Rod, SpringMass
+    from impactpred import ImpactDamper, InstantaneousImpact, SampledResponse
+    from impactpred.damper import HarmonicForce
+
+    again = {"pickle": lambda o: pickle.loads(pickle.dumps(o)), "deepcopy": copy.deepcopy,
+             "copy": copy.copy}[how]
+    rod = Rod(1.0, 1.0, support="fixed")
+    result = solve_impact(Body(LumpedMass(1.0), velocity=1.0), Body(rod, outputs=[0.5]),
+                          t_end=1.0)
+    t = np.linspace(0.0, 2.0, 2001)
+    damper = ImpactDamper(SpringMass(1.0, (2 * np.pi * 5) ** 2), damper_mass=0.1,
+                          clearance=2e-3, contact=InstantaneousImpact(0.6),
+                          excitation=HarmonicForce(5.0, 5.7)).simulate(3, samples_per_cycle=20)
+    objects = {result: ("t", "force", "gap"), result.points[1]: ("t", "displacement"),
+               Body(SpringMass(1.0, 1e4), vibration=[[0.0, 1.0]]): ("vibration",),
+               SampledResponse(t, rod.impulse_response(t)): ("t", "impulse_response"),
+               damper: ("t", "force", "primary")}
+    for obj, names in objects.items():
+        twin = again(obj)
+        for name in names:
+            with pytest.raises(ValueError, match="read-only"):
+                getattr(twin, name)[0] = 1.0
+        assert twin == twin and (twin == obj) is (twin is obj)
+        hash(twin)

@@ -14,7 +14,7 @@ from modalid.validation import as_count
 
 from ..contact import Hertz
 from ..points import PointResponse
-from ..result import _frozen
+from ..result import ReadOnlyArrays, _frozen
 from ..engine.phase import _cubic_min
 
 __all__ = ["DamperResult", "DamperState", "build_result"]
@@ -28,8 +28,8 @@ RESONANCE_ERROR_NOTE = 1e-8
 _IMPACT_COLUMNS = ["time", "side", "impulse", "duration", "relative_velocity", "phase"]
 
 
-@dataclass(frozen=True)
-class DamperState:
+@dataclass(frozen=True, eq=False)
+class DamperState(ReadOnlyArrays):
     """Where a run ended, for ``ImpactDamper.simulate(initial=...)``.
 
     Attributes
@@ -62,8 +62,8 @@ class DamperState:
     clearance: float | None = None
 
 
-@dataclass(frozen=True)
-class DamperResult:
+@dataclass(frozen=True, eq=False)
+class DamperResult(ReadOnlyArrays):
     """One run of :meth:`ImpactDamper.simulate`; immutable (read-only arrays).
 
     Attributes
@@ -179,7 +179,7 @@ class DamperResult:
         # a result pickled before the table became a property kept it as ``impacts``
         if "impacts" in state:
             state = {("_impacts" if k == "impacts" else k): v for k, v in state.items()}
-        self.__dict__.update(state)
+        super().__setstate__(state)
 
     def poincare(self) -> pd.DataFrame:
         """States once per forcing period, at the run's starting phase.

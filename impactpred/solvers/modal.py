@@ -226,7 +226,9 @@ def _solve_linear_hold(bodies, models, steppers, gap0, contact, t_end, dt, notes
                        code, float(k), float(c), float(n))
     force, y1, y2, events, impulse, work1, work2 = out[:7]
     notes.append("modal: first-order hold, contact events located inside the steps "
-                 "(second order in dt); force samples are its values at the grid times")
+                 "(second order in dt where the force is continuous, first order where it "
+                 "jumps, as a dashpot's at a contact's start); force samples are its values "
+                 "at the grid times")
     gap = y2 - y1 + gap0
     tol = micro_separation_tolerance(y1, y2)
     runs = _contact_runs(events, force, gap, tol, grid)
