@@ -196,6 +196,33 @@ class FitOne:
         tolerance = line_error_tolerance(report["noise_median_relative"])
         return len(report["modes"]) > 0 and report["frf_median_relative_error"] <= tolerance
 
+    def _judge(self, *, driving_point, reason):
+        """Add the driving-point decision, damping resolution and the quality verdict
+        to ``report_`` (:func:`modalid._verdict.judged_report`); warn
+        (:class:`ModalFitWarning`) unless the verdict is ``"ok"``."""
+        self.report_ = self._judged_report(driving_point=driving_point, reason=reason)
+        if self.report_["verdict"] != "ok":
+            warnings.warn(f"the fit is {self.report_['verdict']}: "
+                          + "; ".join(self.report_["verdict_reasons"]), ModalFitWarning,
+                          stacklevel=3)
+        asked, found = self._selection().get("n_modes"), len(self.report_["modes"])
+        if asked is not None and found < asked:
+            # select_poles keeps at most the diagram's clusters, the checks drop more: a
+            # beam's n_modes=8, 12 or 20 all gave its 5, silently (walkthrough)
+            note = (f"n_modes={asked} asked, {found} found: the band's stabilization "
+                    "diagram and the checks after it support no more")
+            self.report_ = self.report_.replace(notes=[*self.report_["notes"], note])
+            warnings.warn(note, ModalFitWarning, stacklevel=3)
+        return self
+
+    def _judged_report(self, *, driving_point, reason):
+        """``report_`` judged (:func:`modalid._verdict.judged_report`), not stored."""
+        return judged_report(
+            self.report_, self.model_, getattr(self, "frf_", None),
+            driving_point=driving_point, reason=reason, weighting=self._weighting_on,
+            weighting_reason=self._weighting_reason,
+            band_reason=getattr(self, "_band_reason", None))
+
 
 def _refit_stands(first, refit, *, trigger: str) -> bool:
     """Whether the refit weighted by the data's scatter (report ``refit``, None if it
@@ -265,30 +292,3 @@ def _say_again(caught) -> None:
         else:
             warnings.warn_explicit(w.message, w.category, w.filename, w.lineno,
                                    module=modules.get(w.filename))
-
-    def _judge(self, *, driving_point, reason):
-        """Add the driving-point decision, damping resolution and the quality verdict
-        to ``report_`` (:func:`modalid._verdict.judged_report`); warn
-        (:class:`ModalFitWarning`) unless the verdict is ``"ok"``."""
-        self.report_ = self._judged_report(driving_point=driving_point, reason=reason)
-        if self.report_["verdict"] != "ok":
-            warnings.warn(f"the fit is {self.report_['verdict']}: "
-                          + "; ".join(self.report_["verdict_reasons"]), ModalFitWarning,
-                          stacklevel=3)
-        asked, found = self._selection().get("n_modes"), len(self.report_["modes"])
-        if asked is not None and found < asked:
-            # select_poles keeps at most the diagram's clusters, the checks drop more: a
-            # beam's n_modes=8, 12 or 20 all gave its 5, silently (walkthrough)
-            note = (f"n_modes={asked} asked, {found} found: the band's stabilization "
-                    "diagram and the checks after it support no more")
-            self.report_ = self.report_.replace(notes=[*self.report_["notes"], note])
-            warnings.warn(note, ModalFitWarning, stacklevel=3)
-        return self
-
-    def _judged_report(self, *, driving_point, reason):
-        """``report_`` judged (:func:`modalid._verdict.judged_report`), not stored."""
-        return judged_report(
-            self.report_, self.model_, getattr(self, "frf_", None),
-            driving_point=driving_point, reason=reason, weighting=self._weighting_on,
-            weighting_reason=self._weighting_reason,
-            band_reason=getattr(self, "_band_reason", None))
