@@ -397,9 +397,9 @@ def _add_hammer_parser(sub) -> None:
     hammer.add_argument("--n-fft", type=int, default=None, metavar="N",
                         help="FFT length, zero-padded (default: the record length)")
     hammer.add_argument("--max-freq", type=float, default=None, metavar="HZ",
-                        help="the highest line written (default: fs / 2.56, where an "
-                             "analyzer's lines stop: above, its anti-aliasing filter rolls "
-                             "off; at most fs / 2)")
+                        help="the highest line written (default and most: fs / 2; an "
+                             "analyzer's lines stop at fs / 2.56, where its anti-aliasing "
+                             "filter rolls off)")
     hammer.add_argument("--out", metavar="FILE",
                         help="the FRF file to write (.csv, .npz, .mat, .uff; default: "
                              "nothing saved)")

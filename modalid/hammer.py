@@ -240,9 +240,6 @@ def _as_threshold(value) -> float:
 #: the largest ``n_fft`` frf_from_hammer accepts: 64 times the record, or 2**24 lines
 #: for a short one (1e11 was a MemoryError)
 _MAX_PAD, _MAX_FFT = 64, 2**24
-#: an analyzer keeps the lines up to ``fs / ANALYZER_LINES`` (its anti-aliasing filter's
-#: roll-off above): :func:`frf_from_hammer`'s default top line
-ANALYZER_LINES = 2.56
 
 
 def frf_from_hammer(force, response, fs, *, response_type="acceleration",
@@ -316,12 +313,10 @@ def frf_from_hammer(force, response, fs, *, response_type="acceleration",
         refused. A cut of more than 20 % of the records (a late hit) is warned of.
 
     max_freq_hz : float or None
-        The highest line kept (Hz), at most ``fs / 2``. ``None`` (default): ``fs / 2.56``,
-        where an analyzer's lines stop: above it the anti-aliasing filter's roll-off
-        leaves the channels' noise over a force it has cut, at a coherence that can stay
-        high (a fixed rod's averaged hits, filtered at 0.4 fs: H1 30-436 % off at
-        0.4-0.5 fs, coherence 0.99; the automatic band took those lines and predicted a
-        restitution of 0.75-0.77 for 0.72, the worse the finer the resolution).
+        The highest line kept (Hz), at most ``fs / 2`` (``None``, the default): an
+        analyzer shows its lines up to ``fs / 2.56``, where its anti-aliasing filter rolls
+        off. Without a limit the automatic band of :class:`ModalFit` ends where the force
+        has fallen 40 dB above the hammer's reach (:mod:`modalid._band`).
 
     Returns
     -------
@@ -401,8 +396,7 @@ def frf_from_hammer(force, response, fs, *, response_type="acceleration",
     if n_fft is None:
         n_fft = n_samples
     n_fft = as_count("n_fft", n_fft, minimum=1)
-    top = fs / ANALYZER_LINES if max_freq_hz is None else as_positive_scalar(
-        "max_freq_hz", max_freq_hz)
+    top = fs / 2 if max_freq_hz is None else as_positive_scalar("max_freq_hz", max_freq_hz)
     if top > fs / 2 * (1 + 1e-12):
         raise ValueError(f"max_freq_hz must be at most the Nyquist frequency fs / 2 = "
                          f"{fs / 2:.6g} Hz, got {max_freq_hz!r}")

@@ -441,8 +441,8 @@ def test_one_hit_writes_its_force_spectrum_and_the_fit_ends_its_band_there(hamme
                                                                           tmp_path, capsys):
     """One hit (no coherence): the CSV keeps the force spectrum (``excitation``), the
     printed advice says the automatic band ends with it, and ``modalid fit`` on the file
-    says it ended the band where the spectrum fell 20 dB (the lines to fs / 2, --max-freq:
-    this pulse of 2.5 samples reaches past fs / 2.56, where they end by default)."""
+    says it ended the band where the spectrum fell 20 dB (--max-freq: the lines to fs / 2,
+    as by default)."""
     from modalid import frf_from_hammer, read_frf
 
     test, _ = hammer_test
