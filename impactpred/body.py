@@ -140,6 +140,13 @@ class Body(ReadOnlyArrays):
             if vibration.ndim != 2 or vibration.shape[1] != 2:
                 raise ValueError(f"vibration must have shape (n_modes, 2) (displacement, "
                                  f"velocity per mode), got shape {vibration.shape}")
+            if getattr(model, "is_rational", False):     # a finite count of modes
+                available = model.modal_form(None).n_modes
+                rows = vibration.shape[0]
+                if rows > available:
+                    raise ValueError(f"vibration gives {rows} row{'s' * (rows != 1)} (one "
+                                     f"per mode) but the model has {available} mode"
+                                     f"{'s' * (available != 1)}")
             vibration = np.array(vibration)
             vibration.setflags(write=False)
         if load is not None:

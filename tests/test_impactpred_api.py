@@ -267,6 +267,19 @@ def test_the_modal_solvers_error_at_a_dashpots_jump_is_first_order(zeta):
     assert any("first order where it jumps" in note for note in modal.notes)
 
 
+def test_vibration_rows_beyond_the_models_modes_are_refused_at_the_body():
+    """A spring-mass given three modes' vibration, a lumped mass given one: accepted by
+    Body, refused later by solve_impact without saying which body (walkthrough). Refused
+    at the Body now; a continuum has as many modes as asked."""
+    with pytest.raises(ValueError, match=r"^vibration gives 3 rows \(one per mode\) but the "
+                                         r"model has 1 mode$"):
+        Body(SpringMass(1.0, 1e4), vibration=[[0.0, 1.0]] * 3)
+    with pytest.raises(ValueError, match=r"^vibration gives 1 row \(one per mode\) but the "
+                                         r"model has 0 modes$"):
+        Body(LumpedMass(1.0), vibration=[[0.0, 5.0]])
+    assert Body(Rod(1.0, 1.0), vibration=[[0.0, 1.0]] * 5).vibration.shape == (5, 2)
+
+
 def test_vibration_that_makes_the_bodies_overlap_at_the_start_is_refused():
     """gap = 0 but the struck body's vibration puts its contact point 0.1 m behind: overlap."""
     rod = Rod(1.0, 1.0, support="fixed")
