@@ -174,7 +174,8 @@ class Hertz(ContactLaw):
         radius1 : float, keyword-only
             Radius of body 1's sphere (m).
         youngs_modulus1, poisson1 : float, keyword-only
-            Its Young's modulus (Pa) and Poisson's ratio.
+            Its Young's modulus (Pa) and Poisson's ratio (in (-1, 0.5]; 0.5 for an
+            incompressible material such as rubber).
         youngs_modulus2, poisson2 : float, keyword-only
             Body 2's.
         radius2 : float, keyword-only
@@ -192,8 +193,8 @@ class Hertz(ContactLaw):
         nu1 = as_real_scalar("poisson1", poisson1)
         nu2 = as_real_scalar("poisson2", poisson2)
         for name, nu in (("poisson1", nu1), ("poisson2", nu2)):
-            if not -1.0 < nu < 0.5:
-                raise ValueError(f"{name} must lie in (-1, 0.5), got {nu!r}")
+            if not -1.0 < nu <= 0.5:          # 0.5: incompressible (rubber), E* stays finite
+                raise ValueError(f"{name} must lie in (-1, 0.5], got {nu!r}")
         e_star = 1.0 / ((1 - nu1**2) / e1 + (1 - nu2**2) / e2)
         r_star = 1.0 / (1.0 / r1 + 1.0 / r2)
         return cls(4.0 / 3.0 * e_star * np.sqrt(r_star), 1.5)

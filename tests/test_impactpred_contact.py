@@ -55,6 +55,11 @@ def test_hertz_from_materials_steel_ball_on_steel():
     two_balls = Hertz.from_materials(radius1=5e-3, radius2=5e-3, youngs_modulus1=210e9,
                                      poisson1=0.3, youngs_modulus2=210e9, poisson2=0.3)
     assert two_balls.stiffness == pytest.approx(law.stiffness / np.sqrt(2), rel=1e-12)
+    # an incompressible ball (rubber, Poisson 0.5) was refused (walkthrough)
+    rubber = Hertz.from_materials(radius1=5e-3, youngs_modulus1=5e6, poisson1=0.5,
+                                  youngs_modulus2=210e9, poisson2=0.3)
+    e_star = 1 / (0.75 / 5e6 + 0.91 / 210e9)
+    assert rubber.stiffness == pytest.approx(4 / 3 * e_star * np.sqrt(5e-3), rel=1e-12)
 
 
 @pytest.mark.parametrize("kwargs, match", [
