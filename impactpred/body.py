@@ -41,7 +41,7 @@ _WHAT_TO_DO = ("What to do: a transfer FRF is not a driving point: a body needs 
 _SPEED_OF_LIGHT = 299_792_458.0
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, repr=False)
 class Body(ReadOnlyArrays):
     """One of the two colliding bodies.
 

@@ -30,7 +30,7 @@ def _frozen_2d(name, a, shape):
     return a
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, repr=False)
 class PointResponse(ReadOnlyArrays):
     """Motion of one body's output points during and after the impact; immutable.
 

@@ -14,7 +14,20 @@ class ReadOnlyArrays:
     """Mixin of the frozen result dataclasses: their arrays stay read-only when pickled,
     deep-copied or copied (unpickling does not run ``__post_init__``, which froze them:
     a result sent through a process pool came back writeable, and ``r.force[:] = 0``
-    then made its peak force 0 beside an unchanged impulse)."""
+    then made its peak force 0 beside an unchanged impulse); the repr shows an array's
+    shape, not its values (a result's ran to thousands of characters)."""
+
+    def __repr__(self) -> str:
+        def shown(value):
+            if isinstance(value, np.ndarray):
+                return f"<array {'x'.join(map(str, value.shape)) or 'scalar'}>"
+            if isinstance(value, (tuple, list)) and len(value) > 4:
+                return f"<{len(value)} {type(value).__name__} items>"
+            return repr(value)
+        fields = getattr(self, "__dataclass_fields__", {})
+        parts = (f"{name}={shown(getattr(self, name))}" for name in fields
+                 if fields[name].repr)
+        return f"{type(self).__name__}({', '.join(parts)})"
 
     def __setstate__(self, state):
         for name, value in state.items():
@@ -141,7 +154,7 @@ def _frozen(a, dtype=float):
     return a
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, repr=False)
 class ImpactResult(ReadOnlyArrays):
     """The predicted impact.
 

@@ -20,7 +20,7 @@ __all__ = ["SampledResponse"]
 DRIFT_OVER_SCATTER = 4.0
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, repr=False)
 class SampledResponse(ReadOnlyArrays):
     """A driving-point impulse response known only by samples (e.g. measured).
 

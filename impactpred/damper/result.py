@@ -28,7 +28,7 @@ RESONANCE_ERROR_NOTE = 1e-8
 _IMPACT_COLUMNS = ["time", "side", "impulse", "duration", "relative_velocity", "phase"]
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, repr=False)
 class DamperState(ReadOnlyArrays):
     """Where a run ended, for ``ImpactDamper.simulate(initial=...)``.
 
@@ -62,7 +62,7 @@ class DamperState(ReadOnlyArrays):
     clearance: float | None = None
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, repr=False)
 class DamperResult(ReadOnlyArrays):
     """One run of :meth:`ImpactDamper.simulate`; immutable (read-only arrays).
 
