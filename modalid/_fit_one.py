@@ -137,8 +137,10 @@ class FitOne:
         if full and not driving:
             for w in unconstrained:           # the unconstrained fit stands
                 warnings.warn(w.message, w.category, stacklevel=4)
-        else:         # its warnings, if it stands (by segments: the pseudo-modes refined,
-            refit_said = self._fit_recorded(data)       # which the probe leaves)
+        else:
+            # the full fit, its warnings said if it stands (by segments too: it refines
+            # the pseudo-modes, which the probe leaves where they were placed)
+            refit_said = self._fit_recorded(data)
             if not driving:
                 # the probe's junk poles can carry the sign: the full fit decides (a
                 # free rod at 1 % noise: two at damping 0.5-0.6 and modal mass -0.12,

@@ -65,8 +65,9 @@ def driving_point_decision(modes: pd.DataFrame, inverse_mass: float, *,
         ``modal_mass``, ``residue``).
     inverse_mass : float
         The fitted mass line's ``1/M`` (1/kg), before any clipping, with the lower
-        pseudo-modes' (``2 Re(r p)`` each: the mass line a pole below the band adds
-        above it); < 0 means a negative mass line (a transfer FRF or a reversed sign).
+        pseudo-modes' well below the band (``2 Re(r (p + sigma))`` each: the mass line
+        such a pole adds above it); < 0 means a negative mass line (a transfer FRF or a
+        reversed sign).
     data : FRFData, optional
         The band fitted: a negative mass line is slight (not counted) only where it makes
         under a quarter of the data's low end (:func:`mass_line_share`), as well as under
@@ -100,12 +101,12 @@ def driving_point_decision(modes: pd.DataFrame, inverse_mass: float, *,
     # rigid term -0.05 1/kg against 2.2 of the modes': 39 % of the lines below them; the
     # fixed rod's 11 %)
     slight = inverse_mass < 0 and -inverse_mass < (1 - _DOMINANT) * total
-    low_share = mass_line_share(data, inverse_mass, modes) if data is not None else np.nan
-    if slight and low_share >= _LOW_END_SHARE:
-        slight = False
-        because = f", making {100 * low_share:.0f} % of the data below the modes"
-    else:
-        because = ""
+    because = ""
+    if slight and data is not None:
+        low_share = mass_line_share(data, inverse_mass, modes)
+        if low_share >= _LOW_END_SHARE:
+            slight = False
+            because = f", making {100 * low_share:.0f} % of the data below the modes"
     if share >= _DOMINANT and (inverse_mass >= 0 or slight):
         aside = (f" (a negative mass line of {inverse_mass:.3g} 1/kg, under a tenth of it, "
                  "not counted)" if slight else "")
