@@ -37,7 +37,7 @@ import numpy as np
 from scipy.ndimage import median_filter
 from scipy.signal import find_peaks, peak_widths
 
-from ._lsfd import noise_level, running_percentile
+from ._noise import noise_level, running_percentile
 from .frf import FRFData
 
 __all__ = ["choose_band", "choose_weighting", "decimation", "noise_model", "roughness"]

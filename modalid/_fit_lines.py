@@ -16,7 +16,7 @@ import numpy as np
 
 from ._band import band_to_fit, choose_band, choose_weighting, decimation, given_band, noise_model
 from ._checks import as_real_array
-from ._lsfd import noise_level
+from ._noise import noise_level
 from ._window import check_record_lines
 from .quantities import receptance_to
 

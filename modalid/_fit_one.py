@@ -19,6 +19,7 @@ import warnings
 import numpy as np
 
 from ._frf_pipeline import ModalFitWarning
+from ._segment_assembly import resume_probe
 from ._verdict import (driving_point_decision, judged_report, line_error_tolerance,
                        misfit_suspect)
 
@@ -172,6 +173,7 @@ class FitOne:
             for w in refit_said:
                 warnings.warn(w.message, w.category, stacklevel=4)
         self.__dict__.pop("_stabilization_cache", None)
+        self.__dict__.pop("_probe_assembly", None)
         return self._judge(driving_point=driving, reason=reason)
 
     def _passes_as_judged(self) -> bool:
@@ -187,7 +189,10 @@ class FitOne:
         if the fit stands."""
         with warnings.catch_warnings(record=True) as said:
             warnings.simplefilter("always")
-            self._fit_frf(data)
+            if not self._passive_on and "_probe_assembly" in self.__dict__:
+                resume_probe(self)          # a segmented probe's band, refined
+            else:
+                self._fit_frf(data)
         return said
 
     def _probe_suffices(self) -> bool:

@@ -5,8 +5,9 @@ diagram or vector fitting, the low end (mass line or static flexibility:
 :class:`modalid._low_end.LowEnd`), residual terms above the band, and the
 variable-projection refinement with its checks (missed modes added where the residual
 peaks; insignificant, non-passive or duplicated poles dropped one at a time); then the
-stored model and report. The methods read the estimator's settings (``self.method``,
-``self.passive``, ...), which :class:`modalid.fit.ModalFit` validates.
+stored model and report (:mod:`modalid._fit_store`). The methods read the estimator's
+settings (``self.method``, ``self.passive``, ...), which :class:`modalid.fit.ModalFit`
+validates.
 """
 
 from __future__ import annotations
@@ -19,29 +20,24 @@ import pandas as pd
 from ._checks import as_count
 from ._lscf import lscf_subbands
 from ._pole_checks import PoleChecks
-from ._report import (fit_report, local_misfit_inflation, misfit_notes, mode_std_columns,
-                      residual_correlation_inflation)
+from ._report import fit_report
 from ._segments import (MAX_PEAKS_ONE_FIT, MIN_SEGMENTED, default_order, distinct_peaks,
                         resonance_peaks, segment_poles)
 from ._low_end import LowEnd
-from ._lsfd import (Terms, evaluate, noise_level, place_upper_modes,
+from ._lsfd import (Terms, evaluate, place_upper_modes,
                     refine_varpro, release_gain, split_coefficients)
 from ._vf import vector_fit_poles
-from ._segment_assembly import assemble, drop_idle_modes, refine_pseudo_modes
+from ._segment_assembly import band_model
+from ._fit_store import store_fit
 from ._zero_start import hold_single
 from ._unresolved_damping import lift_single
-from ._window import nonnegative_mass_line, structure_model, windowed_receptance
 from .frf import FRFData
-from .model import ModalModel
-from .quantities import receptance_to
 from ._information import misfit_ratio, select_by_information
-from ._verdict import missed_resonances
 from .stabilization import cluster_poles, select_poles, stabilization_table
 
 __all__ = ["FRFPipeline", "ModalFitWarning", "fit_report"]
 
 _FAR = 2.0          # the held upper pseudo-mode sits at twice the top of the band
-_MASS_LINE_POLE = 0.3  # a lower pseudo-mode under this share of the band's start is a mass line
 # the free upper pseudo-mode's starts (x band top): not the held one's (both dropped idle)
 _UPPER_RATIOS = tuple(r for r in (1.02, 1.05, 1.1, 1.2, 1.35, 1.6, 2.0, 2.8, 4.0) if r != _FAR)
 # missed modes: per pass at most this many added ("strict": half the band's peaks, up to
@@ -287,18 +283,22 @@ class FRFPipeline(PoleChecks, LowEnd):
         with these standard deviations: they are held, the linear unknowns of the whole
         band fitted and its pseudo-modes refined (:mod:`modalid._segment_assembly`); else
         :meth:`_refine_poles`."""
-        omega, h = frf.omega, frf.values
         notes = []
         if segment_std is not None:
-            poles, kinds, terms = self._start(omega, h, w, poles, cut)
-            self._iterations, self._buffers = 0, {}
-            poles, x, info = assemble(self, omega, h, w, poles, kinds, terms, segment_std)
-            poles, kinds, x, info, segment_std = drop_idle_modes(
-                self, omega, h, w, poles, kinds, x, info, terms, segment_std, notes)
-            poles, kinds, x, info = refine_pseudo_modes(self, omega, h, w, poles, kinds, x,
-                                                        info, terms)
+            poles, kinds, x, info, terms, segment_std = band_model(
+                self, frf, w, poles, cut, segment_std, notes, max_order)
         else:
-            poles, kinds, x, info, terms = self._refine_poles(omega, h, w, poles, cut, notes)
+            poles, kinds, x, info, terms = self._refine_poles(frf.omega, frf.values, w, poles,
+                                                              cut, notes)
+        return self._finish_identify(frf, w, poles, kinds, x, info, terms, segment_std, notes,
+                                     max_order, vf_iterations)
+
+    def _finish_identify(self, frf, w, poles, kinds, x, info, terms, segment_std, notes,
+                         max_order, vf_iterations):
+        """What :meth:`_identify` does after the poles' refinement: a passive fit's single
+        modes held, more steps where the refinement did not converge, unresolved damping
+        lifted; the model and report stored, warnings said (not by a probe)."""
+        omega, h = frf.omega, frf.values
         if self._passive_on and not self.__dict__.get("_probe"):
             poles, kinds, x, info = hold_single(self, omega, h, w, poles, kinds, x, info,
                                                 terms, segment_std, notes)
@@ -320,8 +320,8 @@ class FRFPipeline(PoleChecks, LowEnd):
         # a probe's are not said: a full fit follows it
         for message in () if self.__dict__.get("_probe") else said:
             warnings.warn(message, ModalFitWarning, stacklevel=4)
-        self._store(frf, poles, kinds, residues, u, d, info, notes, max_order, vf_iterations,
-                    terms)
+        store_fit(self, frf, poles, kinds, residues, u, d, info, notes, max_order,
+                  vf_iterations, terms)
         del self._buffers
         self.__dict__.pop("_zero_start", None)
         return self
@@ -501,99 +501,3 @@ class FRFPipeline(PoleChecks, LowEnd):
         info["quick"] = quick and relative
         self._iterations += n_iter
         return poles, x, info
-
-    # ------------------------------------------------------------------ results
-    def _store(self, frf, poles, kinds, residues, u, d, info, notes, max_order,
-               vf_iterations, terms):
-        omega, h = frf.omega, frf.values
-        # the model of the data fitted (windowed), then the structure's (modalid._window);
-        # a transfer FRF (unconstrained fit) keeps a negative mass line (a rigid rotation,
-        # or the modes below the band, measured away from the hit point)
-        # its sign speaks of driving point or not, and so does a lower pseudo-mode's well
-        # below the band: above its pole it adds 2 Re(r (p + sigma)) / (s + sigma)^2, a
-        # mass line of that 1/M (exact for a mode of modal mass m: 1/m); a free body's
-        # transfer FRF fitted from 5 Hz carried its negative rigid term (-0.2 1/kg) in one
-        # of -5 kg at 0.4 Hz, and passed for a driving point. One near the band's start
-        # is no mass line (a windowed fixed rod's at 0.93 of it, fitting the leakage there)
-        lower = (kinds == "lower") & (np.abs(poles) < _MASS_LINE_POLE * omega[0])
-        self._raw_inverse_mass = float(u) + float(
-            np.sum(2.0 * np.real(residues[lower] * (poles[lower] + self._shift))))
-        u = float(u) if not self._passive_on else max(float(u), 0.0)
-        fitted_model = ModalModel(poles=poles, residues=residues, inverse_mass=u, flexibility=d)
-        fitted = evaluate(omega, poles, residues, (), (), u, d, self._shift)
-        band = self._data_band
-        own = receptance_to(band.quantity, fitted, band.omega) - band.values
-        window = {}
-        fit_poles = poles                    # where the residual's lines are (windowed)
-        if self._windowed:
-            fitted_model, window = structure_model(
-                fitted_model, kinds, decay_rate=self._shift, record_length=self._record,
-                quantity=band.quantity, data=band, removed=self.__dict__.get("_end_removed"))
-            poles, residues = fitted_model.poles, fitted_model.residues
-            if self._passive_on:           # the record end's A_2 taken out of it
-                fitted_model, said = nonnegative_mass_line(fitted_model)
-                notes = notes + said
-            if window["window_clipped"]:   # a pole moved: judged as delivered
-                own = receptance_to(band.quantity, windowed_receptance(
-                    fitted_model, band.omega, self._shift, self._record,
-                    quantity=band.quantity, cut=window["record_cut"]),
-                    band.omega) - band.values - window["record_end_gone"]
-        self.model_, self._record_cut = fitted_model, window.get("record_cut")
-        physical = kinds == "mode"
-        self.poles_ = poles[physical][np.argsort(np.abs(poles[physical]))]
-        modes = ModalModel(poles=poles[physical], residues=residues[physical]).modes
-        std = info.get("std")
-        self._mode_std_raw = None          # per physical pole, by frequency (segments)
-        if std is not None:
-            order = np.argsort(np.abs(poles[physical]), kind="stable")
-            self._mode_std_raw = std["modes"][physical][order]
-        # the formula assumes independent lines; correlated residuals (model error, the
-        # estimator's smoothing) carry fewer independent ones: widen by Bartlett's factor;
-        # and its variance is the band's: a mode whose own lines the model misses by more
-        # than that is widened by the misfit there
-        weighted = self._final_weights * (fitted - h)
-        inflation = residual_correlation_inflation(weighted)
-        if std is not None:
-            std = {k: v * inflation for k, v in std.items()}
-            local = local_misfit_inflation(omega, weighted, fit_poles, correlation=inflation)
-            std["modes"] = std["modes"] * local[:, None]
-            notes = notes + misfit_notes(poles[physical], local[physical])
-        if std is None:
-            modes = mode_std_columns(modes)
-        else:
-            order = np.argsort(np.abs(poles[physical]), kind="stable")
-            scale = window.get("truncation_factors", np.ones(poles.size))[physical][order]
-            modes = mode_std_columns(modes, std["modes"][physical][order],
-                                     poles[physical][order], scale)
-        # marginal stds of the rigid and constant terms; not where a pseudo-mode next to
-        # them trades against them (a lower one against the mass line, an upper one
-        # against the constant): their marginal std is then no measure of either
-        inverse_mass_std = flexibility_std = np.nan
-        if std is not None:
-            extra = std["extra"][len(terms.real_poles):]
-            if terms.rigid and u != 0 and not np.any(kinds == "lower"):
-                inverse_mass_std = float(extra[0]) / window.get("rigid_factor", 1.0)
-            if terms.upper and not np.any((kinds == "upper") | (kinds == "far")):
-                flexibility_std = float(extra[int(terms.rigid)])
-        nrmse = float(np.linalg.norm(own) / np.linalg.norm(band.values))
-        scatter = noise_level(band.values)               # the data's own, per line
-        # the lines the median error counts: all, or with per-line weights those that carry
-        # them (at least 1 % of the largest): a fit is judged where it was told to look
-        counted = np.ones(band.values.size, bool)
-        if self._band_weights is not None:
-            carried = self._band_weights * np.abs(band.values)
-            counted = carried >= 0.01 * carried.max()
-        self.report_ = fit_report(
-            self.model_, kinds, info, notes, method=self.method, max_order=max_order,
-            frf_nrmse=nrmse, frf_nrmse_data=nrmse,
-            frf_nrmse_receptance=float(np.linalg.norm(fitted - h) / np.linalg.norm(h)),
-            noise_estimate_data=float(np.linalg.norm(scatter) / np.linalg.norm(band.values)),
-            frf_median_relative_error=float(np.median(np.abs(own / band.values)[counted])),
-            noise_median_relative=float(np.median((scatter / np.abs(band.values))[counted])),
-            data_quantity=band.quantity, missed_resonances_hz=missed_resonances(
-                band.freq_hz, band.values, band.values + own).tolist(),
-            band_hz=(float(frf.freq_hz[0]), float(frf.freq_hz[-1])), segments=self._segment_count,
-            vf_iterations=vf_iterations, modes=modes, inverse_mass_std=inverse_mass_std,
-            flexibility_std=flexibility_std, std_inflation=inflation,
-            **{k: v for k, v in window.items() if k not in ("truncation_factors", "rigid_factor",
-                                                             "record_cut", "record_end_gone")})

@@ -34,8 +34,9 @@ from ._unresolved_damping import damping_off_bound
 from ._zero_start import hold_at_zero
 from ._lscf import lscf_subbands
 from ._segments import default_order, resonance_peaks
-from ._lsfd import (Terms, _bounds, _Projection, _realify, _std, design_matrix, noise_level,
+from ._lsfd import (Terms, _bounds, _Projection, _realify, _std, design_matrix,
                     split_coefficients)
+from ._noise import noise_level
 from .frf_set import FRFSet
 from .model import ModalModel
 from .quantities import receptance_to

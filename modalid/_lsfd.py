@@ -34,8 +34,7 @@ from ._lm import bounded_lm, pole_limits
 from ._vp_kernels import fill_columns, fill_derivative
 
 __all__ = ["Terms", "design_matrix", "refine_varpro", "evaluate", "split_coefficients",
-           "place_upper_modes", "release_gain", "removal_cost", "mass_line_significant",
-           "noise_level"]
+           "place_upper_modes", "release_gain", "removal_cost", "mass_line_significant"]
 
 
 @dataclass(frozen=True)
@@ -181,16 +180,22 @@ class _Projection:
         ws = ws or _Workspace(m, n, 2 * n + extra.shape[1])
         self.ws = ws
         mat = ws.mat
+        # held poles: their columns and the extra terms' stay in a workspace once written
+        refill = held is None or id(ws) not in held.workspaces
         fill_columns(omega, w, np.ascontiguousarray(poles.real),
-                     np.ascontiguousarray(poles.imag), mat, ws.wd, ws.a, ws.b)
-        mat[:, 2 * n:] = extra
+                     np.ascontiguousarray(poles.imag), mat, ws.wd, ws.a, ws.b,
+                     np.arange(n) if refill else held.moving)
+        if refill:
+            mat[:, 2 * n:] = extra
         self.mat = mat
         self.held = held
         self.gram = self._gram(held)
         scale = np.sqrt(np.diag(self.gram))
         scale[scale == 0] = 1.0
         self.scale = scale
-        rhs = mat.T @ y
+        rhs = self._rhs(y, held)
+        if held is not None:
+            held.workspaces.add(id(ws))
         self.free = np.ones(mat.shape[1], bool)
         self.equality = None if bounds is None else bounds[2]
         x = self._lstsq(rhs, y)
@@ -216,6 +221,17 @@ class _Projection:
         gram[~held.fixed, :] = rows
         gram[:, ~held.fixed] = rows.T
         return gram
+
+    def _rhs(self, y, held):
+        """``M^T y``; with ``held`` (:class:`_HeldColumns`) the fixed columns' part once."""
+        if held is None:
+            return self.mat.T @ y
+        if held.rhs is None:
+            held.rhs = self.mat[:, held.fixed].T @ y
+        rhs = np.empty(self.mat.shape[1])
+        rhs[held.fixed] = held.rhs
+        rhs[~held.fixed] = self.mat[:, ~held.fixed].T @ y
+        return rhs
 
     def _gram_solve(self, rhs, cols=None):
         """``G^-1 rhs`` for the Gram matrix of ``cols`` (default: the free columns), from
@@ -322,13 +338,18 @@ class _Projection:
 
 
 class _HeldColumns:
-    """The poles a refinement holds and the Gram block of what does not move with them
-    (their residue columns and the extra terms), computed once (:meth:`_Projection._gram`)."""
+    """The poles a refinement holds and what does not move with them (their residue
+    columns and the extra terms): their Gram block and right-hand side, computed once
+    (:meth:`_Projection._gram`, :meth:`_Projection._rhs`), and the workspaces that hold
+    their columns already (only the moving poles' are written again). One per
+    refinement: the weights, data and extra terms stay the same."""
 
     def __init__(self, hold, n_extra):
         self.poles = np.asarray(hold, bool)
+        self.moving = np.flatnonzero(~self.poles)
         self.fixed = np.concatenate([np.repeat(self.poles, 2), np.ones(n_extra, bool)])
-        self.block = None
+        self.block = self.rhs = None
+        self.workspaces = set()
 
 
 def refine_varpro(omega, values, weights, poles, terms: Terms, *, imag_lo=None, imag_hi=None,
@@ -433,7 +454,9 @@ def release_gain(omega, values, weights, poles, terms: Terms, hold, *, passive=F
     poles = np.asarray(poles, complex)
     extra = _realify(design_matrix(1j * omega, np.zeros(0), terms) * w[:, None])
     bounds = _bounds(poles.size, terms, True) if passive else None
-    proj = _Projection(omega, w, y, poles, extra, bounds)
+    # the held poles' derivatives are not needed: their rows of J^T J stay 0
+    proj = _Projection(omega, w, y, poles, extra, bounds,
+                       held=None if held is None else _HeldColumns(held, extra.shape[1]))
     jtj, jtr = proj.normal_equations()
     norms = np.sqrt(np.maximum(np.diag(jtj), 1e-300))
     a_s, g_s = jtj / np.outer(norms, norms), jtr / norms
@@ -548,47 +571,3 @@ def removal_cost(omega, values, weights, poles, terms: Terms, indices, *, passiv
     sigma2 = cost / max(2 * np.size(omega) - 4 * len(poles) - terms.n_extra, 1)
     return np.array([refine_varpro(omega, values, weights, np.delete(poles, k), terms,
                                    **kw)[2]["cost"] - cost for k in indices]) / sigma2
-
-
-def running_percentile(x, q, size):
-    """The ``q``-th percentile of ``x`` over a running window of ``size`` lines that
-    stays inside the data: centred, and shifted inwards within ``size // 2`` lines of
-    either end (the first lines take the window of the first ``size`` lines).
-
-    Padding the ends instead (``mode="nearest"``) repeats the end value ``size // 2``
-    times: where a resonance sits at the band's edge, its curvature then fills the
-    window and a median reads it as the level of the noise.
-
-    Parameters
-    ----------
-    x : ndarray of float, shape (n,)
-    q : float
-        Percentile, 0-100 (50: the running median).
-    size : int
-        Window length (lines); the whole array when ``n <= size``.
-    """
-    from scipy.ndimage import percentile_filter
-
-    x = np.asarray(x, dtype=float)
-    if x.size <= size:
-        return np.full(x.size, np.percentile(x, q))
-    out = percentile_filter(x, q, size=size, mode="nearest")
-    half = size // 2
-    out[:half] = np.percentile(x[:size], q)
-    out[x.size - half:] = np.percentile(x[-size:], q)
-    return out
-
-
-def noise_level(h, window=31):
-    """Standard deviation of the noise at each line, estimated from the data themselves.
-
-    The second difference ``h[l+1] - 2 h[l] + h[l-1]`` of white noise of variance
-    ``sigma^2`` has variance ``6 sigma^2``; its squared modulus is exponential, with median
-    ``6 sigma^2 ln 2``. A running median over ``window`` lines
-    (:func:`running_percentile`, inside the data at the ends) ignores the few lines of a
-    sharp resonance, where the curvature is the FRF's own.
-    """
-    d2 = np.abs(np.diff(h, 2)) ** 2
-    d2 = np.concatenate([d2[:1], d2, d2[-1:]])
-    level = np.sqrt(running_percentile(d2, 50, window) / (6 * np.log(2)))
-    return np.maximum(level, 1e-12 * np.max(np.abs(h)))

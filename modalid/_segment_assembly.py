@@ -9,7 +9,7 @@ import numpy as np
 from ._lsfd import (design_matrix, refine_varpro, release_gain, removal_cost,
                     split_coefficients)
 
-__all__ = ["assemble", "drop_idle_modes", "refine_pseudo_modes"]
+__all__ = ["assemble", "band_model", "drop_idle_modes", "refine_pseudo_modes", "resume_probe"]
 
 #: the upper pseudo-modes refined over the band decay at least at this share of the
 #: band's top (rad/s): nearer 0 one is a ringing that never decays beside the band, no
@@ -20,6 +20,42 @@ _PSEUDO_DECAY = 0.01
 _PSEUDO_APART = 0.1
 #: steps of each refinement (a step costs one linear solve of the band)
 _PSEUDO_STEPS = 6
+
+
+def band_model(est, frf, w, poles, cut, segment_std, notes, max_order):
+    """The whole band's model from its segments' poles (``segment_std``: their standard
+    deviations): the pseudo-modes placed (``est._start``), the band assembled
+    (:func:`assemble`), idle modes dropped (:func:`drop_idle_modes`, appending to
+    ``notes``), the pseudo-modes refined (:func:`refine_pseudo_modes`). A quick
+    unconstrained probe keeps what it assembled (``_probe_assembly``): the full
+    unconstrained fit is the same with its pseudo-modes refined, and
+    :func:`resume_probe` makes it from there (a second fit from the start cost pyfrf's
+    hammer FRF, 12 800 lines, 0.2 s more). Returns ``(poles, kinds, x, info, terms,
+    segment_std)``."""
+    omega, h = frf.omega, frf.values
+    poles, kinds, terms = est._start(omega, h, w, poles, cut)
+    est._iterations, est._buffers = 0, {}
+    poles, x, info = assemble(est, omega, h, w, poles, kinds, terms, segment_std)
+    poles, kinds, x, info, segment_std = drop_idle_modes(
+        est, omega, h, w, poles, kinds, x, info, terms, segment_std, notes)
+    if est.__dict__.get("_probe"):
+        est.__dict__["_probe_assembly"] = (frf, w, poles, kinds, x, dict(info), terms,
+                                           segment_std, list(notes), max_order)
+    poles, kinds, x, info = refine_pseudo_modes(est, omega, h, w, poles, kinds, x, info, terms)
+    return poles, kinds, x, info, terms, segment_std
+
+
+def resume_probe(est):
+    """The full unconstrained fit of a segmented band from what its quick probe
+    assembled (:func:`band_model`): its pseudo-modes refined, then stored as
+    ``est._identify`` would (the same model as a second fit from the start)."""
+    frf, w, poles, kinds, x, info, terms, segment_std, notes, max_order = \
+        est.__dict__.pop("_probe_assembly")
+    est._iterations, est._buffers, est._final_weights = 0, {}, w
+    poles, kinds, x, info = refine_pseudo_modes(est, frf.omega, frf.values, w, poles, kinds,
+                                                x, info, terms)
+    return est._finish_identify(frf, w, poles, kinds, x, info, terms, segment_std, notes,
+                                max_order, None)
 
 
 def assemble(est, omega, h, w, poles, kinds, terms, mode_std):

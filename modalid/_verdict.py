@@ -19,7 +19,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from ._lsfd import noise_level
+from ._noise import noise_level
 from ._segments import distinct_peaks, resonance_peaks
 from ._window import UNMODELLED_LIMIT
 from .frf import FRFData

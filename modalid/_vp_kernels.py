@@ -29,8 +29,9 @@ __all__ = ["fill_columns", "fill_derivative"]
 
 
 @njit(cache=True)
-def fill_columns(omega, w, sigma, v, mat, wd, a, b):
-    """Write the weighted partial-fraction columns into ``mat[:, :2 n]``.
+def fill_columns(omega, w, sigma, v, mat, wd, a, b, which):
+    """Write the weighted partial-fraction columns of the poles ``which`` into
+    ``mat[:, :2 n]``.
 
     Parameters
     ----------
@@ -43,12 +44,16 @@ def fill_columns(omega, w, sigma, v, mat, wd, a, b):
         ``2 j + 1`` the unknowns ``Re r_j`` and ``Im r_j``. Other columns are untouched.
     wd, a, b : ndarray of float, shape (m, n)
         Output, kept for :func:`fill_derivative`: ``w/D``, ``A`` and ``B``.
+    which : ndarray of int, shape (k,)
+        The poles whose columns (and ``wd, a, b`` columns) are written: ``arange(n)``
+        for all; the others' are left as they are (poles a refinement holds).
     """
-    m, n = omega.size, sigma.size
+    m = omega.size
     for i in range(m):
         om = omega[i]
         om2 = om * om
-        for j in range(n):
+        for jj in range(which.size):
+            j = which[jj]
             sg, vj = sigma[j], v[j]
             aa = sg * sg + vj * vj - om2
             bb = -2.0 * sg * om

@@ -314,8 +314,8 @@ class ModalFit(FitOne, FRFPipeline, FitLines, BaseEstimator):
         self._selection()                        # validates n_modes
         for name in ("model_", "poles_", "stabilization_", "clusters_", "report_", "frf_",
                      "data_", "weights_", "impulse_", "mode_shapes_", "_stabilization_cache",
-                     "_probe", "_zero_start", "_passive_stalled", "_weighting_forced",
-                     "_record_cut", "window_decay_rate_", "record_length_"):
+                     "_probe", "_probe_assembly", "_zero_start", "_passive_stalled",
+                     "_weighting_forced", "_record_cut", "window_decay_rate_", "record_length_"):
             self.__dict__.pop(name, None)         # a second fit starts afresh
         self._resolve_window(data)
         # asked for by the settings (an FRFSet or ERA fit cannot model them)

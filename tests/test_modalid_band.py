@@ -209,7 +209,7 @@ def test_running_percentile_keeps_its_window_inside_the_data():
     """Five large values at the start of 200 ones: a running median of 31 lines is 1
     everywhere (a window padded with the first value would read 100 there), and the
     window is centred away from the ends."""
-    from modalid._lsfd import running_percentile
+    from modalid._noise import running_percentile
 
     x = np.ones(200)
     x[:5] = 100.0
@@ -226,7 +226,7 @@ def test_noise_level_beside_a_resonance_at_the_band_edge():
     estimate of the lowest lines is the noise's within 50 % (the rest is the curvature
     of the lines around the peak); a window padded with the edge line's curvature read
     it 49x too high on line 0."""
-    from modalid._lsfd import noise_level
+    from modalid._noise import noise_level
 
     freq, h = beam_frf(n_lines=3000, zeta=0.01, first=3)
     sigma = 1e-2 * np.max(np.abs(h))

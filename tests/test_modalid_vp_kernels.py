@@ -22,7 +22,8 @@ def test_columns_are_the_weighted_design_matrix():
     m, n = omega.size, poles.size
     mat = np.full((2 * m, 2 * n + 2), 7.0)
     wd, a, b = (np.empty((m, n)) for _ in range(3))
-    fill_columns(omega, w, poles.real.copy(), poles.imag.copy(), mat, wd, a, b)
+    fill_columns(omega, w, poles.real.copy(), poles.imag.copy(), mat, wd, a, b,
+                 np.arange(n))
     exact = _realify(design_matrix(1j * omega, poles, Terms(np.zeros(0), False, False))
                      * w[:, None])
     np.testing.assert_allclose(mat[:, :2 * n], exact, rtol=1e-12, atol=1e-14 * abs(exact).max())
@@ -36,7 +37,8 @@ def test_derivative_is_the_complex_derivative():
     m, n = omega.size, poles.size
     mat = np.empty((2 * m, 2 * n))
     wd, a, b = (np.empty((m, n)) for _ in range(3))
-    fill_columns(omega, w, poles.real.copy(), poles.imag.copy(), mat, wd, a, b)
+    fill_columns(omega, w, poles.real.copy(), poles.imag.copy(), mat, wd, a, b,
+                 np.arange(n))
     out = np.empty((2 * m, 2 * n))
     fill_derivative(omega, poles.real.copy(), poles.imag.copy(), r.real.copy(),
                     r.imag.copy(), wd, a, b, out)
