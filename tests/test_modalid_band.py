@@ -72,6 +72,20 @@ def test_lowest_lines_of_low_coherence_are_dropped():
     assert lo == freq[0]
 
 
+def test_a_scattered_low_coherence_is_judged_by_its_run():
+    """Five averaged hits: the coherence of the lowest 90 lines scatters 0.02-0.7 about
+    0.3, lines above 0.5 among them (a median of 3 trusted a fixed rod's aliased lines
+    from 3 Hz, and its negative mass line made it "a transfer FRF"): the band starts
+    where the coherence stays fair, within the running median's few lines."""
+    freq, h = beam_frf(first=200)
+    rng = np.random.default_rng(4)
+    coherence = np.full(freq.size, 0.95)
+    coherence[:90] = np.clip(rng.normal(0.3, 0.2, 90), 0.02, 0.7)
+    (lo, _), reason = choose_band(FRFData(freq, h, coherence=coherence))
+    assert freq[84] <= lo <= freq[92]
+    assert "coherence of the lowest lines is under 0.5" in reason
+
+
 def test_the_band_ends_where_the_coherence_collapses():
     freq, h = beam_frf()
     coherence = np.where(freq < freq[1499], 0.999, 0.3)
@@ -82,6 +96,21 @@ def test_the_band_ends_where_the_coherence_collapses():
     dip = np.where((freq > freq[900]) & (freq < freq[950]), 0.3, 0.999)
     (_, hi), _ = choose_band(FRFData(freq, h, coherence=dip))
     assert hi == freq[-1]
+
+
+def test_a_noisy_tests_coherence_ends_the_band_in_its_lower_half():
+    """A noisy hammer test's coherence: 0.89 at best, 0.15-0.4 from a third of its lines
+    on (a file without its force spectrum kept every line, FRF error 84 %, "suspect").
+    The band ends where it falls, in the lower half too; a coherence poor everywhere
+    alike (many averages: informative) keeps every line."""
+    freq, h = beam_frf()
+    rng = np.random.default_rng(3)
+    coherence = np.where(freq < freq[650], 0.89, rng.uniform(0.15, 0.4, freq.size))
+    (lo, hi), reason = choose_band(FRFData(freq, h, coherence=coherence))
+    assert lo == freq[0] and freq[630] <= hi <= freq[650]
+    assert "the smoothed coherence falls below" in reason
+    (lo, hi), _ = choose_band(FRFData(freq, h, coherence=rng.uniform(0.2, 0.4, freq.size)))
+    assert (lo, hi) == (freq[0], freq[-1])
 
 
 def half_sine_autospectrum(freq, width):
