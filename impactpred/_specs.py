@@ -122,17 +122,20 @@ def _checked_frf(path, options, *, label="", check_passive=True):
         # a plain error of the same kind: a subclass may need other arguments
         raise (TypeError if isinstance(exc, TypeError) else ValueError)(
             label + str(exc)) from exc
-    _check_frf_sign(data, path, label=label, check_passive=check_passive)
+    _check_frf_sign(data, path, label=label, check_passive=check_passive,
+                    applied=[k for k in ("conjugate", "negate") if options.get(k)])
     return data
 
 
-def _check_frf_sign(data, source, *, label, check_passive, in_memory=False) -> None:
+def _check_frf_sign(data, source, *, label, check_passive, in_memory=False,
+                    applied=()) -> None:
     """Refuse ``data`` (named ``source``) stored with the other sign convention or, as a
     driving point (``check_passive``), with its sign reversed; the remedy named is a
-    reading option, or for data ``in_memory`` what to do to its values."""
+    reading option (left out where it was ``applied``: it made the problem), or for data
+    ``in_memory`` what to do to its values."""
     sign = check_sign(data)
     if sign.verdict == "conjugate" or (sign.verdict == "reversed" and check_passive):
-        raise ValueError(label + sign.problem(source, data=in_memory))
+        raise ValueError(label + sign.problem(source, data=in_memory, applied=applied))
 
 
 def check_estimator(estimator):

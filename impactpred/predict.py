@@ -76,8 +76,9 @@ _FIT_REMEDIES = ("quantity=... if the file does not state its quantity or states
                  "missed_modes='dense' for a band with many weak or close modes; "
                  "window_decay_rate=... and record_length=... for FRFs measured with an "
                  "exponential window whose file does not state them; a band that holds "
-                 "whole resonances, or identify the body yourself (modalid.ModalFit) and "
-                 "give the saved fit (modalid.SavedFit.to_json, or modalid fit --out)")
+                 "whole resonances (freq_range=(fmin, fmax)), or identify the body "
+                 "yourself (modalid.ModalFit) and give the saved fit "
+                 "(modalid.SavedFit.to_json, or modalid fit --out)")
 
 
 def check_identification(fit, source, *, body: int) -> None:

@@ -28,6 +28,15 @@ _PHRASES = (("check_passive=False", "--no-passivity-check"),
             ("read_options={'conjugate': True}", "--conjugate"),
             ("read_options={'negate': True}", "--negate"),
             ("freq_hz=", "--freq-start/--df"),
+            ("freq_range=(fmin, fmax)", "--fmin/--fmax"),
+            ("make the FRF from them with modalid.frf_from_hammer",
+             "make the FRF from them with modalid hammer FILES --out FRF.csv"),
+            ("identify the body yourself (modalid.ModalFit) and give the saved fit "
+             "(modalid.SavedFit.to_json, or modalid fit --out)",
+             "identify the body yourself (modalid fit FILE --out DIR, with the options it "
+             "needs) and give the _model.json it writes"),
+            ("predict from its FRF file (or the fitted ModalFit)",
+             "predict from its FRF file"),
             ("or use read_frfs", "or fit them all with common poles (modalid fit FILE --set "
              "--out DIR) and give the _set_model.json it writes"),
             ("pass driving_point= a row index or label, or None",

@@ -58,7 +58,7 @@ class SignCheck:
     conductance: float
     verdict: str
 
-    def problem(self, source, *, data: bool = False) -> str:
+    def problem(self, source, *, data: bool = False, applied=()) -> str:
         """One sentence naming ``source``, what is wrong and the reading option that fixes
         it (as ``read_options={...}``; the command line's ``--conjugate``/``--negate``).
 
@@ -69,11 +69,25 @@ class SignCheck:
         data : bool, keyword-only
             ``source`` is an :class:`~modalid.FRFData` in memory, not a file: the remedy
             is to conjugate or negate its values.
+        applied : iterable of str, keyword-only
+            The reading options given (``"conjugate"``, ``"negate"``): where the one the
+            check calls for is among them, the remedy is to leave it out (it made the
+            problem).
 
         Returns
         -------
         str
         """
+        applied = set(applied)
+        if self.verdict in ("conjugate", "reversed"):
+            option = "conjugate" if self.verdict == "conjugate" else "negate"
+            if option in applied and not data:
+                return (f"{source}: read with read_options={{'{option}': True}}, "
+                        + ("its resonances turn counter-clockwise in the complex plane "
+                           f"(turning score {self.turning:+.2f})" if option == "conjugate"
+                           else "the real part of its mobility is negative (conductance "
+                           f"score {self.conductance:+.2f})")
+                        + f": read it without read_options={{'{option}': True}}")
         if self.verdict == "conjugate":
             return (f"{source}: its resonances turn counter-clockwise in the complex plane "
                     f"(turning score {self.turning:+.2f}; a causal FRF's turn clockwise, "

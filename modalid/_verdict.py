@@ -125,7 +125,10 @@ def driving_point_decision(modes: pd.DataFrame, inverse_mass: float, *,
     if share >= _DOMINANT:              # the mass line is negative here
         return False, (f"{counts} have a positive modal mass, carrying {100 * share:.0f} % "
                        f"of the modes' strength, and the mass line a negative one "
-                       f"({inverse_mass:.3g} 1/kg{because}): a transfer FRF")
+                       f"({inverse_mass:.3g} 1/kg{because}): a transfer FRF, or a driving "
+                       "point whose lowest lines are wrong (records sampled without an "
+                       "anti-aliasing filter, a drifting or leaked low end), which a band "
+                       "from above them (freq_range) would tell")
     why = f"modal masses of both signs ({counts} positive, {100 * share:.0f} % of the strength)"
     if inverse_mass < 0:
         why += " and a negative mass line"

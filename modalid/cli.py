@@ -131,8 +131,9 @@ def _cmd_fit(args) -> int:
         if reading is not None:
             print(f"{paths[0]}: {reading}")
     sign = check_sign(judged)
+    applied = [k for k in ("conjugate", "negate") if getattr(args, k)]
     if sign.verdict != "ok":
-        _warn(sign.problem(named))
+        _warn(sign.problem(named, applied=applied))
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         try:
@@ -162,7 +163,8 @@ def _cmd_fit(args) -> int:
         _save_fit(fit, out, stem, Path(args.file).name if not several else args.file,
                   several=several, body=body, record=record)
     if report["verdict"] == "failed":
-        fix = (f"; {in_flags(sign.problem(named))}" if sign.verdict != "ok" else "")
+        fix = (f"; {in_flags(sign.problem(named, applied=applied))}"
+               if sign.verdict != "ok" else "")
         print(f"{args.file}: the fit failed (see the verdict); try --fmin/--fmax, "
               f"--weighting, --driving-point or --n-modes{fix}", file=sys.stderr)
         return 3

@@ -252,6 +252,9 @@ def _from_arrays(source, arrays, columns):
 
 #: how an .npz (a zip archive) and an .npy file begin
 _NPZ_MAGIC, _NPY_MAGIC = b"PK\x03\x04", b"\x93NUMPY"
+#: what a single .npy array may be: a hammer test's records, which are no FRF yet
+_NPY_HINT = ("; if it holds a hammer test's records (rows time, force and response), "
+             "make the FRF from them with modalid.frf_from_hammer")
 
 
 def _read_npz(path, columns):
@@ -259,7 +262,7 @@ def _read_npz(path, columns):
         magic = fh.read(6)
     if magic.startswith(_NPY_MAGIC):
         raise ValueError(f"cannot read {path} as .npz: it holds a single .npy array, not an "
-                         ".npz archive (save the FRF with numpy.savez)")
+                         ".npz archive (save the FRF with numpy.savez)" + _NPY_HINT)
     if not magic.startswith(_NPZ_MAGIC):
         head = _text_head(path)
         start = ("it is empty" if not magic else f"it starts {head!r}" if head is not None
@@ -328,7 +331,7 @@ def _format_of(path, fmt, choices):
     if _EXTENSIONS.get(ext) not in known:
         raise ValueError(f"cannot tell the format of {str(path)!r} from its extension "
                          f"{ext!r}: accepted extensions are {one_of(accepted)}, or pass "
-                         f"format= one of {one_of(choices)}")
+                         f"format= one of {one_of(choices)}" + _NPY_HINT * (ext == ".npy"))
     return _EXTENSIONS[ext]
 
 

@@ -147,6 +147,14 @@ def test_predict_refuses_a_conjugated_or_reversed_frf_naming_the_flag(
         assert f"read it with {flag}" in message and "read_options" not in message
         assert main(args + [flag]) == 0
         assert "verdict ok" in capsys.readouterr().out
+        # the right file read with the flag: leave it out (not "read it with" it again)
+        good = tmp_path / "good.csv"
+        write_frf(good, FRFData(frf.freq_hz, frf.values, quantity="accelerance"))
+        assert main(["predict", "mass:1", str(good), "--v1", "0.1", "--t-end", "0.3",
+                     *SPRING, flag]) == 2
+        message = one_line_error(capsys)
+        assert message.startswith(f"body 2: {good}: read with {flag}, ")
+        assert message.endswith(f"read it without {flag}")
 
 
 @pytest.mark.filterwarnings("ignore::UserWarning")

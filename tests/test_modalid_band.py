@@ -72,20 +72,6 @@ def test_lowest_lines_of_low_coherence_are_dropped():
     assert lo == freq[0]
 
 
-def test_a_scattered_low_coherence_is_judged_by_its_run():
-    """Five averaged hits: the coherence of the lowest 90 lines scatters 0.02-0.7 about
-    0.3, lines above 0.5 among them (a median of 3 trusted a fixed rod's aliased lines
-    from 3 Hz, and its negative mass line made it "a transfer FRF"): the band starts
-    where the coherence stays fair, within the running median's few lines."""
-    freq, h = beam_frf(first=200)
-    rng = np.random.default_rng(4)
-    coherence = np.full(freq.size, 0.95)
-    coherence[:90] = np.clip(rng.normal(0.3, 0.2, 90), 0.02, 0.7)
-    (lo, _), reason = choose_band(FRFData(freq, h, coherence=coherence))
-    assert freq[84] <= lo <= freq[92]
-    assert "coherence of the lowest lines is under 0.5" in reason
-
-
 def test_the_band_ends_where_the_coherence_collapses():
     freq, h = beam_frf()
     coherence = np.where(freq < freq[1499], 0.999, 0.3)

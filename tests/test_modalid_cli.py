@@ -310,11 +310,29 @@ def test_fit_options_are_the_same_in_modalid_fit_and_impactpred_predict():
     ("the fit's method mustered", "the fit's method mustered"),
     ("x.csv says '# quantity: velocity'; the quantity must be one of",
      "x.csv says '# quantity: velocity'; the quantity must be one of"),
+    # what may fix a failed identification, and a saved fit refused for the band
+    ("a band that holds whole resonances (freq_range=(fmin, fmax)), or identify the body "
+     "yourself (modalid.ModalFit) and give the saved fit (modalid.SavedFit.to_json, or "
+     "modalid fit --out)",
+     "a band that holds whole resonances (--fmin/--fmax), or identify the body yourself "
+     "(modalid fit FILE --out DIR, with the options it needs) and give the _model.json it "
+     "writes"),
+    ("which a saved fit does not hold; predict from its FRF file (or the fitted ModalFit) "
+     "for the band", "which a saved fit does not hold; predict from its FRF file for the band"),
 ])
 def test_in_flags_writes_python_arguments_as_flags(message, flags):
     from modalid._cli import in_flags
 
     assert in_flags(message) == flags
+
+
+def test_the_remedies_of_a_failed_identification_name_flags_only():
+    from impactpred.predict import _FIT_REMEDIES
+    from modalid._cli import in_flags
+
+    said = in_flags(_FIT_REMEDIES)
+    assert "(--fmin/--fmax)" in said and said.endswith("the _model.json it writes")
+    assert "modalid." not in said and "=" not in said
 
 
 def test_fit_refuses_an_out_that_is_a_file_before_fitting(tmp_path, monkeypatch, capsys):

@@ -992,3 +992,14 @@ def test_model_json_units_are_converted_or_refused(tmp_path):
         path.write_text(json.dumps(dict(payload, units=units)))
         with pytest.raises(ValueError, match="^" + message):
             ModalModel.from_json(path)
+
+
+def test_a_single_npy_array_is_pointed_to_the_hammer_route(tmp_path):
+    """A hammer test's records saved as one .npy array (rows time, force, response) are
+    no FRF file: by extension or read as .npz, the error names frf_from_hammer."""
+    path = tmp_path / "hit1.npy"
+    np.save(path, np.zeros((3, 64)))
+    for options in ({}, {"format": "npz"}):
+        with pytest.raises(ValueError, match="hammer test's records .* with "
+                                             "modalid.frf_from_hammer$"):
+            read_frf(path, **options)
