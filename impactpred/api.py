@@ -60,7 +60,8 @@ _SENSITIVITY_CONTACTS = 1000
 
 def solve_impact(body1: Body, body2: Body, *, gap: float = 0.0, contact=Rigid(),
                  t_end: float, dt: float | None = None, method: str = "auto",
-                 progress: bool = False, sensitivity_check: bool = True) -> ImpactResult:
+                 progress: bool | str = "auto",
+                 sensitivity_check: bool = True) -> ImpactResult:
     """Predict the impact of two bodies touching at one point each.
 
     Parameters
@@ -85,11 +86,13 @@ def solve_impact(body1: Body, body2: Body, *, gap: float = 0.0, contact=Rigid(),
         output points), the exact Laplace solver for rational models with a linear contact
         law and no load or a ``HarmonicForce`` load, the modal solver for other rational
         cases, the convolution solver otherwise.
-    progress : bool, keyword-only
+    progress : bool or "auto", keyword-only
         A progress bar on stderr over the steps of the time-stepping loops that run in
         Python (``"convolution"``, O(log^2 steps) a step, and the ``"modal"`` method's
         zero-order hold, O(modes) a step; up to 4e6 steps); the compiled loops (the exact
-        methods, the modal first-order hold) take none.
+        methods, the modal first-order hold) take none. ``"auto"`` (default): only once
+        the run has taken 10 s (a stiff rod on a cantilever, 4e6 convolution steps, ran
+        four minutes in silence); False: never.
     sensitivity_check : bool, keyword-only
         Whether the exact solver checks a sequence of 3 to 1000 contacts for its
         sensitivity to its inputs (see Warns): two more runs of its event search, about
@@ -140,8 +143,9 @@ def solve_impact(body1: Body, body2: Body, *, gap: float = 0.0, contact=Rigid(),
             raise ValueError(f"dt={dt!r} s exceeds t_end={t_end!r} s: the step must fit in "
                              "the run")
     as_choice("method", method, METHODS)
-    if not isinstance(progress, (bool, np.bool_)):
-        raise TypeError(f"progress must be True or False, got {progress!r}")
+    if not (isinstance(progress, (bool, np.bool_))
+            or isinstance(progress, str) and progress == "auto"):
+        raise TypeError(f"progress must be True, False or 'auto', got {progress!r}")
     if not isinstance(sensitivity_check, (bool, np.bool_)):
         raise TypeError(f"sensitivity_check must be True or False, got {sensitivity_check!r}")
     bodies = (body1, body2)
@@ -167,7 +171,9 @@ def solve_impact(body1: Body, body2: Body, *, gap: float = 0.0, contact=Rigid(),
         "laplace": solve_laplace, "modal": solve_modal, "convolution": solve_convolution,
         "closed_form": solve_closed_form}
     solver = solvers[chosen]
-    options = {"progress": bool(progress)} if stepping else {}
+    if not isinstance(progress, str):
+        progress = bool(progress)
+    options = {"progress": progress} if stepping else {}
 
     def run(*args, **kwargs) -> ImpactResult:   # small dense algebra: one BLAS thread
         with one_blas_thread():

@@ -451,6 +451,10 @@ def local_cluster(*, n_workers=None, threads_per_worker=1, processes=True,
                             **options)
 
 
+#: a bar asked for as ``"auto"`` appears once its run has taken this long (s)
+AUTO_PROGRESS_DELAY = 10.0
+
+
 def progress_bar(total, *, enabled=True, desc=None, unit="it", bar_format=None, file=None,
                  mininterval=0.1, **options):
     """A ``tqdm`` bar on stderr (``file``), or a disabled one that prints nothing.
@@ -459,8 +463,10 @@ def progress_bar(total, *, enabled=True, desc=None, unit="it", bar_format=None, 
     ----------
     total : int
         Units of work.
-    enabled : bool
-        False: nothing is printed (the bar still counts).
+    enabled : bool or "auto"
+        False: nothing is printed (the bar still counts); ``"auto"``: the bar appears
+        only once the work has taken :data:`AUTO_PROGRESS_DELAY` seconds (a long run
+        says so, a short one prints nothing).
     desc, unit, bar_format, mininterval, **options
         As ``tqdm.tqdm``'s (``miniters=1`` with ``mininterval=0``: a redraw at every
         update).
@@ -474,6 +480,8 @@ def progress_bar(total, *, enabled=True, desc=None, unit="it", bar_format=None, 
     """
     from tqdm import tqdm
 
+    if isinstance(enabled, str) and enabled == "auto":
+        enabled, options = True, {"delay": AUTO_PROGRESS_DELAY, **options}
     return tqdm(total=total, disable=not enabled, desc=desc, unit=unit,
                 bar_format=bar_format, file=sys.stderr if file is None else file,
                 mininterval=mininterval, dynamic_ncols=False, **options)

@@ -396,7 +396,7 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
             t_end, dt=None, method="auto", quantity=None, band_tolerance=0.01,
             continuation="auto", uncertainty=False, uncertainty_draws=4,
             seed=0, estimator=None, read_options=None, check_passive=True,
-            executor=None, progress=False, band_check=True) -> Prediction:
+            executor=None, progress="auto", band_check=True) -> Prediction:
     """Predict the impact of two bodies given as files, specs or models.
 
     Parameters
@@ -469,9 +469,10 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
         Refuse models that are not stable, passive driving points (see :class:`Body`),
         and FRF files or FRFData whose sign says they are not (see
         :func:`modalid.io.check_sign`).
-    progress : bool
+    progress : bool or "auto"
         A progress bar on stderr for the time-stepping solves of the prediction itself
-        (``solve_impact``'s ``progress``; not the band's).
+        (``solve_impact``'s ``progress``; not the band's): ``"auto"`` (default) once a
+        solve has taken 10 s.
 
     Returns
     -------
@@ -500,8 +501,10 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
         estimator = (check_estimator(estimator),) * 2
     if not (isinstance(continuation, (bool, np.bool_)) or continuation == "auto"):
         raise ValueError(f"continuation must be True, False or 'auto', got {continuation!r}")
-    for name, flag in (("uncertainty", uncertainty), ("progress", progress),
-                       ("band_check", band_check)):
+    if not (isinstance(progress, (bool, np.bool_))
+            or isinstance(progress, str) and progress == "auto"):
+        raise TypeError(f"progress must be True, False or 'auto', got {progress!r}")
+    for name, flag in (("uncertainty", uncertainty), ("band_check", band_check)):
         if not isinstance(flag, (bool, np.bool_)):
             raise TypeError(f"{name} must be True or False, got {flag!r}")
     band_tolerance = as_nonnegative_scalar("band_tolerance", band_tolerance)

@@ -167,8 +167,28 @@ def test_progress_draws_a_bar_over_the_steps_and_changes_nothing(method, capsys)
     err = capsys.readouterr().err
     assert f"{method}: 100%" in err and "5000/5000" in err, err
     np.testing.assert_array_equal(shown.force, quiet.force)
-    with pytest.raises(TypeError, match="progress must be True or False, got 'yes'"):
+    with pytest.raises(TypeError, match="progress must be True, False or 'auto', got 'yes'"):
         solve_impact(body1, body2, progress="yes", t_end=1.0)
+
+
+def test_auto_progress_appears_only_on_a_long_run(capsys, monkeypatch):
+    """``progress="auto"`` (solve_impact's default): no bar on a run shorter than
+    :data:`impactpred.parallel.AUTO_PROGRESS_DELAY`; the bar where the run outlasts it
+    (the delay set to 0 here)."""
+    import impactpred.parallel as parallel
+
+    body1 = Body(LumpedMass(1.0), velocity=1.0)
+    body2 = Body(Rod(1.0, 1.0, support="fixed"))
+
+    def solve():
+        return solve_impact(body1, body2, contact=Hertz(1e5), t_end=1.0, dt=2e-4,
+                            method="convolution")
+    quiet = solve()
+    assert capsys.readouterr().err == ""
+    monkeypatch.setattr(parallel, "AUTO_PROGRESS_DELAY", 0.0)
+    shown = solve()
+    assert "convolution: 100%" in capsys.readouterr().err
+    np.testing.assert_array_equal(shown.force, quiet.force)
 
 
 def test_dashpot_never_pulls():
