@@ -98,6 +98,14 @@ class LaplaceOutputs:
     def n_rows(self) -> int:
         return sum(3 * full.shape[0] for _, full, _, _ in self.blocks)
 
+    def row_units(self, length, time):
+        """The unit of each of :meth:`rows`' rows, per body: ``length`` (m) for the
+        displacements, ``length / time`` for the velocities, ``length / time^2`` for the
+        accelerations (the exact solver's dimensionless form)."""
+        units = [np.repeat([length, length / time, length / (time * time)], full.shape[0])
+                 for _, full, _, _ in self.blocks]
+        return np.concatenate(units) if units else np.zeros(0)
+
     def rows(self, M, force_row=None, *, loads=()):
         """Displacement, velocity and acceleration rows (per body) on the augmented state
         ``[X, 1, J, cos, sin of each load]``: ``C X + d (sign f + F_i)``, with ``loads``

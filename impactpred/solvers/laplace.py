@@ -22,6 +22,17 @@ contact phase as the free flight plus the rank-one feedback ``Bf Kf``, split by
 (:func:`impactpred.engine.impact_run.run_contact`) finds the events on the closed form
 and applies the contact rules. No time-step error anywhere: the output step only sets
 where the result is sampled.
+
+The engine runs on a dimensionless form of the phases (:mod:`._units`): time in units of a
+reference time (the inverse of the bodies' and the contact's fastest rate), the states
+by a diagonal similarity (a modal state in units of a reference impulse, a rigid body's
+displacement and velocity in a reference length and speed), each row in units of its own
+(force, length, speed); the result is converted back to SI. The engine's tolerances on
+the phase matrices (zero eigenvalues at ``sqrt(eps |M|)``, eigenvector conditioning) are
+relative to their norm, which on the SI states mixed units: a mass scale of 1e15 or a
+time scale of 1e-11 s gave wrong answers with no warning. In the dimensionless form the
+solution is the same at every scale of mass, length and time; a scale whose SI results
+double precision cannot hold is refused (:meth:`._units.Units.check`).
 """
 
 from __future__ import annotations
@@ -38,6 +49,7 @@ from ..engine.impact_run import (ContactRules, Phase, grazing_error, insert_exac
                                  run_contact, search_step)
 from ..result import BodyEnergy, ImpactResult
 from ._outputs import LaplaceOutputs
+from ._units import Units, reference_units
 
 __all__ = ["solve_laplace", "CoupledSystem"]
 
@@ -78,6 +90,18 @@ class CoupledSystem:
         x1 = _initial_state(bodies[0], m1, n1)
         x1[:2 * m1.n_modes] /= scale        # the same physical vibration (y = c z, c scaled)
         self.X0 = np.concatenate([x1, _initial_state(bodies[1], m2, n2)])
+
+    def state_units(self, units):
+        """The SI size of each state's unit in the dimensionless form (shape (n,)): a
+        modal or real-pole state's ``units.j`` (N s: ``z' = p z + F``), a rigid body's
+        displacement ``units.l`` and velocity ``units.l / units.t`` (:class:`._units.Units`)."""
+        parts = []
+        for m, size in zip(self.models, (self.n1, self.n - self.n1)):
+            unit = np.full(size, units.j)
+            if m.inverse_mass:
+                unit[-2:] = (units.l, units.l / units.t)
+            parts.append(unit)
+        return np.concatenate(parts) if parts else np.zeros(0)
 
     def rigid_velocity(self, X, i):
         """Rigid-body velocity (m/s) of body ``i`` in state ``X`` (0 if grounded)."""
@@ -120,7 +144,7 @@ class CoupledSystem:
         return out
 
 
-def _work_on_bodies(raw, xa0, free, force_in, load_rows, jdx):
+def _work_on_bodies(raw, xa0, free, force_in, load_rows, jdx, *, energy_unit=1.0):
     """Work (J) of the contact force and the loads on each body over the run ``raw``
     (:class:`impactpred.engine.impact_run.RawRun`), exactly.
 
@@ -151,6 +175,9 @@ def _work_on_bodies(raw, xa0, free, force_in, load_rows, jdx):
         Each body's load (N, along +y) as a row on the augmented state (zeros without one).
     jdx : int
         Index of ``J`` in the augmented state.
+    energy_unit : float, keyword-only
+        The energy (J) of a unit of work of the rows on the state (the run's
+        dimensionless form: :class:`._units.Units`).
 
     Returns
     -------
@@ -189,7 +216,7 @@ def _work_on_bodies(raw, xa0, free, force_in, load_rows, jdx):
         ints = phase.form.product_integrals(phase.form.project(np.vstack(rows)),
                                             phase_runs, pairs)
         work += sign * ints[:2] + (ints[2:] if loaded else 0.0)
-    return work
+    return energy_unit * work
 
 
 def _initial_state(body, model, n):
@@ -206,18 +233,49 @@ def _initial_state(body, model, n):
     return x
 
 
-def _relative_degree(sysm: CoupledSystem):
-    """(rho, coefficient) of the first derivative of the gap in which ``f`` appears."""
-    # the fastest rate of the free bodies: their poles (A is their modal realisation)
-    rates = [np.abs(np.concatenate([m.poles, m.real_poles])) for m in sysm.models]
-    scale = max([1.0] + [float(r.max()) for r in rates if r.size])
-    c0 = sysm.Dg
+def _markov(sysm: CoupledSystem):
+    """``(c0, c1, c2)``: the force's coefficients in the gap and its first two derivatives
+    (``Dg``, ``Cg Bf``, ``Cg A Bf``: ``H1 + H2 ~ c0 + c1 / s + c2 / s^2`` at high ``s``)."""
     c1 = float(sysm.Cg @ sysm.Bf) if sysm.n else 0.0
     c2 = float(sysm.Cg @ sysm.A @ sysm.Bf) if sysm.n else 0.0
+    return sysm.Dg, c1, c2
+
+
+def _free_rate(sysm: CoupledSystem) -> float:
+    """The fastest rate (rad/s) of the free bodies: their poles' largest modulus, 0 for
+    none."""
+    rates = [np.abs(np.concatenate([m.poles, m.real_poles])) for m in sysm.models]
+    return max([0.0] + [float(r.max()) for r in rates if r.size])
+
+
+def _relative_degree(sysm: CoupledSystem, t_end=None):
+    """(rho, coefficient) of the first derivative of the gap in which ``f`` appears,
+    judged at the free bodies' fastest rate (``1 / t_end`` without poles; 1 rad/s
+    without ``t_end`` either)."""
+    c0, c1, c2 = _markov(sysm)
+    scale = _free_rate(sysm) or (1.0 / t_end if t_end else 1.0)
     if abs(c2) + abs(c1) * scale + abs(c0) * scale**2 == 0.0:
         raise ValueError("H1 + H2 is identically zero: the bodies have no compliance")
     rho = relative_degree(c0, c1, c2, scale)
     return rho, (c0, c1, c2)[rho]
+
+
+def _units(bodies, sysm: CoupledSystem, contact, loads, gap0, t_end) -> Units:
+    """The reference units of the engine's dimensionless form (:mod:`._units`)."""
+    compliance = sysm.Dg + (1.0 / contact.stiffness if isinstance(contact, LinearSpring)
+                            else 0.0)
+    approach = max(abs(b.velocity) for b in bodies) * t_end
+    return reference_units(_markov(sysm), _free_rate(sysm), compliance=compliance,
+                            t_end=t_end, rates=[load.omega for _, load in loads],
+                            displacement=abs(gap0) + approach + _vibration_scale(sysm),
+                            force=sum(load.amplitude for _, load in loads))
+
+
+def _vibration_scale(sysm: CoupledSystem) -> float:
+    """The contact points' displacements (m) at ``t = 0``, term by term: ``|C| @ |X0|``."""
+    if not sysm.n:
+        return 0.0
+    return float((np.abs(sysm.C1) + np.abs(sysm.C2)) @ np.abs(sysm.X0))
 
 
 def harmonic_loads(bodies):
@@ -274,10 +332,19 @@ def solve_laplace(bodies, gap0, contact, t_end, dt, *, notes=(), receptance_scal
         y_row = y1_row if i == 0 else y2_row
         y_row[ic] += sysm.D[i] * load.amplitude
         gap_row[ic] += (-1.0 if i == 0 else 1.0) * sysm.D[i] * load.amplitude
+    # the dimensionless form the engine runs on (:mod:`._units`): x = unit * xi,
+    # t = u.t * tau, each row in units of its own (row_unit); rows are built in SI here
+    u = _units(bodies, sysm, contact, loads, gap0, t_end)
+    unit = np.concatenate([sysm.state_units(u), [1.0, u.j], np.ones(2 * len(loads))])
+    row_unit = np.concatenate([[u.f, u.l, u.l, u.l, u.l / u.t, u.l / u.t],
+                               points.row_units(u.l, u.t)])
+    M_free_s = u.matrix(M_free, unit)
+    gap_s = unit * gap_row / u.l
     # output rows: force, y1, y2, gap, the contact points' velocities, the output points
-    free = Phase(M_free, np.vstack([np.zeros(n_aug), y1_row, y2_row, gap_row,
-                                    y1_row @ M_free, y2_row @ M_free,
-                                    points.rows(M_free, loads=loads)]), gap_row, False)
+    free = Phase(M_free_s, unit * np.vstack([np.zeros(n_aug), y1_row, y2_row, gap_row,
+                                             y1_row @ M_free, y2_row @ M_free,
+                                             points.rows(M_free, loads=loads)])
+                 / row_unit[:, None], gap_s, False)
 
     # contact: f = Kf X + k0, X' = (A + Bf Kf) X + Bf k0, J' = f
     if not contact.is_linear:
@@ -285,56 +352,64 @@ def solve_laplace(bodies, gap0, contact, t_end, dt, *, notes=(), receptance_scal
                          f"{contact!r}: use method='modal' or 'convolution'")
     if isinstance(contact, Rigid):
         # the gap's rho-th derivative without the force, held at 0 by it
-        rho, coef = _relative_degree(sysm)
+        rho, coef = _relative_degree(sysm, t_end)
         held = gap_row
         for _ in range(rho):
             held = held @ M_free
         force_row = -held / coef
+        # coef on the dimensionless rows: the gap (rho = 0), its rate (1) per unit force,
+        # or its rate's jump per unit impulse (rho = 2)
+        coef = coef * (u.f / u.l if rho == 0 else u.m if rho == 2 else u.f * u.t / u.l)
     else:           # an undamped LinearSpring
-        rho, coef = None, None
+        rho, coef = -1, (1.0 / contact.stiffness + sysm.Dg) * u.f / u.l
         force_row = -contact.stiffness * gap_row / (1 + contact.stiffness * sysm.Dg)
     # the force enters the states through Bf and its integral J: a rank-one update
     force_in = np.concatenate([Bf, [0.0, 1.0], np.zeros(2 * len(loads))])
     M_con = M_free + np.outer(force_in, force_row)
+    force_in_s, force_s = force_in / unit * u.j, force_row * unit / u.f
+    M_con_s = M_free_s + np.outer(force_in_s, force_s)
     y1_con, y2_con = y1_row - D1 * force_row, y2_row + D2 * force_row
-    stuck = Phase(M_con, np.vstack([force_row, y1_con, y2_con,
-                                    gap_row + sysm.Dg * force_row,
-                                    y1_con @ M_con, y2_con @ M_con,
-                                    points.rows(M_con, force_row, loads=loads)]), force_row,
-                  True,
-                  update_of=(free.form, force_in, force_row))
+    stuck = Phase(M_con_s, unit * np.vstack([force_row, y1_con, y2_con,
+                                             gap_row + sysm.Dg * force_row,
+                                             y1_con @ M_con, y2_con @ M_con,
+                                             points.rows(M_con, force_row, loads=loads)])
+                  / row_unit[:, None], force_s, True,
+                  update_of=(free.form, force_in_s, force_s))
 
-    rate = stuck.form.max_rate
+    rate = stuck.form.max_rate / u.t
     if isinstance(contact, LinearSpring) and not rate * t_end <= _RESOLVED_RATE:
         raise ValueError(f"the spring contact's fastest rate, {rate:.3g} rad/s, over t_end = "
                          f"{t_end:.6g} s is beyond what double-precision times resolve (a "
                          f"time scale of {1 / rate:.3g} s, {1 / (rate * t_end):.2g} of t_end):"
                          f" a stiffness of {contact.stiffness:.3g} N/m is rigid at this "
                          "scale: use Rigid(), or a shorter t_end")
-    step = search_step(max(free.form.max_rate, stuck.form.max_rate), t_end)
+    u.check()           # after the spring's own refusal: the clearer one where both apply
+    t_end_s = t_end / u.t
+    step = search_step(max(free.form.max_rate, stuck.form.max_rate), t_end_s)
     out_step = dt if dt is not None else t_end / 4000
 
+    # the gap's rounding level (in u.l): 1e-12 of the displacements in play
     u_scale = max(abs(b.velocity) for b in bodies)
-    y_scale = abs(gap0) + u_scale * t_end + float(np.max(np.abs(sysm.X0), initial=0.0))
-    tol_g = 1e-12 * max(y_scale, 1e-300)
+    y_scale = abs(gap0) + u_scale * t_end + _vibration_scale(sysm)
+    tol_g = 1e-12 * max(y_scale / u.l, 1e-300)
     # the contact rules (Dirac impulse, hold or release): the gap's first three
     # derivatives in free flight, rows on the augmented state
     cg_powers = np.zeros((3, n_aug))
-    cg_powers[0] = gap_row @ M_free
-    cg_powers[1] = cg_powers[0] @ M_free
-    cg_powers[2] = cg_powers[1] @ M_free
-    rules = ContactRules(-1 if rho is None else rho,
-                         1.0 / contact.stiffness + sysm.Dg if rho is None else coef, Bf, jdx,
-                         force_row, force_row @ M_con, cg_powers, tol_g)
+    cg_powers[0] = gap_s @ M_free_s
+    cg_powers[1] = cg_powers[0] @ M_free_s
+    cg_powers[2] = cg_powers[1] @ M_free_s
+    rules = ContactRules(rho, coef, force_in_s[:n], jdx, force_s, force_s @ M_con_s,
+                         cg_powers, tol_g)
     # touching at t = 0 and not separating: the contact rules decide at once whether a
     # contact starts (a Dirac where they approach; held where they press) (the gap at
     # t = 0 is gap0 plus what the bodies' initial displacements and loads open or close)
     # (a relative velocity within the rounding of its terms is zero)
-    v_rel = float(cg_powers[0] @ Xa)
-    still = abs(v_rel) <= 1e-12 * float(np.abs(cg_powers[0]) @ np.abs(Xa))
-    in_contact = bool(n) and float(gap_row @ Xa) <= tol_g and (v_rel < 0.0 or still)
-    raw = run_contact(free, stuck, Xa, in_contact=in_contact, rules=rules, t_end=t_end,
-                      step=step, out_step=out_step, gap0=gap0)
+    Xa_s = Xa / unit
+    v_rel = float(cg_powers[0] @ Xa_s)
+    still = abs(v_rel) <= 1e-12 * float(np.abs(cg_powers[0]) @ np.abs(Xa_s))
+    in_contact = bool(n) and float(gap_s @ Xa_s) <= tol_g and (v_rel < 0.0 or still)
+    raw = run_contact(free, stuck, Xa_s, in_contact=in_contact, rules=rules, t_end=t_end_s,
+                      step=step, out_step=out_step / u.t, gap0=gap0 / u.l)
     if in_contact and still and raw.diracs and raw.diracs[0][0] == 0.0:
         # a Dirac at t = 0 of a relative velocity within rounding is rounding (1e-21 N s):
         # not reported, nor the touch it alone would make
@@ -344,15 +419,21 @@ def solve_laplace(bodies, gap0, contact, t_end, dt, *, notes=(), receptance_scal
     # an undamped body's energy at t_end is the energy delivered: the work is integrated
     # only where a body's own damping takes some
     damped = [bool(np.any(m.poles.real) or m.real_poles.size) for m in sysm.models]
-    work = (_work_on_bodies(raw, Xa, free, force_in, load_rows, jdx) if any(damped)
-            else None)
+    work = (_work_on_bodies(raw, Xa_s, free, force_in_s, [unit * r / u.f for r in load_rows],
+                            jdx, energy_unit=u.e) if any(damped) else None)
     if work is not None and not np.all(np.isfinite(work)):
         notes = tuple(notes) + ("the work on the bodies overflowed (a pole growing over a "
                                 "phase): the vibration energy reported is what they hold "
                                 "at t_end",)
         work = None
-    return _result(bodies, sysm, points, raw, force_row, jdx, t_end, out_step, step, notes,
-                   work=work)
+    # back to SI: times, samples, the state, impulses (the exact peak found on the form)
+    T, V = insert_exact_peak(raw.T, raw.V, raw.intervals, raw.first_phase)
+    raw.T, raw.V = u.t * T, row_unit[:, None] * V
+    raw.intervals = [(u.t * a, u.t * b) for a, b in raw.intervals]
+    raw.diracs = [(u.t * t, u.j * p) for t, p in raw.diracs]
+    raw.x_end, raw.first_impulse = unit * raw.x_end, u.j * raw.first_impulse
+    return _result(bodies, sysm, points, raw, force_row, jdx, t_end, out_step, u.t * step,
+                   notes, work=work)
 
 
 _grazing = grazing_error     # the name the CLI's tests raise
@@ -360,7 +441,8 @@ _grazing = grazing_error     # the name the CLI's tests raise
 
 def _result(bodies, sysm, points, raw, force_row, jdx, t_end, out_step, step, notes, *,
             work):
-    """The :class:`ImpactResult` of the engine's run ``raw`` (either propagation).
+    """The :class:`ImpactResult` of the engine's run ``raw`` (either propagation; in SI,
+    the exact force peak inserted).
 
     A body's ``vibration_after`` is the vibration energy delivered to it: its vibration
     energy before, plus the ``work`` (J, per body) of the contact force and its load, less
@@ -370,7 +452,7 @@ def _result(bodies, sysm, points, raw, force_row, jdx, t_end, out_step, step, no
     no body is damped, and each holds at ``t_end`` what it was delivered."""
     n = sysm.n
     intervals, diracs, X_end, kind = raw.intervals, raw.diracs, raw.x_end, raw.kind
-    T, V = insert_exact_peak(raw.T, raw.V, intervals, raw.first_phase)
+    T, V = raw.T, raw.V
     F = np.maximum(V[0], 0.0)
     in_contact_end = bool(intervals) and intervals[-1][1] == t_end and intervals[-1][0] < t_end
     f_end = float(force_row @ X_end) if in_contact_end else 0.0
