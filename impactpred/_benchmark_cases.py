@@ -254,7 +254,7 @@ def exact_reference(case: Case) -> Reference:
             return solve_impact(Body(case.body1, velocity=case.velocity1),
                                 Body(case.body2, velocity=case.velocity2),
                                 contact=case.contact, t_end=case.t_end, dt=dt,
-                                method="convolution")
+                                method="convolution", progress=False)
 
         res = solve(case.dt_exact / 2 if case.richardson else case.dt_exact)
         fine = impact_figures(res)

@@ -141,7 +141,7 @@ def _solver(case, dt=None):
             step = max(choose_dt((b1, b2), case.contact, t_end=case.t_end, method=method),
                        case.t_end / _MAX_OUTPUT_SAMPLES)
         return solve_impact(b1, b2, contact=case.contact, t_end=case.t_end, dt=step,
-                            method=method)
+                            method=method, progress=False)     # the benchmark's own bar
     return solve
 
 

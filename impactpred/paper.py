@@ -141,7 +141,7 @@ def run_paper_cases(out_dir=None, *, dt=None, plot=True) -> pd.DataFrame:
     rows = []
     results = {}
     for case in cases:
-        res = solve_impact(case.body1, case.body2, t_end=case.t_end, dt=dt)
+        res = solve_impact(case.body1, case.body2, t_end=case.t_end, dt=dt, progress=False)
         results[case.key] = res
         s = res.summary()
         rows.append({"case": case.key, "description": case.description,

@@ -48,6 +48,8 @@ _MIN_COHERENCE = 0.1         # below this everywhere the lines hold no informati
 #: with coherence, the band ends where the smoothed noise-to-signal ratio ``(1 - g)/g``
 #: exceeds this many times its best lines' (10th percentile), or 1 (coherence 0.5)
 _NSR_SPAN = 10.0
+#: ... at the end of the good lines, if this share of the lines above them is bad
+_TAIL_BAD = 0.75
 #: without coherence, the band ends where the excitation's autospectrum has fallen this
 #: far below its peak (a hammer's usable band: 10-20 dB is the textbook range)
 _REACH_DB = 20.0
@@ -130,18 +132,33 @@ def _top_run(bad, n, *, upper_half=True) -> int | None:
     return None
 
 
-def _best_top(bad, n) -> int | None:
+def _best_top(bad, n, peak_bad) -> int | None:
     """Index where the band ends by the mask ``bad`` (lines from the band's start): the
     end of the start's run of lines in which the good ones most outnumber the bad (the
     maximum of the running sum of +1 per good line, -1 per bad one), so that at least
     half the lines above it are bad; ``None`` where fewer than ``_RUN_SHARE`` of ``n``
-    lines lie above it. Not the first long bad run: a fixed rod's antiresonance valleys
-    (coherence under 0.5 over 250 Hz at a time, between its modes every 500 Hz) would end
-    the band above its first mode, as the lines above its hammer's reach (half the file)
-    are bad too."""
+    lines lie above it or fewer than :data:`_TAIL_BAD` of them are bad. Where most of
+    the resonance peaks above it are good by their own lines' coherence (``peak_bad``:
+    1 or 0 at a peak line, NaN elsewhere), it moves up past the last good one: valleys
+    between modes on half the lines or more drag the sum down from the first good
+    stretch on, and the band had collapsed to a cantilever's first 4 modes of 8, its
+    peaks' coherence 0.93-0.99 (review). Not the first long bad
+    run: a fixed rod's antiresonance valleys (coherence under 0.5 over 250 Hz at a time,
+    between its modes every 500 Hz) would end the band above its first mode, as the lines
+    above its hammer's reach (half the file) are bad too."""
     score = np.cumsum(np.where(bad, -1, 1))
     top = int(np.argmax(score)) + 1
-    return None if bad.size - top < max(3, int(_RUN_SHARE * n)) else top
+    # the resonance peaks above it, by their own lines' coherence (``peak_bad``; NaN off
+    # the peaks): mostly good, the valleys alone are bad and the peaks still inform, and
+    # the band goes on to the good stretch of its last good peak
+    above = peak_bad[top:]
+    above = above[np.isfinite(above)]
+    if above.size and np.mean(above) < 0.5:
+        start = int(np.flatnonzero(peak_bad == 0)[-1])
+        top = start + int(np.argmax(score[start:])) + 1
+    if bad.size - top < max(3, int(_RUN_SHARE * n)) or np.mean(bad[top:]) < _TAIL_BAD:
+        return None
+    return top
 
 
 def _excitation_reach(excitation, window, db=_REACH_DB) -> int | None:
@@ -264,8 +281,18 @@ def choose_band(data: FRFData, *, low_end=True) -> tuple[tuple[float, float], st
         # anywhere above the low cut: the coherence of a noisy hammer test (best lines
         # 0.89) fell to 0.15-0.4 from 2.6 kHz of 10 kHz, and a cut in the upper half
         # only kept it all (FRF error 84 %, "suspect"; its force spectrum cut 2.8 kHz)
-        hi = _best_top(nsr[lo:] > limit, n)
-        hi = None if hi is None else lo + hi
+        own = np.clip(median_filter(data.coherence, size=3, mode="nearest"), 1e-6, 1.0)
+        peak_bad = np.full(n, np.nan)
+        peaks = find_peaks(np.log10(np.maximum(np.abs(h), 1e-300)), prominence=0.3)[0]
+        peak_bad[peaks] = (1.0 - own[peaks]) / own[peaks] > limit
+        hi = _best_top(nsr[lo:] > limit, n, peak_bad[lo:])
+        if hi is None:    # as before: a run in the upper half the lines above do not
+            # recover from, at 100 times the best lines' noise-to-signal ratio
+            worst = max(1.0, 100.0 * float(np.quantile(nsr, 0.1)))
+            hi = _top_run(nsr > worst, n)
+            limit = worst if hi is not None else limit
+        else:
+            hi += lo
         why_top = f"the smoothed coherence falls below {1 / (1 + limit):.3g}"
     else:
         smooth = median_filter(rough, size=window, mode="nearest")

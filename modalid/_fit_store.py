@@ -10,7 +10,7 @@ from ._lsfd import evaluate
 from ._noise import noise_level
 from ._report import (fit_report, local_misfit_inflation, misfit_notes, mode_std_columns,
                       residual_correlation_inflation)
-from ._verdict import missed_resonances
+from ._verdict import error_lines, missed_resonances
 from ._window import nonnegative_mass_line, structure_model, windowed_receptance
 from .model import ModalModel
 from .quantities import receptance_to
@@ -111,6 +111,7 @@ def store_fit(est, frf, poles, kinds, residues, u, d, info, notes, max_order, vf
         noise_estimate_data=float(np.linalg.norm(scatter) / np.linalg.norm(band.values)),
         frf_median_relative_error=float(np.median(np.abs(own / band.values)[counted])),
         noise_median_relative=float(np.median((scatter / np.abs(band.values))[counted])),
+        frf_error_lines=error_lines(band.freq_hz, own, fit_poles[physical]),
         data_quantity=band.quantity, missed_resonances_hz=missed_resonances(
             band.freq_hz, band.values, band.values + own).tolist(),
         band_hz=(float(frf.freq_hz[0]), float(frf.freq_hz[-1])), segments=est._segment_count,

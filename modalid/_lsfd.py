@@ -419,8 +419,13 @@ def refine_varpro(omega, values, weights, poles, terms: Terms, *, imag_lo=None, 
     held = _HeldColumns(hold, extra.shape[1]) if held_gram and hold is not None else None
 
     def project(v):
-        projection = _Projection(omega, w, y, v[0::2] + 1j * v[1::2], extra, bounds,
-                                 free_workspaces.pop(), held)
+        ws = free_workspaces.pop()
+        try:
+            projection = _Projection(omega, w, y, v[0::2] + 1j * v[1::2], extra, bounds, ws,
+                                     held)
+        except np.linalg.LinAlgError:     # a rejected step: its workspace is free again
+            free_workspaces.append(ws)
+            raise
         projection.normal_equations = functools.partial(projection.normal_equations, g_buffer)
         return projection
 

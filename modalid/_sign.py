@@ -87,7 +87,9 @@ class SignCheck:
                            f"(turning score {self.turning:+.2f})" if option == "conjugate"
                            else "the real part of its mobility is negative (conductance "
                            f"score {self.conductance:+.2f})")
-                        + f": read it without read_options={{'{option}': True}}")
+                        + f": read it without read_options={{'{option}': True}}"
+                        + ("; if it is a transfer FRF, give the driving point's"
+                           if option == "negate" else ""))
         if self.verdict == "conjugate":
             return (f"{source}: its resonances turn counter-clockwise in the complex plane "
                     f"(turning score {self.turning:+.2f}; a causal FRF's turn clockwise, "

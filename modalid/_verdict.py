@@ -27,8 +27,8 @@ from .frf_set import FRFSet
 from .multi_output import MultiOutputModalModel
 
 __all__ = ["driving_point_decision", "mass_line_share", "quality_verdict", "damping_resolved",
-           "judged_report", "line_error_tolerance", "missed_resonances", "missed_peak_lines",
-           "misfit_suspect"]
+           "error_lines", "judged_report", "line_error_tolerance", "missed_resonances",
+           "missed_peak_lines", "misfit_suspect"]
 
 _DOMINANT = 0.9       # share of the peak receptance that decides a driving point
 _LOW_END_SHARE = 0.25  # a negative mass line making this much of the low end is counted
@@ -133,6 +133,36 @@ def driving_point_decision(modes: pd.DataFrame, inverse_mass: float, *,
     if inverse_mass < 0:
         why += " and a negative mass line"
     return False, why + ": a transfer FRF"
+
+
+def error_lines(freq_hz, error, poles) -> dict:
+    """Where the error ``error`` (complex, per line of ``freq_hz``) of a fit sits: the
+    fewest lines that carry half its squared norm, their span ``hz`` (Hz), count ``n``
+    and whether they are at the fitted modes' peaks (``at_peaks``: each within three
+    half-power half-widths ``|Re p|``, and two lines, of a mode ``p`` of ``poles``,
+    rad/s)."""
+    share = np.abs(error) ** 2
+    order = np.argsort(share)[::-1]
+    carried = np.cumsum(share[order])
+    lines = order[:int(np.searchsorted(carried, 0.5 * carried[-1])) + 1]
+    omega = 2 * np.pi * np.asarray(freq_hz, float)[lines]
+    spacing = 2 * np.pi * float(np.median(np.diff(freq_hz))) if len(freq_hz) > 1 else 0.0
+    poles = np.asarray(poles, complex)
+    near = (np.abs(omega[:, None] - np.abs(poles)[None, :])
+            <= 3.0 * np.abs(poles.real)[None, :] + 2.0 * spacing)
+    return {"hz": (float(omega.min() / (2 * np.pi)), float(omega.max() / (2 * np.pi))),
+            "n": int(lines.size), "at_peaks": bool(poles.size and near.any(axis=1).all())}
+
+
+def _where(lines) -> str:
+    """Where the error sits, for the verdict's reason (:func:`error_lines`)."""
+    if lines is None or lines["at_peaks"]:
+        return "the lines near the peaks are missed"
+    low, high = lines["hz"]
+    span = f"at {low:.6g} Hz" if low == high else f"between {low:.6g} and {high:.6g} Hz"
+    return (f"half of it on {lines['n']} line{'s' * (lines['n'] > 1)} {span}, where the "
+            "data stand far off the model: junk or noise lines the band kept (freq_range "
+            "can leave them out), or a resonance missed")
 
 
 def damping_resolved(modes: pd.DataFrame, line_spacing_hz: float) -> np.ndarray:
@@ -255,7 +285,8 @@ def line_error_tolerance(relative_noise):
 
 
 def quality_verdict(modes: pd.DataFrame, *, band_hz, driving_point, nrmse, relative_error,
-                    relative_noise, rigid_body, finite, miss=None, missed_hz=()):
+                    relative_noise, rigid_body, finite, miss=None, missed_hz=(),
+                    error_lines=None):
     """``(verdict, reasons)``: ``"ok"``, ``"suspect"`` or ``"failed"`` and why.
 
     Parameters
@@ -281,6 +312,9 @@ def quality_verdict(modes: pd.DataFrame, *, band_hz, driving_point, nrmse, relat
         relative_noise)``.
     missed_hz : sequence of float, optional
         The data's resonances the model misses (:func:`missed_resonances`), Hz.
+    error_lines : dict, optional
+        Where the FRF error sits (:func:`error_lines`): said where the error is large
+        and the median line's small (else the peaks are taken to carry it).
 
     Returns
     -------
@@ -310,7 +344,7 @@ def quality_verdict(modes: pd.DataFrame, *, band_hz, driving_point, nrmse, relat
                       f"{100 * relative_error:.3g} %)")
     elif nrmse > 0.5:
         suspect.append(f"the FRF error is {100 * nrmse:.3g} % (median per line "
-                       f"{100 * relative_error:.3g} %: the lines near the peaks are missed)")
+                       f"{100 * relative_error:.3g} %: {_where(error_lines)})")
     elif relative_error > tolerance:
         suspect.append(f"the median error per line is {100 * relative_error:.3g} %, above "
                        f"{100 * tolerance:.3g} % (three times the data's scatter, at least "
@@ -407,7 +441,8 @@ def judged_report(report, model, frf, *, driving_point, reason, weighting, weigh
                                        nrmse=nrmse, relative_error=relative[0],
                                        relative_noise=relative[1],
                                        rigid_body=bool(report["rigid_body"]), finite=finite,
-                                       miss=miss, missed_hz=missed_hz)
+                                       miss=miss, missed_hz=missed_hz,
+                                       error_lines=report.get("frf_error_lines"))
     if verdict != "ok" and isinstance(frf, FRFData) and undamped_lines(frf.values):
         reasons = reasons + [UNDAMPED_REASON]
     unmodelled = report.get("record_end_unmodelled")

@@ -484,9 +484,11 @@ def _read_one(path, format, quantity, columns, index, freq_hz):
     if fmt == "complex-lines" or freq_hz is not None:
         if fmt != "complex-lines":
             raise ValueError(f"freq_hz= applies to format='complex-lines' only, not to {fmt}")
-        if freq_hz is None:
+        if freq_hz is None:       # a bare file states no quantity either: both at once
+            also = ("" if quantity is not None else ", and quantity= one of "
+                    + one_of(QUANTITIES))
             raise ValueError(f"{path} holds bare complex values: pass freq_hz= (Hz, one per "
-                             "value line)")
+                             f"value line){also}")
         if columns is not None or index not in (None, 0):
             raise ValueError("columns= and index= do not apply to format='complex-lines'")
         return read_complex_lines(path, freq_hz=freq_hz, quantity=quantity)

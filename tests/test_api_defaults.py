@@ -29,6 +29,9 @@ DIFFERENT = {
     ("impactpred.choose_dt", "method"): "convolution",  # the step that resolves the bodies
     ("modalid.ModalFit", "method"): "lscf",            # another option: the fit's estimator
     ("impactpred.parallel.Pool.map", "progress"): None,  # a bar to advance, not a switch
+    # a bar once a solve has taken 10 s: a short run prints nothing
+    ("impactpred.solve_impact", "progress"): "auto",
+    ("impactpred.predict", "progress"): "auto",
     # data_synth draws measurement noise: fresh at each call unless seeded (numpy's rule)
     ("data_synth.synthetic_frf", "seed"): None,
     ("data_synth.synthetic_impulse_response", "seed"): None,

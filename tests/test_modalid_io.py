@@ -1003,3 +1003,16 @@ def test_a_single_npy_array_is_pointed_to_the_hammer_route(tmp_path):
         with pytest.raises(ValueError, match="hammer test's records .* with "
                                              "modalid.frf_from_hammer$"):
             read_frf(path, **options)
+
+
+def test_a_bare_complex_lines_file_asks_for_all_it_lacks_at_once(tmp_path):
+    """One complex value per line (no frequencies, no quantity): the error asks for the
+    lines' frequencies and the quantity together (it asked for the quantity only once the
+    frequencies were given); with the quantity given, for the frequencies alone."""
+    path = tmp_path / "point.txt"
+    path.write_text("(1+2j)\n(0.5-1j)\n(0.1+0.3j)\n")
+    with pytest.raises(ValueError, match=r"holds bare complex values: pass freq_hz= \(Hz, one "
+                                         r"per value line\), and quantity= one of"):
+        read_frf(path, format="complex-lines")
+    with pytest.raises(ValueError, match=r"one per value line\)$"):
+        read_frf(path, format="complex-lines", quantity="accelerance")

@@ -190,3 +190,28 @@ def test_the_multiplier_releases_a_bounded_real_pole_residue_the_right_way():
         ref = _slsqp_optimum(held.mat, y, lo, hi, e, ftol=1e-16)
         assert held.cost == pytest.approx(ref.fun, rel=1e-7)
         assert abs(e @ held.x) < 1e-9 * np.abs(held.x).sum()
+
+
+def test_a_step_without_a_projection_gives_its_workspace_back(monkeypatch):
+    """A trial step whose projection raises LinAlgError is a rejected step; its workspace
+    went with it, and the next trial found none (IndexError). The refinement with the
+    first trial failing goes on and ends where the one without the failure does."""
+    import modalid._lsfd as lsfd
+
+    omega, h, w, poles = _data()
+    start = poles * (1 + 0.01j)
+    calls = {"n": 0}
+
+    class FailingOnce(_Projection):
+        def __init__(self, *args, **kwargs):
+            calls["n"] += 1
+            if calls["n"] == 2:                   # the first trial step
+                raise np.linalg.LinAlgError("no projection there")
+            super().__init__(*args, **kwargs)
+
+    clean = refine_varpro(omega, h, w, start, UPPER, max_iter=200)
+    monkeypatch.setattr(lsfd, "_Projection", FailingOnce)
+    failed = refine_varpro(omega, h, w, start, UPPER, max_iter=200)
+    assert calls["n"] > 3                         # it went on after the failure
+    # the step shortened after the failure: another path to the same basin
+    assert failed[2]["cost"] == pytest.approx(clean[2]["cost"], rel=1e-3)

@@ -233,3 +233,31 @@ def test_a_wrong_quantity_is_named_as_the_decision_reads_it():
         assert fit.report_["driving_point"] is False
         assert ("a mobility or an accelerance read as a receptance, an accelerance read as "
                 "a mobility" in fit.report_["driving_point_reason"])
+
+
+def test_the_verdict_says_where_a_large_error_sits():
+    """An FRF error of 100 % with a median line error under 1 %: junk lines at the band's
+    bottom (a receptance's noise lines blown up, 1e6 times the band's level) were said to
+    be "the lines near the peaks". :func:`error_lines` finds the fewest lines that carry
+    half the error and whether they sit at the modes' peaks; the reason names them."""
+    from modalid._verdict import error_lines, quality_verdict
+
+    freq = np.linspace(0.25, 1000.0, 4000)
+    poles = np.array([-2 * np.pi * 2.0 + 2j * np.pi * 200.0])     # 200 Hz, 2 Hz half-width
+    junk = np.zeros(freq.size, complex)
+    junk[0], junk[1:] = 5.0, 1e-4
+    where = error_lines(freq, junk, poles)
+    assert where == {"hz": (0.25, 0.25), "n": 1, "at_peaks": False}
+    at_peak = np.zeros(freq.size, complex)
+    near = np.abs(freq - 200.0) < 3.0
+    at_peak[near] = 1.0
+    where_peak = error_lines(freq, at_peak, poles)
+    assert where_peak["at_peaks"] and 197.0 < where_peak["hz"][0] <= where_peak["hz"][1] < 203.0
+    modes = ModalModel(poles=poles, residues=[-0.5j / abs(poles[0])]).modes
+    kw = dict(band_hz=(0.25, 1000.0), driving_point=True, nrmse=1.0 - 1e-3,
+              relative_error=0.008, relative_noise=0.003, rigid_body=False, finite=True)
+    _, reasons = quality_verdict(modes, **kw, error_lines=where)
+    assert "half of it on 1 line at 0.25 Hz, where the data stand far off the model" \
+        in reasons[0]
+    _, reasons = quality_verdict(modes, **kw, error_lines=where_peak)
+    assert "the lines near the peaks are missed" in reasons[0]
