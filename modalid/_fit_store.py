@@ -111,7 +111,7 @@ def store_fit(est, frf, poles, kinds, residues, u, d, info, notes, max_order, vf
         noise_estimate_data=float(np.linalg.norm(scatter) / np.linalg.norm(band.values)),
         frf_median_relative_error=float(np.median(np.abs(own / band.values)[counted])),
         noise_median_relative=float(np.median((scatter / np.abs(band.values))[counted])),
-        frf_error_lines=error_lines(band.freq_hz, own, fit_poles[physical]),
+        frf_error_where=error_lines(band.freq_hz, own, fit_poles[physical]),
         data_quantity=band.quantity, missed_resonances_hz=missed_resonances(
             band.freq_hz, band.values, band.values + own).tolist(),
         band_hz=(float(frf.freq_hz[0]), float(frf.freq_hz[-1])), segments=est._segment_count,

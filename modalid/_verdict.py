@@ -135,12 +135,12 @@ def driving_point_decision(modes: pd.DataFrame, inverse_mass: float, *,
     return False, why + ": a transfer FRF"
 
 
-def error_lines(freq_hz, error, poles) -> dict:
-    """Where the error ``error`` (complex, per line of ``freq_hz``) of a fit sits: the
-    fewest lines that carry half its squared norm, their span ``hz`` (Hz), count ``n``
-    and whether they are at the fitted modes' peaks (``at_peaks``: each within three
-    half-power half-widths ``|Re p|``, and two lines, of a mode ``p`` of ``poles``,
-    rad/s)."""
+def error_lines(freq_hz, error, poles) -> str:
+    """Where the error ``error`` (complex, per line of ``freq_hz``) of a fit sits, as the
+    verdict says it: the fewest lines that carry half its squared norm, named by their
+    span where any of them lies off the peaks of ``poles`` (rad/s; off: more than three
+    half-power half-widths ``|Re p|``, and two lines, from every mode), else "the lines
+    near the peaks are missed"."""
     share = np.abs(error) ** 2
     order = np.argsort(share)[::-1]
     carried = np.cumsum(share[order])
@@ -150,19 +150,17 @@ def error_lines(freq_hz, error, poles) -> dict:
     poles = np.asarray(poles, complex)
     near = (np.abs(omega[:, None] - np.abs(poles)[None, :])
             <= 3.0 * np.abs(poles.real)[None, :] + 2.0 * spacing)
-    return {"hz": (float(omega.min() / (2 * np.pi)), float(omega.max() / (2 * np.pi))),
-            "n": int(lines.size), "at_peaks": bool(poles.size and near.any(axis=1).all())}
-
-
-def _where(lines) -> str:
-    """Where the error sits, for the verdict's reason (:func:`error_lines`)."""
-    if lines is None or lines["at_peaks"]:
-        return "the lines near the peaks are missed"
-    low, high = lines["hz"]
+    if poles.size and near.any(axis=1).all():
+        return _AT_PEAKS
+    low, high = omega.min() / (2 * np.pi), omega.max() / (2 * np.pi)
     span = f"at {low:.6g} Hz" if low == high else f"between {low:.6g} and {high:.6g} Hz"
-    return (f"half of it on {lines['n']} line{'s' * (lines['n'] > 1)} {span}, where the "
+    return (f"half of it on {lines.size} line{'s' * (lines.size > 1)} {span}, where the "
             "data stand far off the model: junk or noise lines the band kept (freq_range "
             "can leave them out), or a resonance missed")
+
+
+#: where a large FRF error sits when its lines are the modes' peaks (or not known)
+_AT_PEAKS = "the lines near the peaks are missed"
 
 
 def damping_resolved(modes: pd.DataFrame, line_spacing_hz: float) -> np.ndarray:
@@ -312,9 +310,9 @@ def quality_verdict(modes: pd.DataFrame, *, band_hz, driving_point, nrmse, relat
         relative_noise)``.
     missed_hz : sequence of float, optional
         The data's resonances the model misses (:func:`missed_resonances`), Hz.
-    error_lines : dict, optional
-        Where the FRF error sits (:func:`error_lines`): said where the error is large
-        and the median line's small (else the peaks are taken to carry it).
+    error_lines : str, optional
+        Where the FRF error sits (:func:`error_lines`), said where the error is large and
+        the median line's small; default: at the peaks.
 
     Returns
     -------
@@ -344,7 +342,7 @@ def quality_verdict(modes: pd.DataFrame, *, band_hz, driving_point, nrmse, relat
                       f"{100 * relative_error:.3g} %)")
     elif nrmse > 0.5:
         suspect.append(f"the FRF error is {100 * nrmse:.3g} % (median per line "
-                       f"{100 * relative_error:.3g} %: {_where(error_lines)})")
+                       f"{100 * relative_error:.3g} %: {error_lines or _AT_PEAKS})")
     elif relative_error > tolerance:
         suspect.append(f"the median error per line is {100 * relative_error:.3g} %, above "
                        f"{100 * tolerance:.3g} % (three times the data's scatter, at least "
@@ -442,7 +440,7 @@ def judged_report(report, model, frf, *, driving_point, reason, weighting, weigh
                                        relative_noise=relative[1],
                                        rigid_body=bool(report["rigid_body"]), finite=finite,
                                        miss=miss, missed_hz=missed_hz,
-                                       error_lines=report.get("frf_error_lines"))
+                                       error_lines=report.get("frf_error_where"))
     if verdict != "ok" and isinstance(frf, FRFData) and undamped_lines(frf.values):
         reasons = reasons + [UNDAMPED_REASON]
     unmodelled = report.get("record_end_unmodelled")

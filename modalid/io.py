@@ -250,9 +250,8 @@ def _from_arrays(source, arrays, columns):
                 excitation=excitation, measured=stated_in_arrays(source, arrays))
 
 
-#: how an .npz (a zip archive) and an .npy file begin
+#: how an .npz (a zip archive) and an .npy file begin; what a single .npy array may be
 _NPZ_MAGIC, _NPY_MAGIC = b"PK\x03\x04", b"\x93NUMPY"
-#: what a single .npy array may be: a hammer test's records, which are no FRF yet
 _NPY_HINT = ("; if it holds a hammer test's records (rows time, force and response), "
              "make the FRF from them with modalid.frf_from_hammer")
 
@@ -485,8 +484,7 @@ def _read_one(path, format, quantity, columns, index, freq_hz):
         if fmt != "complex-lines":
             raise ValueError(f"freq_hz= applies to format='complex-lines' only, not to {fmt}")
         if freq_hz is None:       # a bare file states no quantity either: both at once
-            also = ("" if quantity is not None else ", and quantity= one of "
-                    + one_of(QUANTITIES))
+            also = f", and quantity= one of {one_of(QUANTITIES)}" * (quantity is None)
             raise ValueError(f"{path} holds bare complex values: pass freq_hz= (Hz, one per "
                              f"value line){also}")
         if columns is not None or index not in (None, 0):
