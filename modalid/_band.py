@@ -142,10 +142,10 @@ def _best_top(bad, n, peak_bad) -> int | None:
     1 or 0 at a peak line, NaN elsewhere), it moves up past the last good one: valleys
     between modes on half the lines or more drag the sum down from the first good
     stretch on, and the band had collapsed to a cantilever's first 4 modes of 8, its
-    peaks' coherence 0.93-0.99 (review). Not the first long bad
-    run: a fixed rod's antiresonance valleys (coherence under 0.5 over 250 Hz at a time,
-    between its modes every 500 Hz) would end the band above its first mode, as the lines
-    above its hammer's reach (half the file) are bad too."""
+    peaks' coherence 0.93-0.99 (review). Not the first long bad run: a fixed rod's
+    antiresonance valleys (coherence under 0.5 over 250 Hz at a time, between its modes
+    every 500 Hz) would end the band above its first mode, as the lines above its
+    hammer's reach (half the file) are bad too."""
     score = np.cumsum(np.where(bad, -1, 1))
     top = int(np.argmax(score)) + 1
     # the resonance peaks above it, by their own lines' coherence (``peak_bad``; NaN off
