@@ -471,8 +471,9 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
         :func:`modalid.io.check_sign`).
     progress : bool or "auto"
         A progress bar on stderr for the time-stepping solves of the prediction itself
-        (``solve_impact``'s ``progress``; not the band's): ``"auto"`` (default) once a
-        solve has taken 10 s.
+        (``solve_impact``'s ``progress``) and one counting the uncertainty band's
+        re-identifications and solves: ``"auto"`` (default) once a solve or the band has
+        taken 10 s (the band check's: once it has taken 10 s unless False).
 
     Returns
     -------
@@ -565,7 +566,7 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
     if uncertainty and identified:
         band = uncertainty_band(models, fits, variants, n_draws=uncertainty_draws, seed=seed,
                                 continuation=continued, nominal=result, executor=executor,
-                                contact=law)
+                                contact=law, progress=progress)
     elif band_check and any(_cuttable(f) for f in fits):
         # the band's cheap half (no draws): does the answer move with the band? A body
         # whose band cannot be cut enters as identified, as an exact one does
@@ -576,7 +577,8 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
                 check = uncertainty_band(models, [f if _cuttable(f) else None for f in fits],
                                          variants, n_draws=0, continuation=continued,
                                          nominal=result, executor=executor, contact=law,
-                                         fractions=(BAND_CHECK_FRACTION,), tail_variant=False)
+                                         fractions=(BAND_CHECK_FRACTION,), tail_variant=False,
+                                         progress="auto" if progress else False)
         except ValueError as exc:        # a re-identification the cut band refuses
             warnings.warn(f"the band check could not re-identify on {BAND_CHECK_FRACTION:.0%}"
                           f" of the band ({exc}): this prediction is not checked",

@@ -34,7 +34,7 @@ from ._cut_band import (check_band_bodies, check_refittable, refit_on_cut_band,
                         truncation_error)
 from ._draws import perturb_poles, perturb_residues
 from ._wave_front import FRONT_OVERSHOOT, front_allowance, front_jump
-from .parallel import check_executor, resolve_executor
+from .parallel import check_executor, progress_bar, resolve_executor
 from .truncation import (FIGURES, NoComplianceAbove, band_resolution, identified_model,
                          impact_figures, tail_extent)
 
@@ -280,7 +280,7 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
                      cheap_variants: bool | None = None,
                      refits: dict | None = None, executor=None,
                      contact: ContactLaw = Rigid(),
-                     tail_variant: bool = True) -> UncertaintyBand:
+                     tail_variant: bool = True, progress=False) -> UncertaintyBand:
     """An interval for each of duration, peak, impulse and restitution, meant to hold all
     four exact figures together with probability ``level``.
 
@@ -353,6 +353,10 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
     tail_variant : bool
         Solve the tail's variant (the continuation's synthesized modes half as far);
         False leaves its part at 0 (``predict``'s band check: a solve saved).
+    progress : bool or "auto"
+        A bar on stderr counting the re-identifications and solves done
+        (:func:`impactpred.parallel.progress_bar`; ``"auto"``: once the band has taken
+        10 s). Two wide FRFs' band took 18 s in silence after their fits.
 
     Returns
     -------
@@ -418,12 +422,18 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
         warnings.simplefilter("ignore")
         # the re-identifications on the cut bands start first: they run while the tail solves
         pool = resolve_executor(executor, default=1)
+        bar = progress_bar(None, enabled=progress, desc="band variants", unit=" solve")
+
+        def submit(fn, *args):          # the bar counts what is done
+            job = pool.submit(fn, *args)
+            job.add_done_callback(lambda _: bar.update())
+            return job
         pending = {}
         for fit in fits:
             for fraction in fractions if fit is not None else ():
                 key = (id(fit), fraction)
                 if key not in pending and (refits is None or key not in refits):
-                    pending[key] = pool.submit(refit_on_cut_band, fit, fraction)
+                    pending[key] = submit(refit_on_cut_band, fit, fraction)
         # the tail's own extent: synthesized modes to half as far; the change, taken as the
         # error left (as for an error ~ 1/extend), is a heuristic that errs wide: a peak's
         # change from 8x to 16x exceeded its change from 16x to 32x by 2x on a rod
@@ -432,7 +442,7 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
         if (tail_variant and continuation and measured
                 and all(f is None or extent(f) > 1.0 for f in fits)):
             try:
-                half = pool.submit(solve, *[m if f is None else continued(f, 0.5)
+                half = submit(solve, *[m if f is None else continued(f, 0.5)
                                             for f, m in zip(fits, models)]).result()
             except _SOLVE_FAILURES:
                 half = None
@@ -466,7 +476,7 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
                 if share < 1.0:
                     trial = [t if j == i or f is None else continued(f, share)
                              for j, (t, f) in enumerate(zip(trial, fits))]
-                cut_jobs.append((i, fraction, cut_fits, pool.submit(solve, *trial)))
+                cut_jobs.append((i, fraction, cut_fits, submit(solve, *trial)))
         ref_figs = impact_figures(reference, resolution=resolution)
         changes: dict[str, dict] = {kind: {k: [] for k in FIGURES} for kind, _, _ in _DRAW_KINDS}
         draw_jobs = []     # the draws made here, in order (a generator per kind); solves pooled
@@ -479,7 +489,7 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
                     for i, fit in enumerate(fits):
                         if fit is not None:
                             trial[i] = continued(fit, share, model=perturb(fit, rng))
-                    draw_jobs.append((kind, d, pool.submit(solve, *trial)))
+                    draw_jobs.append((kind, d, submit(solve, *trial)))
         for i, fraction, cut_fits, job in cut_jobs:
             try:
                 res = job.result()
@@ -506,6 +516,7 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
                 for k in FIGURES:
                     if figs[k] is not None and ref_figs[k] is not None:
                         changes[kind][k].append(figs[k] - ref_figs[k])
+        bar.close()
     for kind, what, _ in _DRAW_KINDS:
         if failed[kind]:
             lost = len(failed[kind]) == n_draws

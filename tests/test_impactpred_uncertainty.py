@@ -327,6 +327,24 @@ def test_cheap_variants_are_measured_against_the_nominal_at_half_the_tail():
             TRUNCATION_FACTOR * band.truncation[k] + TAIL_FACTOR * band.tail[k], rel=1e-12)
 
 
+def test_the_band_counts_its_variants_on_a_bar_when_asked(capsys):
+    """``progress=True``: a bar on stderr counts the re-identification and the solves
+    (the tail's, the cut band's); False (the default) and "auto" on a short band print
+    nothing, and the band is the same."""
+    from impactpred.truncation import identified_model
+
+    fit = _measured_fixed_rod()
+    models = [LumpedMass(1.0), identified_model(fit)]
+    kw = dict(n_draws=0, cheap_variants=True)
+    quiet = uncertainty_band(models, [None, fit], _solve_mass_on, **kw)
+    assert capsys.readouterr().err == ""
+    auto = uncertainty_band(models, [None, fit], _solve_mass_on, progress="auto", **kw)
+    assert capsys.readouterr().err == ""
+    shown = uncertainty_band(models, [None, fit], _solve_mass_on, progress=True, **kw)
+    assert "band variants: 3 solve" in capsys.readouterr().err
+    assert quiet.low == auto.low == shown.low and quiet.high == shown.high
+
+
 def test_half_width_takes_the_noise_out_of_the_truncation_estimate():
     """sqrt((z k sigma)^2 + (a max(T - sigma sqrt(f/(1-f)), 0))^2) + b tail: a cut band's
     change within the re-identification's own noise adds nothing to the spread; beyond it,
