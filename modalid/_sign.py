@@ -78,37 +78,33 @@ class SignCheck:
         -------
         str
         """
-        applied = set(applied)
-        if self.verdict in ("conjugate", "reversed"):
-            option = "conjugate" if self.verdict == "conjugate" else "negate"
-            if option in applied and not data:
-                return (f"{source}: read with read_options={{'{option}': True}}, "
-                        + ("its resonances turn counter-clockwise in the complex plane "
-                           f"(turning score {self.turning:+.2f})" if option == "conjugate"
-                           else "the real part of its mobility is negative (conductance "
-                           f"score {self.conductance:+.2f})")
-                        + f": read it without read_options={{'{option}': True}}"
-                        + ("; if it is a transfer FRF, give the driving point's"
-                           if option == "negate" else ""))
         if self.verdict == "conjugate":
-            return (f"{source}: its resonances turn counter-clockwise in the complex plane "
-                    f"(turning score {self.turning:+.2f}; a causal FRF's turn clockwise, "
-                    "-1): it is stored with the other sign convention (Fourier kernel "
-                    "exp(+i w t)), the complex conjugate of this project's; "
+            option, seen = "conjugate", ("its resonances turn counter-clockwise in the "
+                                         f"complex plane (turning score {self.turning:+.2f}")
+        elif self.verdict == "reversed":
+            option, seen = "negate", ("the real part of its mobility is negative "
+                                      f"(conductance score {self.conductance:+.2f}")
+        else:
+            return ""
+        transfer = "; if it is a transfer FRF, give the driving point's"
+        if option in set(applied) and not data:
+            return (f"{source}: read with read_options={{'{option}': True}}, {seen}): read "
+                    f"it without read_options={{'{option}': True}}"
+                    + transfer * (option == "negate"))
+        if option == "conjugate":
+            return (f"{source}: {seen}; a causal FRF's turn clockwise, -1): it is stored "
+                    "with the other sign convention (Fourier kernel exp(+i w t)), the "
+                    "complex conjugate of this project's; "
                     + ("conjugate its values" if data
                        else "read it with read_options={'conjugate': True}"))
-        if self.verdict == "reversed":
-            return (f"{source}: the real part of its mobility is negative (conductance score "
-                    f"{self.conductance:+.2f}; a passive driving point's is positive, +1): "
-                    "its sign is reversed (response recorded against the force); "
-                    + ("negate its values; if its quantity is wrong (an accelerance taken "
-                       "for a receptance looks reversed too), correct it" if data else
-                       "read it with read_options={'negate': True}; if its quantity is "
-                       "stated wrong (an accelerance read as a receptance looks reversed "
-                       "too), read it with quantity=... (or correct the quantity the file "
-                       "states)")
-                    + "; if it is a transfer FRF, give the driving point's")
-        return ""
+        return (f"{source}: {seen}; a passive driving point's is positive, +1): its sign is "
+                "reversed (response recorded against the force); "
+                + ("negate its values; if its quantity is wrong (an accelerance taken for a "
+                   "receptance looks reversed too), correct it" if data else
+                   "read it with read_options={'negate': True}; if its quantity is stated "
+                   "wrong (an accelerance read as a receptance looks reversed too), read it "
+                   "with quantity=... (or correct the quantity the file states)")
+                + transfer)
 
 
 def _scores(frf: FRFData):
