@@ -189,11 +189,13 @@ class _Projection:
             mat[:, 2 * n:] = extra
         self.mat = mat
         self.held = held
-        self.gram = self._gram(held)
+        # the columns that move, gathered once for the Gram rows and the right-hand side
+        moving = None if held is None or held.block is None else mat[:, held.varying]
+        self.gram = self._gram(held, moving)
         scale = np.sqrt(np.diag(self.gram))
         scale[scale == 0] = 1.0
         self.scale = scale
-        rhs = self._rhs(y, held)
+        rhs = self._rhs(y, held, moving)
         if held is not None:
             held.workspaces.add(id(ws))
         self.free = np.ones(mat.shape[1], bool)
@@ -205,32 +207,33 @@ class _Projection:
         self.cost = float(self.residual @ self.residual)
         self.x = x
 
-    def _gram(self, held):
-        """``M^T M``; with ``held`` (:class:`_HeldColumns`) only the rows of the columns
-        that move are computed, ``O(rows x columns x moving)`` in place of
-        ``O(rows x columns^2)``."""
-        if held is None:
-            return self.mat.T @ self.mat
-        if held.block is None:
+    def _gram(self, held, moving):
+        """``M^T M``; with ``held`` (:class:`_HeldColumns`) whose block is known only the
+        rows of the columns that move (``moving``: those columns) are computed,
+        ``O(rows x columns x moving)`` in place of ``O(rows x columns^2)``."""
+        if moving is None:
             gram = self.mat.T @ self.mat
-            held.block = gram[np.ix_(held.fixed, held.fixed)]
+            if held is not None:
+                held.block = gram[np.ix_(held.fixed, held.fixed)]
             return gram
         gram = np.empty((self.mat.shape[1],) * 2)
         gram[np.ix_(held.fixed, held.fixed)] = held.block
-        rows = self.mat[:, ~held.fixed].T @ self.mat
-        gram[~held.fixed, :] = rows
-        gram[:, ~held.fixed] = rows.T
+        rows = moving.T @ self.mat
+        gram[held.varying, :] = rows
+        gram[:, held.varying] = rows.T
         return gram
 
-    def _rhs(self, y, held):
-        """``M^T y``; with ``held`` (:class:`_HeldColumns`) the fixed columns' part once."""
-        if held is None:
-            return self.mat.T @ y
-        if held.rhs is None:
-            held.rhs = self.mat[:, held.fixed].T @ y
+    def _rhs(self, y, held, moving):
+        """``M^T y``; with ``held`` (:class:`_HeldColumns`) the fixed columns' part once,
+        then only the ``moving`` columns'."""
+        if moving is None:
+            rhs = self.mat.T @ y
+            if held is not None:
+                held.rhs = rhs[held.fixed]
+            return rhs
         rhs = np.empty(self.mat.shape[1])
         rhs[held.fixed] = held.rhs
-        rhs[~held.fixed] = self.mat[:, ~held.fixed].T @ y
+        rhs[held.varying] = moving.T @ y
         return rhs
 
     def _gram_solve(self, rhs, cols=None):
@@ -348,6 +351,7 @@ class _HeldColumns:
         self.poles = np.asarray(hold, bool)
         self.moving = np.flatnonzero(~self.poles)
         self.fixed = np.concatenate([np.repeat(self.poles, 2), np.ones(n_extra, bool)])
+        self.varying = ~self.fixed
         self.block = self.rhs = None
         self.workspaces = set()
 
