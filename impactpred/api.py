@@ -19,7 +19,7 @@ from .body import Body, SampledResponse
 from .contact import Hertz, LinearSpring, Rigid, check_contact
 from .damper.excitation import HarmonicForce
 from .engine import MAX_SAMPLES
-from .parallel import one_blas_thread
+from .parallel import check_progress, one_blas_thread
 from .result import EnergyAudit, EnergyWarning, ImpactResult
 from .solvers.closed_form import applies_closed_form, solve_closed_form
 from .solvers.convolution import solve_convolution
@@ -143,9 +143,7 @@ def solve_impact(body1: Body, body2: Body, *, gap: float = 0.0, contact=Rigid(),
             raise ValueError(f"dt={dt!r} s exceeds t_end={t_end!r} s: the step must fit in "
                              "the run")
     as_choice("method", method, METHODS)
-    if not (isinstance(progress, (bool, np.bool_))
-            or isinstance(progress, str) and progress == "auto"):
-        raise TypeError(f"progress must be True, False or 'auto', got {progress!r}")
+    progress = check_progress(progress)
     if not isinstance(sensitivity_check, (bool, np.bool_)):
         raise TypeError(f"sensitivity_check must be True or False, got {sensitivity_check!r}")
     bodies = (body1, body2)
@@ -171,8 +169,6 @@ def solve_impact(body1: Body, body2: Body, *, gap: float = 0.0, contact=Rigid(),
         "laplace": solve_laplace, "modal": solve_modal, "convolution": solve_convolution,
         "closed_form": solve_closed_form}
     solver = solvers[chosen]
-    if not isinstance(progress, str):
-        progress = bool(progress)
     options = {"progress": progress} if stepping else {}
 
     def run(*args, **kwargs) -> ImpactResult:   # small dense algebra: one BLAS thread

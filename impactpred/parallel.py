@@ -45,6 +45,7 @@ from concurrent.futures import (
     wait,
 )
 
+import numpy as np
 from threadpoolctl import ThreadpoolController
 
 __all__ = ["InlineExecutor", "Pool", "check_executor", "local_cluster", "progress_bar",
@@ -455,14 +456,24 @@ def local_cluster(*, n_workers=None, threads_per_worker=1, processes=True,
 AUTO_PROGRESS_DELAY = 10.0
 
 
+def check_progress(progress):
+    """``progress`` as :func:`progress_bar`'s ``enabled`` takes it: ``"auto"``, or a
+    ``bool`` (a numpy bool made one); ``TypeError`` for anything else."""
+    if isinstance(progress, str) and progress == "auto":
+        return progress
+    if isinstance(progress, (bool, np.bool_)):
+        return bool(progress)
+    raise TypeError(f"progress must be True, False or 'auto', got {progress!r}")
+
+
 def progress_bar(total, *, enabled=True, desc=None, unit="it", bar_format=None, file=None,
                  mininterval=0.1, **options):
     """A ``tqdm`` bar on stderr (``file``), or a disabled one that prints nothing.
 
     Parameters
     ----------
-    total : int
-        Units of work.
+    total : int or None
+        Units of work (None: counted without a total).
     enabled : bool or "auto"
         False: nothing is printed (the bar still counts); ``"auto"``: the bar appears
         only once the work has taken :data:`AUTO_PROGRESS_DELAY` seconds (a long run

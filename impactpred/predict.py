@@ -43,6 +43,7 @@ from ._specs import (READ_OPTIONS, body_label, check_estimator, identify, parse_
                      read_options_pair)
 from .api import solve_impact
 from .body import Body, check_driving_point
+from .parallel import check_progress
 from .result import ImpactResult
 from .truncation import NoComplianceAbove, identified_model
 from .uncertainty import check_band_bodies, check_refittable, uncertainty_band
@@ -502,9 +503,7 @@ def predict(body1, body2, *, velocity1=0.0, velocity2=0.0, gap=0.0, contact="rig
         estimator = (check_estimator(estimator),) * 2
     if not (isinstance(continuation, (bool, np.bool_)) or continuation == "auto"):
         raise ValueError(f"continuation must be True, False or 'auto', got {continuation!r}")
-    if not (isinstance(progress, (bool, np.bool_))
-            or isinstance(progress, str) and progress == "auto"):
-        raise TypeError(f"progress must be True, False or 'auto', got {progress!r}")
+    progress = check_progress(progress)
     for name, flag in (("uncertainty", uncertainty), ("band_check", band_check)):
         if not isinstance(flag, (bool, np.bool_)):
             raise TypeError(f"{name} must be True or False, got {flag!r}")

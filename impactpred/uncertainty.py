@@ -443,7 +443,7 @@ def uncertainty_band(models, fits, solve, *, fractions=(0.8,), n_draws: int = 4,
                 and all(f is None or extent(f) > 1.0 for f in fits)):
             try:
                 half = submit(solve, *[m if f is None else continued(f, 0.5)
-                                            for f, m in zip(fits, models)]).result()
+                                       for f, m in zip(fits, models)]).result()
             except _SOLVE_FAILURES:
                 half = None
             if half is not None:
