@@ -260,15 +260,22 @@ def _relative_degree(sysm: CoupledSystem, t_end=None):
     return rho, (c0, c1, c2)[rho]
 
 
-def _units(bodies, sysm: CoupledSystem, contact, loads, gap0, t_end) -> Units:
-    """The reference units of the engine's dimensionless form (:mod:`._units`)."""
+def _units(sysm: CoupledSystem, contact, loads, t_end, displacement) -> Units:
+    """The reference units of the engine's dimensionless form (:mod:`._units`);
+    ``displacement``: :func:`_displacements`."""
     compliance = sysm.Dg + (1.0 / contact.stiffness if isinstance(contact, LinearSpring)
                             else 0.0)
-    approach = max(abs(b.velocity) for b in bodies) * t_end
     return reference_units(_markov(sysm), _free_rate(sysm), compliance=compliance,
-                            t_end=t_end, rates=[load.omega for _, load in loads],
-                            displacement=abs(gap0) + approach + _vibration_scale(sysm),
-                            force=sum(load.amplitude for _, load in loads))
+                           t_end=t_end, rates=[load.omega for _, load in loads],
+                           displacement=displacement,
+                           force=sum(load.amplitude for _, load in loads))
+
+
+def _displacements(bodies, sysm: CoupledSystem, gap0, t_end) -> float:
+    """The displacements in play (m): the gap, the approach over the run and the contact
+    points' vibration at ``t = 0`` (:func:`_vibration_scale`)."""
+    approach = max(abs(b.velocity) for b in bodies) * t_end
+    return abs(gap0) + approach + _vibration_scale(sysm)
 
 
 def _vibration_scale(sysm: CoupledSystem) -> float:
@@ -334,7 +341,8 @@ def solve_laplace(bodies, gap0, contact, t_end, dt, *, notes=(), receptance_scal
         gap_row[ic] += (-1.0 if i == 0 else 1.0) * sysm.D[i] * load.amplitude
     # the dimensionless form the engine runs on (:mod:`._units`): x = unit * xi,
     # t = u.t * tau, each row in units of its own (row_unit); rows are built in SI here
-    u = _units(bodies, sysm, contact, loads, gap0, t_end)
+    displacement = _displacements(bodies, sysm, gap0, t_end)
+    u = _units(sysm, contact, loads, t_end, displacement)
     unit = np.concatenate([sysm.state_units(u), [1.0, u.j], np.ones(2 * len(loads))])
     row_unit = np.concatenate([[u.f, u.l, u.l, u.l, u.l / u.t, u.l / u.t],
                                points.row_units(u.l, u.t)])
@@ -389,9 +397,7 @@ def solve_laplace(bodies, gap0, contact, t_end, dt, *, notes=(), receptance_scal
     out_step = dt if dt is not None else t_end / 4000
 
     # the gap's rounding level (in u.l): 1e-12 of the displacements in play
-    u_scale = max(abs(b.velocity) for b in bodies)
-    y_scale = abs(gap0) + u_scale * t_end + _vibration_scale(sysm)
-    tol_g = 1e-12 * max(y_scale / u.l, 1e-300)
+    tol_g = 1e-12 * max(displacement / u.l, 1e-300)
     # the contact rules (Dirac impulse, hold or release): the gap's first three
     # derivatives in free flight, rows on the augmented state
     cg_powers = np.zeros((3, n_aug))
