@@ -27,7 +27,7 @@ from ._low_end import LowEnd
 from ._lsfd import (Terms, evaluate, place_upper_modes,
                     refine_varpro, release_gain, split_coefficients)
 from ._vf import vector_fit_poles
-from ._segment_assembly import band_model
+from ._segment_assembly import band_model, pseudo_modes_apart
 from ._fit_store import store_fit
 from ._zero_start import hold_single
 from ._unresolved_damping import lift_single
@@ -266,8 +266,17 @@ class FRFPipeline(PoleChecks, LowEnd):
         """Free the held far pseudo-mode when the data support moving it: its two
         parameters must lower the cost by more than ``2 ln(n)`` residual variances
         (Gauss-Newton prediction). Clean data do; at a few percent noise it stays put
-        (a fixed shape for the distant modes costs less variance than a free one)."""
+        (a fixed shape for the distant modes costs less variance than a free one).
+
+        An upper pseudo-mode refined onto the held far one (closer than
+        :func:`modalid._segment_assembly.pseudo_modes_apart` allows) duplicates it: the
+        far one is dropped instead and the rest refined (the pair had cancelled each
+        other, one of them at zero modal mass)."""
         hold = kinds == "far"
+        if not pseudo_modes_apart(poles, kinds):
+            poles, kinds = poles[~hold], kinds[~hold]
+            poles, x, info = self._refine(omega, h, w, poles, kinds, terms)
+            return poles, kinds, x, info
         wm = self._model_weights(omega, poles, x, terms, w)
         gain = release_gain(omega, h, wm, poles, terms, hold, passive=self._passive_on)
         if gain < 2 * np.log(2 * omega.size):

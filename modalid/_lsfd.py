@@ -31,7 +31,7 @@ import numpy as np
 from scipy.linalg.lapack import dpotrf as _potrf, dpotrs as _potrs
 
 from ._lm import bounded_lm, pole_limits
-from ._vp_kernels import fill_columns, fill_derivative
+from ._vp_kernels import fill_columns, fill_derivative, sum_modes
 
 __all__ = ["Terms", "design_matrix", "refine_varpro", "evaluate", "split_coefficients",
            "place_upper_modes", "release_gain", "removal_cost", "mass_line_significant"]
@@ -112,12 +112,15 @@ def split_coefficients(x, n_modes, terms: Terms):
 
 def evaluate(omega, poles, residues, real_poles, real_residues, inverse_mass, flexibility,
              rigid_shift=0.0):
-    """The receptance model at ``s = i omega``, mass line ``inverse_mass/(s + rigid_shift)^2``."""
+    """The receptance model at ``s = i omega``, mass line ``inverse_mass/(s + rigid_shift)^2``
+    (the modes' pairs summed by the compiled :func:`modalid._vp_kernels.sum_modes`)."""
     s = 1j * omega
     out = np.full(s.shape, flexibility, dtype=complex)
     if len(poles):
-        sk = s[:, None]
-        out += np.sum(residues / (sk - poles) + np.conj(residues) / (sk - np.conj(poles)), axis=1)
+        poles, residues = np.asarray(poles, complex), np.asarray(residues, complex)
+        parts = (poles.real, poles.imag, residues.real, residues.imag)
+        sum_modes(np.ascontiguousarray(omega, dtype=float).ravel(),
+                  *(np.ascontiguousarray(z) for z in parts), out.reshape(-1))   # a view
     if len(real_poles):
         out += np.sum(real_residues / (s[:, None] - real_poles), axis=1)
     if inverse_mass:

@@ -4,7 +4,8 @@ import numpy as np
 import pytest
 
 from modalid._lsfd import Terms, _cho_solve, _cholesky, _Projection, _realify, design_matrix
-from modalid._vp_kernels import fill_columns, fill_derivative
+from modalid._lsfd import evaluate
+from modalid._vp_kernels import fill_columns, fill_derivative, sum_modes
 
 
 def _case(m=300, n=5, seed=3):
@@ -28,6 +29,33 @@ def test_columns_are_the_weighted_design_matrix():
                      * w[:, None])
     np.testing.assert_allclose(mat[:, :2 * n], exact, rtol=1e-12, atol=1e-14 * abs(exact).max())
     assert np.all(mat[:, 2 * n:] == 7.0)              # other columns untouched
+
+
+def test_some_columns_only_leave_the_others_and_match_all_columns():
+    omega, w, poles, _ = _case()
+    m, n = omega.size, poles.size
+    full, part = np.empty((2 * m, 2 * n)), np.full((2 * m, 2 * n), 7.0)
+    bufs_full, bufs_part = ([np.empty((m, n)) for _ in range(3)] for _ in range(2))
+    args = (omega, w, poles.real.copy(), poles.imag.copy())
+    fill_columns(*args, full, *bufs_full, np.arange(n))
+    fill_columns(*args, part, *bufs_part, np.array([3, 1]))
+    cols = np.array([2, 3, 6, 7])                      # Re r, Im r of poles 1 and 3
+    np.testing.assert_array_equal(part[:, cols], full[:, cols])
+    assert np.all(np.delete(part, cols, axis=1) == 7.0)
+    np.testing.assert_array_equal(bufs_part[0][:, [1, 3]], bufs_full[0][:, [1, 3]])
+
+
+def test_sum_of_modes_is_the_complex_partial_fractions():
+    omega, _, poles, r = _case(n=7)
+    s = 1j * omega[:, None]
+    exact = 2.5e-3 + np.sum(r / (s - poles) + np.conj(r) / (s - np.conj(poles)), axis=1)
+    out = np.full(omega.size, 2.5e-3, dtype=complex)
+    sum_modes(omega, poles.real.copy(), poles.imag.copy(), r.real.copy(), r.imag.copy(), out)
+    np.testing.assert_allclose(out, exact, rtol=1e-12, atol=1e-14 * abs(exact).max())
+    # evaluate() uses it (any shape of omega), with the mass line and flexibility added
+    model = evaluate(omega.reshape(20, -1), poles, r, (), (), 0.5, 2.5e-3)
+    np.testing.assert_allclose(model.ravel(), exact + 0.5 / s[:, 0] ** 2, rtol=1e-12,
+                               atol=1e-14 * abs(exact).max())
 
 
 def test_derivative_is_the_complex_derivative():
