@@ -50,7 +50,7 @@ def fill_columns(omega, w, sigma, v, mat, wd, a, b, which):
     """
     m, n = omega.size, sigma.size
     every = which.size == n           # all poles: a loop without the indirection (20 %
-    for i in range(m):                # faster: the compiler vectorises it)
+    for i in range(m):                # faster on 1500 x 15 and 11 686 x 59)
         if every:
             for j in range(n):
                 _fill_one(i, j, m, omega[i], w[i], sigma, v, mat, wd, a, b)
