@@ -15,6 +15,18 @@ the upper stop, ``y_d - y_p = c``; -1: the lower one). The gap at side ``s`` is
 Every kind of phase (free flight; stuck contact, one per damper, shared by both stops;
 linear-spring contact, one per stop) is decomposed once per damper; a phase then costs
 two matrix-vector products to start and a vectorised evaluation to search.
+
+The engine runs on a dimensionless form (:mod:`impactpred.solvers._units`, as the exact
+solver's): time in units of a reference ``u.t``, the states ``x = unit * xi``
+(:attr:`Engine.state_unit`: a modal or real-pole state's unit the impulse ``u.j``, since
+``z' = p z + F``; ``y_d``'s the length ``u.l``, ``v_d``'s ``u.l / u.t``), the force in
+``u.f``, and so every matrix, row, mass, clearance, contact law and excitation the
+engine holds. Its tolerances are relative to the norms of the phase matrices and rows,
+which on the SI states mixed units: masses x 1e-16 or times x 1e11 made a stuck phase's
+modes "resonant" with the forcing, a spring contact's matrix "defective", and times x
+1e-11 changed the contact history (94 impacts for 120), with no warning. The front end
+(:class:`impactpred.damper.ImpactDamper`) converts a run's start to this form
+(:meth:`Engine.to_engine`) and its raw output back to SI (:meth:`Engine.to_si`).
 """
 
 from __future__ import annotations
@@ -25,10 +37,11 @@ import numpy as np
 
 from modalid.statespace import pole_residue_to_statespace
 
-from ..contact import InstantaneousImpact, LinearSpring, Rigid
+from ..contact import Hertz, InstantaneousImpact, LinearSpring, Rigid
 from ..engine.contact_loop import relative_degree
 from ..engine.cycle_state import EngineState
 from ..engine.phase import PhaseKind
+from ..solvers._units import Units, reference_units
 
 __all__ = ["Engine", "EngineState"]
 
@@ -48,43 +61,70 @@ class Engine:
     always take the general route: split by rank one, a dashpot's phase lost two orders
     of accuracy in ``tests/test_impactpred_damper.py``'s grazing check (5e-8 against
     2e-10 of the motion).
+
+    ``units``: the :class:`impactpred.solvers._units.Units` of the dimensionless form
+    (module docstring); None (default): the damper's reference units, from its rates,
+    masses and lengths (powers of two, so that the changes of unit are exact); a
+    force, impulse, energy or speed scale double precision cannot hold is refused
+    (``ValueError``, :meth:`~impactpred.solvers._units.Units.check`). ``Units(1, 1, 1)``:
+    the SI states themselves. :attr:`omega_si`, :attr:`period_si`, :attr:`base_damping`
+    and :attr:`base_velocity_amplitude` are in SI; every other figure is on the form.
     """
 
     def __init__(self, model, *, damper_mass, clearance, contact, excitation, base_spring,
-                 rank_one=True, outputs=None):
+                 rank_one=True, outputs=None, units=None):
         a_p, b_p, c_p, d_p = pole_residue_to_statespace(
             model.poles, model.residues, model.real_poles, model.real_residues, 0.0,
             model.flexibility)
         n_p = a_p.shape[0]
         # output points: the multi-output model's rows C_j, d_j on the same modal states
-        self.point_c, self.point_d = np.zeros((0, n_p)), np.zeros(0)
+        c_o, d_o = np.zeros((0, n_p)), np.zeros(0)
         if outputs is not None:
             a_o, b_o, c_o, d_o = outputs.statespace_matrices()
             if a_o.shape != a_p.shape or not (np.allclose(a_o, a_p) and np.allclose(b_o, b_p)):
                 raise ValueError("the output points' model does not share the primary's "
                                  "states (its poles differ)")
-            self.point_c, self.point_d = c_o, np.asarray(d_o, dtype=float)
+        # SI figures the result needs (rad/s, s, N s/m, m/s)
+        om_si = excitation.omega
+        self.omega_si, self.period_si = om_si, 2 * math.pi / om_si
+        self.base_damping = 0.0 if base_spring is None else float(base_spring[1])
+        self.base_velocity_amplitude = (excitation.amplitude * om_si if base_spring is not None
+                                        else 0.0)
+        u = units if units is not None else _reference_units(
+            a_p, b_p, c_p, d_p, damper_mass, clearance, contact, excitation, base_spring)
+        u.check()
+        self.units = u
+        # the dimensionless form (module docstring): z = u.j zeta, F = u.f phi, t = u.t tau
+        # and y = u.l eta make z' = a z + b F, y = c z + d F into zeta' = (u.t a) zeta + b phi,
+        # eta = (u.j / u.l) c zeta + (u.f / u.l) d phi
+        a_p, c_p, d_p = u.t * a_p, c_p * (u.j / u.l), d_p * (u.f / u.l)
+        self.point_c, self.point_d = c_o * (u.j / u.l), np.asarray(d_o, float) * (u.f / u.l)
         self.n_points = self.point_d.size
+        damper_mass, clearance = damper_mass / u.m, clearance / u.l
+        contact = _scaled_contact(contact, u)
         n = n_p + 3
         iy, iv, i1 = n_p, n_p + 1, n_p + 2
         self.n_p, self.n, self.iy, self.iv, self.i1 = n_p, n, iy, iv, i1
+        #: each state's SI unit (shape (n,)): x (SI) = state_unit * xi (the engine's)
+        self.state_unit = np.concatenate([np.full(n_p, u.j), [u.l, u.l / u.t, 1.0]])
         self.model, self.m_d, self.c, self.contact = model, damper_mass, clearance, contact
         self.rank_one = bool(rank_one)
-        om = excitation.omega
+        om = om_si * u.t
         self.omega, self.phi, self.period = om, excitation.phase, 2 * math.pi / om
         h = np.array([1.0, -1.0j]) * complex(math.cos(excitation.phase),
                                              math.sin(excitation.phase))
-        amp = excitation.amplitude
         if base_spring is None:     # force: F = F0 cos
+            amp = excitation.amplitude / u.f
             fvec, exc_row = np.array([amp, 0.0]), np.array([amp, 0.0])
             bv_row = np.zeros(2)
-            self.base_damping = 0.0
+            #: the excitation row's unit (a force, or a base displacement)
+            self.excitation_unit = u.f
         else:                       # base: F = k y_b + c y_b' on the mass
-            k_b, c_b = base_spring
+            amp = excitation.amplitude / u.l
+            k_b, c_b = base_spring[0] * u.l / u.f, base_spring[1] * u.l / u.j
             fvec, exc_row = amp * np.array([k_b, -c_b * om]), np.array([amp, 0.0])
             bv_row = amp * np.array([0.0, -om])      # y_b'
-            self.base_damping = c_b
-        self.base_velocity_amplitude = amp * om if base_spring is not None else 0.0
+            self.excitation_unit = u.l
         N = n + 2
         A = np.zeros((N, N))
         A[:n_p, :n_p] = a_p
@@ -148,7 +188,8 @@ class Engine:
         out = np.vstack([yp, yp @ M, ey, ev, lam_row, harm(exc_row), harm(fvec), harm(bv_row),
                          points, points @ M, points @ M @ M])
         kind = PhaseKind(M, self.h, self.omega, np.vstack(event_rows), out, name=name,
-                         update_of=(self.free, self.Bl, lam_row) if contact else None)
+                         update_of=(self.free, self.Bl, lam_row) if contact else None,
+                         time_unit=self.units.t)
         kind.M_lam = lam_row
         return kind
 
@@ -220,3 +261,78 @@ class Engine:
     def gap_rate(self, xa, s):
         """``g_s'`` in free flight (m/s)."""
         return -s * float(self.r0 @ (self.A @ xa))
+
+    # ---------------------------------------------------------------- units
+    def to_engine(self, start):
+        """The run's start (an :class:`EngineState` in SI) on the engine's dimensionless
+        form."""
+        u = self.units
+        return EngineState(start.time / u.t, np.asarray(start.state, float) / self.state_unit,
+                           start.mode, start.side, _impact_record(start.open_impact, u, -1))
+
+    def to_si(self, raw):
+        """The engine's raw run ``raw`` (:func:`impactpred.engine.cycle_run.run`) back in
+        SI, in place: times (s), the sampled rows (m, m/s, N; the excitation in N or m;
+        the output points' m, m/s, m/s^2), the two input-work integrals (J and m^2/s),
+        the impacts (s, N s, m/s) and the final state; returns ``raw``."""
+        u = self.units
+        v = u.l / u.t
+        k = self.n_points
+        rows = np.concatenate([[u.l, v, u.l, v, u.f, self.excitation_unit],
+                               np.repeat([u.l, v, v / u.t], k)])
+        raw["t"] = raw["t"] * u.t
+        raw["values"] = raw["values"] * rows[:, None]
+        raw["work"] = raw["work"] * np.array([[u.e], [u.l * v]])
+        imp = raw["impacts"]
+        if isinstance(imp, dict):               # the compiled loop's columns
+            raw["impacts"] = _impact_record(imp, u, 1)
+        else:
+            raw["impacts"] = [_impact_record(r, u, 1) for r in imp]
+        fs = raw["final"]
+        raw["final"] = EngineState(fs.time * u.t, fs.state * self.state_unit, fs.mode,
+                                   fs.side, _impact_record(fs.open_impact, u, 1))
+        raw["t_start"], raw["t_end"] = raw["t_start"] * u.t, raw["t_end"] * u.t
+        return raw
+
+
+def _impact_record(rec, u, power):
+    """An impact's record (a dict of its time, impulse, duration, relative velocity ...)
+    with those in SI (``power=1``) or on the dimensionless form (``-1``); None as it is."""
+    if rec is None:
+        return None
+    units = {"time": u.t, "duration": u.t, "impulse": u.j, "relative_velocity": u.l / u.t}
+    return {key: (value * units[key] ** power if key in units else value)
+            for key, value in rec.items()}
+
+
+def _scaled_contact(contact, u):
+    """The contact law on the dimensionless form (force in ``u.f``, length ``u.l``)."""
+    if isinstance(contact, LinearSpring):
+        return LinearSpring(contact.stiffness * u.l / u.f, contact.damping * u.l / u.j)
+    if isinstance(contact, Hertz):
+        return Hertz(contact.stiffness * u.l ** contact.exponent / u.f, contact.exponent)
+    return contact                          # Rigid and InstantaneousImpact: no unit
+
+
+def _reference_units(a_p, b_p, c_p, d_p, damper_mass, clearance, contact, excitation,
+                     base_spring) -> Units:
+    """The reference units of a damper's engine (:func:`impactpred.solvers._units.
+    reference_units`), from its SI primary ``(a_p, b_p, c_p, d_p)``: the relative motion
+    ``y_d - y_p`` per unit contact force is ``d_p + (c_p b_p) / s + (c_p a_p b_p +
+    1/m_d) / s^2 + ...`` at high ``s``; the rates are the primary's and the forcing's (and
+    a linear spring contact's); the lengths the clearance, a base excitation's amplitude
+    and what the force moves."""
+    c1 = float(c_p @ b_p) if c_p.size else 0.0
+    c2 = (float(c_p @ a_p @ b_p) if c_p.size else 0.0) + 1.0 / damper_mass
+    free_rate = float(np.max(np.abs(np.linalg.eigvals(a_p)))) if a_p.size else 0.0
+    compliance = d_p + (1.0 / contact.stiffness if isinstance(contact, LinearSpring) else 0.0)
+    om = excitation.omega
+    if base_spring is None:
+        displacement, force = clearance, excitation.amplitude
+    else:
+        k_b, c_b = base_spring
+        displacement = clearance + excitation.amplitude
+        force = excitation.amplitude * math.hypot(k_b, c_b * om)
+    return reference_units((d_p, c1, c2), free_rate, compliance=compliance,
+                           t_end=2 * math.pi / om, rates=[om], displacement=displacement,
+                           force=force)

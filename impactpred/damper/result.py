@@ -299,7 +299,8 @@ def build_result(damper, raw, *, n_cycles, samples_per_cycle):
     damper : ImpactDamper
         The system that was simulated.
     raw : object
-        The engine's raw run (events, samples, final state).
+        The engine's raw run (events, samples, final state), in SI
+        (:meth:`impactpred.damper._engine.Engine.to_si`).
     n_cycles : int, keyword-only
         Forcing cycles simulated.
     samples_per_cycle : int, keyword-only
@@ -312,7 +313,7 @@ def build_result(damper, raw, *, n_cycles, samples_per_cycle):
     spc = samples_per_cycle
     t, vals, work, grid = raw["t"], raw["values"], raw["work"], raw["grid"]
     eng = damper.engine()
-    T = eng.period
+    T = eng.period_si
     t0 = raw["t_start"]
     notes = []
     rows = raw["impacts"]
@@ -382,7 +383,7 @@ def build_result(damper, raw, *, n_cycles, samples_per_cycle):
     a0 = damper.amplitude_without_damper()
     w_in = work[0]
     if eng.base_damping:
-        om, phi = eng.omega, eng.phi
+        om, phi = eng.omega_si, eng.phi
         sin2 = 0.5 * (t - t0) - (np.sin(2 * (om * t + phi)) - math.sin(2 * (om * t0 + phi))) \
             / (4 * om)
         w_in = work[0] - 2 * eng.base_damping * work[1] \

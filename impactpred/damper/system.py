@@ -228,11 +228,12 @@ class ImpactDamper:
             raise ValueError(f"damper_displacement={y_d!r} m puts the damper mass past the "
                              f"stops at +-{self.clearance!r} m from the middle")
         eng = self.engine()
+        u = eng.units                   # the engine's dimensionless form, back to SI below
         x = np.zeros(eng.n)
         x[eng.i1] = 1.0
-        y_p = float(eng.yp0 @ eng.augmented(x, t0))      # the primary at rest
-        x[eng.iy], x[eng.iv] = y_p + y_d, v_d
-        return DamperState(t0, x, "free", 0, None, self.clearance)
+        y_p = float(eng.yp0 @ eng.augmented(x, t0 / u.t))      # the primary at rest
+        x[eng.iy], x[eng.iv] = y_p + y_d / u.l, v_d / (u.l / u.t)
+        return DamperState(t0, x * eng.state_unit, "free", 0, None, self.clearance)
 
     def _check_start(self, eng, state):
         """Refuse a start this damper cannot continue: inside a contact of another law
@@ -263,9 +264,11 @@ class ImpactDamper:
                              f"{c:.6g} m: a contact continues on its own clearance only (its "
                              "force, or a flexible primary's driving point, would jump); change "
                              "the clearance in free flight, or start from initial_state()")
-        xa = eng.augmented(np.asarray(state.state, dtype=float), float(state.time))
-        rel = float(eng.r0 @ xa)       # y_d - y_p (without a flexibility's share of the force)
-        tol = 1e-9 * (c + float(np.abs(eng.r0) @ np.abs(xa)))
+        u = eng.units                  # the engine's dimensionless form: r0 in u.l
+        xa = eng.augmented(np.asarray(state.state, dtype=float) / eng.state_unit,
+                           float(state.time) / u.t)
+        rel = float(eng.r0 @ xa) * u.l  # y_d - y_p (without a flexibility's share of the force)
+        tol = 1e-9 * (c + float(np.abs(eng.r0) @ np.abs(xa)) * u.l)
         where = (f"initial puts the damper mass {rel:.6g} m from the middle of the clearance "
                  f"(y_d - y_p)")
         if mode == "free" and abs(rel) > c + tol:
@@ -342,6 +345,7 @@ class ImpactDamper:
         self._check_start(eng, state)
         start = EngineState(state.time, state.state, state.mode, state.side,
                             state.open_impact)
-        raw = run(eng, start=start, n_cycles=n_cycles, samples_per_cycle=spc,
+        # the engine runs on a dimensionless form (impactpred.damper._engine), SI outside
+        raw = run(eng, start=eng.to_engine(start), n_cycles=n_cycles, samples_per_cycle=spc,
                   progress=bool(progress))
-        return build_result(self, raw, n_cycles=n_cycles, samples_per_cycle=spc)
+        return build_result(self, eng.to_si(raw), n_cycles=n_cycles, samples_per_cycle=spc)

@@ -35,34 +35,40 @@ MAX_IMPACTS_PER_PERIOD = 100_000
 
 
 def stall_error(eng, t, phase):
-    """The ``RuntimeError`` of contact events repeating without time advancing at ``t`` (s)
-    in a ``phase`` ("free", "stuck", ...) phase."""
+    """The ``RuntimeError`` of contact events repeating without time advancing at ``t`` (in
+    the engine's unit of time, ``eng.units.t``) in a ``phase`` ("free", "stuck", ...)
+    phase; its message in SI."""
     hint = ""
+    u = eng.units             # the engine's dimensionless form: t, c and omega in SI here
     if isinstance(eng.contact, InstantaneousImpact) and eng.contact.restitution == 1.0:
         hint = (f"; with restitution 1 an impact between stops that coincide to rounding "
-                f"(clearance {eng.c!r} m) rebounds into the other stop for ever: use a "
+                f"(clearance {eng.c * u.l!r} m) rebounds into the other stop for ever: use a "
                 f"restitution below 1 or a larger clearance")
     near = float(np.finfo(float).eps) / max(eng.resonance_error(), 1e-300)
     if near < 1e-6:     # the phases' rounding, eps / near, decides the grazing contacts
-        hint += (f"; the excitation frequency {eng.omega / (2 * np.pi)!r} Hz lies within a "
+        hint += (f"; the excitation frequency {eng.omega_si / (2 * np.pi)!r} Hz lies within a "
                  f"relative {near:.2g} of an undamped mode of a phase, where the response "
                  f"is rounded to {eng.resonance_error():.2g} of itself: move the frequency "
                  f"off the mode or give it some damping")
-    return RuntimeError(f"contact events repeat without time advancing at t = {float(t)!r} s "
+    t_si = float(t) * u.t
+    return RuntimeError(f"contact events repeat without time advancing at t = {t_si!r} s "
                         f"({phase} phase): the contact state cannot be decided (grazing)"
                         + hint)
 
 
 def runaway_error(eng, t, v_rel, cap):
     """The ``RuntimeError`` of a run with more than ``cap`` impacts within one forcing period
-    (before ``t``, s; ``v_rel``: the last approach velocity, m/s)."""
+    (before ``t``; ``v_rel``: the last approach velocity; both on the engine's dimensionless
+    form, ``eng.units``); its message in SI."""
     e = eng.contact.restitution if isinstance(eng.contact, InstantaneousImpact) else 0.0
+    u = eng.units             # the engine's dimensionless form: back to SI here
+    t_si, v_si = float(t) * u.t, float(v_rel) * u.l / u.t
     return RuntimeError(
-        f"more than {cap} impacts within one forcing period (T = {eng.period!r} s) before "
-        f"t = {float(t)!r} s (last approach velocity {float(v_rel)!r} m/s): the impacts do "
-        f"not accumulate into sticking (restitution {e!r}, clearance {eng.c!r} m). Elastic "
-        f"or nearly elastic impacts between (nearly) coincident stops never end; use a "
-        f"lower restitution, a larger clearance or Rigid()")
+        f"more than {cap} impacts within one forcing period (T = {eng.period_si!r} s) before "
+        f"t = {t_si!r} s (last approach velocity {v_si!r} m/s): the impacts "
+        f"do not accumulate into sticking (restitution {e!r}, clearance {eng.c * u.l!r} m). "
+        f"Elastic or nearly elastic impacts between (nearly) coincident stops never end; use "
+        f"a lower restitution, a larger clearance or Rigid()")
 
 
 def kind_arrays(kind):

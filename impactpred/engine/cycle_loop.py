@@ -16,9 +16,11 @@ Python loop for tens of contacts and then in their statistics only (see
 
 A kind of phase is passed as the tuple built by :func:`.cycle_compiled.kind_arrays`:
 ``(lam, abs_lam, abs_lam4, order, V, Vinv, in0, S0P, X, ev_rv, ev_rp, ev_rx, out_rv,
-out_rp, out_rx)`` (see :class:`.phase.PhaseKind`). Units: times in s, the state in
-the primary's modal units with ``y_d`` in m and ``v_d`` in m/s, impulses in N s, the
-input work in J (its two integrals, see :func:`.cycle_run._work`).
+out_rp, out_rx)`` (see :class:`.phase.PhaseKind`). Units: the engine's
+(:class:`impactpred.damper._engine.Engine`, a dimensionless form; "s", "m", "N s" below
+stand for its units of time, length and impulse); the input work's two integrals, see
+:func:`.cycle_run._work`. Every tolerance is relative (to the forcing period, to a row's
+size over it: :func:`row_sizes`), so a run is the same whatever those units.
 
 Cost: a phase is O(terms x (states + rows x points searched)); on the benchmark's 20-mode
 beam ~27 us a phase on average, ~18 us of it the event search; no Python per phase.
@@ -49,6 +51,8 @@ OK, STALLED, RUNAWAY, PAUSED = 0, 1, 2, 3
 #: the Zeno rule's velocity resolution: a rebound slower than this fraction of the run's
 #: velocity scale (see :func:`zeno_closes`) is taken as the end of the sequence
 ZENO_VELOCITY_RTOL = 1e-6
+#: the event search's zero tolerance, relative to a row's size (:func:`row_sizes`)
+ZERO_RTOL = 1e-12
 #: the impacts' columns: time, side, impulse, duration, relative velocity, phase
 N_IMPACT_COLS = 6
 
@@ -196,6 +200,34 @@ def _decide(lam, b, poly, rtol, first):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
+def row_sizes(b, poly, t_scale):  # pragma: no cover - compiled
+    """The size of each event row ``Re(sum_j b_j e^{lam_j tau}) + sum_j poly_j tau^j`` over
+    the time scale ``t_scale``: ``sum_j |b_j| + sum_j |poly_j| t_scale^j`` (shape (K,)),
+    in the rows' units; both loops' event-search zero tolerance is :data:`ZERO_RTOL` of it.
+
+    Each ``tau^j`` coefficient is weighted by ``t_scale^j`` (the loops pass the forcing
+    period), so that the size, and every rule built on it (the zero tolerance, the Zeno
+    rule's gap resolution), is the same whatever the unit of time. Summed as they stood,
+    the coefficients of ``tau`` and ``tau^2`` (a damper mass's velocity, a stuck phase's
+    integrators) counted in that unit: 1 s on the SI states, a reference time on a
+    dimensionless form.
+    """
+    K, m = b.shape
+    k = poly.shape[1]
+    out = np.empty(K)
+    for r in range(K):
+        acc = 0.0
+        for j in range(m):
+            acc += cabs(b[r, j])
+        w = 1.0
+        for j in range(k):
+            acc += abs(poly[r, j]) * w
+            w *= t_scale
+        out[r] = acc
+    return out
+
+
+@njit(cache=True)
 def zeno_closes(e, v_rel, acc, c, gap_tol, v_scale):  # pragma: no cover - compiled
     """Whether an impact closes a Zeno sequence: replace it by a plastic impact, then
     :func:`_decide` (the ``Rigid`` law's stick-or-separate path), instead of a rebound.
@@ -212,8 +244,8 @@ def zeno_closes(e, v_rel, acc, c, gap_tol, v_scale):  # pragma: no cover - compi
     c : float
         Clearance on each side (m).
     gap_tol : float
-        The event search's zero tolerance on that gap (m): ``1e-12`` of the gap row's terms,
-        the gap's resolution.
+        The event search's zero tolerance on that gap: :data:`ZERO_RTOL` of the gap row's
+        size over a forcing period (:func:`row_sizes`), the gap's resolution.
     v_scale : float
         The run's velocity scale (m/s): the largest approach velocity so far, at least
         ``c Omega``.
@@ -451,18 +483,12 @@ def rigid_loop(free, stuck_p, stuck_m, x, t, mode, side, on_boundary, open_row,
             for j in range(lam.size):
                 s0 += b[open_row, j].real
             poly[open_row, 0] -= s0 + poly[open_row, 0]
-        total = np.empty(K)
+        total = row_sizes(b, poly, period)
         zero_tol = np.empty(K)
         scale = np.empty(K)
         for r in range(K):
-            acc = 0.0
-            for j in range(lam.size):
-                acc += cabs(b[r, j])
-            for j in range(c0.size):
-                acc += abs(poly[r, j])
-            total[r] = acc
-            zero_tol[r] = 1e-12 * acc + 1e-300
-            scale[r] = c if (mode == 0 and c > 0) else acc
+            zero_tol[r] = ZERO_RTOL * total[r] + 1e-300
+            scale[r] = c if (mode == 0 and c > 0) else total[r]
         tau, row = first_event(lam, kd[1], kd[2], kd[3], b, poly, t_end - t, scale, zero_tol,
                                on_boundary, open_row)
         open_row = -1

@@ -52,7 +52,7 @@ import numpy as np
 from ..contact import InstantaneousImpact, LinearSpring, Rigid
 from . import cycle_compiled
 from .cycle_compiled import run_compiled, runaway_error, stall_error
-from .cycle_loop import STALL, _decide, zeno_closes
+from .cycle_loop import STALL, ZERO_RTOL, _decide, row_sizes, zeno_closes
 from .cycle_state import OUT_BV, OUT_FEQ, OUT_LAM, OUT_VP, EngineState
 from .hertz import hertz_contact
 from .phase import evaluate, search_event
@@ -336,8 +336,8 @@ def run(eng, *, start: EngineState, n_cycles, samples_per_cycle, progress):
             # eigenvector conditioning and may exceed the rows' zero tolerance)
             poly = poly.copy()
             poly[open_row, 0] -= float(b[open_row].real.sum() + poly[open_row, 0])
-        total = np.abs(b).sum(axis=1) + np.abs(poly).sum(axis=1)
-        zero_tol = 1e-12 * total + 1e-300
+        total = row_sizes(np.ascontiguousarray(b), np.ascontiguousarray(poly), T)
+        zero_tol = ZERO_RTOL * total + 1e-300
         scale = np.full(total.shape, eng.c) if (mode == "free" and eng.c > 0) else total
         tau, row = _SEARCH(kind, b, poly, t_end - t, scale=scale, zero_tol=zero_tol,
                                on_boundary=on_boundary,

@@ -31,6 +31,11 @@ from .spectral import DefectiveSpectrum, SpectralPhase
 
 __all__ = ["PhaseKind", "search_event", "evaluate"]
 
+#: a forcing frequency is resonant where the shift ``i omega - lambda`` on the phase's
+#: non-zero eigenvalues has a condition number above this (relative distance to the mode
+#: below about 1e-13 for a lone mode)
+_RESONANT_COND = 1e13
+
 
 class PhaseKind:
     """The exact solution of one kind of phase, decomposed once.
@@ -42,7 +47,7 @@ class PhaseKind:
     h : ndarray of complex, shape (2,)
         ``xh(t) = Re(h e^{i omega t})``.
     omega : float
-        Excitation frequency (rad/s).
+        Excitation frequency (rad/s, or per unit of time ``time_unit``).
     event_rows, output_rows : ndarray, shape (k, n + 2)
         Rows on ``[x, xh]``: the event functions (the phase ends when one turns negative)
         and the outputs sampled.
@@ -51,9 +56,13 @@ class PhaseKind:
         each; a contact force fed back). The state part is then split through ``free``'s
         form by the rank-one route (:mod:`.rank_one`, checked, with the general route as
         its fallback), as the exact solver's contact phase.
+    time_unit : float, keyword-only
+        The unit of time (s) of ``M_aug`` and ``omega`` (a dimensionless form's), for the
+        frequency an error names (Hz).
     """
 
-    def __init__(self, M_aug, h, omega, event_rows, output_rows, *, name, update_of=None):
+    def __init__(self, M_aug, h, omega, event_rows, output_rows, *, name, update_of=None,
+                 time_unit=1.0):
         n = M_aug.shape[0] - 2
         M, Bh = M_aug[:n, :n], M_aug[:n, n:]
         self.name, self.n, self.omega, self.M_aug = name, n, omega, M_aug
@@ -71,8 +80,17 @@ class PhaseKind:
         keep = lam.imag >= 0.0
         weight = np.where(lam.imag > 0.0, 2.0, 1.0)[keep]
         shift = 1j * omega * np.eye(n) - M
-        if np.linalg.cond(shift) > 1e13:
-            raise ValueError(f"the excitation frequency {omega / (2 * np.pi)!r} Hz coincides "
+        # Resonance: the condition number of the shift on the diagonalised part, in its
+        # eigenbasis (max over min of |i omega - lambda|; the eigenvectors' own conditioning
+        # is SpectralPhase's check). Scale-free: a change of the unit of time scales omega
+        # and every lambda alike. The nilpotent block (zero eigenvalues: the free mass's
+        # double integrator, constants) is no resonance for omega > 0, its inverse a finite
+        # series in 1 / (i omega); cond(i omega - M) counted it, ~ (|M| / omega)^2 on a
+        # dimensionless form, and refused slow forcing (1e-6 Hz of a 10 Hz primary).
+        gaps = np.abs(1j * omega - sp.lam)
+        if gaps.size and max(omega, float(np.max(gaps))) > _RESONANT_COND * np.min(gaps):
+            hz = omega / (2 * np.pi * time_unit)
+            raise ValueError(f"the excitation frequency {hz!r} Hz coincides "
                              f"with an undamped mode of the {name} phase: the closed form has "
                              "no term for the resonant growth (t e^(i Omega t)); move the "
                              "frequency off the mode by a relative 1e-9 or more (a rounding "
@@ -81,7 +99,6 @@ class PhaseKind:
         #: the relative rounding error of the phase's response near a resonance: the free
         #: and forced parts, each ``omega / |i omega - lambda|`` times the response, cancel
         #: (an undamped primary forced 1e-10 off its mode: 2e-6, measured 3e-6)
-        gaps = np.abs(1j * omega - sp.lam)
         self.resonance_error = float(np.finfo(float).eps * omega / max(np.min(gaps), 1e-300)
                                      if omega > 0 and gaps.size else 0.0)
         self.X = np.linalg.solve(shift, Bh @ h)          # particular solution amplitude
