@@ -12,11 +12,12 @@ import numpy as np
 from modalid.validation import as_choice, as_positive_scalar, as_real_scalar
 
 from ._caveats import SENSITIVITY_SCALE, caveats, is_sequence, many_micro_contacts
+from ._time_scales import LOAD_STEPS, contact_time_scales, load_time_scale
 from ._energy_terms import contact_energy, dashpot_dissipation, exchangeable_energy, load_work
 from ._load_impulse import at_contacts
 from ._specs import parse_contact
 from .body import Body, SampledResponse
-from .contact import Hertz, LinearSpring, Rigid, check_contact
+from .contact import Rigid, check_contact
 from .damper.excitation import HarmonicForce
 from .engine import MAX_SAMPLES
 from .parallel import check_progress, one_blas_thread
@@ -154,6 +155,10 @@ def solve_impact(body1: Body, body2: Body, *, gap: float = 0.0, contact=Rigid(),
     if dt is None:
         dt = choose_dt(bodies, contact, t_end=t_end, method=chosen)
         notes.append(f"dt chosen automatically: {dt:.6g} s")
+        coarse = _samples_too_coarse(bodies, contact, t_end, dt) if stepping else None
+        if coarse is not None:
+            notes.append(coarse)
+            warnings.warn(coarse, RuntimeWarning, stacklevel=2)
         if stepping:
             dt = _step_for_t_end(t_end, dt, chosen, notes)
     elif stepping:
@@ -460,7 +465,10 @@ def choose_dt(bodies, contact, *, t_end, method="convolution") -> float:
     fastest mode of a modal model (modes are discretised exactly) and of a
     ``HarmonicForce`` load, 300 per period scale of a compliant contact or of a residual
     flexibility against the bodies' masses, 10 per dashpot time ``m/c`` of a
-    spring-dashpot contact, one per sample of a measured response. With rods, the step
+    spring-dashpot contact, 30 per crossover of a rigid contact (where a body that is a
+    mass at short times meets one that is not: ``2 M / Z`` for a mass on a rod of
+    impedance ``Z``; :mod:`impactpred._time_scales`), one per sample of a measured
+    response. With rods, the step
     divides every transit time when it can, so that wave reflections fall on grid points.
 
     The step of the time-stepping solvers (``"modal"``, ``"convolution"``) does not
@@ -512,12 +520,7 @@ def choose_dt(bodies, contact, *, t_end, method="convolution") -> float:
             raise TypeError(f"bodies[{k}] must be an impactpred.Body, got {type(body).__name__}")
     if method == "auto":
         method = _choose_method(tuple(bodies), contact, method)
-    pairs = [p for b in bodies for p in _time_scales(b)]
-    # a harmonic load is resolved like a mode: its 1/omega gets the modal steps
-    pairs += [(1.0 / b.load.omega, _STEPS_BY_KIND["modal"]) for b in bodies
-              if isinstance(b.load, HarmonicForce)]
-    pairs += _contact_time_scales(bodies, contact)
-    pairs = [(s, n) for s, n in pairs if s > 0 and math.isfinite(s)]
+    pairs = _scale_pairs(bodies, contact, t_end)
     if not pairs:
         return t_end / 1000
     if method == "laplace":
@@ -533,6 +536,43 @@ def choose_dt(bodies, contact, *, t_end, method="convolution") -> float:
     return max(dt, t_end / _MAX_STEPS) if method == "closed_form" else dt
 
 
+def _scale_pairs(bodies, contact, t_end, *, samples=True) -> list:
+    """``(time scale s, steps per scale)`` of the bodies, their harmonic loads and the
+    contact (:func:`choose_dt`); without the records' samples if not ``samples``."""
+    pairs = [p for b in bodies for p in _time_scales(b)]
+    # a harmonic load is resolved like a mode: its 1/omega gets the modal steps
+    pairs += [(1.0 / b.load.omega, _STEPS_BY_KIND["modal"]) for b in bodies
+              if isinstance(b.load, HarmonicForce)]
+    pairs += [(scale, LOAD_STEPS) for b in bodies
+              if b.load is not None and not isinstance(b.load, HarmonicForce)
+              for scale in [load_time_scale(b, t_end)] if scale is not None]
+    pairs += contact_time_scales(bodies, contact, shortest=min((s for s, _ in pairs),
+                                                               default=t_end))
+    if not samples:
+        records = set(_scales_of_kind(bodies, "sample"))
+        pairs = [(s, n) for s, n in pairs if not (n == 1 and s in records)]
+    return [(s, n) for s, n in pairs if s > 0 and math.isfinite(s)]
+
+
+def _samples_too_coarse(bodies, contact, t_end, dt) -> str | None:
+    """What to say when ``dt``, a sampled record's step, is over 3 times the step the
+    other time scales ask for (:func:`choose_dt`): the contact is not resolved by the
+    record. An undamped 1 kg spring-mass known by its impulse response at 10 kHz, struck
+    by 1 kg through a 1e7 N/m spring, lost 45 % of the energy (restitution 0.64 for 1),
+    the energy audit passing it. None when the record resolves it."""
+    if not _scales_of_kind(bodies, "sample"):
+        return None
+    pairs = _scale_pairs(bodies, contact, t_end, samples=False)
+    need = min((s / n for s, n in pairs), default=np.inf)
+    if dt <= 3.0 * need:
+        return None
+    return (f"the step is the sampled record's, {dt:.4g} s: {dt / need:.0f} times the step "
+            f"the contact and the bodies need ({need:.4g} s; their shortest time scale "
+            f"{min(s for s, _ in pairs):.4g} s): the record does not resolve the contact, "
+            "whose duration, restitution and energies may be off by several per cent or "
+            "more (record the response faster, or use a model of the body)")
+
+
 def _aligned_step(transit_times, dt):
     """The largest step <= ``dt`` dividing every transit time, else one dividing the shortest."""
     t_min = min(transit_times)
@@ -542,50 +582,3 @@ def _aligned_step(transit_times, dt):
         if all(abs(r - round(r)) <= 1e-9 * r for r in ratios):
             return t_min / n
     return t_min / n0
-
-
-def _effective_inverse_mass(body):
-    """High-frequency ``1/m`` seen at the contact point (1/kg); 0 for a pure compliance."""
-    model = body.model
-    try:
-        modal = model.modal_form(20)
-    except ValueError:      # no pole-residue form (a sampled record): no modes to read
-        return 0.0
-    inverse_masses = -2.0 * modal.poles.imag * modal.residues.imag   # 1/modal_mass
-    return modal.inverse_mass + float(np.sum(inverse_masses[inverse_masses > 0]))
-
-
-#: steps per dashpot time ``m_eff / c`` of a spring-dashpot contact: a step longer than
-#: it lets the clipped dashpot act a whole step at once (two masses, ``c = 10 sqrt(k m)``:
-#: restitution 0.33 / 0.67 (modal / convolution) for the exact 5e-7 at 10 such times a
-#: step, 0.1 / 0.2 at 3); at a tenth of it the modal solver is within 3e-4 of it
-_DASHPOT_STEPS = 10
-
-
-def _contact_time_scales(bodies, contact) -> list:
-    """``(time scale, steps per scale)`` pairs of the contact: ``sqrt(m_eff/k)`` of the
-    stiffness that closes it (300 steps), and a dashpot's ``m_eff/c``
-    (:data:`_DASHPOT_STEPS`).
-
-    The stiffness is the contact's own (spring; Hertz at its peak) or, for rigid contact,
-    that of the bodies' residual flexibility; ``m_eff`` comes from the bodies'
-    high-frequency inverse masses.
-    """
-    inv = sum(_effective_inverse_mass(b) for b in bodies)
-    if inv <= 0:
-        return []
-    m_eff = 1.0 / inv
-    if isinstance(contact, LinearSpring):
-        pairs = [(math.sqrt(m_eff / contact.stiffness), 300)]
-        if contact.damping > 0:
-            pairs.append((m_eff / contact.damping, _DASHPOT_STEPS))
-        return pairs
-    if isinstance(contact, Hertz):
-        v = abs(bodies[0].velocity - bodies[1].velocity) or 1.0
-        depth = (5 * m_eff * v**2 / (4 * contact.stiffness)) ** (1 / (contact.exponent + 1))
-        return [(depth / v, 300)]
-    # rounding-level flexibilities (e.g. left by a continuation) are no compliance
-    rational = [b.model.modal_form() for b in bodies if b.model.is_rational]
-    flex = sum(m.flexibility for m in rational
-               if m.flexibility > 1e-9 * abs(m.static_flexibility()))
-    return [(math.sqrt(m_eff * flex), 300)] if flex > 0 else []

@@ -927,3 +927,22 @@ def test_a_scale_beyond_double_precision_s_si_results_is_refused(mass, time):
     with pytest.raises(ValueError, match=r"the impact's (force|impulse|energy|speed) scale, "
                                          r".* is outside 1e-120 to 1e\+120"):
         _spring_impact(mass, time)
+
+
+@pytest.mark.parametrize("gap, t_end", [(1e-6, 1e6), (1e-8, 1e4), (1e-3, 1e9)])
+def test_a_long_run_does_not_make_a_small_gap_touch_at_the_start(gap, t_end):
+    """The gap's rounding level is 1e-12 of the displacements in play, the approach over
+    the whole run among them (v t_end = 1e6 m here): it reached the initial gap, and a
+    zero-length "contact" at t = 0 of impulse -1e-16 was reported first (restitution_first
+    -1, the first contact's peak 0 for 22 kN, a sensitivity warning blaming the physics).
+    Whether the bodies touch at t = 0 is judged at the scale of the displacements then."""
+    bodies = (Body(LumpedMass(1.0), velocity=1.0),
+              Body(SpringMass(1.0, 1e4, damping_ratio=0.01)))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        long = solve_impact(*bodies, contact=LinearSpring(1e9), gap=gap, t_end=t_end)
+    short = solve_impact(*bodies, contact=LinearSpring(1e9), gap=gap, t_end=0.1)
+    assert long.contact_intervals[0][0] == pytest.approx(gap / 1.0, rel=1e-9)
+    assert long.contact_intervals[0] == pytest.approx(short.contact_intervals[0], rel=1e-9)
+    assert long.restitution_first == pytest.approx(short.restitution_first, rel=1e-6)
+    assert long.first_contact_impulse == pytest.approx(short.first_contact_impulse, rel=1e-9)

@@ -413,7 +413,11 @@ def solve_laplace(bodies, gap0, contact, t_end, dt, *, notes=(), receptance_scal
     Xa_s = Xa / unit
     v_rel = float(cg_powers[0] @ Xa_s)
     still = abs(v_rel) <= 1e-12 * float(np.abs(cg_powers[0]) @ np.abs(Xa_s))
-    in_contact = bool(n) and float(gap_s @ Xa_s) <= tol_g and (v_rel < 0.0 or still)
+    # (touching now is judged at the scale of the displacements now, the gap and the
+    # vibration: the approach over a long run, in tol_g, had made a gap of 1e-6 m touch at
+    # t = 0 for t_end = 1e6 s, a phantom first contact of restitution -1)
+    tol_0 = 1e-12 * (abs(gap0) + _vibration_scale(sysm)) / u.l
+    in_contact = bool(n) and float(gap_s @ Xa_s) <= tol_0 and (v_rel < 0.0 or still)
     raw = run_contact(free, stuck, Xa_s, in_contact=in_contact, rules=rules, t_end=t_end_s,
                       step=step, out_step=out_step / u.t, gap0=gap0 / u.l)
     if in_contact and still and raw.diracs and raw.diracs[0][0] == 0.0:
