@@ -37,7 +37,11 @@ class LumpedMass(ExactModel):
     mass: float
 
     def __post_init__(self):
-        object.__setattr__(self, "mass", as_positive_scalar("mass", self.mass))
+        mass = as_positive_scalar("mass", self.mass)
+        if not np.isfinite(1.0 / mass):     # a subnormal mass: its inverse overflows
+            raise ValueError(f"mass must be at least {np.finfo(float).tiny:.3g} kg (its "
+                             f"inverse, 1/m, must be finite), got {self.mass!r}")
+        object.__setattr__(self, "mass", mass)
 
     # ------------------------------------------------------------------ responses
     def receptance(self, s) -> np.ndarray:

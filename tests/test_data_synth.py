@@ -609,6 +609,7 @@ BAD_INPUTS = [
     (lambda: LumpedMass(0.0), ValueError, ["mass", "0.0"]),
     (lambda: LumpedMass(float("nan")), ValueError, ["mass", "nan"]),
     (lambda: LumpedMass(np.inf), ValueError, ["mass", "inf"]),
+    (lambda: LumpedMass(1e-320), ValueError, ["mass", "1e-320"]),   # 1/m overflows
     (lambda: LumpedMass("1.0"), TypeError, ["mass", "'1.0'"]),
     (lambda: LumpedMass(True), TypeError, ["mass", "True"]),
     (lambda: LumpedMass(np.array([1.0, 2.0])), TypeError, ["mass", "array([1., 2.])"]),
