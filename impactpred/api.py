@@ -467,8 +467,9 @@ def choose_dt(bodies, contact, *, t_end, method="convolution") -> float:
     flexibility against the bodies' masses, 10 per dashpot time ``m/c`` of a
     spring-dashpot contact, 30 per crossover of a rigid contact (where a body that is a
     mass at short times meets one that is not: ``2 M / Z`` for a mass on a rod of
-    impedance ``Z``; :mod:`impactpred._time_scales`), one per sample of a measured
-    response. With rods, the step
+    impedance ``Z``; :mod:`impactpred._time_scales`), 10 per width of a load pulse
+    given as samples or a callable (it only ever shortens the step), one per sample of
+    a measured response. With rods, the step
     divides every transit time when it can, so that wave reflections fall on grid points.
 
     The step of the time-stepping solvers (``"modal"``, ``"convolution"``) does not
@@ -521,11 +522,16 @@ def choose_dt(bodies, contact, *, t_end, method="convolution") -> float:
     if method == "auto":
         method = _choose_method(tuple(bodies), contact, method)
     pairs = _scale_pairs(bodies, contact, t_end)
+    # a load's pulse (samples or a callable) only ever shortens the step (load_time_scale)
+    pulse = min((s for b in bodies if b.load is not None
+                 and not isinstance(b.load, HarmonicForce)
+                 for s in [load_time_scale(b, t_end)] if s is not None), default=np.inf)
     if not pairs:
-        return t_end / 1000
+        return min(t_end / 1000, pulse / LOAD_STEPS)
     if method == "laplace":
         return max(min(min(s for s, _ in pairs) / _LAPLACE_SAMPLES_PER_SCALE, t_end / 200),
                    t_end / _MAX_STEPS)
+    pairs = pairs + ([(pulse, LOAD_STEPS)] if pulse < np.inf else [])
     sampled = _scales_of_kind(bodies, "sample")
     # ... and at least _MIN_RUN_STEPS over t_end: a t_end under one step had made a grid
     # of one step past it, on which the modal solver's bodies overlapped untouched
@@ -543,9 +549,6 @@ def _scale_pairs(bodies, contact, t_end, *, samples=True) -> list:
     # a harmonic load is resolved like a mode: its 1/omega gets the modal steps
     pairs += [(1.0 / b.load.omega, _STEPS_BY_KIND["modal"]) for b in bodies
               if isinstance(b.load, HarmonicForce)]
-    pairs += [(scale, LOAD_STEPS) for b in bodies
-              if b.load is not None and not isinstance(b.load, HarmonicForce)
-              for scale in [load_time_scale(b, t_end)] if scale is not None]
     pairs += contact_time_scales(bodies, contact, shortest=min((s for s, _ in pairs),
                                                                default=t_end))
     if not samples:

@@ -268,8 +268,8 @@ class FRFPipeline(PoleChecks, LowEnd):
         (Gauss-Newton prediction). Clean data do; at a few percent noise it stays put
         (a fixed shape for the distant modes costs less variance than a free one).
 
-        An upper pseudo-mode refined onto the held far one (closer than
-        :func:`modalid._segment_assembly.pseudo_modes_apart` allows) duplicates it: the
+        Pseudo-modes closer than :func:`modalid._segment_assembly.pseudo_modes_apart`
+        allows (an upper one refined onto the held far one) duplicate each other: the
         far one is dropped instead and the rest refined (the pair had cancelled each
         other, one of them at zero modal mass)."""
         hold = kinds == "far"

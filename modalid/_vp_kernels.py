@@ -135,12 +135,13 @@ def sum_modes(omega, sigma, v, re_r, im_r, out):
     m, n = omega.size, sigma.size
     for i in range(m):
         om = omega[i]
-        om2 = om * om
         acc_re = 0.0
         acc_im = 0.0
         for j in range(n):
             sg, vj = sigma[j], v[j]
-            aa = sg * sg + vj * vj - om2
+            # |p|^2 - omega^2 as (v - omega)(v + omega): no cancellation at a lightly
+            # damped pole's own line (v^2 - omega^2 lost 1e-8 of it at zeta 0, 1e-9 off)
+            aa = sg * sg + (vj - om) * (vj + om)
             bb = -2.0 * sg * om
             nr = -2.0 * (re_r[j] * sg + im_r[j] * vj)
             ni = 2.0 * om * re_r[j]

@@ -46,7 +46,7 @@ def test_a_record_too_coarse_for_the_contact_says_so():
     """An undamped 1 kg / 1e4 N/m body known by its impulse response at 10 kHz, struck by
     1 kg at 1 m/s: the step is the record's. Through a 1e7 N/m spring the contact lasts
     10 samples and 45 % of the energy was lost (restitution 0.64 for 1.00) with no word;
-    now a RuntimeWarning and a note give the step the contact needs. Through 1e4 N/m the
+    now a RuntimeWarning and a note give the step the contact needs. Through 1e3 N/m the
     record resolves it: nothing said, and the exact spring-mass's restitution to 0.2 %
     (0.9884 for 0.9906: the record's step response is its samples' trapezoidal sum)."""
     t = np.arange(0.0, 2.0, 1e-4)

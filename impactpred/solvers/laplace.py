@@ -37,8 +37,6 @@ double precision cannot hold is refused (:meth:`._units.Units.check`).
 
 from __future__ import annotations
 
-import warnings
-
 import numpy as np
 import scipy.linalg
 
@@ -451,11 +449,6 @@ def solve_laplace(bodies, gap0, contact, t_end, dt, *, notes=(), receptance_scal
 _grazing = grazing_error     # the name the CLI's tests raise
 
 
-#: a later contact shorter than this many output steps has its force peak said to be
-#: read from samples (:func:`_result`)
-_PEAK_SAMPLES = 4
-
-
 def _result(bodies, sysm, points, raw, force_row, jdx, t_end, out_step, step, notes, *,
             work):
     """The :class:`ImpactResult` of the engine's run ``raw`` (either propagation; in SI,
@@ -488,17 +481,6 @@ def _result(bodies, sysm, points, raw, force_row, jdx, t_end, out_step, step, no
     inv = (bodies[0].inverse_mass, bodies[1].inverse_mass)
     note = (f"exact (Laplace/state-space, {kind}) solution; output step {out_step:.4g} s, "
             f"event search step {step:.4g} s",)
-    later = [b - a for a, b in intervals[1:] if b > a]
-    if later and min(later) < _PEAK_SAMPLES * out_step:
-        # only the first contact's peak is found exactly (insert_exact_peak): a contact of
-        # a few output samples has its peak read between them (a rattling pair over 2000 s,
-        # contacts of 2.2e-4 s sampled every 5e-4 s: the history's peak 27 % low)
-        sampled = (f"later contacts last as little as {min(later):.3g} s, sampled every "
-                   f"{out_step:.3g} s: their force peaks are read from the samples and may be "
-                   "understated (the largest force over the history with them); the first "
-                   "contact's peak is exact; a smaller dt samples them finer")
-        notes = [*notes, sampled]
-        warnings.warn(sampled, UserWarning, stacklevel=4)
     return ImpactResult(t=T, force=F, y1=V[1], y2=V[2], gap=V[3], v1=V[4], v2=V[5],
                         contact_intervals=tuple(intervals), dirac_impulses=tuple(diracs),
                         velocities_before=u_before, velocities_after=u_after,
