@@ -168,8 +168,12 @@ def test_a_fit_of_an_undamped_models_frf_says_why_it_is_suspect():
         fit = ModalFit().fit(exact)
     assert fit.report_["verdict"] == "suspect" and fit.report_["weighting"] == "noise"
     assert fit.report_["verdict_reasons"][-1] == UNDAMPED_REASON
-    assert "the fit weighted 1/|H| was no passive driving point" in fit.report_[
-        "weighting_reason"]
+    # the 1/|H| fit it replaced is at the mercy of rounding on these lines (no line
+    # resolves a resonance): no passive driving point, or failed outright (session #35,
+    # the model's sum evaluated exactly at the poles' lines)
+    reason = fit.report_["weighting_reason"]
+    assert reason.startswith("the fit weighted 1/|H| ") and (
+        "was no passive driving point" in reason or "1/|H| failed" in reason)
     np.testing.assert_allclose(fit.report_["modes"]["frequency_hz"],
                                250.0 + 500.0 * np.arange(10), rtol=1e-6)
     np.testing.assert_allclose(fit.report_["modes"]["modal_mass"], 0.5, rtol=1e-3)
