@@ -38,6 +38,7 @@ from scipy.ndimage import median_filter
 from scipy.signal import find_peaks, peak_widths
 
 from ._noise import noise_level, running_percentile
+from ._segments import resonance_peaks
 from .frf import FRFData
 
 __all__ = ["choose_band", "choose_weighting", "decimation", "noise_model", "roughness"]
@@ -283,7 +284,7 @@ def choose_band(data: FRFData, *, low_end=True) -> tuple[tuple[float, float], st
         # only kept it all (FRF error 84 %, "suspect"; its force spectrum cut 2.8 kHz)
         own = np.clip(median_filter(data.coherence, size=3, mode="nearest"), 1e-6, 1.0)
         peak_bad = np.full(n, np.nan)
-        peaks = find_peaks(np.log10(np.maximum(np.abs(h), 1e-300)), prominence=0.3)[0]
+        peaks = resonance_peaks(h)
         peak_bad[peaks] = (1.0 - own[peaks]) / own[peaks] > limit
         hi = _best_top(nsr[lo:] > limit, n, peak_bad[lo:])
         if hi is None:    # as before: a run in the upper half the lines above do not
