@@ -262,7 +262,7 @@ def _relative_degree(sysm: CoupledSystem, t_end=None):
 
 def _units(sysm: CoupledSystem, contact, loads, t_end, displacement) -> Units:
     """The reference units of the engine's dimensionless form (:mod:`._units`);
-    ``displacement``: :func:`_displacements`."""
+    ``displacement``: those in play (:func:`_displacements`)."""
     compliance = sysm.Dg + (1.0 / contact.stiffness if isinstance(contact, LinearSpring)
                             else 0.0)
     return reference_units(_markov(sysm), _free_rate(sysm), compliance=compliance,
@@ -271,11 +271,11 @@ def _units(sysm: CoupledSystem, contact, loads, t_end, displacement) -> Units:
                            force=sum(load.amplitude for _, load in loads))
 
 
-def _displacements(bodies, sysm: CoupledSystem, gap0, t_end) -> float:
-    """The displacements in play (m): the gap, the approach over the run and the contact
-    points' vibration at ``t = 0`` (:func:`_vibration_scale`)."""
-    approach = max(abs(b.velocity) for b in bodies) * t_end
-    return abs(gap0) + approach + _vibration_scale(sysm)
+def _displacements(bodies, sysm: CoupledSystem, gap0, t_end) -> tuple[float, float]:
+    """The displacements (m) at ``t = 0``, the gap and the contact points' vibration
+    (:func:`_vibration_scale`), and those in play over the run: with the approach."""
+    now = abs(gap0) + _vibration_scale(sysm)
+    return now, now + max(abs(b.velocity) for b in bodies) * t_end
 
 
 def _vibration_scale(sysm: CoupledSystem) -> float:
@@ -341,7 +341,7 @@ def solve_laplace(bodies, gap0, contact, t_end, dt, *, notes=(), receptance_scal
         gap_row[ic] += (-1.0 if i == 0 else 1.0) * sysm.D[i] * load.amplitude
     # the dimensionless form the engine runs on (:mod:`._units`): x = unit * xi,
     # t = u.t * tau, each row in units of its own (row_unit); rows are built in SI here
-    displacement = _displacements(bodies, sysm, gap0, t_end)
+    displacement_0, displacement = _displacements(bodies, sysm, gap0, t_end)
     u = _units(sysm, contact, loads, t_end, displacement)
     unit = np.concatenate([sysm.state_units(u), [1.0, u.j], np.ones(2 * len(loads))])
     row_unit = np.concatenate([[u.f, u.l, u.l, u.l, u.l / u.t, u.l / u.t],
@@ -416,7 +416,7 @@ def solve_laplace(bodies, gap0, contact, t_end, dt, *, notes=(), receptance_scal
     # (touching now is judged at the scale of the displacements now, the gap and the
     # vibration: the approach over a long run, in tol_g, had made a gap of 1e-6 m touch at
     # t = 0 for t_end = 1e6 s, a phantom first contact of restitution -1)
-    tol_0 = 1e-12 * (abs(gap0) + _vibration_scale(sysm)) / u.l
+    tol_0 = 1e-12 * displacement_0 / u.l
     in_contact = bool(n) and float(gap_s @ Xa_s) <= tol_0 and (v_rel < 0.0 or still)
     raw = run_contact(free, stuck, Xa_s, in_contact=in_contact, rules=rules, t_end=t_end_s,
                       step=step, out_step=out_step / u.t, gap0=gap0 / u.l)
