@@ -437,14 +437,16 @@ _STEPS_BY_KIND = {"modal": 50, "continuum": _STEPS_PER_SCALE, "transit": _STEPS_
                   "sample": 1}
 
 
-def _time_scales(body):
-    """(time scale s, steps per scale) pairs of one body's own dynamics."""
+def _time_scales(body, *, samples=True):
+    """(time scale s, steps per scale) pairs of one body's own dynamics; without a sampled
+    record's step if not ``samples``."""
     scales = tuple(body.model.time_scales())
     for ts in scales:
         if ts.kind not in _STEPS_BY_KIND:
             raise ValueError(f"{type(body.model).__name__}.time_scales() gives a time scale "
                              f"of kind {ts.kind!r}: not one of {tuple(_STEPS_BY_KIND)}")
-    return [(ts.seconds, _STEPS_BY_KIND[ts.kind]) for ts in scales]
+    return [(ts.seconds, _STEPS_BY_KIND[ts.kind]) for ts in scales
+            if samples or ts.kind != "sample"]
 
 
 def _scales_of_kind(bodies, kind):
@@ -531,11 +533,11 @@ def choose_dt(bodies, contact, *, t_end, method="convolution") -> float:
     if method == "laplace":
         return max(min(min(s for s, _ in pairs) / _LAPLACE_SAMPLES_PER_SCALE, t_end / 200),
                    t_end / _MAX_STEPS)
-    pairs = pairs + ([(pulse, LOAD_STEPS)] if pulse < np.inf else [])
     sampled = _scales_of_kind(bodies, "sample")
     # ... and at least _MIN_RUN_STEPS over t_end: a t_end under one step had made a grid
     # of one step past it, on which the modal solver's bodies overlapped untouched
-    dt = min(sampled) if sampled else min(min(s / n for s, n in pairs), t_end / _MIN_RUN_STEPS)
+    dt = min(sampled) if sampled else min(min(s / n for s, n in pairs), t_end / _MIN_RUN_STEPS,
+                                          pulse / LOAD_STEPS)
     rods = _scales_of_kind(bodies, "transit")
     if rods and not sampled:
         dt = _aligned_step(rods, dt)
@@ -545,15 +547,12 @@ def choose_dt(bodies, contact, *, t_end, method="convolution") -> float:
 def _scale_pairs(bodies, contact, t_end, *, samples=True) -> list:
     """``(time scale s, steps per scale)`` of the bodies, their harmonic loads and the
     contact (:func:`choose_dt`); without the records' samples if not ``samples``."""
-    pairs = [p for b in bodies for p in _time_scales(b)]
+    pairs = [p for b in bodies for p in _time_scales(b, samples=samples)]
     # a harmonic load is resolved like a mode: its 1/omega gets the modal steps
     pairs += [(1.0 / b.load.omega, _STEPS_BY_KIND["modal"]) for b in bodies
               if isinstance(b.load, HarmonicForce)]
     pairs += contact_time_scales(bodies, contact, shortest=min((s for s, _ in pairs),
                                                                default=t_end))
-    if not samples:
-        records = set(_scales_of_kind(bodies, "sample"))
-        pairs = [(s, n) for s, n in pairs if not (n == 1 and s in records)]
     return [(s, n) for s, n in pairs if s > 0 and math.isfinite(s)]
 
 
