@@ -20,6 +20,31 @@ __all__ = ["LowEnd"]
 #: resonance peak
 _PEAK_LINES = 3
 
+#: the log-log slope of ``|h|`` over the lowest lines under which a mass line that
+#: steepens towards them is the lower residual of a resonance below them
+#: (:func:`_resonance_below`)
+_STEEPER_THAN_MASS_LINE = -2.2
+
+
+def _resonance_below(omega, h, slope) -> bool:
+    """Do the lowest lines ``omega`` (rad/s, ascending, 3 or more), receptance ``h``
+    and log-log slope ``slope`` of ``|h|``, a mass-line-like ``-1/(m omega^2)``, lie just
+    above a resonance rather than below the first mode of a free body?
+
+    Above a mode ``|h| = 1/(m (omega^2 - omega_n^2))`` falls faster than ``omega^-2``,
+    the more so the nearer the mode: its slope rises towards ``-2`` with frequency. A
+    free body's mass line ``1/(M omega^2) - C`` (modes above) steepens with frequency
+    instead, and a windowed one ``1/(M (omega^2 + sigma^2))`` is flatter than ``-2``. A
+    spring-mass's receptance on 15-40 Hz, its 10 Hz mode below the band, had been fitted
+    as a 1.6 kg rigid body and a constant, 32 % off at the band's start."""
+    if slope >= _STEEPER_THAN_MASS_LINE:
+        return False
+    half = omega.size // 2
+    x, y = np.log(omega), np.log(np.abs(h))
+    lower = np.polyfit(x[:half + 1], y[:half + 1], 1)[0]
+    upper = np.polyfit(x[half:], y[half:], 1)[0]
+    return bool(lower < upper)
+
 
 class LowEnd:
     """The mass line and the missed low resonance (see the module docstring)."""
@@ -65,7 +90,7 @@ class LowEnd:
         lower = "lower" in self.residuals
         if self.rigid_body is False:
             return False, lower
-        if steady and not cut:
+        if steady and not cut and not _resonance_below(omega[below], hb, slope):
             return True, False
         return not lower, lower
 
