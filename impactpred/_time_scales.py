@@ -16,7 +16,9 @@ callables (:func:`load_time_scale`).
   Not for a beam (slope 1.5 between a mass's 2 and a rod's 1, :data:`_SLOPE_CHANGE`): a
   light mass on ``CantileverBeam`` is stepped at the beam's own scale, and its figures
   depend on the step (a 0.1 kg mass on a 4.76 kg cantilever: a first contact of one step
-  and restitution_first -0.45 / -0.69 / -0.38 at 0.75, 0.18 and 0.044 ms).
+  and restitution_first -0.45 / -0.69 / -0.38 at 0.75, 0.18 and 0.044 ms): the force is
+  singular there (``t^-1/2``), no step resolves it, and :mod:`impactpred._caveats` says
+  so where the figures move at half the step.
 """
 
 from __future__ import annotations

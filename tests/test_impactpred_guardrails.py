@@ -395,6 +395,25 @@ def test_chatter_at_the_grids_scale_is_said():
     assert diracs[0].restitution == pytest.approx(diracs[1].restitution, abs=2e-4)
 
 
+def test_a_lone_contact_shorter_than_the_grid_resolves_is_said():
+    """A 1 g mass at 1 m/s on an exact cantilever's tip under a rigid contact: the force is
+    singular at the start (``t^-1/2``, the beam's ``t^1.5`` step response against the
+    mass's ``t^2``), and the run touches for one step and leaves at e = 0.776, 0.697 at
+    half the step (0.33 at a sixteenth): once silent (one contact: neither many micro
+    contacts nor a sequence), now said with how its figures move (a Dirac's figures,
+    which do not move, are not: test_chatter_at_the_grids_scale_is_said)."""
+    from data_synth import CantileverBeam
+
+    bodies = (Body(LumpedMass(1e-3), velocity=1.0), Body(CantileverBeam(1.0, 0.01)))
+    with pytest.warns(UserWarning, match=r"^the first contact lasts at most 2 steps \(dt = "
+                                         r"2.844e-06 s\), and at dt / 2 its figures move "
+                                         r"\(restitution 0.7759 -> 0.697\d*, .*\): the "
+                                         r"contact is shorter than the grid resolves"):
+        lone = solve_impact(*bodies, t_end=0.02)
+    assert lone.n_contacts == 1 and lone.method == "convolution"
+    assert "shorter than the grid resolves" in lone.notes[-1]
+
+
 def test_a_sequence_of_contacts_not_converged_in_dt_is_said(monkeypatch):
     """A 0.5 kg mass at 1 m/s on a 10-mode cantilever with its residual flexibility,
     rigid contact, 1 s: 21 contacts, e 0.2336 exact. The modal method's automatic step
