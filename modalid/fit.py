@@ -86,7 +86,8 @@ class ModalFit(FitOne, FRFPipeline, FitLines, BaseEstimator):
         modes there. ``"lower"``: a pseudo-mode below the band for the modes there, used
         when the data show a mass line that is not a rigid body (``freq_range`` cut the
         data above the first modes, the data start too close to the first resonance to
-        tell, or ``rigid_body=False``).
+        tell, their lowest lines fall faster than ``omega^-2`` and flatten towards it, as
+        just above a resonance, or ``rigid_body=False``).
     passive : {"auto", True, False}
         Keep modal masses, the rigid mass and the residual flexibility positive (a passive
         driving point). ``"auto"`` (default): fit without the constraint, decide from the
