@@ -10,7 +10,7 @@ from ._lsfd import evaluate
 from ._noise import noise_level
 from ._report import (fit_report, local_misfit_inflation, misfit_notes, mode_std_columns,
                       residual_correlation_inflation)
-from ._verdict import error_lines, missed_resonances
+from ._verdict import error_lines, missed_low_end, missed_resonances
 from ._window import nonnegative_mass_line, structure_model, windowed_receptance
 from .model import ModalModel
 from .quantities import receptance_to
@@ -114,6 +114,7 @@ def store_fit(est, frf, poles, kinds, residues, u, d, info, notes, max_order, vf
         frf_error_where=error_lines(band.freq_hz, own, fit_poles[physical]),
         data_quantity=band.quantity, missed_resonances_hz=missed_resonances(
             band.freq_hz, band.values, band.values + own).tolist(),
+        missed_low_end_hz=missed_low_end(band.freq_hz, band.values, band.values + own),
         band_hz=(float(frf.freq_hz[0]), float(frf.freq_hz[-1])), segments=est._segment_count,
         vf_iterations=vf_iterations, modes=modes, inverse_mass_std=inverse_mass_std,
         flexibility_std=flexibility_std, std_inflation=inflation,

@@ -66,6 +66,8 @@ class LowEnd:
         """
         if self.rigid_body is True:
             return True, False
+        if self.__dict__.get("_lower_forced"):    # a refit for a missed low end (FitOne)
+            return False, True
         below = self._below_first(omega, poles)
         # and below the data's first resonance: a sharp mode the poles miss is no mass
         # line (a cantilever's accelerance from 3.5 times its first mode, its second at

@@ -87,7 +87,9 @@ class ModalFit(FitOne, FRFPipeline, FitLines, BaseEstimator):
         when the data show a mass line that is not a rigid body (``freq_range`` cut the
         data above the first modes, the data start too close to the first resonance to
         tell, their lowest lines fall faster than ``omega^-2`` and flatten towards it, as
-        just above a resonance, or ``rigid_body=False``).
+        just above a resonance, or ``rigid_body=False``), and in a refit of a fit with
+        no term there whose model misses the band's lowest lines
+        (``report_["missed_low_end_hz"]``).
     passive : {"auto", True, False}
         Keep modal masses, the rigid mass and the residual flexibility positive (a passive
         driving point). ``"auto"`` (default): fit without the constraint, decide from the
@@ -218,7 +220,9 @@ class ModalFit(FitOne, FRFPipeline, FitLines, BaseEstimator):
         included), ``effective_mass_physical`` (physical modes only) and
         ``residual_flexibility``; ``frf_nrmse`` (against the receptance),
         ``frf_nrmse_data`` (in the data's own quantity, ``data_quantity``), ``band_hz``,
-        ``max_order``, ``notes`` (modes added or dropped, with why).
+        ``max_order``, ``notes`` (modes added or dropped, with why);
+        ``missed_resonances_hz`` and ``missed_low_end_hz`` (the band's lowest lines the
+        model misses, ``(first, last)`` Hz, or None), which make the verdict "suspect".
 
     Warns
     -----

@@ -1302,9 +1302,11 @@ def test_a_failed_fit_weighted_by_the_frf_is_refitted_by_the_scatter(monkeypatch
     (error 95 %, "failed"; the impact was refused). The failed fit is refitted weighted
     by the data's scatter, which stands: the ten modes in band, a driving point. (Since
     the missed-mode search looks at a resonance missed at the band's ends, the 1/|H| fit
-    keeps its lowest mode and is "suspect", its passive fit stalling: the refit stands
-    too. The search as it was, the ends left to the pseudo-modes, reproduces the failed
-    fit.)"""
+    keeps its lowest mode and was "suspect", its passive fit stalling: the refit stood
+    too. Since session #36 that fit, which missed the band's lowest lines with no term
+    below the band, is refitted with the lower residual: "ok" weighted 1/|H|, the ten
+    modes within 2e-4. The search as it was, the ends left to the pseudo-modes,
+    reproduces the failed fit.)"""
     import modalid._pole_checks
 
     beam = CantileverBeam(4.1625533859322355, 0.7037545381520051)
@@ -1315,7 +1317,9 @@ def test_a_failed_fit_weighted_by_the_frf_is_refitted_by_the_scatter(monkeypatch
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         today = ModalFit().fit(frf).report_
-    assert today["weighting"] == "noise" and today["verdict"] == "ok"
+    assert today["weighting"] == "relative" and today["verdict"] == "ok"
+    assert today["lower_residual_mode"] and today["driving_point"]
+    assert any(n.startswith("refitted with the lower residual") for n in today["notes"])
     np.testing.assert_allclose(today["modes"]["frequency_hz"], exact, rtol=2e-3)
     monkeypatch.setattr(modalid._pole_checks, "_edge_lines", _ends_left_to_the_pseudo_modes)
     with warnings.catch_warnings():
@@ -1341,10 +1345,11 @@ def test_a_stalled_passive_fit_weighted_by_the_frf_is_refitted_by_the_scatter():
     a rigid body (its lowest lines fall faster than a mass line: the two modes below);
     read as their lower residual (the default since session #36) the 1/|H| fit is a
     passive driving point itself, "ok" at 5.9 %, so the stall is reproduced here with
-    ``rigid_body=True``. (Session #20's case, a cantilever's accelerance whose lowest
-    modes were under-resolved, seed 6, case 23, no longer stalls: the 1/|H| fit finds
-    its 1.32 Hz mode at line 19, since the search looks at the band's ends, and is a
-    passive driving point at 2.5 %.)"""
+    ``rigid_body=True`` (whose refit is "suspect" now: it misses the band's lowest lines,
+    where the rigid body forced is not the data's). (Session #20's case, a cantilever's
+    accelerance whose lowest modes were under-resolved, seed 6, case 23, no longer
+    stalls: the 1/|H| fit finds its 1.32 Hz mode at line 19, since the search looks at
+    the band's ends, and is a passive driving point at 2.5 %.)"""
     rod = Rod(1.0580912101302862, 1.6774046834283156, support="fixed")
     frf = _random_case_frf(rod, 1.102228806533333e-4, 1.6966330275142365,
                            low=0.45871625834587876, quantity="accelerance", noise=0.03,
@@ -1366,7 +1371,9 @@ def test_a_stalled_passive_fit_weighted_by_the_frf_is_refitted_by_the_scatter():
         "the fit weighted 1/|H| was no passive driving point (4 of 4 modes have a "
         "positive modal mass")
     np.testing.assert_allclose(r["modes"]["frequency_hz"], exact, rtol=1e-4)
-    assert r["verdict"] == "ok" and r["frf_median_relative_error"] < 0.08
+    # the rigid body forced is not the data's low end: its lowest lines missed, "suspect"
+    assert r["verdict"] == "suspect" and r["frf_median_relative_error"] < 0.08
+    assert r["missed_low_end_hz"][0] == r["band_hz"][0]
     beam = CantileverBeam(4.75823437772677, 2.649254637747698)
     frf = _random_case_frf(beam, 2.621833890804686e-4, 130.42020105858865,
                            quantity="accelerance", noise=0.03, seed=23)

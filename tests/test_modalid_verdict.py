@@ -1,6 +1,8 @@
 """The driving-point decision and the quality verdict (modalid._verdict) on modal tables
 whose answer is known, and on the fits of exact FRFs."""
 
+import warnings
+
 import numpy as np
 import pandas as pd
 import pytest
@@ -268,3 +270,49 @@ def test_the_verdict_says_where_a_large_error_sits():
         in reasons[0]
     _, reasons = quality_verdict(modes, **kw, error_lines=where_peak)
     assert "the lines near the peaks are missed" in reasons[0]
+
+
+def test_missed_low_end_finds_a_run_of_missed_lowest_lines():
+    """:func:`missed_low_end` on data of one everywhere: the lowest 40 of 1000 lines at a
+    thousandth in the model are a missed low end, (first line, 40th); 5 of 1000 (under a
+    hundredth of the band), a run starting at the fourth line, or every line within
+    half, are not."""
+    from modalid._verdict import missed_low_end
+
+    freq = np.arange(1.0, 1001.0)
+    data = np.ones(1000, complex) * np.exp(1j * 0.01 * freq)   # smooth: scatter ~ 0
+    for missed, expected in ((slice(0, 40), (1.0, 40.0)), (slice(0, 5), None),
+                             (slice(3, 60), None)):
+        model = data.copy()
+        model[missed] *= 1e-3
+        assert missed_low_end(freq, data, model) == expected
+    assert missed_low_end(freq, data, 0.6 * data) is None
+
+
+def test_an_aliased_hammer_test_is_no_silent_passive_driving_point():
+    """A 1 kg free rod (modes every 50 Hz) on a 2 Hz suspension, hammer-tested at 4096 Hz
+    without an anti-alias filter (the records' top folded onto the lowest lines), fitted
+    on 0.5-1500 Hz: the passive fit, with neither a mass line nor a mode below the band,
+    missed 0.5-65 Hz by 10-10 000 times and was a driving point, "ok"; a mass striking it
+    came out 56 % off in impulse, silently. Its missed low end makes it suspect, and the
+    unconstrained fit, which follows those lines, is no passive driving point."""
+    from data_synth import Rod, lightly_damped, synthetic_hammer_test
+    from modalid import ModalFit, ModalModel, frf_from_hammer
+
+    rod = lightly_damped(Rod(1.0, 10e-3, support="free"), 40, 0.005)
+    bounce = ModalModel.from_modes([2 * np.pi * 2.0], [0.05], [1.0])
+    body = ModalModel(poles=np.r_[bounce.poles, rod.poles],
+                      residues=np.r_[bounce.residues, rod.residues])
+    test = synthetic_hammer_test(body, 4096.0, 2.0, n_hits=5, pulse_width=1e-3, noise=0.01,
+                                 noise_reference="rms", seed=1, anti_alias=False)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        est = frf_from_hammer(test.force, test.response, 4096.0,
+                              response_type="acceleration", exponential_decay=np.log(100) / 2)
+        passive = ModalFit(freq_range=(None, 1500.0), passive=True,
+                           **est.fit_options()).fit(est.frf)
+        fit = ModalFit(freq_range=(None, 1500.0), **est.fit_options()).fit(est.frf)
+    low = passive.report_["missed_low_end_hz"]
+    assert passive.report_["verdict"] == "suspect" and low[0] == 0.5 and low[1] > 30.0
+    assert "the band's lowest lines" in passive.report_["verdict_reasons"][0]
+    assert fit.report_["driving_point"] is False
