@@ -68,7 +68,7 @@ from ._step_force import StepForce, backward_gap, kernel_ratio, rounding_gap
 from ._stepping import (Grid, assemble_result, energy_before, free_displacements,
                         micro_separation_tolerance, step_kernel)
 
-__all__ = ["solve_modal"]
+__all__ = ["solve_modal", "first_order_hold_applies"]
 
 HOLDS = ("auto", "linear", "constant")
 #: steps between the zero-order hold loop's progress-bar updates
@@ -159,6 +159,18 @@ def _hold_ratio(steppers, contact, bodies, dt):
     else:
         compliance = 0.0
     return k_a / (k_b + compliance)
+
+
+def first_order_hold_applies(bodies, contact, dt) -> bool:
+    """Whether :func:`solve_modal` (``hold="auto"``) steps these bodies with its
+    first-order hold at ``dt`` (s), as it decides (module docstring)."""
+    if any(b.outputs is not None for b in bodies) or _law_code(contact) is None:
+        return False
+    steppers = [_ModalStepper(b.modal_model(), dt) for b in bodies]
+    try:
+        return bool(_hold_ratio(steppers, contact, bodies, dt) <= MAX_HOLD_RATIO)
+    except ValueError:              # not driving points: solve_modal says so
+        return False
 
 
 def solve_modal(bodies, gap0, contact, t_end, dt, *, notes=(), hold="auto", progress=False):
