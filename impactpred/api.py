@@ -124,7 +124,9 @@ def solve_impact(body1: Body, body2: Body, *, gap: float = 0.0, contact=Rigid(),
         automatic step, repeated at ``dt / 2``) or, from the exact solver, not robust to its
         inputs (repeated with body 1's receptance scaled by ``1 +- 1e-6``, at a coarse
         output step and up to three spans of the sequence after its last contact: a
-        perturbed run's contacts later than that are not compared).
+        perturbed run's contacts later than that are not compared); when a rigid contact
+        passes over a quarter of its impulse within one period of a truncated modal model's top
+        mode.
         The same words go into the result's ``notes`` (:mod:`impactpred._caveats`).
     """
     for name, body in (("body1", body1), ("body2", body2)):
