@@ -251,10 +251,14 @@ def exact_reference(case: Case) -> Reference:
                         "(closed form)", 0.0)
     else:
         def solve(dt):
-            return solve_impact(Body(case.body1, velocity=case.velocity1),
-                                Body(case.body2, velocity=case.velocity2),
-                                contact=case.contact, t_end=case.t_end, dt=dt,
-                                method="convolution", progress=False)
+            with warnings.catch_warnings():
+                if case.richardson:     # its first-order error is extrapolated away
+                    warnings.filterwarnings("ignore", r"dt=\S+ s is \S+ times the step that "
+                                            "resolves these bodies", RuntimeWarning)
+                return solve_impact(Body(case.body1, velocity=case.velocity1),
+                                    Body(case.body2, velocity=case.velocity2),
+                                    contact=case.contact, t_end=case.t_end, dt=dt,
+                                    method="convolution", progress=False)
 
         res = solve(case.dt_exact / 2 if case.richardson else case.dt_exact)
         fine = impact_figures(res)

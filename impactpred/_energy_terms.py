@@ -10,6 +10,7 @@ import numpy as np
 
 from .contact import Hertz, LinearSpring
 from .damper.excitation import HarmonicForce
+from .solvers.modal import FIRST_ORDER_NOTE
 
 __all__ = ["load_work", "dashpot_dissipation", "contact_energy", "exchangeable_energy"]
 
@@ -89,16 +90,56 @@ def dashpot_dissipation(result, contact) -> float:
     """Energy (J) a spring-dashpot contact took: its dashpot's ``c`` times the integral
     of the penetration rate squared while the force acts, plus the spring energy left
     behind where the force is clipped at 0 (the dashpot would pull) with the bodies
-    still overlapping. From the gap history alone, not from the force's work."""
+    still overlapping. From the force and gap histories, not from the force's work.
+
+    The rate as each solver's contact law holds it: a zero-order hold's force is constant
+    over a step and meets the law with the step's mean rate, ``(d_{n+1} - d_n)/dt``, which
+    gives the dashpot ``c (d_{n+1} - d_n)^2 / dt`` a step (exact for the stepped
+    solution); the modal solver's first-order hold meets it at the grid times with the
+    exact rate, ``d' = (f - k d)/c`` (:func:`_node_dissipation`).
+    """
     if not isinstance(contact, LinearSpring) or contact.damping == 0.0:
         return 0.0
     depth = np.maximum(-result.gap, 0.0)
+    if result.method == "modal" and FIRST_ORDER_NOTE in result.notes:
+        return _node_dissipation(result, contact, depth)
     step = np.diff(depth)
     acting = result.force[:-1] > 0.0
     dashpot = contact.damping * float(np.sum(step[acting] ** 2 / np.diff(result.t)[acting]))
     spring = 0.5 * contact.stiffness * depth**2
     released = np.maximum(spring[:-1] - spring[1:], 0.0)
     return dashpot + float(np.sum(released[~acting]))
+
+
+def _node_dissipation(result, contact, depth) -> float:
+    """:func:`dashpot_dissipation` of a first-order-hold run: ``c`` times the trapezoidal
+    integral of ``d'^2`` over each contact interval, ``d' = (f - k d)/c`` at its grid times
+    and at its located ends (where the force is 0: at the start ``d = 0``, at the
+    separation ``d' = -k d/c``), plus the spring energy ``k d^2/2`` left at each separation
+    (as much of it as the overlap has released by the next contact or ``t_end``).
+
+    Second order in the step. The grid samples alone (the rate of a step as its secant)
+    had left out the dashpot's force jump at each start and the rate's curvature:
+    5-9 % short for two masses through ``c = 1e3`` and ``1e6`` N s/m.
+    """
+    k, c = contact.stiffness, contact.damping
+    t, force = result.t, result.force
+    intervals = result.contact_intervals
+    total = 0.0
+    for n, (start, end) in enumerate(intervals):
+        inside = (t > start) & (t < end)
+        closed = result.in_contact_at_end and n == len(intervals) - 1
+        times = np.concatenate([[start], t[inside], [end]])
+        d = np.concatenate([[np.interp(start, t, depth)], depth[inside],
+                            [np.interp(end, t, depth)]])
+        f = np.concatenate([[0.0], force[inside], [force[-1] if closed else 0.0]])
+        rate = (f - k * d) / c
+        total += c * float(np.sum(0.5 * (rate[1:] ** 2 + rate[:-1] ** 2) * np.diff(times)))
+        if not closed:      # released by the next start or t_end (the rest is ``stored``)
+            later = np.interp(intervals[n + 1][0], t, depth) if n + 1 < len(intervals) \
+                else depth[-1]
+            total += 0.5 * k * max(d[-1] ** 2 - later**2, 0.0)
+    return total
 
 
 def contact_energy(contact, gap_end: float) -> float:

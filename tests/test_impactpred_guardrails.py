@@ -208,17 +208,20 @@ def test_energy_audit_of_exact_solutions_is_rounding():
 
 def test_energy_audit_counts_the_dashpot():
     """Two masses, spring-dashpot contact: the energy the bodies lose is what the dashpot
-    took, to the time stepping's first-order error (implicit: a slight loss, never a gain)."""
+    took, to the quadrature's second-order error in the step (the modal solver's stepped
+    solution holds its balance to rounding; the dashpot's share is the trapezoidal
+    integral of ``c d'^2`` at the grid times and the contact's ends: 1.3e-5 and 1.3e-7 of
+    the scale at these steps; the grid's secant rates had made it a first-order loss)."""
     errors = []
     for dt in (1e-4, 1e-5):
         res = solve_impact(Body(LumpedMass(1.0), velocity=1.0), Body(LumpedMass(2.0)),
                            contact=LinearSpring(1e4, damping=20.0), t_end=0.2, dt=dt,
                            method="modal")
         audit = res.energy_audit
-        assert audit.dissipated == pytest.approx(audit.before - audit.after, rel=0.01)
-        assert audit.ok and audit.created < 0
-        errors.append(-audit.relative)
-    assert errors[1] < 0.2 * errors[0] and errors[1] < 5e-4
+        assert audit.dissipated == pytest.approx(audit.before - audit.after, rel=1e-4)
+        assert audit.ok
+        errors.append(abs(audit.relative))
+    assert errors[1] < 0.02 * errors[0] and errors[1] < 1e-6
 
 
 def test_energy_audit_flags_energy_from_nowhere():
@@ -305,7 +308,9 @@ def test_automatic_step_coarsened_at_most_20_times_with_the_numbers():
     contact = LinearSpring(1e4, damping=1.0)
     dt = choose_dt(bodies, contact, t_end=1.0, method="modal")
     with pytest.warns(RuntimeWarning, match=r"dt=4.714e-05 s \(2 times coarser\) is used; "
-                                            r"expect errors up to about 0.4 %"):
+                                            r"expect errors up to about 0.2 % of the approach "
+                                            r"speed in the restitution and 0.4 % of the "
+                                            r"energies"):
         res = solve_impact(*bodies, contact=contact, t_end=8e6 * dt)
     assert res.dt == pytest.approx(2 * dt, rel=1e-12)
     fine = solve_impact(*bodies, contact=contact, t_end=1.0)
@@ -565,10 +570,10 @@ def test_a_truncated_models_plastic_loss_is_exact_and_said():
         shares.append(lost / audit.scale)
         assert any(f"took {100 * shares[-1]:.3g} % " in str(w.message) for w in said)
     assert shares[0] > 3 * shares[1] > 0.2            # 25 %, 7.9 %: falls with the modes
-    # with the residual flexibility: no Dirac, but the ten modes' ringing chatters (nine
-    # contacts shorter than the top mode's period, restitution 0.92), which is said
-    with pytest.warns(UserWarning, match="9 of the 9 contacts last less than one period "
-                      "of the models' fastest mode") as said:
+    # with the residual flexibility: no Dirac, but nine contacts shorter than the top
+    # mode's period, 39 % of the impulse within its first period, restitution 0.92: said
+    with pytest.warns(UserWarning, match=r"38.9 % of the impact's impulse passes within "
+                      r"0.211 s of the first touch") as said:
         flexible = solve_impact(Body(LumpedMass(0.2), velocity=1.0),
                                 Body(rod.modal_model(40).truncate(10, residual=True)),
                                 t_end=6.0, method="laplace")
@@ -578,6 +583,32 @@ def test_a_truncated_models_plastic_loss_is_exact_and_said():
         masses = solve_impact(Body(LumpedMass(1.0), velocity=1.0),
                               Body(LumpedMass(2.0), velocity=-1.0), t_end=0.01)
     assert not flexible.dirac_impulses and masses.dirac_impulses
+
+
+def test_a_contact_decided_within_the_top_modes_period_is_said():
+    """A 5 g pellet at 3 m/s on a 1 m steel rod, fixed (7.85 kg, T = 0.196 ms), as its
+    first 100 or 200 modes with their residual flexibility: one contact each, restitution
+    0.778 and 0.604 for the rod's 0.736 (0.35 and 0.03 at 400 and 800 modes: the modes'
+    summed inverse masses reach the pellet's), exact for the model (laplace and modal
+    steps agree to 1e-7), and it had come with no word. The pellet is stopped within the
+    top mode's period (99.9 % of the impulse), where the model's flexibility term and its
+    top modes decide: said. Where the flexibility is a stiffness the model holds (the
+    ball on a spring-mass table, 1e-3 of its mode's compliance) it is not (below)."""
+    from data_synth.reference_impacts import mass_on_fixed_rod
+
+    rod = Rod(7.85, 1.96e-4, support="fixed")
+    exact = mass_on_fixed_rod(0.005, 7.85, 1.96e-4, 3.0, [0.0, 2e-3]).restitution
+    assert exact == pytest.approx(0.7358, abs=1e-4)
+    for n, e in ((100, 0.7775), (200, 0.6041)):
+        model = rod.modal_model(n, residual=True)
+        top = np.abs(model.poles).max() / (2 * np.pi)
+        with pytest.warns(UserWarning, match=re.escape(
+                f"99.9 % of the impact's impulse passes within {1 / top:.3g} s of the first "
+                f"touch, one period of body 2's fastest mode ({top:.4g} Hz)")) as said:
+            res = solve_impact(Body(LumpedMass(0.005), velocity=3.0), Body(model),
+                               t_end=2e-3)
+        assert res.n_contacts == 1 and res.restitution == pytest.approx(e, abs=1e-4)
+        assert str(said[0].message) in res.notes
 
 
 def test_contacts_the_models_do_not_resolve_are_said():
@@ -801,14 +832,20 @@ def test_a_draw_of_a_mode_with_a_real_residue_stays_passive():
     assert np.all(masses > 0) and np.median(masses) < 1e-9 * abs(nominal)
 
 
-def test_an_automatic_step_that_fails_its_energy_audit_is_refined():
+def test_an_automatic_step_that_fails_its_energy_audit_is_refined(monkeypatch):
     """A loaded 1-mode cantilever against a rod with its residual flexibility through a
-    damped spring (a random sweep's seed): at the automatic step the modal solver's
-    first-order hold created 0.92 % of the exchangeable energy, beyond its 0.5 %, and the
-    answer came with an EnergyWarning only. With ``dt=None`` the step is halved while the
-    audit fails (twice at most; here once, 0.45 %), and the notes say so; an explicit
-    ``dt`` is run as given."""
+    damped spring (a random sweep's seed). Its audit at the automatic step had found 0.92 %
+    of the exchangeable energy created, beyond the modal solver's 0.5 %: the dashpot's
+    share read from the grid's secant rates (7.607 J), not the solver's (its stepped
+    solution holds its balance to rounding: the contact took 7.502 J). With the rates the
+    law holds at the grid times (7.479 J) the audit passes there, unrefined.
+
+    Where a run does fail its audit at the automatic step (here made to: 1 % of the scale
+    added to the bodies' vibration after it, at that step), ``dt=None`` halves the step
+    while it fails (twice at most; here once) and the notes say so; an explicit ``dt`` is
+    run as given."""
     from data_synth import CantileverBeam, Rod
+    import impactpred.api as api
 
     b1 = Body(CantileverBeam(0.3282661861972947, 0.040247668953363656).modal_model(1),
               load=HarmonicForce(50.0, 20.0))
@@ -816,13 +853,29 @@ def test_an_automatic_step_that_fails_its_energy_audit_is_refined():
               .modal_model(1, residual=True))
     args = dict(gap=0.00022669692788335693, t_end=0.28873404101712485,
                 contact=LinearSpring(4421841.01274899, damping=757.3273200183361))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", EnergyWarning)
+        plain = solve_impact(b1, b2, **args)
+    assert plain.method == "modal" and plain.energy_audit.ok
+    assert -3e-3 < plain.energy_audit.relative < 0
+    assert not any(n.startswith("dt halved to") for n in plain.notes)
+    given = plain.dt                                            # the automatic step
+
+    def failing_at_the_automatic_step(result, bodies, contact):
+        audit = energy_audit(result, bodies, contact)
+        if result.dt != given:
+            return audit
+        return energy_audit(dataclasses.replace(result, energy_by_body=tuple(
+            dataclasses.replace(e, vibration_after=e.vibration_after + 0.005 * audit.scale)
+            for e in result.energy_by_body)), bodies, contact)
+    monkeypatch.setattr(api, "energy_audit", failing_at_the_automatic_step)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         auto = solve_impact(b1, b2, **args)
-    assert auto.method == "modal" and auto.energy_audit.ok
-    assert any(n.startswith("dt halved to") for n in auto.notes)
+    assert auto.energy_audit.ok and auto.dt == given / 2
+    assert any(re.match(rf"dt halved to \S+ s: at {given:.6g} s the energy audit found "
+                        r"0\.[78]\d* % ", n) for n in auto.notes)     # 1 % less 0.2 %
     assert not any(issubclass(w.category, EnergyWarning) for w in caught)
-    given = float(auto.notes[0].split(": ")[1].split(" s")[0])      # the automatic step
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         explicit = solve_impact(b1, b2, dt=given, **args)

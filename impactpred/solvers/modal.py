@@ -16,8 +16,9 @@ scalar Newton solve. Contact events are located inside the step: a contact start
 the root of the exact force-free gap in the step (found by regula falsi on the closed
 form, to rounding), the force then rising linearly from 0 over the rest of the step; a
 contact ends where the force, linear between ``f_n`` and the law's unclipped end value
-(for Hertz contact: the gap, between its values at the step's ends), crosses 0, the
-step then splitting into the exact motion under a ramp down to 0 and the free motion.
+(for Hertz contact: the gap, between its values at the step's ends), crosses 0 (for a
+spring-dashpot: falls to the rounding of its ``c d'``, ``dashpot_floor``), the step
+then splitting into the exact motion under a ramp down to 0 and the free motion.
 
 Accuracy: exact for any force that is piecewise linear with these knots (the modes'
 truncation is the model's, not the solver's); for the true force, smooth between events,
@@ -67,7 +68,7 @@ from ._step_force import StepForce, backward_gap, kernel_ratio, rounding_gap
 from ._stepping import (Grid, assemble_result, energy_before, free_displacements,
                         micro_separation_tolerance, step_kernel)
 
-__all__ = ["solve_modal"]
+__all__ = ["solve_modal", "first_order_hold_applies"]
 
 HOLDS = ("auto", "linear", "constant")
 #: steps between the zero-order hold loop's progress-bar updates
@@ -119,6 +120,12 @@ def _law_code(contact):
     return None
 
 
+#: the note of a first-order-hold run (its force samples are the law's at the grid times:
+#: :func:`impactpred._energy_terms.dashpot_dissipation` reads them so)
+FIRST_ORDER_NOTE = ("modal: first-order hold, contact events located inside the steps "
+                    "(second order in dt where the force is continuous, first order where it "
+                    "jumps, as a dashpot's at a contact's start); force samples are its "
+                    "values at the grid times")
 #: the first-order hold is used up to this force ratio (see the module docstring)
 MAX_HOLD_RATIO = 0.5
 
@@ -152,6 +159,18 @@ def _hold_ratio(steppers, contact, bodies, dt):
     else:
         compliance = 0.0
     return k_a / (k_b + compliance)
+
+
+def first_order_hold_applies(bodies, contact, dt) -> bool:
+    """Whether :func:`solve_modal` (``hold="auto"``) steps these bodies with its
+    first-order hold at ``dt`` (s), as it decides (module docstring)."""
+    if any(b.outputs is not None for b in bodies) or _law_code(contact) is None:
+        return False
+    steppers = [_ModalStepper(b.modal_model(), dt) for b in bodies]
+    try:
+        return bool(_hold_ratio(steppers, contact, bodies, dt) <= MAX_HOLD_RATIO)
+    except ValueError:              # not driving points: solve_modal says so
+        return False
 
 
 def solve_modal(bodies, gap0, contact, t_end, dt, *, notes=(), hold="auto", progress=False):
@@ -225,10 +244,7 @@ def _solve_linear_hold(bodies, models, steppers, gap0, contact, t_end, dt, notes
                        loads[0], loads[1], has_load, float(gap0), float(dt), grid.n_steps,
                        code, float(k), float(c), float(n))
     force, y1, y2, events, impulse, work1, work2 = out[:7]
-    notes.append("modal: first-order hold, contact events located inside the steps "
-                 "(second order in dt where the force is continuous, first order where it "
-                 "jumps, as a dashpot's at a contact's start); force samples are its values "
-                 "at the grid times")
+    notes.append(FIRST_ORDER_NOTE)
     gap = y2 - y1 + gap0
     tol = micro_separation_tolerance(y1, y2)
     runs = _contact_runs(events, force, gap, tol, grid)
