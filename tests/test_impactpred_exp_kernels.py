@@ -408,3 +408,30 @@ def test_phase_run_start_tolerance_covers_the_rounding_of_a_cancelling_row():
     assert values[0] > 0.0 and first_negative > 1e-3
     want = brentq(closed_form, first_negative - grid[0], first_negative, xtol=1e-16)
     assert tau == pytest.approx(want, rel=1e-9)
+
+
+def test_the_matrix_exponential_form_evaluates_times_by_kept_steps_as_by_expm():
+    """:class:`ExpmForm` evaluates evenly spaced times (the event search's chunks, each
+    starting where the last ended) by products with a kept ``e^(M h)``; single times
+    (a root finder's) from the start itself. Both agree with one ``expm`` per time on a
+    stable, non-normal matrix, in any order of the times asked for."""
+    rng = np.random.default_rng(3)
+    n = 12
+    M = rng.normal(size=(n, n)) - 4.0 * np.eye(n)
+    M[0, 1] += 50.0                                   # non-normal
+    x, rows = rng.normal(size=n), rng.normal(size=(2, n))
+    form = impact_run.ExpmForm(M)
+    step = 0.01
+    for start in (0.0, 32 * step):                    # two chunks, the second continuing
+        taus = start + step * np.arange(1, 33)
+        got = form.evaluate_orders((rows, x), taus, (0, 1))
+        for d, values in zip((0, 1), got):
+            want = np.column_stack([rows @ np.linalg.matrix_power(M, d)
+                                    @ scipy.linalg.expm(M * t) @ x for t in taus])
+            np.testing.assert_allclose(values, want, rtol=1e-12, atol=1e-12 * abs(want).max())
+    shuffled = rng.permutation(step * np.arange(1, 20))
+    want = np.column_stack([rows @ scipy.linalg.expm(M * t) @ x for t in shuffled])
+    np.testing.assert_allclose(form.evaluate((rows, x), shuffled), want, rtol=1e-12,
+                               atol=1e-12 * abs(want).max())
+    assert form.scalar((rows[:1], x), 0.123) == pytest.approx(
+        float(rows[0] @ scipy.linalg.expm(M * 0.123) @ x), rel=1e-14)

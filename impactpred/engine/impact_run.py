@@ -33,6 +33,10 @@ __all__ = ["Phase", "ExpmForm", "ContactRules", "RawRun", "run_contact", "search
            "grazing_error", "insert_exact_peak"]
 
 
+#: :class:`ExpmForm` keeps this many exponentials of a span, and last states
+_KEPT_STEPS = 8
+
+
 class ExpmForm:
     """Fallback with :class:`SpectralPhase`'s interface, by matrix exponentials.
 
@@ -42,6 +46,11 @@ class ExpmForm:
     def __init__(self, M):
         self.M = M
         self.max_rate = float(np.max(np.abs(np.linalg.eigvals(M)))) if M.size else 0.0
+        # e^(M h) by h, and the last state reached from each start (its coordinates'
+        # bytes): the event search evaluates chunks of evenly spaced times, each starting
+        # where the last ended, so a chunk costs matrix-vector products, not an expm per
+        # time (a 463-state contact phase of a rod on a cantilever: hours -> seconds)
+        self._steps, self._last = {}, {}
 
     def coordinates(self, x):
         return x
@@ -75,14 +84,52 @@ class ExpmForm:
                 total[i] += float(x0 @ w @ x0)
         return total
 
+    def _step(self, h):
+        """``e^(M h)``, kept for the last :data:`_KEPT_STEPS` spans ``h`` asked for (spans
+        equal to 13 digits share one: ``tau + k step`` rounds each span differently)."""
+        key = float(f"{h:.13g}")
+        if key not in self._steps:
+            if len(self._steps) >= _KEPT_STEPS:
+                self._steps.pop(next(iter(self._steps)))
+            self._steps[key] = scipy.linalg.expm(self.M * key)
+        return self._steps[key]
+
+    def states(self, x, taus):
+        """``e^(M tau) x`` at each of ``taus`` (ascending, s), as columns, shape ``(n,
+        len(taus))``: from the last state reached from ``x`` at or before a time, or from
+        ``x``, by the exponential of the span (kept: spans repeat), so evenly spaced times
+        cost one product each. A single time is always taken from ``x`` itself: a root
+        finder's values then do not depend on the order it asks for them (from the last
+        state they rounded differently, and Brent's bracket lost its sign change)."""
+        taus = np.atleast_1d(np.asarray(taus, float))
+        x = np.asarray(x, float)
+        if taus.size == 1:
+            return (scipy.linalg.expm(self.M * taus[0]) @ x)[:, None]
+        key = x.tobytes()
+        t_prev, s_prev = self._last.get(key, (0.0, x))
+        out = np.empty((x.shape[0], taus.size))
+        for k, tau in enumerate(taus):
+            if tau < t_prev:                          # before the last state: from x
+                t_prev, s_prev = 0.0, x
+            if tau != t_prev:
+                s_prev = self._step(tau - t_prev) @ s_prev
+                t_prev = tau
+            out[:, k] = s_prev
+        if len(self._last) >= _KEPT_STEPS:
+            self._last.pop(next(iter(self._last)))
+        self._last[key] = (t_prev, s_prev)
+        return out
+
     def evaluate(self, coefficients, taus, derivative=0):
-        rows, x = coefficients
-        M_d = np.linalg.matrix_power(self.M, derivative)
-        cols = [M_d @ (scipy.linalg.expm(self.M * tau) @ x) for tau in np.atleast_1d(taus)]
-        return rows @ np.array(cols).T
+        return self.evaluate_orders(coefficients, taus, (derivative,))[0]
 
     def evaluate_orders(self, coefficients, taus, derivatives=(0, 1)):
-        return [self.evaluate(coefficients, taus, d) for d in derivatives]
+        rows, x = coefficients
+        taus = np.atleast_1d(np.asarray(taus, float))
+        order = np.argsort(taus, kind="stable")
+        states = np.empty((self.M.shape[0], taus.size))
+        states[:, order] = self.states(x, taus[order])
+        return [rows @ (np.linalg.matrix_power(self.M, d) @ states) for d in derivatives]
 
     def scalar(self, coefficients, tau, derivative=0):
         return float(self.evaluate(coefficients, [tau], derivative)[0, 0])
