@@ -205,7 +205,8 @@ def identify(spec, *, quantity=None, estimator=None, read_options=None, check_pa
     path = Path(text)
     if not path.exists():
         raise ValueError(f"body {text!r} is neither an existing file nor a spec "
-                         f"({', '.join(k + ':...' for k in _SPECS)})")
+                         f"({', '.join(k + ':...' for k in _SPECS)}; a rigid wall is a mass "
+                         "far heavier than the other body, e.g. mass:1e12)")
     if path.suffix.lower() == ".json":
         saved = _saved_model(path)
         return ((None, _refuse_transfer_fit(saved, f"{label}{path}: "))

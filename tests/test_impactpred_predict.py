@@ -406,6 +406,9 @@ def test_contact_specs():
     ("mass:heavy", ValueError, "heavy"),
     ("rod:mass=1,length=2", ValueError, "length"),
     ("no_such_file.csv", ValueError, "neither an existing file nor a spec"),
+    # a user asking for a wall is told how to say it (walkthrough, session #36)
+    ("wall", ValueError, r"a rigid wall is a mass far heavier than the other body, e\.g\. "
+                         r"mass:1e12\)$"),
     (3.0, TypeError, "float"),
     # an extra value was dropped silently; a missing field leaked Rod.__init__'s TypeError
     ("rod:1,1,fixed,7", ValueError, r"^rod spec: 4 values \['1', '1', 'fixed', '7'\] for the 3 "
