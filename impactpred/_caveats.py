@@ -418,8 +418,14 @@ def many_micro_contacts(result) -> bool:
     them, last at most :data:`MICRO_STEPS` steps (grid-scale chatter, or a model's Dirac
     re-contacts: a run at half the step tells them apart), or the run's only contacts
     (fewer than :data:`SEQUENCE_CONTACTS`) begin with one that short (:func:`_lone_micro`)."""
+    return _chattering(result) or _lone_micro(result)
+
+
+def _chattering(result) -> bool:
+    """Whether at least :data:`_MIN_MICRO` contacts after the first, and a quarter of
+    them, last at most :data:`MICRO_STEPS` steps."""
     micro, total = _micro_count(result)
-    return micro >= _MIN_MICRO and micro >= 0.25 * (total - 1) or _lone_micro(result)
+    return micro >= _MIN_MICRO and micro >= 0.25 * (total - 1)
 
 
 def _lone_micro(result) -> bool:
@@ -527,7 +533,7 @@ def _grid_chatter(result, finer) -> str | None:
     each, and its restitution stays within 2e-4 at half the step: nothing to say.
     """
     micro, total = _micro_count(result)
-    lone = _lone_micro(result) and not (micro >= _MIN_MICRO and micro >= 0.25 * (total - 1))
+    lone = _lone_micro(result) and not _chattering(result)
     head = (f"the first contact lasts at most {MICRO_STEPS} steps" if lone else
             f"{micro} of the {total} contacts last at most {MICRO_STEPS} steps")
     head += f" (dt = {result.dt:.4g} s)"

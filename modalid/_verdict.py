@@ -248,6 +248,16 @@ _LOW_END_SHARE_OF_LINES = 0.01
 _LOW_END_MISSED = 0.8
 
 
+def _missed_lines(values, model_values) -> np.ndarray:
+    """The lines (bool) where the model misses the data by more than
+    :data:`PEAK_MISS_ERROR` of them and :data:`MISS_FACTOR` times their scatter
+    (:func:`modalid._noise.noise_level`): what a missed resonance's lines and a missed low
+    end's are."""
+    h = np.asarray(values, complex)
+    error = np.abs(np.asarray(model_values, complex) - h)
+    return (error > PEAK_MISS_ERROR * np.abs(h)) & (error > MISS_FACTOR * noise_level(h))
+
+
 def missed_low_end(freq_hz, values, model_values):
     """The band's lowest lines the model misses, as ``(first, last)`` Hz, or None.
 
@@ -268,9 +278,7 @@ def missed_low_end(freq_hz, values, model_values):
     values, model_values : ndarray of complex, shape (n,)
         The data and the model at the lines, in one quantity.
     """
-    h = np.asarray(values, complex)
-    error = np.abs(np.asarray(model_values, complex) - h)
-    missed = (error > PEAK_MISS_ERROR * np.abs(h)) & (error > MISS_FACTOR * noise_level(h))
+    missed = _missed_lines(values, model_values)
     if not missed[:2].any():
         return None
     start = int(np.argmax(missed))
@@ -278,7 +286,7 @@ def missed_low_end(freq_hz, values, model_values):
     held = np.flatnonzero(share >= _LOW_END_MISSED)
     last = start + int(np.flatnonzero(missed[start:held[-1] + start + 1])[-1])
     if np.count_nonzero(missed[start:last + 1]) < max(LOW_END_LINES,
-                                                       _LOW_END_SHARE_OF_LINES * h.size):
+                                                       _LOW_END_SHARE_OF_LINES * missed.size):
         return None
     return float(freq_hz[0]), float(freq_hz[last])
 
@@ -298,8 +306,7 @@ def missed_peak_lines(values, model_values) -> np.ndarray:
     """
     h = np.asarray(values, complex)
     size = np.abs(h)
-    error = np.abs(np.asarray(model_values, complex) - h)
-    wrong = (error > PEAK_MISS_ERROR * size) & (error > MISS_FACTOR * noise_level(h))
+    wrong = _missed_lines(h, model_values)
     peaks = distinct_peaks(h, resonance_peaks(h))
     # sharp: the lines two away (those the band has) under the peak's half power
     half = size[peaks] / np.sqrt(2.0)
